@@ -1,0 +1,168 @@
+"""The hybridized Hellinger-Reissner form with weakly imposed symmetry (PEERS and BDM).
+
+Unknowns on each triangle T (all element-local, removed by static condensation):
+stress rows sigma_1, sigma_2 (broken H(div)), displacement u (P0^2) and, for BDM, the
+rotation r (P0). Global unknowns: the facet displacement trace u_hat (one vector
+polynomial per edge), the PEERS rotation (continuous P1) and, on crack edges, the jump
+j = jn nu + jt t. The crack's minus side (the element whose outward normal is nu) sees
+the trace u_hat - j, so that j = u+ - u- = [u].
+
+    (A sigma, tau) + (div tau, u) + (as tau, r) - <tau n, u_hat - chi j>_dT     = 0
+    (div sigma, v)                                                              = -(f, v)
+    (as sigma, eta)                                                             = 0
+  - <sigma n, mu - chi k>_dT                                                    = -<g, mu>_traction
+
+with as(tau) = tau_21 - tau_12, n the element's outward normal and chi = 1 on the minus
+side of a crack edge (0 elsewhere). The test function of jt gives sigma_t = 0 on the
+crack; the test function of jn, after the sign flip in `hybrid.py`, gives the multiplier
+-sigma_n >= 0 of the constraint jn >= 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import ngsolve as ngs
+
+from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
+from ..materials import Compliance
+
+#: extra quadrature order for element-boundary terms that carry the crack indicator
+CRACK_BONUS_INTORDER = 2
+
+
+@dataclass
+class Loads:
+    """Data of one solve, as NGSolve CoefficientFunctions keyed by boundary label.
+
+    Labels missing from every dict are traction-free. `body_force` None means none.
+    """
+
+    body_force: ngs.CoefficientFunction | None = None
+    traction: dict[str, ngs.CoefficientFunction] = field(default_factory=dict)
+    displacement: dict[str, ngs.CoefficientFunction] = field(default_factory=dict)
+    clamped: frozenset[str] = frozenset()
+    roller: frozenset[str] = frozenset()
+
+    @property
+    def dirichlet_labels(self) -> frozenset[str]:
+        return frozenset(self.clamped) | frozenset(self.displacement)
+
+
+@dataclass
+class Discretization:
+    """What an element family hands to the condensed solver.
+
+    `fes` is the compound space, `a` its bilinear form (assembled, condense=True) and
+    `f` the load (assembled). `uhat` names the two facet components (x, y) of the
+    displacement trace, `jn`/`jt` the crack jump components (None without a crack).
+    `fields(gf)` returns the NGSolve CoefficientFunctions of the physical fields of a
+    solution vector (keys "sigma", "u" and, where it exists, "rotation").
+    `built` records what was assembled, for the solution's report.
+    """
+
+    element: str
+    crack_mesh: CrackMesh
+    fes: ngs.FESpace
+    a: ngs.BilinearForm
+    f: ngs.LinearForm
+    uhat: tuple[int, int]
+    jn: int | None
+    jt: int | None
+    facet_order: int
+    fields: Callable[[ngs.GridFunction], dict[str, ngs.CoefficientFunction]]
+    built: list[str]
+
+
+def stress_matrix(row1, row2) -> ngs.CoefficientFunction:
+    """The 2x2 stress from its two rows (each a vector CoefficientFunction)."""
+    return ngs.CF((row1[0], row1[1], row2[0], row2[1]), dims=(2, 2))
+
+
+def skew(tau) -> ngs.CoefficientFunction:
+    """as(tau) = tau_21 - tau_12, the scalar skew part in 2D."""
+    return tau[1, 0] - tau[0, 1]
+
+
+def weakly_symmetric_hybrid(
+    element: str,
+    crack_mesh: CrackMesh,
+    compliance: Compliance,
+    loads: Loads,
+    stress_spaces: list[ngs.FESpace],
+    rows: Callable[[tuple], tuple[list, list]],
+    rotation_space: ngs.FESpace,
+    facet_order: int,
+    built: list[str],
+) -> Discretization:
+    """Assemble the hybrid form above for the given stress and rotation spaces.
+
+    `rows(symbols)` maps the stress-space symbols (trial or test functions) to the two
+    stress rows and their divergences.
+    """
+    mesh = crack_mesh.mesh
+    uhat_space = ngs.FacetFESpace(mesh, order=facet_order, dirichlet=boundary_regex(loads.dirichlet_labels))
+    spaces = list(stress_spaces) + [ngs.VectorL2(mesh, order=0), rotation_space, uhat_space, uhat_space]
+    built += ["u: P0^2", f"u_hat: P{facet_order} per edge, 2 components"]
+    has_crack = bool(crack_mesh.cracks)
+    if has_crack:
+        jump = ngs.FacetFESpace(mesh, order=facet_order, definedon=crack_mesh.crack_region)
+        spaces += [jump, jump]
+        built.append(f"crack jump: P{facet_order} per crack edge (normal and tangential)")
+    fes = ngs.FESpace(spaces)
+    ns = len(stress_spaces)
+    idx_u, idx_r, idx_ux, idx_uy = ns, ns + 1, ns + 2, ns + 3
+    trial, test = fes.TrialFunction(), fes.TestFunction()
+
+    def unpack(sym):
+        (r1, r2), (d1, d2) = rows(sym[:ns])
+        sig = stress_matrix(r1, r2)
+        return sig, ngs.CF((d1, d2)), sym[idx_u], sym[idx_r], ngs.CF((sym[idx_ux], sym[idx_uy]))
+
+    sig, div_sig, u, r, uh = unpack(trial)
+    tau, div_tau, v, eta, muh = unpack(test)
+    n = ngs.specialcf.normal(2)
+    a = ngs.BilinearForm(fes, condense=True)
+    a += (ngs.InnerProduct(compliance.apply(sig), tau) + div_tau * u + div_sig * v + skew(tau) * r + skew(sig) * eta) * ngs.dx
+    if has_crack:
+        nu, t = crack_frame_cf(crack_mesh)
+        chi = ngs.IfPos(n * nu - 0.5, 1.0, 0.0)
+        jn, jt = trial[ns + 4], trial[ns + 5]
+        kn, kt = test[ns + 4], test[ns + 5]
+        trace_trial = uh - chi * (jn * nu + jt * t)
+        trace_test = muh - chi * (kn * nu + kt * t)
+        dbnd = ngs.dx(element_boundary=True, bonus_intorder=CRACK_BONUS_INTORDER)
+    else:
+        trace_trial, trace_test = uh, muh
+        dbnd = ngs.dx(element_boundary=True)
+    a += -((tau * n) * trace_trial + (sig * n) * trace_test) * dbnd
+    a.Assemble()
+    f = ngs.LinearForm(fes)
+    if loads.body_force is not None:
+        f += -(loads.body_force * v) * ngs.dx
+        built.append("body force")
+    for label, g in sorted(loads.traction.items()):
+        f += -(g * muh) * ngs.ds(definedon=boundary_region(mesh, [label]))
+    if loads.traction:
+        built.append("traction load on " + ", ".join(sorted(loads.traction)))
+    f.Assemble()
+
+    def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
+        comps = gf.components
+        (r1, r2), _ = rows(comps[:ns])
+        return {"sigma": stress_matrix(r1, r2), "u": comps[idx_u], "rotation": comps[idx_r]}
+
+    return Discretization(
+        element=element,
+        crack_mesh=crack_mesh,
+        fes=fes,
+        a=a,
+        f=f,
+        uhat=(idx_ux, idx_uy),
+        jn=ns + 4 if has_crack else None,
+        jt=ns + 5 if has_crack else None,
+        facet_order=facet_order,
+        fields=fields,
+        built=built,
+    )

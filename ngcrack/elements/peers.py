@@ -1,0 +1,55 @@
+"""PEERS (Arnold, Brezzi, Douglas 1984), hybridized: the paper's section 3.1.
+
+Each stress row lies in RT0 + curl(b_T), b_T = lambda_1 lambda_2 lambda_3 the cubic
+bubble; the displacement is P0^2, the rotation (the multiplier of weak symmetry) is
+continuous P1. The rows are broken (no normal continuity between triangles); the facet
+trace u_hat (P0 per edge) restores it, and the crack jump is P0 per crack edge.
+"""
+
+from __future__ import annotations
+
+import ngsolve as ngs
+
+from ..geometry import CrackMesh
+from ..materials import Compliance
+from .base import Discretization, Loads, weakly_symmetric_hybrid
+
+
+def cubic_bubbles(mesh: ngs.Mesh) -> ngs.FESpace:
+    """The span of the cubic bubble b_T on each triangle: the interior dofs of H1 order 3."""
+    h1 = ngs.H1(mesh, order=3)
+    interior = ngs.BitArray(h1.ndof)
+    interior.Clear()
+    for el in mesh.Elements(ngs.VOL):
+        for d in h1.GetDofNrs(ngs.NodeId(ngs.FACE, el.nr)):
+            interior[d] = True
+    return ngs.Compress(h1, active_dofs=interior)
+
+
+def _rows(sym):
+    s1, s2, b1, b2 = sym
+
+    def curl(b):
+        g = ngs.grad(b)
+        return ngs.CF((g[1], -g[0]))
+
+    return (s1 + curl(b1), s2 + curl(b2)), (ngs.div(s1), ngs.div(s2))
+
+
+def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discretization:
+    """The hybridized PEERS discretization of one scene."""
+    mesh = crack_mesh.mesh
+    rt0 = ngs.HDiv(mesh, order=0, discontinuous=True)
+    bubble = cubic_bubbles(mesh)
+    built = ["stress rows: RT0 + curl(cubic bubble), broken", "rotation: continuous P1"]
+    return weakly_symmetric_hybrid(
+        "peers",
+        crack_mesh,
+        compliance,
+        loads,
+        stress_spaces=[rt0, rt0, bubble, bubble],
+        rows=_rows,
+        rotation_space=ngs.H1(mesh, order=1),
+        facet_order=0,
+        built=built,
+    )

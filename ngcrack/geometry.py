@@ -1,0 +1,240 @@
+"""Netgen meshes in which every crack is a chain of interior mesh edges.
+
+The body is meshed as one polygon (the smooth-domain formulation of the paper, section
+2.1): a crack is a polyline of segments whose two sides belong to the same domain, so
+the mesher places vertices on it and conforms to it, but the mesh stays connected
+across it. A crack end point on the boundary is inserted as a vertex into the polygon
+edge it lies on. The crack segments carry the boundary names `crack_bc(k)`; the polygon
+edges carry the scene's labels.
+
+Everything downstream reads the crack through `CrackEdges`: the crack's mesh edges in
+order along the crack, with their end points, mid points, arc length and unit normal.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+import ngsolve as ngs
+from netgen.geom2d import SplineGeometry
+
+from .scene import Scene
+
+#: relative distance (times the polygon's diameter) under which a point counts as on an edge
+ON_EDGE_RTOL = 1e-9
+
+
+def crack_bc(k: int) -> str:
+    """The boundary-condition name netgen gives to the segments of crack k."""
+    return f"ngcrack_crack{k}"
+
+
+def boundary_regex(labels) -> str:
+    """A netgen/NGSolve region pattern matching exactly the given labels."""
+    return "|".join(re.escape(lab) for lab in sorted(set(labels)))
+
+
+def boundary_region(mesh: ngs.Mesh, labels) -> ngs.Region:
+    """The boundary region made of exactly the given labels (names matched literally)."""
+    return mesh.Boundaries(boundary_regex(labels))
+
+
+@dataclass(frozen=True)
+class CrackEdges:
+    """The mesh edges of one crack, ordered from its first point to its last.
+
+    Arrays have one row per edge: `a`, `b` (end points, a before b along the crack),
+    `mid`, `s_mid` (arc length of the mid point from the crack's first point),
+    `normal` (nu, the tangent turned by +90 degrees), `tangent`, `length` and
+    `edge` (NGSolve edge numbers).
+    """
+
+    index: int
+    a: np.ndarray
+    b: np.ndarray
+    edge: np.ndarray
+    segment: np.ndarray
+    s_mid: np.ndarray
+    normal: np.ndarray
+    tangent: np.ndarray
+
+    @property
+    def mid(self) -> np.ndarray:
+        return 0.5 * (self.a + self.b)
+
+    @property
+    def length(self) -> np.ndarray:
+        return np.linalg.norm(self.b - self.a, axis=1)
+
+    def __len__(self) -> int:
+        return len(self.edge)
+
+
+@dataclass(frozen=True)
+class CrackMesh:
+    """An NGSolve mesh of a scene plus the ordered crack edges."""
+
+    mesh: ngs.Mesh
+    cracks: tuple[CrackEdges, ...]
+    polylines: tuple[np.ndarray, ...]
+    diameter: float
+    maxh: float
+    tip_h: float | None
+
+    @property
+    def crack_region(self) -> ngs.Region:
+        if not self.cracks:
+            return self.mesh.Boundaries("")
+        return self.mesh.Boundaries("|".join(crack_bc(c.index) for c in self.cracks))
+
+
+def _diameter(polygon: np.ndarray) -> float:
+    return float(np.max(np.linalg.norm(polygon[:, None, :] - polygon[None, :, :], axis=2)))
+
+
+def _param_on_edge(p, q, x, tol) -> float | None:
+    """The parameter t in (0, 1) of x on the segment p-q, or None if x is not on it."""
+    d = q - p
+    t = float(np.dot(x - p, d) / np.dot(d, d))
+    if t <= 0.0 or t >= 1.0:
+        return None
+    if np.linalg.norm(p + t * d - x) > tol:
+        return None
+    return t
+
+
+def build_geometry(scene: Scene, tip_h: float | None = None) -> SplineGeometry:
+    """A netgen 2D spline geometry: the polygon, its labels, and the cracks as slits."""
+    poly = np.asarray(scene.polygon, dtype=float)
+    tol = ON_EDGE_RTOL * _diameter(poly)
+    n = len(poly)
+    # crack points that sit on the boundary are inserted into the polygon edges
+    inserted: list[list[tuple[float, np.ndarray]]] = [[] for _ in range(n)]
+    for crack in scene.cracks:
+        for x in (np.asarray(crack.points[0], float), np.asarray(crack.points[-1], float)):
+            if np.min(np.linalg.norm(poly - x, axis=1)) <= tol:
+                continue  # a polygon vertex already
+            for i in range(n):
+                t = _param_on_edge(poly[i], poly[(i + 1) % n], x, tol)
+                if t is not None:
+                    inserted[i].append((t, x))
+    geo = SplineGeometry()
+    point_ids: list[tuple[np.ndarray, int]] = []
+
+    def point(x: np.ndarray, h: float | None = None) -> int:
+        for y, pid in point_ids:
+            if np.linalg.norm(y - x) <= tol:
+                return pid
+        pid = geo.AppendPoint(float(x[0]), float(x[1]), maxh=h if h else 1e99)
+        point_ids.append((x, pid))
+        return pid
+
+    tips = {
+        tuple(np.round(np.asarray(p, float), 14))
+        for crack in scene.cracks
+        for p in (crack.points[0], crack.points[-1])
+    }
+    h_tip = tip_h
+
+    def h_of(x):
+        return h_tip if (h_tip and tuple(np.round(x, 14)) in tips) else None
+
+    # crack end points first so that they carry the tip mesh size
+    for crack in scene.cracks:
+        for x in (crack.points[0], crack.points[-1]):
+            x = np.asarray(x, float)
+            point(x, h_of(x))
+    for i in range(n):
+        chain = [poly[i]] + [x for _, x in sorted(inserted[i], key=lambda tx: tx[0])]
+        chain.append(poly[(i + 1) % n])
+        for p, q in zip(chain[:-1], chain[1:]):
+            geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=0, bc=scene.labels[i])
+    for k, crack in enumerate(scene.cracks):
+        pts = [np.asarray(x, float) for x in crack.points]
+        for p, q in zip(pts[:-1], pts[1:]):
+            geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=1, bc=crack_bc(k))
+    return geo
+
+
+def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
+    crack = scene.cracks[k]
+    pts = np.asarray(crack.points, dtype=float)
+    seg_t = pts[1:] - pts[:-1]
+    seg_len = np.linalg.norm(seg_t, axis=1)
+    seg_t = seg_t / seg_len[:, None]
+    seg_s0 = np.concatenate([[0.0], np.cumsum(seg_len)[:-1]])
+    name = crack_bc(k)
+    verts = np.array([v.point for v in mesh.vertices])
+    rows = []
+    for el in mesh.Elements(ngs.BND):
+        if el.mat != name:
+            continue
+        va, vb = (verts[v.nr] for v in el.vertices)
+        mid = 0.5 * (va + vb)
+        # which crack segment holds this edge: the nearest one to its mid point
+        rel = mid - pts[:-1]
+        t = np.clip(np.einsum("ij,ij->i", rel, seg_t), 0.0, seg_len)
+        dist = np.linalg.norm(pts[:-1] + t[:, None] * seg_t - mid, axis=1)
+        j = int(np.argmin(dist))
+        if np.dot(vb - va, seg_t[j]) < 0:
+            va, vb = vb, va
+        s_mid = seg_s0[j] + float(np.dot(mid - pts[j], seg_t[j]))
+        rows.append((s_mid, va, vb, el.edges[0].nr, j))
+    rows.sort(key=lambda r: r[0])
+    tangent = np.array([seg_t[r[4]] for r in rows]).reshape(-1, 2)
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    return CrackEdges(
+        index=k,
+        a=np.array([r[1] for r in rows]).reshape(-1, 2),
+        b=np.array([r[2] for r in rows]).reshape(-1, 2),
+        edge=np.array([r[3] for r in rows], dtype=int),
+        segment=np.array([r[4] for r in rows], dtype=int),
+        s_mid=np.array([r[0] for r in rows]),
+        normal=normal,
+        tangent=tangent,
+    )
+
+
+def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None) -> CrackMesh:
+    """Mesh the scene with netgen; `maxh`/`tip_h` override the scene's [mesh] values."""
+    maxh = maxh if maxh is not None else scene.maxh
+    if maxh is None:
+        maxh = 0.1 * _diameter(np.asarray(scene.polygon, float))
+    tip_h = tip_h if tip_h is not None else scene.tip_h
+    geo = build_geometry(scene, tip_h=tip_h)
+    mesh = ngs.Mesh(geo.GenerateMesh(maxh=maxh))
+    cracks = tuple(_crack_edges(mesh, scene, k) for k in range(len(scene.cracks)))
+    return CrackMesh(
+        mesh=mesh,
+        cracks=cracks,
+        polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
+        diameter=_diameter(np.asarray(scene.polygon, float)),
+        maxh=float(maxh),
+        tip_h=tip_h,
+    )
+
+
+def crack_frame_cf(crack_mesh: CrackMesh):
+    """CoefficientFunctions (nu, t) equal to the crack normal and tangent on crack edges.
+
+    Both are piecewise constant along each crack segment and zero away from the cracks;
+    a point belongs to a segment when it lies within ON_EDGE_RTOL * diameter of it. Used
+    on element boundaries to tell the crack's minus side (where n = nu) from its plus side.
+    """
+    tol = ON_EDGE_RTOL * crack_mesh.diameter * 10
+    x, y = ngs.x, ngs.y
+    nu = ngs.CF((0.0, 0.0))
+    t = ngs.CF((0.0, 0.0))
+    for pts in crack_mesh.polylines:
+        for p, q in zip(pts[:-1], pts[1:]):
+            L = float(np.linalg.norm(q - p))
+            tx, ty = (q - p) / L
+            along = (x - p[0]) * tx + (y - p[1]) * ty
+            across = -(x - p[0]) * ty + (y - p[1]) * tx
+            inside = ngs.IfPos(along + tol, 1.0, 0.0) * ngs.IfPos(L + tol - along, 1.0, 0.0)
+            on = inside * ngs.IfPos(tol - ngs.sqrt(across * across), 1.0, 0.0)
+            nu = nu + on * ngs.CF((-ty, tx))
+            t = t + on * ngs.CF((tx, ty))
+    return nu, t

@@ -1,0 +1,213 @@
+"""solve(scene, element, ...) -> Solution: the whole pipeline for one scene.
+
+scene -> mesh -> element forms (condensed) -> K, F -> Schur complement S on the crack
+normal jumps -> QP -> recovery of every unknown -> crack profiles and KKT residuals.
+A scene without a crack gets one linear solve and no QP.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import ngsolve as ngs
+
+from . import elements as _elements
+from .contact import NATIVE_SOLVERS, QPResult, solve_qp
+from .elements import Discretization, Loads
+from .geometry import CrackMesh, make_mesh
+from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
+from .materials import compliance
+from .post import CrackProfile, crack_profile, endpoint_map, kkt_residuals
+from .scene import Scene
+
+
+class SolveError(RuntimeError):
+    """A solve produced something unusable (a singular system, non-finite numbers)."""
+
+
+def scene_loads(scene: Scene) -> Loads:
+    """The scene's boundary conditions and loads as NGSolve CoefficientFunctions."""
+    traction, displacement, clamped, roller = {}, {}, set(), set()
+    for label, bc in scene.boundary.items():
+        if bc.type == "clamped":
+            clamped.add(label)
+        elif bc.type == "roller":
+            roller.add(label)
+        elif bc.type == "displacement":
+            displacement[label] = ngs.CF(tuple(float(v) for v in bc.value))
+        elif bc.type == "traction" and any(float(v) != 0.0 for v in bc.value):
+            traction[label] = ngs.CF(tuple(float(v) for v in bc.value))
+    body = None
+    if scene.body_force is not None and any(float(v) != 0.0 for v in scene.body_force):
+        body = ngs.CF(tuple(float(v) for v in scene.body_force))
+    return Loads(body_force=body, traction=traction, displacement=displacement,
+                 clamped=frozenset(clamped), roller=frozenset(roller))
+
+
+@dataclass
+class Solution:
+    """The answer of one solve.
+
+    `u`, `sigma`, `rotation` are NGSolve CoefficientFunctions (u is P0 per triangle,
+    sigma the weakly symmetric 2x2 stress); `gf` is the full GridFunction. `profiles`
+    holds one CrackProfile per crack, `kkt` the relative KKT residuals on the crack
+    samples, `qp` the QP's answer (None without a crack). `timings` in seconds, `ndof`
+    counts (total, global after condensation, contact), `built` lists what was built.
+    """
+
+    scene: Scene
+    element: str
+    crack_mesh: CrackMesh
+    disc: Discretization
+    gf: ngs.GridFunction
+    fields: dict
+    profiles: list[CrackProfile]
+    kkt: dict
+    qp: QPResult | None
+    timings: dict
+    ndof: dict
+    built: list[str]
+    options: dict = field(default_factory=dict)
+
+    @property
+    def mesh(self) -> ngs.Mesh:
+        return self.crack_mesh.mesh
+
+    @property
+    def u(self):
+        return self.fields["u"]
+
+    @property
+    def sigma(self):
+        return self.fields["sigma"]
+
+    @property
+    def rotation(self):
+        return self.fields.get("rotation")
+
+    @property
+    def maxh(self) -> float:
+        return self.crack_mesh.maxh
+
+    def crack_profiles(self) -> list[CrackProfile]:
+        """Per crack: s, x, y, jumps and crack-face stresses at the edge mid points."""
+        return self.profiles
+
+    def to_json_dict(self) -> dict:
+        """The `solve --json` contract of DESIGN.md."""
+        t = self.timings
+        return {
+            "scene": self.scene.name,
+            "element": self.element,
+            "maxh": float(self.maxh),
+            "nu": float(self.scene.material.nu),
+            "E": float(self.scene.material.E),
+            "ndof": {k: int(self.ndof[k]) for k in ("total", "global", "contact")},
+            "time_s": {k: float(t[k]) for k in ("total", "mesh", "assemble", "linear", "contact")},
+            "kkt": {k: float(self.kkt[k]) for k in ("max_penetration", "max_tension", "complementarity")},
+            "cracks": [p.to_dict() for p in self.profiles],
+        }
+
+
+def _check_options(element: str, maxh, tip_h, qp_solver: str, linear_solver: str) -> None:
+    if element not in _elements.ELEMENTS:
+        raise ValueError(f"element = {element!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
+    for name, val in (("maxh", maxh), ("tip_h", tip_h)):
+        if val is not None and not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+            raise ValueError(f"{name} = {val!r}: must be a finite number > 0")
+    if linear_solver not in Factorization.BACKENDS:
+        raise ValueError(f"linear_solver = {linear_solver!r}: allowed values are {', '.join(Factorization.BACKENDS)}")
+    if not isinstance(qp_solver, str) or not qp_solver:
+        raise ValueError(f"qp_solver = {qp_solver!r}: allowed values are {', '.join(NATIVE_SOLVERS)} or a cvxpy solver name")
+
+
+def solve(
+    scene: Scene,
+    element: str = "peers",
+    maxh: float | None = None,
+    tip_h: float | None = None,
+    qp_solver: str = "clarabel",
+    qp_options: dict | None = None,
+    linear_solver: str = "superlu",
+    loads: Loads | None = None,
+) -> Solution:
+    """Solve the unilateral crack problem of `scene` with one element family.
+
+    maxh / tip_h override the scene's [mesh] sizes. qp_solver is "clarabel" (default),
+    another cvxpy solver, or "pdas"; qp_options go to cvxpy unchanged. `loads`
+    replaces the scene's loads by NGSolve CoefficientFunctions (manufactured solutions).
+    """
+    _check_options(element, maxh, tip_h, qp_solver, linear_solver)
+    t_start = time.perf_counter()
+    timings: dict[str, float] = {}
+
+    t0 = time.perf_counter()
+    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h)
+    timings["mesh"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    mat = scene.material
+    loads = loads if loads is not None else scene_loads(scene)
+    disc = _elements.build(element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads)
+    system = condense(disc, loads)
+    timings["assemble"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    red = reduce_to_contact(system, linear_solver=linear_solver)
+    m = len(system.contact)
+    timings["factorize_schur"] = time.perf_counter() - t0
+
+    qp = None
+    t0 = time.perf_counter()
+    if m:
+        jn_space = disc.fes.components[disc.jn]
+        G = endpoint_map(jn_space, cmesh.mesh, cmesh.cracks, disc.facet_order)
+        qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options)
+        jn = qp.j
+    else:
+        jn = np.zeros(0)
+    timings["qp"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    y = red.recover(jn)
+    if not np.all(np.isfinite(y)):
+        raise SolveError(f"scene {scene.name!r}, element {element!r}: the condensed solve gave non-finite values (singular system)")
+    gf = system.expand(y)
+    timings["recover"] = time.perf_counter() - t0
+    if not np.all(np.isfinite(gf.vec.FV().NumPy())):
+        raise SolveError(f"scene {scene.name!r}, element {element!r}: the local recovery gave non-finite values")
+
+    fields = disc.fields(gf)
+    profiles = []
+    if m:
+        comps = gf.components
+        jn_vals = comps[disc.jn].vec.FV().NumPy()
+        jt_vals = comps[disc.jt].vec.FV().NumPy()
+        for crack in cmesh.cracks:
+            profiles.append(crack_profile(cmesh.mesh, crack, disc.fes.components[disc.jn], jn_vals, jt_vals, fields["sigma"]))
+    kkt = kkt_residuals(profiles)
+    # the linear part: factorization + the solves; the contact part: Schur complement + QP
+    n_schur_cols = m
+    timings["linear"] = timings["factorize_schur"] * (1.0 if not m else 0.0) + timings["recover"]
+    timings["contact"] = timings["qp"] + (timings["factorize_schur"] if m else 0.0)
+    timings["total"] = time.perf_counter() - t_start
+    ndof = {"total": disc.fes.ndof, "global": system.n, "contact": n_schur_cols}
+    built = list(disc.built) + ([f"contact QP: {m} unknowns, solver {qp_solver}"] if m else ["no crack: one linear solve, no QP"])
+    return Solution(
+        scene=scene,
+        element=element,
+        crack_mesh=cmesh,
+        disc=disc,
+        gf=gf,
+        fields=fields,
+        profiles=profiles,
+        kkt=kkt,
+        qp=qp,
+        timings=timings,
+        ndof=ndof,
+        built=built,
+        options={"qp_solver": qp_solver, "linear_solver": linear_solver, "tip_h": tip_h},
+    )
