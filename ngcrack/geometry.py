@@ -54,6 +54,8 @@ class CrackEdges:
     index: int
     a: np.ndarray
     b: np.ndarray
+    va: np.ndarray
+    vb: np.ndarray
     edge: np.ndarray
     segment: np.ndarray
     s_mid: np.ndarray
@@ -71,6 +73,10 @@ class CrackEdges:
     def __len__(self) -> int:
         return len(self.edge)
 
+    def vertices(self) -> np.ndarray:
+        """The mesh vertex numbers along the crack, first to last (len + 1 of them)."""
+        return np.concatenate([self.va[:1], self.vb]) if len(self) else np.zeros(0, dtype=int)
+
 
 @dataclass(frozen=True)
 class CrackMesh:
@@ -79,6 +85,7 @@ class CrackMesh:
     mesh: ngs.Mesh
     cracks: tuple[CrackEdges, ...]
     polylines: tuple[np.ndarray, ...]
+    tips: frozenset[int]  # mesh vertex numbers of crack end points inside the body
     diameter: float
     maxh: float
     tip_h: float | None
@@ -105,8 +112,11 @@ def _param_on_edge(p, q, x, tol) -> float | None:
     return t
 
 
-def build_geometry(scene: Scene, tip_h: float | None = None) -> SplineGeometry:
-    """A netgen 2D spline geometry: the polygon, its labels, and the cracks as slits."""
+def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | None = None) -> SplineGeometry:
+    """A netgen 2D spline geometry: the polygon, its labels, and the cracks as slits.
+
+    tip_h is the mesh size at crack end points, crack_h the size along crack segments.
+    """
     poly = np.asarray(scene.polygon, dtype=float)
     tol = ON_EDGE_RTOL * _diameter(poly)
     n = len(poly)
@@ -154,7 +164,8 @@ def build_geometry(scene: Scene, tip_h: float | None = None) -> SplineGeometry:
     for k, crack in enumerate(scene.cracks):
         pts = [np.asarray(x, float) for x in crack.points]
         for p, q in zip(pts[:-1], pts[1:]):
-            geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=1, bc=crack_bc(k))
+            geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=1, bc=crack_bc(k),
+                       maxh=crack_h if crack_h else 1e99)
     return geo
 
 
@@ -171,7 +182,8 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
     for el in mesh.Elements(ngs.BND):
         if el.mat != name:
             continue
-        va, vb = (verts[v.nr] for v in el.vertices)
+        na, nb = (v.nr for v in el.vertices)
+        va, vb = verts[na], verts[nb]
         mid = 0.5 * (va + vb)
         # which crack segment holds this edge: the nearest one to its mid point
         rel = mid - pts[:-1]
@@ -179,9 +191,9 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
         dist = np.linalg.norm(pts[:-1] + t[:, None] * seg_t - mid, axis=1)
         j = int(np.argmin(dist))
         if np.dot(vb - va, seg_t[j]) < 0:
-            va, vb = vb, va
+            va, vb, na, nb = vb, va, nb, na
         s_mid = seg_s0[j] + float(np.dot(mid - pts[j], seg_t[j]))
-        rows.append((s_mid, va, vb, el.edges[0].nr, j))
+        rows.append((s_mid, va, vb, el.edges[0].nr, j, na, nb))
     rows.sort(key=lambda r: r[0])
     tangent = np.array([seg_t[r[4]] for r in rows]).reshape(-1, 2)
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
@@ -189,6 +201,8 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
         index=k,
         a=np.array([r[1] for r in rows]).reshape(-1, 2),
         b=np.array([r[2] for r in rows]).reshape(-1, 2),
+        va=np.array([r[5] for r in rows], dtype=int),
+        vb=np.array([r[6] for r in rows], dtype=int),
         edge=np.array([r[3] for r in rows], dtype=int),
         segment=np.array([r[4] for r in rows], dtype=int),
         s_mid=np.array([r[0] for r in rows]),
@@ -197,18 +211,25 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
     )
 
 
-def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None) -> CrackMesh:
-    """Mesh the scene with netgen; `maxh`/`tip_h` override the scene's [mesh] values."""
+def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
+              crack_h: float | None = None) -> CrackMesh:
+    """Mesh the scene with netgen; `maxh`/`tip_h`/`crack_h` override the scene's [mesh] values."""
     maxh = maxh if maxh is not None else scene.maxh
     if maxh is None:
         maxh = 0.1 * _diameter(np.asarray(scene.polygon, float))
     tip_h = tip_h if tip_h is not None else scene.tip_h
-    geo = build_geometry(scene, tip_h=tip_h)
+    crack_h = crack_h if crack_h is not None else scene.crack_h
+    geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h)
     mesh = ngs.Mesh(geo.GenerateMesh(maxh=maxh))
     cracks = tuple(_crack_edges(mesh, scene, k) for k in range(len(scene.cracks)))
+    bnd_vertices = {v.nr for el in mesh.Elements(ngs.BND) if not el.mat.startswith("ngcrack_crack") for v in el.vertices}
+    tips = frozenset(
+        int(v) for c in cracks if len(c) for v in (c.va[0], c.vb[-1]) if int(v) not in bnd_vertices
+    )
     return CrackMesh(
         mesh=mesh,
         cracks=cracks,
+        tips=tips,
         polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
         diameter=_diameter(np.asarray(scene.polygon, float)),
         maxh=float(maxh),
@@ -238,3 +259,4 @@ def crack_frame_cf(crack_mesh: CrackMesh):
             nu = nu + on * ngs.CF((-ty, tx))
             t = t + on * ngs.CF((tx, ty))
     return nu, t
+

@@ -118,6 +118,14 @@ class CondensedSystem:
     def n(self) -> int:
         return self.K.shape[0]
 
+    def without_contact(self) -> "CondensedSystem":
+        """The same system with the crack normal jumps treated as ordinary unknowns."""
+        return CondensedSystem(
+            disc=self.disc, K=self.K, F=self.F, contact=np.zeros(0, dtype=int), rest=np.arange(self.n),
+            _T=self._T, _free=self._free, _fixed=self._fixed, _x_fixed=self._x_fixed, _fmod=self._fmod,
+            timings=dict(self.timings),
+        )
+
     def expand(self, y: np.ndarray) -> ngs.GridFunction:
         gf = ngs.GridFunction(self.disc.fes)
         vec = gf.vec.FV().NumPy()
@@ -232,6 +240,7 @@ class ContactReduction:
     x0: np.ndarray
     factorization: Factorization
     system: CondensedSystem
+    timings: dict = field(default_factory=dict)
 
     def recover(self, jn: np.ndarray) -> np.ndarray:
         """The full global vector y for given crack normal jumps (one more solve)."""
@@ -246,16 +255,22 @@ class ContactReduction:
         return y
 
 
-def reduce_to_contact(system: CondensedSystem, linear_solver: str = "superlu") -> ContactReduction:
-    """Factorize K_rr and form the Schur complement S on the crack normal jumps."""
+def reduce_to_contact(system: CondensedSystem, linear_solver: str = "superlu", schur: bool = True) -> ContactReduction:
+    """Factorize K_rr and form the Schur complement S on the crack normal jumps.
+
+    With schur=False only K_rr is factorized and x0 solved (a bonded crack).
+    """
     K, F = system.K, system.F
     r, c = system.rest, system.contact
+    t0 = time.perf_counter()
     K_rr = K[r][:, r]
     fac = Factorization(K_rr, backend=linear_solver)
+    t1 = time.perf_counter()
     x0 = fac.solve(F[r])
-    m = len(c)
+    t2 = time.perf_counter()
+    m = len(c) if schur else 0
     S = np.zeros((m, m))
-    b = F[c].copy()
+    b = F[c].copy() if schur else np.zeros(0)
     if m:
         K_rc = sp.csc_matrix(K[r][:, c])
         K_cr = sp.csr_matrix(K[c][:, r])
@@ -266,4 +281,5 @@ def reduce_to_contact(system: CondensedSystem, linear_solver: str = "superlu") -
             S[:, cols] = K_cc[:, cols] - K_cr @ X
         S = 0.5 * (S + S.T)
         b -= K_cr @ x0
-    return ContactReduction(S=S, b=b, x0=x0, factorization=fac, system=system)
+    timings = {"factorize": t1 - t0, "solve": t2 - t1, "schur": time.perf_counter() - t2}
+    return ContactReduction(S=S, b=b, x0=x0, factorization=fac, system=system, timings=timings)

@@ -20,8 +20,12 @@ from .elements import Discretization, Loads
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
 from .materials import compliance
-from .post import CrackProfile, crack_profile, endpoint_map, kkt_residuals
+from .post import CrackProfile, crack_moments, crack_profile, endpoint_map, field_scales, kkt_residuals
 from .scene import Scene
+
+
+#: how the crack faces interact: unilateral contact, traction-free, or bonded in the normal direction
+CRACK_MODELS = ("contact", "free", "bonded")
 
 
 class SolveError(RuntimeError):
@@ -112,10 +116,10 @@ class Solution:
         }
 
 
-def _check_options(element: str, maxh, tip_h, qp_solver: str, linear_solver: str) -> None:
+def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_solver: str) -> None:
     if element not in _elements.ELEMENTS:
         raise ValueError(f"element = {element!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
-    for name, val in (("maxh", maxh), ("tip_h", tip_h)):
+    for name, val in (("maxh", maxh), ("tip_h", tip_h), ("crack_h", crack_h)):
         if val is not None and not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
             raise ValueError(f"{name} = {val!r}: must be a finite number > 0")
     if linear_solver not in Factorization.BACKENDS:
@@ -129,23 +133,30 @@ def solve(
     element: str = "peers",
     maxh: float | None = None,
     tip_h: float | None = None,
+    crack_h: float | None = None,
     qp_solver: str = "clarabel",
     qp_options: dict | None = None,
     linear_solver: str = "superlu",
     loads: Loads | None = None,
+    crack_model: str = "contact",
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
-    maxh / tip_h override the scene's [mesh] sizes. qp_solver is "clarabel" (default),
+    maxh / tip_h / crack_h override the scene's [mesh] sizes. qp_solver is "clarabel" (default),
     another cvxpy solver, or "pdas"; qp_options go to cvxpy unchanged. `loads`
     replaces the scene's loads by NGSolve CoefficientFunctions (manufactured solutions).
+    crack_model: "contact" (unilateral contact, the default), "free" (traction-free
+    crack faces that may interpenetrate: one linear solve) or "bonded" (jn = 0, the
+    faces slide freely but never separate: one linear solve).
     """
-    _check_options(element, maxh, tip_h, qp_solver, linear_solver)
+    _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver)
+    if crack_model not in CRACK_MODELS:
+        raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
 
     t0 = time.perf_counter()
-    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h)
+    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h)
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -155,16 +166,18 @@ def solve(
     system = condense(disc, loads)
     timings["assemble"] = time.perf_counter() - t0
 
+    if crack_model == "free":
+        system = system.without_contact()
     t0 = time.perf_counter()
-    red = reduce_to_contact(system, linear_solver=linear_solver)
+    red = reduce_to_contact(system, linear_solver=linear_solver, schur=crack_model == "contact")
     m = len(system.contact)
-    timings["factorize_schur"] = time.perf_counter() - t0
+    timings.update(red.timings)
 
     qp = None
     t0 = time.perf_counter()
-    if m:
+    if m and crack_model == "contact":
         jn_space = disc.fes.components[disc.jn]
-        G = endpoint_map(jn_space, cmesh.mesh, cmesh.cracks, disc.facet_order)
+        G = endpoint_map(jn_space, cmesh, disc.facet_order)
         qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options)
         jn = qp.j
     else:
@@ -182,20 +195,27 @@ def solve(
 
     fields = disc.fields(gf)
     profiles = []
-    if m:
+    if disc.jn is not None:
         comps = gf.components
         jn_vals = comps[disc.jn].vec.FV().NumPy()
         jt_vals = comps[disc.jt].vec.FV().NumPy()
+        jump_space = disc.fes.components[disc.jn]
+        moments = crack_moments(jump_space, cmesh)
         for crack in cmesh.cracks:
-            profiles.append(crack_profile(cmesh.mesh, crack, disc.fes.components[disc.jn], jn_vals, jt_vals, fields["sigma"]))
-    kkt = kkt_residuals(profiles)
-    # the linear part: factorization + the solves; the contact part: Schur complement + QP
-    n_schur_cols = m
-    timings["linear"] = timings["factorize_schur"] * (1.0 if not m else 0.0) + timings["recover"]
-    timings["contact"] = timings["qp"] + (timings["factorize_schur"] if m else 0.0)
+            profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"], moments))
+    kkt = kkt_residuals(profiles, *field_scales(cmesh.mesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
+    # linear: the factorization and solves a plain linear solve needs too (with the
+    # local recovery); contact: what the crack adds (Schur complement and QP)
+    timings["linear"] = timings["factorize"] + timings["solve"] + timings["recover"]
+    timings["contact"] = timings["schur"] + timings["qp"]
     timings["total"] = time.perf_counter() - t_start
-    ndof = {"total": disc.fes.ndof, "global": system.n, "contact": n_schur_cols}
-    built = list(disc.built) + ([f"contact QP: {m} unknowns, solver {qp_solver}"] if m else ["no crack: one linear solve, no QP"])
+    ndof = {"total": disc.fes.ndof, "global": system.n, "contact": m}
+    if qp is not None:
+        built = list(disc.built) + [f"contact QP: {m} unknowns, solver {qp_solver}"]
+    elif disc.jn is None:
+        built = list(disc.built) + ["no crack: one linear solve, no QP"]
+    else:
+        built = list(disc.built) + [f"crack model {crack_model!r}: one linear solve, no QP"]
     return Solution(
         scene=scene,
         element=element,
@@ -209,5 +229,5 @@ def solve(
         timings=timings,
         ndof=ndof,
         built=built,
-        options={"qp_solver": qp_solver, "linear_solver": linear_solver, "tip_h": tip_h},
+        options={"qp_solver": qp_solver, "linear_solver": linear_solver, "tip_h": tip_h, "crack_model": crack_model},
     )

@@ -75,6 +75,22 @@ class Discretization:
     built: list[str]
 
 
+def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
+    """A facet space with dofs on the crack edges only (P`order` per edge).
+
+    Built as the whole-mesh facet space compressed to the crack edges, so that element
+    boundary integrals of volume elements see it (a `definedon` boundary region would not).
+    """
+    full = ngs.FacetFESpace(crack_mesh.mesh, order=order)
+    active = ngs.BitArray(full.ndof)
+    active.Clear()
+    for crack in crack_mesh.cracks:
+        for e in crack.edge:
+            for d in full.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
+                active[d] = True
+    return ngs.Compress(full, active_dofs=active)
+
+
 def stress_matrix(row1, row2) -> ngs.CoefficientFunction:
     """The 2x2 stress from its two rows (each a vector CoefficientFunction)."""
     return ngs.CF((row1[0], row1[1], row2[0], row2[1]), dims=(2, 2))
@@ -92,33 +108,38 @@ def weakly_symmetric_hybrid(
     loads: Loads,
     stress_spaces: list[ngs.FESpace],
     rows: Callable[[tuple], tuple[list, list]],
-    rotation_space: ngs.FESpace,
+    rotation_spaces: list[ngs.FESpace],
+    rotation: Callable[[tuple], ngs.CoefficientFunction],
     facet_order: int,
     built: list[str],
 ) -> Discretization:
     """Assemble the hybrid form above for the given stress and rotation spaces.
 
     `rows(symbols)` maps the stress-space symbols (trial or test functions) to the two
-    stress rows and their divergences.
+    stress rows and their divergences; `rotation(symbols)` maps the rotation-space
+    symbols to the scalar rotation r.
     """
     mesh = crack_mesh.mesh
     uhat_space = ngs.FacetFESpace(mesh, order=facet_order, dirichlet=boundary_regex(loads.dirichlet_labels))
-    spaces = list(stress_spaces) + [ngs.VectorL2(mesh, order=0), rotation_space, uhat_space, uhat_space]
+    spaces = list(stress_spaces) + [ngs.VectorL2(mesh, order=0)] + list(rotation_spaces) + [uhat_space, uhat_space]
     built += ["u: P0^2", f"u_hat: P{facet_order} per edge, 2 components"]
     has_crack = bool(crack_mesh.cracks)
     if has_crack:
-        jump = ngs.FacetFESpace(mesh, order=facet_order, definedon=crack_mesh.crack_region)
+        jump = crack_facet_space(crack_mesh, facet_order)
         spaces += [jump, jump]
         built.append(f"crack jump: P{facet_order} per crack edge (normal and tangential)")
     fes = ngs.FESpace(spaces)
-    ns = len(stress_spaces)
-    idx_u, idx_r, idx_ux, idx_uy = ns, ns + 1, ns + 2, ns + 3
+    ns, nr = len(stress_spaces), len(rotation_spaces)
+    idx_u = ns
+    idx_r = slice(ns + 1, ns + 1 + nr)
+    idx_ux, idx_uy = ns + 1 + nr, ns + 2 + nr
+    idx_jn, idx_jt = ns + 3 + nr, ns + 4 + nr
     trial, test = fes.TrialFunction(), fes.TestFunction()
 
     def unpack(sym):
         (r1, r2), (d1, d2) = rows(sym[:ns])
         sig = stress_matrix(r1, r2)
-        return sig, ngs.CF((d1, d2)), sym[idx_u], sym[idx_r], ngs.CF((sym[idx_ux], sym[idx_uy]))
+        return sig, ngs.CF((d1, d2)), sym[idx_u], rotation(sym[idx_r]), ngs.CF((sym[idx_ux], sym[idx_uy]))
 
     sig, div_sig, u, r, uh = unpack(trial)
     tau, div_tau, v, eta, muh = unpack(test)
@@ -128,8 +149,8 @@ def weakly_symmetric_hybrid(
     if has_crack:
         nu, t = crack_frame_cf(crack_mesh)
         chi = ngs.IfPos(n * nu - 0.5, 1.0, 0.0)
-        jn, jt = trial[ns + 4], trial[ns + 5]
-        kn, kt = test[ns + 4], test[ns + 5]
+        jn, jt = trial[idx_jn], trial[idx_jt]
+        kn, kt = test[idx_jn], test[idx_jt]
         trace_trial = uh - chi * (jn * nu + jt * t)
         trace_test = muh - chi * (kn * nu + kt * t)
         dbnd = ngs.dx(element_boundary=True, bonus_intorder=CRACK_BONUS_INTORDER)
@@ -151,7 +172,7 @@ def weakly_symmetric_hybrid(
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
         (r1, r2), _ = rows(comps[:ns])
-        return {"sigma": stress_matrix(r1, r2), "u": comps[idx_u], "rotation": comps[idx_r]}
+        return {"sigma": stress_matrix(r1, r2), "u": comps[idx_u], "rotation": rotation(comps[idx_r])}
 
     return Discretization(
         element=element,
@@ -160,8 +181,8 @@ def weakly_symmetric_hybrid(
         a=a,
         f=f,
         uhat=(idx_ux, idx_uy),
-        jn=ns + 4 if has_crack else None,
-        jt=ns + 5 if has_crack else None,
+        jn=idx_jn if has_crack else None,
+        jt=idx_jt if has_crack else None,
         facet_order=facet_order,
         fields=fields,
         built=built,

@@ -32,7 +32,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discre
         loads,
         stress_spaces=[bdm1, bdm1],
         rows=_rows,
-        rotation_space=ngs.L2(mesh, order=0),
+        rotation_spaces=[ngs.L2(mesh, order=0)],
+        rotation=lambda sym: sym[0],
         facet_order=1,
         built=built,
     )

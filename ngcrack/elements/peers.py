@@ -4,6 +4,7 @@ Each stress row lies in RT0 + curl(b_T), b_T = lambda_1 lambda_2 lambda_3 the cu
 bubble; the displacement is P0^2, the rotation (the multiplier of weak symmetry) is
 continuous P1. The rows are broken (no normal continuity between triangles); the facet
 trace u_hat (P0 per edge) restores it, and the crack jump is P0 per crack edge.
+
 """
 
 from __future__ import annotations
@@ -42,6 +43,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discre
     rt0 = ngs.HDiv(mesh, order=0, discontinuous=True)
     bubble = cubic_bubbles(mesh)
     built = ["stress rows: RT0 + curl(cubic bubble), broken", "rotation: continuous P1"]
+    rotation_spaces = [ngs.H1(mesh, order=1)]
+    rotation = lambda sym: sym[0]  # noqa: E731
     return weakly_symmetric_hybrid(
         "peers",
         crack_mesh,
@@ -49,7 +52,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discre
         loads,
         stress_spaces=[rt0, rt0, bubble, bubble],
         rows=_rows,
-        rotation_space=ngs.H1(mesh, order=1),
+        rotation_spaces=rotation_spaces,
+        rotation=rotation,
         facet_order=0,
         built=built,
     )
