@@ -116,6 +116,14 @@ class Solution:
         }
 
 
+def qp_solvers() -> tuple[str, ...]:
+    """The QP solvers available here: the native ones and cvxpy's installed QP solvers."""
+    import cvxpy as cp
+
+    qp_capable = {"CLARABEL", "OSQP", "SCS", "ECOS", "CVXOPT", "PIQP", "PROXQP", "MOSEK", "GUROBI", "CPLEX", "QPALM", "DAQP", "HIGHS"}
+    return NATIVE_SOLVERS + tuple(s.lower() for s in cp.installed_solvers() if s in qp_capable)
+
+
 def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_solver: str) -> None:
     if element not in _elements.ELEMENTS:
         raise ValueError(f"element = {element!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
@@ -124,8 +132,9 @@ def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_so
             raise ValueError(f"{name} = {val!r}: must be a finite number > 0")
     if linear_solver not in Factorization.BACKENDS:
         raise ValueError(f"linear_solver = {linear_solver!r}: allowed values are {', '.join(Factorization.BACKENDS)}")
-    if not isinstance(qp_solver, str) or not qp_solver:
-        raise ValueError(f"qp_solver = {qp_solver!r}: allowed values are {', '.join(NATIVE_SOLVERS)} or a cvxpy solver name")
+    allowed = qp_solvers()
+    if qp_solver not in allowed:
+        raise ValueError(f"qp_solver = {qp_solver!r}: allowed values are {', '.join(allowed)}")
 
 
 def solve(
