@@ -14,16 +14,22 @@ order along the crack, with their end points, mid points, arc length and unit no
 from __future__ import annotations
 
 import re
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import ngsolve as ngs
 from netgen.geom2d import SplineGeometry
+from netgen.meshing import MeshingParameters
 
 from .scene import Scene
 
 #: relative distance (times the polygon's diameter) under which a point counts as on an edge
 ON_EDGE_RTOL = 1e-9
+#: netgen's default growth rate of the mesh size
+DEFAULT_GRADING = 0.3
+#: a triangle of lower quality 4 sqrt(3) area / (sum of squared sides) triggers a warning
+MIN_QUALITY = 0.1
 
 
 def crack_bc(k: int) -> str:
@@ -89,6 +95,7 @@ class CrackMesh:
     diameter: float
     maxh: float
     tip_h: float | None
+    quality: float
 
     @property
     def crack_region(self) -> ngs.Region:
@@ -211,16 +218,35 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
     )
 
 
+def mesh_quality(mesh: ngs.Mesh) -> float:
+    """The smallest triangle quality 4 sqrt(3) area / (a^2 + b^2 + c^2) (1 = equilateral)."""
+    P = np.array([v.point for v in mesh.vertices])
+    T = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)], dtype=int)
+    d1, d2 = P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]
+    area = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+    sides = sum(np.sum((P[T[:, i]] - P[T[:, (i + 1) % 3]]) ** 2, axis=1) for i in range(3))
+    return float(np.min(4.0 * np.sqrt(3.0) * area / sides))
+
+
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
-              crack_h: float | None = None) -> CrackMesh:
-    """Mesh the scene with netgen; `maxh`/`tip_h`/`crack_h` override the scene's [mesh] values."""
+              crack_h: float | None = None, grading: float | None = None) -> CrackMesh:
+    """Mesh the scene with netgen; the arguments override the scene's [mesh] values.
+
+    Warns if netgen produced a triangle of quality below MIN_QUALITY (a strong grading
+    can do that); such a triangle spoils the accuracy nearby.
+    """
     maxh = maxh if maxh is not None else scene.maxh
     if maxh is None:
         maxh = 0.1 * _diameter(np.asarray(scene.polygon, float))
     tip_h = tip_h if tip_h is not None else scene.tip_h
     crack_h = crack_h if crack_h is not None else scene.crack_h
+    grading = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
     geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h)
-    mesh = ngs.Mesh(geo.GenerateMesh(maxh=maxh))
+    mesh = ngs.Mesh(geo.GenerateMesh(mp=MeshingParameters(maxh=maxh, grading=grading)))
+    quality = mesh_quality(mesh)
+    if quality < MIN_QUALITY:
+        warnings.warn(f"scene {scene.name!r}: netgen made a triangle of quality {quality:.3f} (maxh={maxh:g}, "
+                      f"grading={grading:g}); a milder grading or another maxh gives a better mesh", stacklevel=2)
     cracks = tuple(_crack_edges(mesh, scene, k) for k in range(len(scene.cracks)))
     bnd_vertices = {v.nr for el in mesh.Elements(ngs.BND) if not el.mat.startswith("ngcrack_crack") for v in el.vertices}
     tips = frozenset(
@@ -234,6 +260,7 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
         diameter=_diameter(np.asarray(scene.polygon, float)),
         maxh=float(maxh),
         tip_h=tip_h,
+        quality=quality,
     )
 
 

@@ -551,7 +551,7 @@ class Scene:
     ``name``; ``polygon`` the vertices, counter-clockwise; ``labels`` one per edge
     (edge i runs from vertex i to vertex i+1; default ``e0, e1, ...``); ``cracks``;
     ``material``; ``body_force`` f = (fx, fy) or None; ``boundary`` label -> condition
-    (unnamed edges are traction-free); ``maxh`` global mesh size, ``crack_h`` size along the cracks and ``tip_h`` local
+    (unnamed edges are traction-free); ``maxh`` global mesh size, ``crack_h`` size along the cracks, ``grading`` how fast sizes grow (netgen, 0.3 default) and ``tip_h`` local
     size at crack tips (None: the solver decides); ``description`` one line;
     ``exact`` closed-form metadata (see :data:`EXACT_KINDS`) or None.
     """
@@ -566,6 +566,7 @@ class Scene:
     maxh: float | None = None
     tip_h: float | None = None
     crack_h: float | None = None
+    grading: float | None = None
     description: str = ""
     exact: Mapping[str, Any] | None = None
 
@@ -626,6 +627,11 @@ class Scene:
             set_("tip_h", _positive(self.tip_h, "mesh.tip_h"))
         if self.crack_h is not None:
             set_("crack_h", _positive(self.crack_h, "mesh.crack_h"))
+        if self.grading is not None:
+            g = _positive(self.grading, "mesh.grading")
+            if g > 1.0:
+                raise SceneError(f"mesh.grading = {_fmt(g)}: must lie in (0, 1] (netgen's default is 0.3)")
+            set_("grading", g)
 
         # cracks
         raw = self.cracks
@@ -919,7 +925,7 @@ class Scene:
         _check_keys(load, ("body_force",), "load")
         boundary = _table(d, "boundary", "boundary")
         mesh = _table(d, "mesh", "mesh")
-        _check_keys(mesh, ("maxh", "tip_h", "crack_h"), "mesh")
+        _check_keys(mesh, ("maxh", "tip_h", "crack_h", "grading"), "mesh")
         return cls(
             name=name,
             description=d.get("description", ""),
@@ -932,6 +938,7 @@ class Scene:
             maxh=mesh.get("maxh"),
             tip_h=mesh.get("tip_h"),
             crack_h=mesh.get("crack_h"),
+            grading=mesh.get("grading"),
             exact=d.get("exact"),
         )
 
@@ -971,7 +978,7 @@ class Scene:
             d["load"] = {"body_force": list(self.body_force)}
         if self.boundary:
             d["boundary"] = {lab: bc.to_dict() for lab, bc in self.boundary.items()}
-        mesh = {k: v for k, v in (("maxh", self.maxh), ("tip_h", self.tip_h), ("crack_h", self.crack_h))
+        mesh = {k: v for k, v in (("maxh", self.maxh), ("tip_h", self.tip_h), ("crack_h", self.crack_h), ("grading", self.grading))
                 if v is not None}
         if mesh:
             d["mesh"] = mesh

@@ -143,6 +143,7 @@ def solve(
     maxh: float | None = None,
     tip_h: float | None = None,
     crack_h: float | None = None,
+    grading: float | None = None,
     qp_solver: str = "clarabel",
     qp_options: dict | None = None,
     linear_solver: str = "superlu",
@@ -151,7 +152,7 @@ def solve(
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
-    maxh / tip_h / crack_h override the scene's [mesh] sizes. qp_solver is "clarabel" (default),
+    maxh / tip_h / crack_h / grading override the scene's [mesh] values. qp_solver is "clarabel" (default),
     another cvxpy solver, or "pdas"; qp_options go to cvxpy unchanged. `loads`
     replaces the scene's loads by NGSolve CoefficientFunctions (manufactured solutions).
     crack_model: "contact" (unilateral contact, the default), "free" (traction-free
@@ -159,13 +160,15 @@ def solve(
     faces slide freely but never separate: one linear solve).
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver)
+    if grading is not None and not (isinstance(grading, (int, float)) and 0 < grading <= 1):
+        raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
 
     t0 = time.perf_counter()
-    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h)
+    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h, grading=grading)
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
