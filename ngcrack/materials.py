@@ -27,6 +27,11 @@ class Compliance:
     c_dev: float
     c_tr: float
 
+    @property
+    def spherical(self) -> float:
+        """A(I) = spherical * I: zero for plane strain at nu = 1/2 (incompressible)."""
+        return self.c_dev - 2.0 * self.c_tr
+
     def apply(self, sigma):
         """A sigma for an NGSolve 2x2 matrix CoefficientFunction (or a numpy 2x2 array)."""
         import ngsolve as ngs

@@ -116,6 +116,24 @@ class Solution:
         }
 
 
+def _check_pressure_determined(scene: Scene, loads: Loads) -> None:
+    """Refuse an incompressible body (plane strain, nu = 1/2) with no traction edge.
+
+    Then sigma + c I solves the problem for every constant c: the pressure is
+    undetermined. An edge absent from [boundary] is traction-free and fixes it.
+    """
+    mat = scene.material
+    if mat.plane != "strain" or mat.nu != 0.5:
+        return
+    held = set(loads.clamped) | set(loads.roller) | set(loads.displacement)
+    if set(scene.labels) <= held:
+        raise ValueError(
+            "material.nu = 0.5 (incompressible, plane strain) with every edge clamped, displaced or on rollers: "
+            "the pressure is undetermined; leave at least one edge traction-free or loaded by a traction, "
+            "or use nu < 0.5"
+        )
+
+
 def qp_solvers() -> tuple[str, ...]:
     """The QP solvers available here: the native ones and cvxpy's installed QP solvers."""
     import cvxpy as cp
@@ -164,6 +182,8 @@ def solve(
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
+    loads = loads if loads is not None else scene_loads(scene)
+    _check_pressure_determined(scene, loads)
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
 
@@ -173,7 +193,6 @@ def solve(
 
     t0 = time.perf_counter()
     mat = scene.material
-    loads = loads if loads is not None else scene_loads(scene)
     disc = _elements.build(element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads)
     system = condense(disc, loads)
     timings["assemble"] = time.perf_counter() - t0

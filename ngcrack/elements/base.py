@@ -30,6 +30,9 @@ from ..materials import Compliance
 
 #: extra quadrature order for element-boundary terms that carry the crack indicator
 CRACK_BONUS_INTORDER = 2
+#: A(I) below this fraction of A's deviatoric part counts as incompressible (nu -> 1/2,
+#: plane strain): the element pressure is then kept out of the local solves
+PRESSURE_SPLIT_RTOL = 1e-6
 
 
 @dataclass
@@ -59,7 +62,9 @@ class Discretization:
     displacement trace, `jn`/`jt` the crack jump components (None without a crack).
     `fields(gf)` returns the NGSolve CoefficientFunctions of the physical fields of a
     solution vector (keys "sigma", "u" and, where it exists, "rotation").
-    `built` records what was assembled, for the solution's report.
+    `built` records what was assembled, for the solution's report. `definite` is False
+    when the condensed matrix is a saddle point (the element pressures of the
+    incompressible split are global unknowns).
     """
 
     element: str
@@ -73,6 +78,7 @@ class Discretization:
     facet_order: int
     fields: Callable[[ngs.GridFunction], dict[str, ngs.CoefficientFunction]]
     built: list[str]
+    definite: bool = True
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -118,6 +124,15 @@ def weakly_symmetric_hybrid(
     `rows(symbols)` maps the stress-space symbols (trial or test functions) to the two
     stress rows and their divergences; `rotation(symbols)` maps the rotation-space
     symbols to the scalar rotation r.
+
+    Incompressible limit (plane strain, nu -> 1/2): A annihilates the spherical stress
+    c I, and c I with c constant on a triangle is divergence free and symmetric, so the
+    local problem of a broken stress becomes singular (and ill-conditioned near 1/2).
+    There the stress is split as sigma = sigma_h + p_T I with p_T one pressure per
+    triangle, kept global (not condensed; it is fixed by the facet traces through
+    <u_hat, p_T n>), and the element mean of tr(sigma_h) held at zero by a local
+    multiplier. The local problems are then uniformly well posed, and the condensed
+    system is a symmetric saddle point in (u_hat, p).
     """
     mesh = crack_mesh.mesh
     uhat_space = ngs.FacetFESpace(mesh, order=facet_order, dirichlet=boundary_regex(loads.dirichlet_labels))
@@ -128,24 +143,39 @@ def weakly_symmetric_hybrid(
         jump = crack_facet_space(crack_mesh, facet_order)
         spaces += [jump, jump]
         built.append(f"crack jump: P{facet_order} per crack edge (normal and tangential)")
+    split = compliance.spherical <= PRESSURE_SPLIT_RTOL * compliance.c_dev
+    if split:
+        pressure = ngs.L2(mesh, order=0)
+        pressure.SetCouplingType(ngs.IntRange(0, pressure.ndof), ngs.COUPLING_TYPE.INTERFACE_DOF)
+        spaces += [pressure, ngs.L2(mesh, order=0)]
+        built.append("incompressible split: global P0 element pressure, local mean-trace multiplier")
     fes = ngs.FESpace(spaces)
     ns, nr = len(stress_spaces), len(rotation_spaces)
     idx_u = ns
     idx_r = slice(ns + 1, ns + 1 + nr)
     idx_ux, idx_uy = ns + 1 + nr, ns + 2 + nr
     idx_jn, idx_jt = ns + 3 + nr, ns + 4 + nr
+    idx_p = len(spaces) - 2
     trial, test = fes.TrialFunction(), fes.TestFunction()
 
-    def unpack(sym):
+    def stress(sym):
         (r1, r2), (d1, d2) = rows(sym[:ns])
-        sig = stress_matrix(r1, r2)
-        return sig, ngs.CF((d1, d2)), sym[idx_u], rotation(sym[idx_r]), ngs.CF((sym[idx_ux], sym[idx_uy]))
+        sig_h = stress_matrix(r1, r2)
+        sig = sig_h + sym[idx_p] * ngs.Id(2) if split else sig_h
+        return sig_h, sig, ngs.CF((d1, d2))
+
+    def unpack(sym):
+        _, sig, div = stress(sym)
+        return sig, div, sym[idx_u], rotation(sym[idx_r]), ngs.CF((sym[idx_ux], sym[idx_uy]))
 
     sig, div_sig, u, r, uh = unpack(trial)
     tau, div_tau, v, eta, muh = unpack(test)
     n = ngs.specialcf.normal(2)
     a = ngs.BilinearForm(fes, condense=True)
     a += (ngs.InnerProduct(compliance.apply(sig), tau) + div_tau * u + div_sig * v + skew(tau) * r + skew(sig) * eta) * ngs.dx
+    if split:
+        lam, mu_l = trial[idx_p + 1], test[idx_p + 1]
+        a += (ngs.Trace(stress(trial)[0]) * mu_l + ngs.Trace(stress(test)[0]) * lam) * ngs.dx
     if has_crack:
         nu, t = crack_frame_cf(crack_mesh)
         chi = ngs.IfPos(n * nu - 0.5, 1.0, 0.0)
@@ -171,8 +201,7 @@ def weakly_symmetric_hybrid(
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
-        (r1, r2), _ = rows(comps[:ns])
-        return {"sigma": stress_matrix(r1, r2), "u": comps[idx_u], "rotation": rotation(comps[idx_r])}
+        return {"sigma": stress(comps)[1], "u": comps[idx_u], "rotation": rotation(comps[idx_r])}
 
     return Discretization(
         element=element,
@@ -186,4 +215,5 @@ def weakly_symmetric_hybrid(
         facet_order=facet_order,
         fields=fields,
         built=built,
+        definite=not split,
     )
