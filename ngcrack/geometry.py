@@ -54,7 +54,7 @@ class CrackEdges:
     Arrays have one row per edge: `a`, `b` (end points, a before b along the crack),
     `mid`, `s_mid` (arc length of the mid point from the crack's first point),
     `normal` (nu, the tangent turned by +90 degrees), `tangent`, `length` and
-    `edge` (NGSolve edge numbers).
+    `edge` (NGSolve edge numbers), `bnd` (the crack's boundary element numbers).
     """
 
     index: int
@@ -63,6 +63,7 @@ class CrackEdges:
     va: np.ndarray
     vb: np.ndarray
     edge: np.ndarray
+    bnd: np.ndarray
     segment: np.ndarray
     s_mid: np.ndarray
     normal: np.ndarray
@@ -200,7 +201,7 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
         if np.dot(vb - va, seg_t[j]) < 0:
             va, vb, na, nb = vb, va, nb, na
         s_mid = seg_s0[j] + float(np.dot(mid - pts[j], seg_t[j]))
-        rows.append((s_mid, va, vb, el.edges[0].nr, j, na, nb))
+        rows.append((s_mid, va, vb, el.edges[0].nr, j, na, nb, el.nr))
     rows.sort(key=lambda r: r[0])
     tangent = np.array([seg_t[r[4]] for r in rows]).reshape(-1, 2)
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
@@ -211,6 +212,7 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
         va=np.array([r[5] for r in rows], dtype=int),
         vb=np.array([r[6] for r in rows], dtype=int),
         edge=np.array([r[3] for r in rows], dtype=int),
+        bnd=np.array([r[7] for r in rows], dtype=int),
         segment=np.array([r[4] for r in rows], dtype=int),
         s_mid=np.array([r[0] for r in rows]),
         normal=normal,

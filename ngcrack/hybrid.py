@@ -28,7 +28,6 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .elements import Discretization, Loads
-from .geometry import boundary_region
 
 #: columns of K_rc solved at once when forming the Schur complement
 SCHUR_BLOCK = 64
@@ -45,15 +44,17 @@ def _to_scipy(mat) -> sp.csr_matrix:
 
 
 class Factorization:
-    """A sparse direct factorization of an SPD matrix with (multi-RHS) solves.
+    """A sparse direct factorization of a symmetric matrix with (multi-RHS) solves.
 
-    backend "superlu" (scipy's SuperLU in symmetric mode) is the default; "ngsolve"
-    uses NGSolve's sparse Cholesky.
+    backend "superlu" (scipy's SuperLU) is the default; "ngsolve" uses NGSolve's
+    sparse Cholesky. `definite=False` (a symmetric saddle point, e.g. the element
+    pressures of the incompressible split) switches to pivoting LU: SuperLU with
+    partial pivoting, or UMFPACK through NGSolve.
     """
 
     BACKENDS = ("superlu", "ngsolve")
 
-    def __init__(self, K: sp.spmatrix, backend: str = "superlu"):
+    def __init__(self, K: sp.spmatrix, backend: str = "superlu", definite: bool = True):
         if backend not in self.BACKENDS:
             raise ValueError(f"linear_solver = {backend!r}: allowed values are {', '.join(self.BACKENDS)}")
         self.backend = backend
@@ -62,19 +63,18 @@ class Factorization:
             self._solve = lambda b: np.zeros_like(b)
             return
         if backend == "superlu":
-            lu = spla.splu(
-                sp.csc_matrix(K),
-                permc_spec="MMD_AT_PLUS_A",
-                diag_pivot_thresh=0.0,
-                options={"SymmetricMode": True},
-            )
+            if definite:
+                lu = spla.splu(sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                               options={"SymmetricMode": True})
+            else:
+                lu = spla.splu(sp.csc_matrix(K), permc_spec="COLAMD", diag_pivot_thresh=1.0)
             self._solve = lu.solve
         else:
             coo = sp.coo_matrix(K)
             mat = ngs.la.SparseMatrixd.CreateFromCOO(
                 list(coo.row.astype(int)), list(coo.col.astype(int)), list(coo.data), self.n, self.n
             )
-            inv = mat.Inverse(inverse="sparsecholesky")
+            inv = mat.Inverse(inverse="sparsecholesky" if definite else "umfpack")
             x = mat.CreateColVector()
             y = mat.CreateColVector()
 
@@ -138,30 +138,6 @@ class CondensedSystem:
         return gf
 
 
-def _roller_pairs(disc: Discretization, roller: frozenset[str]) -> list[tuple[int, int, np.ndarray]]:
-    """(dof of ux, dof of uy, outward unit normal) for every facet dof on a roller edge."""
-    if not roller:
-        return []
-    mesh = disc.crack_mesh.mesh
-    fes = disc.fes
-    ix, iy = disc.uhat
-    comp = fes.components[ix]
-    off_x, off_y = fes.Range(ix).start, fes.Range(iy).start
-    region = boundary_region(mesh, roller)
-    mask = region.Mask()
-    pairs = []
-    for el in mesh.Elements(ngs.BND):
-        if not mask[el.index]:
-            continue
-        p, q = (np.array(mesh[v].point) for v in el.vertices)
-        t = (q - p) / np.linalg.norm(q - p)
-        # the polygon is counter-clockwise: the outward normal is the tangent turned by -90 deg
-        nrm = np.array([t[1], -t[0]])
-        for d in comp.GetDofNrs(el.edges[0]):
-            pairs.append((off_x + d, off_y + d, nrm))
-    return pairs
-
-
 def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
     """Build K, F on the global unknowns of an assembled discretization."""
     t0 = time.perf_counter()
@@ -174,20 +150,17 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
     fixed = ~_bits(fes.FreeDofs(False))
     free_idx = np.flatnonzero(coupling_free)
     fixed_idx = np.flatnonzero(fixed)
-    # prescribed displacement values on the fixed facet dofs (clamped: zero)
+    # prescribed displacement values on the fixed dofs (clamped: zero)
     x_fixed = np.zeros(len(fixed_idx))
     if loads.displacement:
         gf = ngs.GridFunction(fes)
-        mesh = disc.crack_mesh.mesh
-        for label, g in loads.displacement.items():
-            reg = boundary_region(mesh, [label])
-            for comp_i, gi in zip(disc.uhat, (g[0], g[1])):
-                gf.components[comp_i].Set(gi, ngs.BND, definedon=reg)
+        disc.boundary_values(gf, loads)
         x_fixed = gf.vec.FV().NumPy()[fixed_idx].copy()
-    # roller change of basis on the free global dofs
+    # roller change of basis on the free global dofs (for elements whose displacement
+    # unknowns on an edge are Cartesian components)
     pos = -np.ones(fes.ndof, dtype=int)
     pos[free_idx] = np.arange(len(free_idx))
-    pairs = _roller_pairs(disc, loads.roller)
+    pairs = disc.roller_pairs(loads.roller)
     rolled = np.zeros(len(free_idx), dtype=bool)
     for dx, dy, _ in pairs:
         rolled[pos[dx]] = rolled[pos[dy]] = True
@@ -200,9 +173,9 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
     A_ff = A[free_idx][:, free_idx]
     A_fd = A[free_idx][:, fixed_idx]
     rhs = fmod.FV().NumPy()[free_idx] - A_fd @ x_fixed
-    K = sp.csr_matrix(-(T.T @ A_ff @ T))
+    K = sp.csr_matrix(disc.sign * (T.T @ A_ff @ T))
     K.eliminate_zeros()
-    F = -(T.T @ rhs)
+    F = disc.sign * (T.T @ rhs)
     contact = np.zeros(0, dtype=int)
     if disc.jn is not None:
         rng = fes.Range(disc.jn)
@@ -264,7 +237,7 @@ def reduce_to_contact(system: CondensedSystem, linear_solver: str = "superlu", s
     r, c = system.rest, system.contact
     t0 = time.perf_counter()
     K_rr = K[r][:, r]
-    fac = Factorization(K_rr, backend=linear_solver)
+    fac = Factorization(K_rr, backend=linear_solver, definite=system.disc.definite)
     t1 = time.perf_counter()
     x0 = fac.solve(F[r])
     t2 = time.perf_counter()

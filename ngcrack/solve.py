@@ -20,7 +20,7 @@ from .elements import Discretization, Loads
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
 from .materials import compliance
-from .post import CrackProfile, crack_moments, crack_profile, endpoint_map, field_scales, kkt_residuals
+from .post import CrackProfile, crack_profile, endpoint_map, field_scales, kkt_residuals
 from .scene import Scene
 
 
@@ -167,6 +167,7 @@ def solve(
     linear_solver: str = "superlu",
     loads: Loads | None = None,
     crack_model: str = "contact",
+    order: int | None = None,
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
@@ -175,7 +176,8 @@ def solve(
     replaces the scene's loads by NGSolve CoefficientFunctions (manufactured solutions).
     crack_model: "contact" (unilateral contact, the default), "free" (traction-free
     crack faces that may interpenetrate: one linear solve) or "bonded" (jn = 0, the
-    faces slide freely but never separate: one linear solve).
+    faces slide freely but never separate: one linear solve). order: the polynomial
+    order of elements that have one (tdnns: 1, 2 or 3; default 1).
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver)
     if grading is not None and not (isinstance(grading, (int, float)) and 0 < grading <= 1):
@@ -193,7 +195,7 @@ def solve(
 
     t0 = time.perf_counter()
     mat = scene.material
-    disc = _elements.build(element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads)
+    disc = _elements.build(element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=order)
     system = condense(disc, loads)
     timings["assemble"] = time.perf_counter() - t0
 
@@ -229,11 +231,12 @@ def solve(
     if disc.jn is not None:
         comps = gf.components
         jn_vals = comps[disc.jn].vec.FV().NumPy()
-        jt_vals = comps[disc.jt].vec.FV().NumPy()
+        jt_vals = comps[disc.jt].vec.FV().NumPy() if disc.jt is not None else None
+        displacement = disc.tangential_jump(gf) if disc.tangential_jump is not None else None
         jump_space = disc.fes.components[disc.jn]
-        moments = crack_moments(jump_space, cmesh)
         for crack in cmesh.cracks:
-            profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"], moments))
+            profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
+                                          displacement=displacement))
     kkt = kkt_residuals(profiles, *field_scales(cmesh.mesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
     # linear: the factorization and solves a plain linear solve needs too (with the
     # local recovery); contact: what the crack adds (Schur complement and QP)
@@ -260,5 +263,6 @@ def solve(
         timings=timings,
         ndof=ndof,
         built=built,
-        options={"qp_solver": qp_solver, "linear_solver": linear_solver, "tip_h": tip_h, "crack_model": crack_model},
+        options={"qp_solver": qp_solver, "linear_solver": linear_solver, "tip_h": tip_h, "crack_model": crack_model,
+                 "order": order},
     )

@@ -9,19 +9,29 @@ bilinear form is assembled with static condensation; `hybrid.py` takes it from t
 from __future__ import annotations
 
 from .base import Discretization, Loads
-from . import bdm, peers
+from . import bdm, peers, tdnns
 
-FAMILIES = {"peers": peers.build, "bdm": bdm.build}
+FAMILIES = {"peers": peers.build, "bdm": bdm.build, "tdnns": tdnns.build}
 ELEMENTS = tuple(FAMILIES)
+#: families that take an `order`
+ORDERED = ("tdnns",)
 
 
-def build(name: str, crack_mesh, material, loads: Loads, **options) -> Discretization:
-    """Build the discretization of element family `name` (one of ELEMENTS)."""
+def build(name: str, crack_mesh, material, loads: Loads, order: int | None = None) -> Discretization:
+    """Build the discretization of element family `name` (one of ELEMENTS).
+
+    `order` selects the polynomial order where a family has several (tdnns); the
+    families of fixed order (peers, bdm) accept only None.
+    """
     try:
         family = FAMILIES[name]
     except KeyError:
         raise ValueError(f"element = {name!r}: allowed values are {', '.join(ELEMENTS)}") from None
-    return family(crack_mesh, material, loads, **options)
+    if order is None:
+        return family(crack_mesh, material, loads)
+    if name not in ORDERED:
+        raise ValueError(f"order = {order!r}: element {name!r} has a fixed order; elements with an order: {', '.join(ORDERED)}")
+    return family(crack_mesh, material, loads, order=order)
 
 
 __all__ = ["Discretization", "Loads", "ELEMENTS", "build"]

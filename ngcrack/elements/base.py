@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+import numpy as np
 import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
@@ -64,7 +65,14 @@ class Discretization:
     solution vector (keys "sigma", "u" and, where it exists, "rotation").
     `built` records what was assembled, for the solution's report. `definite` is False
     when the condensed matrix is a saddle point (the element pressures of the
-    incompressible split are global unknowns).
+    incompressible split are global unknowns). `sign` turns the condensed matrix into
+    the (positive) stiffness: -1 for mixed forms, +1 for displacement forms.
+    `boundary_values(gf, loads)` writes prescribed displacements into the fixed dofs of
+    gf; `roller_pairs(labels)` lists (dof of ux, dof of uy, outward normal) for the dofs
+    that the condensed solver must rotate to impose u.n = 0 (empty where the element
+    imposes rollers itself). `tangential_jump(gf)`, where given, is a
+    CoefficientFunction whose tangential trace on a crack edge is single-valued and
+    equals [u].t (else the jt facet component is used).
     """
 
     element: str
@@ -78,7 +86,11 @@ class Discretization:
     facet_order: int
     fields: Callable[[ngs.GridFunction], dict[str, ngs.CoefficientFunction]]
     built: list[str]
+    boundary_values: Callable[[ngs.GridFunction, "Loads"], None]
+    roller_pairs: Callable[[frozenset], list]
     definite: bool = True
+    sign: float = -1.0
+    tangential_jump: Callable[[ngs.GridFunction], ngs.CoefficientFunction] | None = None
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -95,6 +107,31 @@ def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
             for d in full.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
                 active[d] = True
     return ngs.Compress(full, active_dofs=active)
+
+
+def cartesian_roller_pairs(fes: ngs.FESpace, mesh: ngs.Mesh, comps: tuple[int, int], roller) -> list:
+    """(dof of ux, dof of uy, outward unit normal) for every edge dof on a roller edge.
+
+    `comps` are the compound components holding the x and y displacement, two copies
+    of one space with the same dof numbering.
+    """
+    if not roller:
+        return []
+    ix, iy = comps
+    comp = fes.components[ix]
+    off_x, off_y = fes.Range(ix).start, fes.Range(iy).start
+    mask = boundary_region(mesh, roller).Mask()
+    pairs = []
+    for el in mesh.Elements(ngs.BND):
+        if not mask[el.index]:
+            continue
+        p, q = (np.array(mesh[v].point) for v in el.vertices)
+        t = (q - p) / np.linalg.norm(q - p)
+        # the polygon is counter-clockwise: the outward normal is the tangent turned by -90 deg
+        nrm = np.array([t[1], -t[0]])
+        for d in comp.GetDofNrs(el.edges[0]):
+            pairs.append((off_x + d, off_y + d, nrm))
+    return pairs
 
 
 def stress_matrix(row1, row2) -> ngs.CoefficientFunction:
@@ -203,9 +240,17 @@ def weakly_symmetric_hybrid(
         comps = gf.components
         return {"sigma": stress(comps)[1], "u": comps[idx_u], "rotation": rotation(comps[idx_r])}
 
+    def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
+        for label, g in loads.displacement.items():
+            reg = boundary_region(mesh, [label])
+            for comp_i, gi in zip((idx_ux, idx_uy), (g[0], g[1])):
+                gf.components[comp_i].Set(gi, ngs.BND, definedon=reg)
+
     return Discretization(
         element=element,
         crack_mesh=crack_mesh,
+        boundary_values=boundary_values,
+        roller_pairs=lambda roller: cartesian_roller_pairs(fes, mesh, (idx_ux, idx_uy), roller),
         fes=fes,
         a=a,
         f=f,

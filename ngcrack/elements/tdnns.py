@@ -1,0 +1,179 @@
+"""TDNNS (tangential-displacement normal-normal-stress; Pechstein and Schoeberl), hybridized.
+
+Order k (k >= 1; the stress degree):
+- stress sigma: symmetric, NGSolve's HDivDiv of order k with its interior "plus"
+  bubbles, broken (local);
+- displacement u: HCurl of order k+1 of the first kind (Nedelec type 1: tangential
+  traces P_k; tangentially continuous; global);
+- normal facet trace u_hat_n: NormalFacetFESpace of order k, restoring the
+  normal-normal continuity of sigma (global);
+- crack: the normal jump jn, P_k per crack edge, and the tangential jump, carried
+  by a copy of u's dofs on the crack edges used on the crack's + side only
+  (u = u_c + H+ u_e, H+ = 1 on the triangles on the + side of a crack edge). The
+  edge functions of HCurl have tangential traces on their own edge only, so this
+  duplicates exactly the tangential unknowns of the crack edges: [u].t = u_e.t.
+
+With b(sigma; v, v_hat_n) = sum_T [ -(sigma, grad v)_T + <sigma_nn, v.n - v_hat_n>_dT ],
+
+    (A sigma, tau) + b(tau; u, u_hat_n - chi jn)  = 0
+    b(sigma; v, v_hat_n - chi kn)                  = -(f, v) - <g.n, v_hat_n> - <g.t, v.t>
+
+chi = 1 on the minus side of a crack edge. Expected rates for smooth solutions:
+||sigma - sigma_h||_L2 and ||u - u_h||_L2 of order h^(k+1). No rotation unknown: the
+stress is symmetric by construction. Rollers are imposed on u_hat_n directly.
+
+The crack-face shear: TDNNS stresses have no single-valued tangential traction on an
+edge; sigma_t = 0 on the crack holds in the distributional sense of the TDNNS
+divergence (the edge's tangential traction and the element's equilibrium residual
+together), not pointwise. The profiles' shear_stress is the mid-point value of
+(sigma nu).t from one side and is not a measure of the crack condition for tdnns;
+the normal stress sigma_nn is single-valued and is.
+
+Why not a stress of degree 0: broken P0 stresses (3 per triangle) cannot control the
+two facet unknowns per edge (u_t and u_hat_n) of the hybrid form, whose condensed
+matrix is then singular; the non-hybrid lowest-order TDNNS has no such counterpart
+here. The "plus" bubbles are needed for the same reason at every order.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import ngsolve as ngs
+
+from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
+from ..materials import Compliance
+from .base import CRACK_BONUS_INTORDER, PRESSURE_SPLIT_RTOL, Discretization, Loads, crack_facet_space
+
+ORDERS = (1, 2, 3)
+DEFAULT_ORDER = 1
+
+
+def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
+    """H+: 1 on the triangles on the + side of a crack edge (nu points into them), else 0."""
+    mesh = crack_mesh.mesh
+    H = ngs.GridFunction(ngs.L2(mesh, order=0))
+    vals = H.vec.FV().NumPy()
+    vals[:] = 0.0
+    minus = np.zeros(mesh.ne, dtype=bool)
+    verts = np.array([v.point for v in mesh.vertices])
+    for crack in crack_mesh.cracks:
+        for e, mid, nu in zip(crack.edge, crack.mid, crack.normal):
+            for el in mesh.edges[int(e)].elements:
+                c = verts[[v.nr for v in mesh[el].vertices]].mean(axis=0)
+                if np.dot(c - mid, nu) > 0:
+                    vals[el.nr] = 1.0
+                else:
+                    minus[el.nr] = True
+    if np.any(minus & (vals > 0)):
+        raise ValueError("maxh: a triangle touches two cracks from opposite sides; refine the mesh near the cracks")
+    return H
+
+
+def crack_edge_copy(space: ngs.FESpace, crack_mesh: CrackMesh) -> ngs.FESpace:
+    """`space` compressed to the dofs of the crack edges."""
+    active = ngs.BitArray(space.ndof)
+    active.Clear()
+    for crack in crack_mesh.cracks:
+        for e in crack.edge:
+            for d in space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
+                active[d] = True
+    return ngs.Compress(space, active_dofs=active)
+
+
+def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> Discretization:
+    """The hybridized TDNNS discretization of stress degree k = `order` (default 1)."""
+    k = DEFAULT_ORDER if order is None else order
+    if k not in ORDERS:
+        raise ValueError(f"order = {order!r}: allowed values for tdnns are {', '.join(map(str, ORDERS))}")
+    mesh = crack_mesh.mesh
+    dirichlet = boundary_regex(loads.dirichlet_labels)
+    normal_fixed = boundary_regex(set(loads.dirichlet_labels) | set(loads.roller))
+    spaces = [
+        ngs.HDivDiv(mesh, order=k, discontinuous=True, plus=True),
+        ngs.HCurl(mesh, order=k + 1, type1=True, dirichlet=dirichlet),
+        ngs.NormalFacetFESpace(mesh, order=k, dirichlet=normal_fixed),
+    ]
+    built = [f"stress: HDivDiv P{k}+, broken", f"u: HCurl order {k + 1}, type 1", f"u_hat_n: normal facet P{k}"]
+    has_crack = bool(crack_mesh.cracks)
+    if has_crack:
+        spaces += [crack_facet_space(crack_mesh, k), crack_edge_copy(ngs.HCurl(mesh, order=k + 1, type1=True), crack_mesh)]
+        H = plus_side(crack_mesh)
+        built.append(f"crack: normal jump P{k} per edge, tangential jump from the crack edges' HCurl dofs")
+    split = compliance.spherical <= PRESSURE_SPLIT_RTOL * compliance.c_dev
+    if split:
+        pressure = ngs.L2(mesh, order=k)
+        pressure.SetCouplingType(ngs.IntRange(0, pressure.ndof), ngs.COUPLING_TYPE.INTERFACE_DOF)
+        spaces += [pressure, ngs.L2(mesh, order=k)]
+        built.append(f"incompressible split: global P{k} element pressure, local trace multiplier")
+    fes = ngs.FESpace(spaces)
+    idx_jn, idx_ue = (3, 4) if has_crack else (None, None)
+    idx_p = len(spaces) - 2 if split else None
+
+    def displacement(sym):
+        return sym[1] + H * sym[idx_ue] if has_crack else sym[1]
+
+    def grad_displacement(sym):
+        # H+ is constant on each triangle, so grad(H+ u_e) = H+ grad(u_e) elementwise
+        return ngs.Grad(sym[1]) + H * ngs.Grad(sym[idx_ue]) if has_crack else ngs.Grad(sym[1])
+
+    def stress(sym):
+        return sym[0] + sym[idx_p] * ngs.Id(2) if split else sym[0]
+
+    trial, test = fes.TrialFunction(), fes.TestFunction()
+    sig, tau = stress(trial), stress(test)
+    u, v = displacement(trial), displacement(test)
+    n = ngs.specialcf.normal(2)
+    a = ngs.BilinearForm(fes, condense=True)
+    a += (ngs.InnerProduct(compliance.apply(sig), tau) - ngs.InnerProduct(tau, grad_displacement(trial)) - ngs.InnerProduct(sig, grad_displacement(test))) * ngs.dx
+    if split:
+        a += (ngs.Trace(trial[0]) * test[idx_p + 1] + ngs.Trace(test[0]) * trial[idx_p + 1]) * ngs.dx
+    un_hat, vn_hat = trial[2] * n, test[2] * n
+    if has_crack:
+        nu, _ = crack_frame_cf(crack_mesh)
+        chi = ngs.IfPos(n * nu - 0.5, 1.0, 0.0)
+        un_hat = un_hat - chi * trial[idx_jn]
+        vn_hat = vn_hat - chi * test[idx_jn]
+        dbnd = ngs.dx(element_boundary=True, bonus_intorder=CRACK_BONUS_INTORDER)
+    else:
+        dbnd = ngs.dx(element_boundary=True)
+    a += ((n * (tau * n)) * (u * n - un_hat) + (n * (sig * n)) * (v * n - vn_hat)) * dbnd
+    a.Assemble()
+    f = ngs.LinearForm(fes)
+    if loads.body_force is not None:
+        f += -(loads.body_force * v) * ngs.dx
+        built.append("body force")
+    t = ngs.specialcf.tangential(2)
+    for label, g in sorted(loads.traction.items()):
+        reg = boundary_region(mesh, [label])
+        f += -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t)) * ngs.ds(definedon=reg)
+    if loads.traction:
+        built.append("traction load on " + ", ".join(sorted(loads.traction)))
+    f.Assemble()
+
+    def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
+        comps = gf.components
+        return {"sigma": stress(comps), "u": displacement(comps)}
+
+    def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
+        for label, g in loads.displacement.items():
+            reg = boundary_region(mesh, [label])
+            gf.components[1].Set(g, ngs.BND, definedon=reg)
+            gf.components[2].Set(g, ngs.BND, definedon=reg)
+
+    return Discretization(
+        element="tdnns",
+        crack_mesh=crack_mesh,
+        fes=fes,
+        a=a,
+        f=f,
+        uhat=(2, 2),
+        jn=idx_jn,
+        jt=None,
+        facet_order=k,
+        fields=fields,
+        built=built,
+        boundary_values=boundary_values,
+        roller_pairs=lambda roller: [],
+        definite=not split,
+        tangential_jump=(lambda gf: gf.components[idx_ue]) if has_crack else None,
+    )
