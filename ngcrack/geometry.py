@@ -289,3 +289,39 @@ def crack_frame_cf(crack_mesh: CrackMesh):
             t = t + on * ngs.CF((tx, ty))
     return nu, t
 
+
+
+def crack_side(crack_mesh: CrackMesh) -> np.ndarray:
+    """+1 for triangles on the + side (nu points into them) of the crack at a crack
+    vertex they touch, -1 on the - side, 0 for triangles touching no crack vertex.
+
+    Decided by the angle of the triangle's centroid around that vertex, measured from
+    the crack's forward direction, so kinks are classified exactly.
+    """
+    mesh = crack_mesh.mesh
+    verts = np.array([v.point for v in mesh.vertices])
+    around: dict[int, list] = {}  # vertex -> [forward direction, backward direction]
+    for c in crack_mesh.cracks:
+        for k in range(len(c)):
+            d = c.b[k] - c.a[k]
+            around.setdefault(int(c.va[k]), [None, None])[0] = d
+            around.setdefault(int(c.vb[k]), [None, None])[1] = -d
+    side = np.zeros(mesh.ne)
+    for el in mesh.Elements(ngs.VOL):
+        nrs = [v.nr for v in el.vertices]
+        for v in nrs:
+            if v not in around:
+                continue
+            fwd, bwd = around[v]
+            x = verts[nrs].mean(axis=0) - verts[v]
+            if fwd is None or bwd is None:  # a crack end point: one crack edge there
+                d = fwd if fwd is not None else -bwd
+                s = 1.0 if d[0] * x[1] - d[1] * x[0] > 0 else -1.0
+            else:  # the + side (left of the crack) spans the angles from fwd to bwd, ccw
+                a_f = np.arctan2(fwd[1], fwd[0])
+                span = (np.arctan2(bwd[1], bwd[0]) - a_f) % (2 * np.pi)
+                s = 1.0 if (np.arctan2(x[1], x[0]) - a_f) % (2 * np.pi) < span else -1.0
+            if side[el.nr] not in (0.0, s):
+                raise ValueError("maxh: a triangle lies on both sides of the cracks; refine the mesh near the cracks")
+            side[el.nr] = s
+    return side

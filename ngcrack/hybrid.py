@@ -138,6 +138,22 @@ class CondensedSystem:
         return gf
 
 
+#: normals whose cross product is below this count as parallel (one roller direction)
+PARALLEL_TOL = 1e-9
+
+
+def _merge_roller_pairs(pairs: list) -> list:
+    """One entry per dof pair; a dof on two rollers with different normals gets None (fixed)."""
+    merged: dict[tuple[int, int], np.ndarray | None] = {}
+    for dx, dy, nrm in pairs:
+        key = (dx, dy)
+        if key not in merged:
+            merged[key] = nrm
+        elif merged[key] is not None and abs(merged[key][0] * nrm[1] - merged[key][1] * nrm[0]) > PARALLEL_TOL:
+            merged[key] = None
+    return [(dx, dy, nrm) for (dx, dy), nrm in merged.items()]
+
+
 def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
     """Build K, F on the global unknowns of an assembled discretization."""
     t0 = time.perf_counter()
@@ -160,10 +176,13 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
     # unknowns on an edge are Cartesian components)
     pos = -np.ones(fes.ndof, dtype=int)
     pos[free_idx] = np.arange(len(free_idx))
-    pairs = disc.roller_pairs(loads.roller)
+    pairs = _merge_roller_pairs(disc.roller_pairs(loads.roller))
     rolled = np.zeros(len(free_idx), dtype=bool)
     for dx, dy, _ in pairs:
         rolled[pos[dx]] = rolled[pos[dy]] = True
+    for d in disc.fixed_dofs:  # held at zero: no column
+        rolled[pos[d]] = True
+    pairs = [(dx, dy, nrm) for dx, dy, nrm in pairs if nrm is not None]
     keep = np.flatnonzero(~rolled)
     n_red = len(keep) + len(pairs)
     rows = np.concatenate([keep, [pos[dx] for dx, _, _ in pairs], [pos[dy] for _, dy, _ in pairs]]).astype(int)

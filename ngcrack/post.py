@@ -106,29 +106,41 @@ class CrackProfile:
         return {k: [float(v) for v in getattr(self, k)] for k in self.__dataclass_fields__}
 
 
+#: offset (times the edge length) of the two sides' stress samples for two-sided tractions
+SIDE_OFFSET = 1e-6
+
+
 def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals, jt_vals, sigma,
-                  displacement=None) -> CrackProfile:
+                  displacement=None, jumps=None, two_sided: bool = False) -> CrackProfile:
     """The crack profile of one crack from the jump dof values and the stress field.
 
-    The normal jump comes from the jn facet unknowns; the tangential jump from the jt
-    facet unknowns or, with `displacement` given, from the tangential component of that
+    `jumps` = (normal, tangential) at the mid points, where the element computes them
+    itself; otherwise the normal jump comes from the jn facet unknowns, the tangential
+    jump from the jt facet unknowns or, with `displacement` given, from the tangential component of that
     field at the mid point: a field whose tangential trace on a crack edge is
     single-valued and equal to [u].t (TDNNS: the crack edges' HCurl copy u_e).
+    `two_sided`: average the traction of both sides (post-computed stresses).
     """
     mesh = crack_mesh.mesh
-    dofs, B = facet_basis(jump_space, crack_mesh, crack, [0.5])
-    jn = np.einsum("ek,ek->e", jn_vals[dofs], B[:, :, 0])
-    if displacement is None:
-        jt = np.einsum("ek,ek->e", jt_vals[dofs], B[:, :, 0])
-    else:
-        mid = crack.mid
-        vals = np.asarray(displacement(mesh(mid[:, 0], mid[:, 1]))).reshape(len(crack), 2)
-        jt = np.einsum("ei,ei->e", vals, crack.tangent)
     nu = crack.normal
     mid = crack.mid
-    # sigma nu is single-valued on an edge (the facet trace enforces normal continuity
-    # exactly), so either neighbour of the mid point gives the same traction
-    sig = np.asarray(sigma(mesh(mid[:, 0], mid[:, 1]))).reshape(-1, 2, 2)
+    if jumps is not None:
+        jn, jt = jumps
+    else:
+        dofs, B = facet_basis(jump_space, crack_mesh, crack, [0.5])
+        jn = np.einsum("ek,ek->e", jn_vals[dofs], B[:, :, 0])
+        if displacement is None:
+            jt = np.einsum("ek,ek->e", jt_vals[dofs], B[:, :, 0])
+        else:
+            vals = np.asarray(displacement(mesh(mid[:, 0], mid[:, 1]))).reshape(len(crack), 2)
+            jt = np.einsum("ei,ei->e", vals, crack.tangent)
+    # the mixed elements' sigma nu is single-valued on an edge (the facet trace enforces
+    # normal continuity exactly), so either neighbour of the mid point gives it
+    if two_sided:
+        d = SIDE_OFFSET * crack.length[:, None] * nu
+        sig = 0.5 * sum(np.asarray(sigma(mesh(p[:, 0], p[:, 1]))).reshape(-1, 2, 2) for p in (mid + d, mid - d))
+    else:
+        sig = np.asarray(sigma(mesh(mid[:, 0], mid[:, 1]))).reshape(-1, 2, 2)
     traction = np.einsum("eij,ej->ei", sig, nu)
     shear = np.einsum("ei,ei->e", traction, crack.tangent)
     return CrackProfile(

@@ -210,7 +210,7 @@ def solve(
     t0 = time.perf_counter()
     if m and crack_model == "contact":
         jn_space = disc.fes.components[disc.jn]
-        G = endpoint_map(jn_space, cmesh, disc.facet_order)
+        G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(jn_space, cmesh, disc.facet_order)
         qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options)
         jn = qp.j
     else:
@@ -235,8 +235,9 @@ def solve(
         displacement = disc.tangential_jump(gf) if disc.tangential_jump is not None else None
         jump_space = disc.fes.components[disc.jn]
         for crack in cmesh.cracks:
+            jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
-                                          displacement=displacement))
+                                          displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction))
     kkt = kkt_residuals(profiles, *field_scales(cmesh.mesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
     # linear: the factorization and solves a plain linear solve needs too (with the
     # local recovery); contact: what the crack adds (Schur complement and QP)

@@ -9,9 +9,17 @@ bilinear form is assembled with static condensation; `hybrid.py` takes it from t
 from __future__ import annotations
 
 from .base import Discretization, Loads
-from . import bdm, peers, tdnns
+from . import bdm, h1, peers, tdnns
 
-FAMILIES = {"peers": peers.build, "bdm": bdm.build, "tdnns": tdnns.build}
+FAMILIES = {
+    "peers": peers.build,
+    "bdm": bdm.build,
+    "tdnns": tdnns.build,
+    "h1p1": lambda *args: h1.build(*args, order=1),
+    "h1p2": lambda *args: h1.build(*args, order=2),
+}
+#: the locking-free mixed elements (the baselines h1p1, h1p2 are displacement elements)
+MIXED = ("peers", "bdm", "tdnns")
 ELEMENTS = tuple(FAMILIES)
 #: families that take an `order`
 ORDERED = ("tdnns",)
@@ -34,4 +42,4 @@ def build(name: str, crack_mesh, material, loads: Loads, order: int | None = Non
     return family(crack_mesh, material, loads, order=order)
 
 
-__all__ = ["Discretization", "Loads", "ELEMENTS", "build"]
+__all__ = ["Discretization", "Loads", "ELEMENTS", "MIXED", "ORDERED", "build"]

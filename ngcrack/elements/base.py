@@ -72,7 +72,12 @@ class Discretization:
     that the condensed solver must rotate to impose u.n = 0 (empty where the element
     imposes rollers itself). `tangential_jump(gf)`, where given, is a
     CoefficientFunction whose tangential trace on a crack edge is single-valued and
-    equals [u].t (else the jt facet component is used).
+    equals [u].t (else the jt facet component is used). `constraint_map()`, where
+    given, returns G (jn dofs -> values that must be >= 0) instead of the facet
+    end-point map; `crack_jumps(gf, crack)` returns the (normal, tangential) jumps at
+    the crack's mid points instead of the facet evaluation; `two_sided_traction`
+    averages the crack-face traction of both sides (post-computed, discontinuous
+    stresses); `fixed_dofs` are further dofs held at zero.
     """
 
     element: str
@@ -91,6 +96,10 @@ class Discretization:
     definite: bool = True
     sign: float = -1.0
     tangential_jump: Callable[[ngs.GridFunction], ngs.CoefficientFunction] | None = None
+    constraint_map: Callable[[], np.ndarray] | None = None
+    crack_jumps: Callable[[ngs.GridFunction, object], tuple[np.ndarray, np.ndarray]] | None = None
+    two_sided_traction: bool = False
+    fixed_dofs: tuple[int, ...] = ()
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -109,11 +118,12 @@ def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
     return ngs.Compress(full, active_dofs=active)
 
 
-def cartesian_roller_pairs(fes: ngs.FESpace, mesh: ngs.Mesh, comps: tuple[int, int], roller) -> list:
-    """(dof of ux, dof of uy, outward unit normal) for every edge dof on a roller edge.
+def cartesian_roller_pairs(fes: ngs.FESpace, mesh: ngs.Mesh, comps: tuple[int, int], roller, nodal: bool = False) -> list:
+    """(dof of ux, dof of uy, outward unit normal) for every dof on a roller edge.
 
     `comps` are the compound components holding the x and y displacement, two copies
-    of one space with the same dof numbering.
+    of one space with the same dof numbering. With `nodal`, the vertex dofs of the
+    roller edges are included too (a vertex on two rollers appears once per edge).
     """
     if not roller:
         return []
@@ -129,7 +139,10 @@ def cartesian_roller_pairs(fes: ngs.FESpace, mesh: ngs.Mesh, comps: tuple[int, i
         t = (q - p) / np.linalg.norm(q - p)
         # the polygon is counter-clockwise: the outward normal is the tangent turned by -90 deg
         nrm = np.array([t[1], -t[0]])
-        for d in comp.GetDofNrs(el.edges[0]):
+        dofs = list(comp.GetDofNrs(el.edges[0]))
+        if nodal:
+            dofs += [d for v in el.vertices for d in comp.GetDofNrs(v)]
+        for d in dofs:
             pairs.append((off_x + d, off_y + d, nrm))
     return pairs
 

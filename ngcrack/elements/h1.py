@@ -1,0 +1,241 @@
+"""Displacement baselines h1p1 and h1p2: continuous P1 / P2 elements with duplicated crack faces.
+
+These are what a user would pick instead of a mixed element; they show locking as
+nu -> 1/2. The displacement is u = u_c + H+ u_e: u_c continuous P_k, and u_e a copy of
+the P_k dofs on the crack (its vertices other than interior tips, and its edges) used
+on the crack's + side only (H+ = 1 there, 0 elsewhere). That is exactly a mesh whose
+crack nodes are duplicated: [u] = u_e on the crack, and [u] = 0 at interior tips.
+The jump is written u_e = jn nu_h + jt t_h with nu_h, t_h the crack normal and tangent
+(averaged at kinks), interpolated from nodal values that are constant across each
+crack vertex's patch, so jn >= 0 at the crack nodes (and, for P2, at the edge
+mid points) is the contact constraint: the same QP as the mixed elements.
+
+The stress is post-computed, sigma = C eps(u), and is discontinuous; crack-face
+tractions are the average of the two sides' values at the edge mid points.
+Plane strain at nu = 1/2 has no finite C: the baselines refuse it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import ngsolve as ngs
+
+from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
+from ..materials import Compliance
+from .base import Discretization, Loads, cartesian_roller_pairs
+
+#: offset (times the edge length) of the two sides' traction samples at a crack mid point
+SIDE_OFFSET = 1e-6
+
+
+def _lame(compliance: Compliance) -> tuple[float, float]:
+    """(lambda, mu) from A sigma = c_dev sigma - c_tr tr(sigma) I (2D)."""
+    mu = 0.5 / compliance.c_dev
+    # A(I) = (c_dev - 2 c_tr) I = I / (2 mu + 2 lambda)
+    lam = 0.5 / compliance.spherical - mu
+    return lam, mu
+
+
+def _crack_nodes(crack_mesh: CrackMesh, fixed_vertices: set[int]):
+    """Crack vertices that carry a jump, with their nodal normals (averaged at kinks)."""
+    normals: dict[int, np.ndarray] = {}
+    for c in crack_mesh.cracks:
+        for k in range(len(c)):
+            for v in (int(c.va[k]), int(c.vb[k])):
+                normals[v] = normals.get(v, np.zeros(2)) + c.normal[k]
+    free = {v: n / np.linalg.norm(n) for v, n in normals.items() if v not in crack_mesh.tips and v not in fixed_vertices}
+    return free
+
+
+def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int = 1) -> Discretization:
+    """The P_order displacement discretization with duplicated crack faces."""
+    if compliance.spherical <= 0.0 or not math.isfinite(0.5 / compliance.spherical):
+        raise ValueError("material.nu = 0.5: the displacement baselines h1p1/h1p2 need nu < 1/2 in plane strain "
+                         "(lambda is infinite); use a mixed element (peers, bdm, tdnns)")
+    lam, mu = _lame(compliance)
+    mesh = crack_mesh.mesh
+    dirichlet = boundary_regex(loads.dirichlet_labels)
+    Vc = ngs.H1(mesh, order=order, dirichlet=dirichlet)
+    spaces = [Vc, Vc]
+    name = f"h1p{order}"
+    built = [f"u: continuous P{order}^2", "stress: post-computed C eps(u)"]
+    has_crack = bool(crack_mesh.cracks)
+    if has_crack:
+        fixed_bnd = boundary_region(mesh, loads.dirichlet_labels).Mask() if loads.dirichlet_labels else None
+        fixed_vertices = set()
+        if fixed_bnd is not None:
+            for el in mesh.Elements(ngs.BND):
+                if fixed_bnd[el.index]:
+                    fixed_vertices.update(v.nr for v in el.vertices)
+        nodes = _crack_nodes(crack_mesh, fixed_vertices)
+        full = ngs.H1(mesh, order=order)
+        active = ngs.BitArray(full.ndof)
+        active.Clear()
+        for v in nodes:
+            for d in full.GetDofNrs(ngs.NodeId(ngs.VERTEX, v)):
+                active[d] = True
+        for c in crack_mesh.cracks:
+            for e in c.edge:
+                for d in full.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
+                    active[d] = True
+        jump = ngs.Compress(full, active_dofs=active)
+        spaces += [jump, jump]
+        # nodal normal field nu_h (P1) and the side indicator H+
+        nu_x = ngs.GridFunction(ngs.H1(mesh, order=1))
+        nu_y = ngs.GridFunction(ngs.H1(mesh, order=1))
+        # tips and fixed crack vertices carry no jump; give them a normal for the interpolation
+        frame = {}
+        for c in crack_mesh.cracks:
+            for k in range(len(c)):
+                for v in (int(c.va[k]), int(c.vb[k])):
+                    frame.setdefault(v, nodes.get(v, c.normal[k]))
+        # the frame must be constant across each crack vertex's patch: a frame that fell
+        # to zero at the patch's other vertices would make the rigid opening of a face
+        # cost strain energy of order 1/h and lock the jump
+        for el in mesh.Elements(ngs.VOL):
+            nrs = [v.nr for v in el.vertices]
+            crack_v = [v for v in nrs if v in frame]
+            if crack_v:
+                for v in nrs:
+                    frame.setdefault(v, frame[crack_v[0]])
+        for v, nrm in frame.items():
+            nu_x.vec[v], nu_y.vec[v] = float(nrm[0]), float(nrm[1])
+        nu_cf = ngs.CF((nu_x, nu_y))
+        t_cf = ngs.CF((nu_y, -nu_x))
+        grad_nu = ngs.CF((ngs.grad(nu_x), ngs.grad(nu_y)), dims=(2, 2))  # row i: grad nu_i
+        grad_t = ngs.CF((ngs.grad(nu_y), -ngs.grad(nu_x)), dims=(2, 2))
+        H = ngs.GridFunction(ngs.L2(mesh, order=0))
+        H.vec.FV().NumPy()[:] = (crack_side(crack_mesh) > 0).astype(float)
+        built.append(f"crack faces duplicated: P{order} jump at {len(nodes)} crack vertices and the crack edges")
+    fes = ngs.FESpace(spaces)
+
+    def displacement(sym):
+        u = ngs.CF((sym[0], sym[1]))
+        if has_crack:
+            u = u + H * (sym[2] * nu_cf + sym[3] * t_cf)
+        return u
+
+    def grad_displacement(sym):
+        g = ngs.CF((ngs.grad(sym[0]), ngs.grad(sym[1])), dims=(2, 2))
+        if has_crack:
+            # H+ is constant per triangle; nu_h varies only at kinks (linear), so the product rule
+            ge = ngs.OuterProduct(nu_cf, ngs.grad(sym[2])) + sym[2] * grad_nu \
+                + ngs.OuterProduct(t_cf, ngs.grad(sym[3])) + sym[3] * grad_t
+            g = g + H * ge
+        return g
+
+    def strain(sym):
+        g = grad_displacement(sym)
+        return 0.5 * (g + g.trans)
+
+    def stress_of(eps):
+        return 2.0 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2)
+
+    trial, test = fes.TrialFunction(), fes.TestFunction()
+    a = ngs.BilinearForm(fes, condense=True)
+    a += ngs.InnerProduct(stress_of(strain(trial)), strain(test)) * ngs.dx
+    a.Assemble()
+    f = ngs.LinearForm(fes)
+    v = displacement(test)
+    if loads.body_force is not None:
+        f += (loads.body_force * v) * ngs.dx
+        built.append("body force")
+    for label, g in sorted(loads.traction.items()):
+        f += (g * v) * ngs.ds(definedon=boundary_region(mesh, [label]))
+    if loads.traction:
+        built.append("traction load on " + ", ".join(sorted(loads.traction)))
+    f.Assemble()
+
+    def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
+        comps = gf.components
+        return {"sigma": stress_of(strain(comps)), "u": displacement(comps)}
+
+    fixed = []
+    if has_crack and loads.roller:
+        # a crack node on a roller edge: both faces keep u.n_r = 0, so the jump has no
+        # component along n_r there
+        mask = boundary_region(mesh, loads.roller).Mask()
+        offs = fes.Range(2).start, fes.Range(3).start
+        for el in mesh.Elements(ngs.BND):
+            if not mask[el.index]:
+                continue
+            p_, q_ = (np.array(mesh[v].point) for v in el.vertices)
+            t_r = (q_ - p_) / np.linalg.norm(q_ - p_)
+            n_r = np.array([t_r[1], -t_r[0]])
+            for vtx in el.vertices:
+                if vtx.nr not in nodes:
+                    continue
+                nrm = nodes[vtx.nr]
+                along_t = abs(nrm[1] * n_r[0] - nrm[0] * n_r[1])  # |t . n_r|
+                which = 1 if along_t > 1 - 1e-9 else (0 if along_t < 1e-9 else None)
+                if which is None:
+                    raise ValueError("boundary: a crack meets a roller edge obliquely; the h1 baselines support "
+                                     "cracks normal or parallel to roller edges only")
+                for d in jump.GetDofNrs(vtx):
+                    fixed.append(offs[which] + d)
+
+    def constraint_map() -> np.ndarray:
+        """Nodal values of jn at crack vertices, and for P2 its values at edge mid points."""
+        n = jump.ndof
+        G = np.eye(n)
+        if order == 1:
+            return G
+        gf = ngs.GridFunction(jump)
+        for c in crack_mesh.cracks:
+            mids = c.mid
+            mp = mesh(mids[:, 0], mids[:, 1])
+            edge_dofs = [list(jump.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e)))) for e in c.edge]
+            gf.vec[:] = 0.0
+            for ds in edge_dofs:
+                gf.vec[ds[0]] = 1.0
+            bubble = np.asarray(gf(mp)).reshape(-1)
+            for k, ds in enumerate(edge_dofs):
+                row = ds[0]
+                G[row, :] = 0.0
+                G[row, row] = bubble[k]
+                for v in (int(c.va[k]), int(c.vb[k])):
+                    for d in jump.GetDofNrs(ngs.NodeId(ngs.VERTEX, v)):
+                        if d >= 0:  # tips and fixed vertices have no jump dof (-1)
+                            G[row, d] = 0.5
+        return G
+
+    def crack_jumps(gf: ngs.GridFunction, crack) -> tuple[np.ndarray, np.ndarray]:
+        mid = crack.mid
+        mp = mesh(mid[:, 0], mid[:, 1])
+        jn = np.asarray(gf.components[2](mp)).reshape(-1)
+        jt = np.asarray(gf.components[3](mp)).reshape(-1)
+        # the nodal frame (nu_h, t_h) equals the edge's own frame on straight segments;
+        # at kinks project the jump onto the edge's frame
+        nu_m = np.asarray(nu_cf(mp)).reshape(-1, 2)
+        t_m = np.column_stack([nu_m[:, 1], -nu_m[:, 0]])
+        jump_vec = jn[:, None] * nu_m + jt[:, None] * t_m
+        return (np.einsum("ei,ei->e", jump_vec, crack.normal), np.einsum("ei,ei->e", jump_vec, crack.tangent))
+
+    def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
+        for label, g in loads.displacement.items():
+            reg = boundary_region(mesh, [label])
+            for i in (0, 1):
+                gf.components[i].Set(g[i], ngs.BND, definedon=reg)
+
+    return Discretization(
+        element=name,
+        crack_mesh=crack_mesh,
+        fes=fes,
+        a=a,
+        f=f,
+        uhat=(0, 1),
+        jn=2 if has_crack else None,
+        jt=3 if has_crack else None,
+        facet_order=order,
+        fields=fields,
+        built=built,
+        boundary_values=boundary_values,
+        roller_pairs=lambda roller: cartesian_roller_pairs(fes, mesh, (0, 1), roller, nodal=True),
+        sign=1.0,
+        constraint_map=constraint_map if has_crack else None,
+        crack_jumps=crack_jumps if has_crack else None,
+        two_sided_traction=True,
+        fixed_dofs=tuple(sorted(set(fixed))),
+    )
