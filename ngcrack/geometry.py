@@ -120,18 +120,64 @@ def _param_on_edge(p, q, x, tol) -> float | None:
     return t
 
 
-def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | None = None) -> SplineGeometry:
+def normalizing_frame(scene: Scene) -> tuple[np.ndarray, float]:
+    """(center, diameter) of the polygon: netgen meshes (x - center) / diameter."""
+    poly = np.asarray(scene.polygon, dtype=float)
+    return 0.5 * (poly.min(axis=0) + poly.max(axis=0)), _diameter(poly)
+
+
+def graded_polyline(pts: np.ndarray, tip_h: float, target_h: float, grading: float) -> np.ndarray:
+    """The polyline with points added near both ends: spacing tip_h, tip_h r, tip_h r^2, ...
+
+    r = 1 + grading (netgen lets sizes grow by about `grading` per unit length; a
+    faster boundary grading makes slivers); the spacing stops growing at target_h, and the points stay in
+    the first (last) half of the first (last) segment. Netgen divides a crack segment by
+    its own size and would otherwise ignore the size asked for at its end points.
+    """
+    ratio = 1.0 + grading
+
+    def offsets(length: float) -> list[float]:
+        out, d, h = [], 0.0, tip_h
+        while h < target_h and d + h < 0.5 * length:
+            d += h
+            out.append(d)
+            h *= ratio
+        return out
+
+    pts = [np.asarray(p, dtype=float) for p in pts]
+    first_t = (pts[1] - pts[0]) / np.linalg.norm(pts[1] - pts[0])
+    last_t = (pts[-1] - pts[-2]) / np.linalg.norm(pts[-1] - pts[-2])
+    head = [pts[0] + d * first_t for d in offsets(np.linalg.norm(pts[1] - pts[0]))]
+    tail = [pts[-1] - d * last_t for d in offsets(np.linalg.norm(pts[-1] - pts[-2]))][::-1]
+    if len(pts) == 2:  # one segment: both ends share it, each keeps to its own half
+        return np.array([pts[0], *head, *tail, pts[1]])
+    return np.array([pts[0], *head, *pts[1:-1], *tail, pts[-1]])
+
+
+def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | None = None,
+                   frame: tuple[np.ndarray, float] | None = None, maxh: float | None = None,
+                   grading: float = 0.3) -> SplineGeometry:
     """A netgen 2D spline geometry: the polygon, its labels, and the cracks as slits.
 
-    tip_h is the mesh size at crack end points, crack_h the size along crack segments.
+    tip_h is the mesh size at crack end points (the crack is graded from there, see
+    `graded_polyline`), crack_h the size along crack segments. With `frame` =
+    (center, scale) the geometry and sizes are given to netgen in the coordinates
+    (x - center) / scale.
     """
-    poly = np.asarray(scene.polygon, dtype=float)
+    center, scale = frame if frame is not None else (np.zeros(2), 1.0)
+    maxh_hint = (maxh / scale) if maxh else 1.0
+    grading_hint = grading
+    tip_h = tip_h / scale if tip_h else tip_h
+    crack_h = crack_h / scale if crack_h else crack_h
+    scene_points = lambda pts: (np.asarray(pts, dtype=float) - center) / scale  # noqa: E731
+    poly = scene_points(scene.polygon)
     tol = ON_EDGE_RTOL * _diameter(poly)
     n = len(poly)
     # crack points that sit on the boundary are inserted into the polygon edges
     inserted: list[list[tuple[float, np.ndarray]]] = [[] for _ in range(n)]
-    for crack in scene.cracks:
-        for x in (np.asarray(crack.points[0], float), np.asarray(crack.points[-1], float)):
+    cracks = [scene_points(crack.points) for crack in scene.cracks]
+    for pts in cracks:
+        for x in (pts[0], pts[-1]):
             if np.min(np.linalg.norm(poly - x, axis=1)) <= tol:
                 continue  # a polygon vertex already
             for i in range(n):
@@ -149,28 +195,23 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
         point_ids.append((x, pid))
         return pid
 
-    tips = {
-        tuple(np.round(np.asarray(p, float), 14))
-        for crack in scene.cracks
-        for p in (crack.points[0], crack.points[-1])
-    }
-    h_tip = tip_h
+    ends = np.array([x for pts in cracks for x in (pts[0], pts[-1])]).reshape(-1, 2)
 
     def h_of(x):
-        return h_tip if (h_tip and tuple(np.round(x, 14)) in tips) else None
+        at_end = len(ends) and np.min(np.linalg.norm(ends - x, axis=1)) <= tol
+        return tip_h if (tip_h and at_end) else None
 
     # crack end points first so that they carry the tip mesh size
-    for crack in scene.cracks:
-        for x in (crack.points[0], crack.points[-1]):
-            x = np.asarray(x, float)
-            point(x, h_of(x))
+    for x in ends:
+        point(x, h_of(x))
     for i in range(n):
         chain = [poly[i]] + [x for _, x in sorted(inserted[i], key=lambda tx: tx[0])]
         chain.append(poly[(i + 1) % n])
         for p, q in zip(chain[:-1], chain[1:]):
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=0, bc=scene.labels[i])
-    for k, crack in enumerate(scene.cracks):
-        pts = [np.asarray(x, float) for x in crack.points]
+    for k, pts in enumerate(cracks):
+        if tip_h:
+            pts = graded_polyline(pts, tip_h, crack_h or maxh_hint, grading_hint)
         for p, q in zip(pts[:-1], pts[1:]):
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=1, bc=crack_bc(k),
                        maxh=crack_h if crack_h else 1e99)
@@ -243,8 +284,21 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     tip_h = tip_h if tip_h is not None else scene.tip_h
     crack_h = crack_h if crack_h is not None else scene.crack_h
     grading = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
-    geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h)
-    mesh = ngs.Mesh(geo.GenerateMesh(mp=MeshingParameters(maxh=maxh, grading=grading)))
+    # netgen meshes the scene scaled to unit diameter, and the vertices are mapped back:
+    # a scaled scene gets the same mesh, scaled (up to round-off)
+    center, scale = normalizing_frame(scene)
+    geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h, frame=(center, scale), maxh=maxh, grading=grading)
+    try:
+        ngmesh = geo.GenerateMesh(mp=MeshingParameters(maxh=maxh / scale, grading=grading))
+    except Exception as exc:  # netgen reports failures as its own exception type
+        raise ValueError(
+            f"mesh: netgen could not mesh scene {scene.name!r} with maxh={maxh:g}, tip_h={tip_h}, "
+            f"crack_h={crack_h}, grading={grading:g} ({exc}); try another maxh, a milder grading "
+            f"(larger, up to 1) or a larger crack_h/tip_h"
+        ) from exc
+    coords = ngmesh.Coordinates()
+    coords[:] = coords * scale + center
+    mesh = ngs.Mesh(ngmesh)
     quality = mesh_quality(mesh)
     if quality < MIN_QUALITY:
         warnings.warn(f"scene {scene.name!r}: netgen made a triangle of quality {quality:.3f} (maxh={maxh:g}, "

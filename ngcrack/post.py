@@ -106,8 +106,9 @@ class CrackProfile:
         return {k: [float(v) for v in getattr(self, k)] for k in self.__dataclass_fields__}
 
 
-#: offset (times the edge length) of the two sides' stress samples for two-sided tractions
-SIDE_OFFSET = 1e-6
+#: offset (times the edge length) of the two sides' stress samples for two-sided tractions:
+#: large enough for the point search to land on the intended side at any scale
+SIDE_OFFSET = 1e-3
 
 
 def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals, jt_vals, sigma,

@@ -146,7 +146,7 @@ def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_so
     if element not in _elements.ELEMENTS:
         raise ValueError(f"element = {element!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
     for name, val in (("maxh", maxh), ("tip_h", tip_h), ("crack_h", crack_h)):
-        if val is not None and not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+        if val is not None and (isinstance(val, bool) or not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0)):
             raise ValueError(f"{name} = {val!r}: must be a finite number > 0")
     if linear_solver not in Factorization.BACKENDS:
         raise ValueError(f"linear_solver = {linear_solver!r}: allowed values are {', '.join(Factorization.BACKENDS)}")
@@ -180,7 +180,7 @@ def solve(
     order of elements that have one (tdnns: 1, 2 or 3; default 1).
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver)
-    if grading is not None and not (isinstance(grading, (int, float)) and 0 < grading <= 1):
+    if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
@@ -213,8 +213,8 @@ def solve(
         G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(jn_space, cmesh, disc.facet_order)
         qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options)
         jn = qp.j
-    else:
-        jn = np.zeros(0)
+    else:  # no crack, or a bonded crack: jn = 0
+        jn = np.zeros(len(system.contact))
     timings["qp"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()

@@ -20,6 +20,7 @@ crack; the test function of jn, after the sign flip in `hybrid.py`, gives the mu
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -116,6 +117,16 @@ def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
             for d in full.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
                 active[d] = True
     return ngs.Compress(full, active_dofs=active)
+
+
+def displacement_data(mesh: ngs.Mesh, displacement: dict) -> tuple[ngs.CoefficientFunction, ngs.Region]:
+    """One CoefficientFunction holding every prescribed displacement, and its region.
+
+    Set it once: NGSolve's GridFunction.Set clears the whole vector first, so one Set
+    per label would keep only the last label's data.
+    """
+    cf = mesh.BoundaryCF({re.escape(lab): g for lab, g in displacement.items()}, default=ngs.CF((0.0, 0.0)))
+    return cf, boundary_region(mesh, displacement)
 
 
 def cartesian_roller_pairs(fes: ngs.FESpace, mesh: ngs.Mesh, comps: tuple[int, int], roller, nodal: bool = False) -> list:
@@ -254,10 +265,9 @@ def weakly_symmetric_hybrid(
         return {"sigma": stress(comps)[1], "u": comps[idx_u], "rotation": rotation(comps[idx_r])}
 
     def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
-        for label, g in loads.displacement.items():
-            reg = boundary_region(mesh, [label])
-            for comp_i, gi in zip((idx_ux, idx_uy), (g[0], g[1])):
-                gf.components[comp_i].Set(gi, ngs.BND, definedon=reg)
+        g, reg = displacement_data(mesh, loads.displacement)
+        for i, comp_i in enumerate((idx_ux, idx_uy)):
+            gf.components[comp_i].Set(g[i], ngs.BND, definedon=reg)
 
     return Discretization(
         element=element,

@@ -24,10 +24,7 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
 from ..materials import Compliance
-from .base import Discretization, Loads, cartesian_roller_pairs
-
-#: offset (times the edge length) of the two sides' traction samples at a crack mid point
-SIDE_OFFSET = 1e-6
+from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data
 
 
 def _lame(compliance: Compliance) -> tuple[float, float]:
@@ -214,10 +211,9 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         return (np.einsum("ei,ei->e", jump_vec, crack.normal), np.einsum("ei,ei->e", jump_vec, crack.tangent))
 
     def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
-        for label, g in loads.displacement.items():
-            reg = boundary_region(mesh, [label])
-            for i in (0, 1):
-                gf.components[i].Set(g[i], ngs.BND, definedon=reg)
+        g, reg = displacement_data(mesh, loads.displacement)
+        for i in (0, 1):
+            gf.components[i].Set(g[i], ngs.BND, definedon=reg)
 
     return Discretization(
         element=name,

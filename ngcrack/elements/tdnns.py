@@ -42,7 +42,7 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
 from ..materials import Compliance
-from .base import CRACK_BONUS_INTORDER, PRESSURE_SPLIT_RTOL, Discretization, Loads, crack_facet_space
+from .base import CRACK_BONUS_INTORDER, PRESSURE_SPLIT_RTOL, Discretization, Loads, crack_facet_space, displacement_data
 
 ORDERS = (1, 2, 3)
 DEFAULT_ORDER = 1
@@ -155,10 +155,9 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         return {"sigma": stress(comps), "u": displacement(comps)}
 
     def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
-        for label, g in loads.displacement.items():
-            reg = boundary_region(mesh, [label])
-            gf.components[1].Set(g, ngs.BND, definedon=reg)
-            gf.components[2].Set(g, ngs.BND, definedon=reg)
+        g, reg = displacement_data(mesh, loads.displacement)
+        gf.components[1].Set(g, ngs.BND, definedon=reg)
+        gf.components[2].Set(g, ngs.BND, definedon=reg)
 
     return Discretization(
         element="tdnns",
