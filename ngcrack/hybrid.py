@@ -28,9 +28,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .elements import Discretization, Loads
-
-#: columns of K_rc solved at once when forming the Schur complement
-SCHUR_BLOCK = 64
+from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
 
 
 def _bits(ba: ngs.BitArray) -> np.ndarray:
@@ -41,57 +39,6 @@ def _to_scipy(mat) -> sp.csr_matrix:
     rows, cols, vals = mat.COO()
     n = mat.height
     return sp.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
-
-
-class Factorization:
-    """A sparse direct factorization of a symmetric matrix with (multi-RHS) solves.
-
-    backend "superlu" (scipy's SuperLU) is the default; "ngsolve" uses NGSolve's
-    sparse Cholesky. `definite=False` (a symmetric saddle point, e.g. the element
-    pressures of the incompressible split) switches to pivoting LU: SuperLU with
-    partial pivoting, or UMFPACK through NGSolve.
-    """
-
-    BACKENDS = ("superlu", "ngsolve")
-
-    def __init__(self, K: sp.spmatrix, backend: str = "superlu", definite: bool = True):
-        if backend not in self.BACKENDS:
-            raise ValueError(f"linear_solver = {backend!r}: allowed values are {', '.join(self.BACKENDS)}")
-        self.backend = backend
-        self.n = K.shape[0]
-        if self.n == 0:
-            self._solve = lambda b: np.zeros_like(b)
-            return
-        if backend == "superlu":
-            if definite:
-                lu = spla.splu(sp.csc_matrix(K), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                               options={"SymmetricMode": True})
-            else:
-                lu = spla.splu(sp.csc_matrix(K), permc_spec="COLAMD", diag_pivot_thresh=1.0)
-            self._solve = lu.solve
-        else:
-            coo = sp.coo_matrix(K)
-            mat = ngs.la.SparseMatrixd.CreateFromCOO(
-                list(coo.row.astype(int)), list(coo.col.astype(int)), list(coo.data), self.n, self.n
-            )
-            inv = mat.Inverse(inverse="sparsecholesky" if definite else "umfpack")
-            x = mat.CreateColVector()
-            y = mat.CreateColVector()
-
-            def solve(b):
-                b2 = b.reshape(self.n, -1)
-                out = np.empty_like(b2)
-                for k in range(b2.shape[1]):
-                    x.FV().NumPy()[:] = b2[:, k]
-                    y.data = inv * x
-                    out[:, k] = y.FV().NumPy()
-                return out.reshape(b.shape)
-
-            self._solve = solve
-
-    def solve(self, b: np.ndarray) -> np.ndarray:
-        """K^{-1} b for a vector or a matrix of right-hand sides."""
-        return self._solve(np.asarray(b, dtype=float))
 
 
 @dataclass
@@ -224,7 +171,9 @@ class ContactReduction:
     """The crack QP data of a condensed system and the means to recover the rest.
 
     S (m x m, dense, SPD) and b as in the module docstring; `x0` is the rest's solution
-    for jn = 0 (a bonded crack in the normal direction, free to slide).
+    for jn = 0 (a bonded crack in the normal direction, free to slide). `method` says
+    how S was formed and `largest_dense` counts the entries of the largest dense array
+    built on the way (m * m unless S came from blocked solves); see `schur.py`.
     """
 
     S: np.ndarray
@@ -233,13 +182,19 @@ class ContactReduction:
     factorization: Factorization
     system: CondensedSystem
     timings: dict = field(default_factory=dict)
+    method: str = "none"
+    largest_dense: int = 0
 
     def recover(self, jn: np.ndarray) -> np.ndarray:
-        """The full global vector y for given crack normal jumps (one more solve)."""
+        """The full global vector y for given crack normal jumps (one more solve).
+
+        An empty `jn` means jn = 0 (a bonded crack, or no crack).
+        """
         sysm = self.system
+        jn = np.asarray(jn, dtype=float)
         y = np.zeros(sysm.n)
-        y[sysm.contact] = jn
-        if len(jn) and np.any(jn):
+        if jn.size and np.any(jn):
+            y[sysm.contact] = jn
             K_rc = sysm.K[sysm.rest][:, sysm.contact]
             y[sysm.rest] = self.x0 - self.factorization.solve(K_rc @ jn)
         else:
@@ -247,31 +202,22 @@ class ContactReduction:
         return y
 
 
-def reduce_to_contact(system: CondensedSystem, linear_solver: str = "superlu", schur: bool = True) -> ContactReduction:
+def reduce_to_contact(system: CondensedSystem, linear_solver: str = "auto", schur: bool | str = True) -> ContactReduction:
     """Factorize K_rr and form the Schur complement S on the crack normal jumps.
 
-    With schur=False only K_rr is factorized and x0 solved (a bonded crack).
+    `linear_solver` is one of `schur.LINEAR_SOLVERS` ("auto": MKL PARDISO where it
+    loads, else SuperLU). `schur` is False (only K_rr is factorized and x0 solved: a
+    bonded crack), True (= "auto") or a method of `schur.SCHUR_METHODS`: "factor"
+    (partial factorization), "blocked" or "columns".
     """
-    K, F = system.K, system.F
-    r, c = system.rest, system.contact
-    t0 = time.perf_counter()
-    K_rr = K[r][:, r]
-    fac = Factorization(K_rr, backend=linear_solver, definite=system.disc.definite)
-    t1 = time.perf_counter()
-    x0 = fac.solve(F[r])
-    t2 = time.perf_counter()
-    m = len(c) if schur else 0
-    S = np.zeros((m, m))
-    b = F[c].copy() if schur else np.zeros(0)
-    if m:
-        K_rc = sp.csc_matrix(K[r][:, c])
-        K_cr = sp.csr_matrix(K[c][:, r])
-        K_cc = K[c][:, c].toarray()
-        for start in range(0, m, SCHUR_BLOCK):
-            cols = slice(start, min(start + SCHUR_BLOCK, m))
-            X = fac.solve(K_rc[:, cols].toarray())
-            S[:, cols] = K_cc[:, cols] - K_cr @ X
-        S = 0.5 * (S + S.T)
-        b -= K_cr @ x0
-    timings = {"factorize": t1 - t0, "solve": t2 - t1, "schur": time.perf_counter() - t2}
-    return ContactReduction(S=S, b=b, x0=x0, factorization=fac, system=system, timings=timings)
+    if schur is False:
+        method, m_contact = "auto", np.zeros(0, dtype=int)
+    else:
+        method, m_contact = ("auto" if schur is True else schur), system.contact
+    data = schur_complement(system.K, system.F, system.rest, m_contact, linear_solver=linear_solver,
+                            method=method if len(m_contact) else "blocked" if method == "factor" else method,
+                            definite=system.disc.definite)
+    if schur is False or not len(m_contact):
+        data.method = "none"
+    return ContactReduction(S=data.S, b=data.b, x0=data.x0, factorization=data.factorization, system=system,
+                            timings=data.timings, method=data.method, largest_dense=data.largest_dense)

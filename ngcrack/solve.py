@@ -15,10 +15,11 @@ import numpy as np
 import ngsolve as ngs
 
 from . import elements as _elements
-from .contact import NATIVE_SOLVERS, QPResult, solve_qp
+from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS, QPResult, constraint_positions, solve_qp, warm_start_data
 from .elements import Discretization, Loads
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
+from .schur import SCHUR_METHODS
 from .materials import compliance
 from .post import CrackProfile, crack_profile, endpoint_map, field_scales, kkt_residuals
 from .scene import Scene
@@ -142,7 +143,7 @@ def qp_solvers() -> tuple[str, ...]:
     return NATIVE_SOLVERS + tuple(s.lower() for s in cp.installed_solvers() if s in qp_capable)
 
 
-def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_solver: str) -> None:
+def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_solver: str, schur: str = "auto") -> None:
     if element not in _elements.ELEMENTS:
         raise ValueError(f"element = {element!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
     for name, val in (("maxh", maxh), ("tip_h", tip_h), ("crack_h", crack_h)):
@@ -150,6 +151,8 @@ def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_so
             raise ValueError(f"{name} = {val!r}: must be a finite number > 0")
     if linear_solver not in Factorization.BACKENDS:
         raise ValueError(f"linear_solver = {linear_solver!r}: allowed values are {', '.join(Factorization.BACKENDS)}")
+    if schur not in SCHUR_METHODS:
+        raise ValueError(f"schur = {schur!r}: allowed values are {', '.join(SCHUR_METHODS)}")
     allowed = qp_solvers()
     if qp_solver not in allowed:
         raise ValueError(f"qp_solver = {qp_solver!r}: allowed values are {', '.join(allowed)}")
@@ -162,24 +165,30 @@ def solve(
     tip_h: float | None = None,
     crack_h: float | None = None,
     grading: float | None = None,
-    qp_solver: str = "clarabel",
+    qp_solver: str = DEFAULT_SOLVER,
     qp_options: dict | None = None,
-    linear_solver: str = "superlu",
+    linear_solver: str = "auto",
     loads: Loads | None = None,
     crack_model: str = "contact",
     order: int | None = None,
+    schur: str = "auto",
+    warm_start=None,
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
-    maxh / tip_h / crack_h / grading override the scene's [mesh] values. qp_solver is "clarabel" (default),
-    another cvxpy solver, or "pdas"; qp_options go to cvxpy unchanged. `loads`
+    maxh / tip_h / crack_h / grading override the scene's [mesh] values. qp_solver is "pdas" (default),
+    "uzawa" or a cvxpy solver ("clarabel", "osqp", ...); qp_options go to the solver unchanged
+    (contact.py). linear_solver: "auto" (MKL PARDISO where installed, else SuperLU), "pardiso",
+    "superlu", "cholespy" or "ngsolve"; schur: how the Schur complement on the crack is formed,
+    "auto", "factor", "blocked" or "columns" (schur.py). warm_start: a previous Solution (its
+    contact zone is carried over by crack position; the meshes may differ) or an active set. `loads`
     replaces the scene's loads by NGSolve CoefficientFunctions (manufactured solutions).
     crack_model: "contact" (unilateral contact, the default), "free" (traction-free
     crack faces that may interpenetrate: one linear solve) or "bonded" (jn = 0, the
     faces slide freely but never separate: one linear solve). order: the polynomial
     order of elements that have one (tdnns: 1, 2 or 3; default 1).
     """
-    _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver)
+    _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver, schur)
     if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
@@ -202,7 +211,7 @@ def solve(
     if crack_model == "free":
         system = system.without_contact()
     t0 = time.perf_counter()
-    red = reduce_to_contact(system, linear_solver=linear_solver, schur=crack_model == "contact")
+    red = reduce_to_contact(system, linear_solver=linear_solver, schur=schur if crack_model == "contact" else False)
     m = len(system.contact)
     timings.update(red.timings)
 
@@ -211,7 +220,11 @@ def solve(
     if m and crack_model == "contact":
         jn_space = disc.fes.components[disc.jn]
         G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(jn_space, cmesh, disc.facet_order)
-        qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options)
+        positions = constraint_positions(disc, cmesh)
+        initial_active, initial_guess = warm_start_data(warm_start, *positions)
+        qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options,
+                      initial_active=initial_active, initial_guess=initial_guess)
+        qp.crack, qp.s = positions
         jn = qp.j
     else:  # no crack, or a bonded crack: jn = 0
         jn = np.zeros(len(system.contact))
@@ -264,6 +277,7 @@ def solve(
         timings=timings,
         ndof=ndof,
         built=built,
-        options={"qp_solver": qp_solver, "linear_solver": linear_solver, "tip_h": tip_h, "crack_model": crack_model,
+        options={"qp_solver": qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
+                 "tip_h": tip_h, "crack_model": crack_model,
                  "order": order},
     )
