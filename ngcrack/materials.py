@@ -32,6 +32,12 @@ class Compliance:
         """A(I) = spherical * I: zero for plane strain at nu = 1/2 (incompressible)."""
         return self.c_dev - 2.0 * self.c_tr
 
+    def with_spherical_floor(self, floor: float) -> "Compliance":
+        """The same compliance with A(I) at least `floor * c_dev` (see elements/base.py)."""
+        if self.spherical >= floor * self.c_dev:
+            return self
+        return Compliance(c_dev=self.c_dev, c_tr=0.5 * (1.0 - floor) * self.c_dev)
+
     def apply(self, sigma):
         """A sigma for an NGSolve 2x2 matrix CoefficientFunction (or a numpy 2x2 array)."""
         import ngsolve as ngs

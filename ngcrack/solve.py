@@ -25,6 +25,12 @@ from .post import CrackProfile, crack_profile, endpoint_map, field_scales, kkt_r
 from .scene import Scene
 
 
+#: scaled forward residual of the condensed solve above which a definite system counts
+#: as singular: a safety net behind the exact rigid-motion check of the supports.
+#: Measured: regular systems up to 3e-2 (nu = 1/2 - 1e-6, just before the incompressible
+#: split takes over), singular ones (nothing holds the body) 8 to 60.
+RESIDUAL_TOL = 1.0
+
 #: how the crack faces interact: unilateral contact, traction-free, or bonded in the normal direction
 CRACK_MODELS = ("contact", "free", "bonded")
 
@@ -76,6 +82,7 @@ class Solution:
     ndof: dict
     built: list[str]
     options: dict = field(default_factory=dict)
+    conditioning: dict = field(default_factory=dict)
 
     @property
     def mesh(self) -> ngs.Mesh:
@@ -115,6 +122,64 @@ class Solution:
             "kkt": {k: float(self.kkt[k]) for k in ("max_penetration", "max_tension", "complementarity")},
             "cracks": [p.to_dict() for p in self.profiles],
         }
+
+
+def _relative_residual(system: CondensedSystem, x_rest: np.ndarray) -> float:
+    """|D (K_rr x - F_r)| / |D F_r|, D = diag(K_rr)^(-1/2): the forward residual in units
+    that do not depend on the unknowns' units (rotations next to displacements).
+
+    LU keeps the backward error at round-off even for a singular matrix, so it is the
+    forward residual that tells: about eps cond(D K_rr D) for a regular system, O(1)
+    for a singular one.
+    """
+    r, K = system.rest, system.K
+    K_rr = K[r][:, r]
+    diag = np.abs(K_rr.diagonal())
+    D = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
+    Fs = D * system.F[r]
+    norm_F = np.linalg.norm(Fs)
+    return float(np.linalg.norm(D * (K_rr @ x_rest - system.F[r])) / norm_F) if norm_F > 0 else 0.0
+
+
+def condition_estimates(red) -> dict:
+    """1-norm condition estimates of D K_rr D and of D_S S D_S (Hager/Higham).
+
+    D = diag(K_rr)^(-1/2) (1 on a zero diagonal): the Jacobi-scaled matrices, whose
+    condition does not depend on the units of the unknowns (PEERS mixes rotations and
+    displacements) and is what the factorization and the QP (scaled the same way) see.
+    Keys "K" and "S" (S only with a crack). The inverse goes through the factorization.
+    """
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    sysm = red.system
+    K_rr = sysm.K[sysm.rest][:, sysm.rest]
+    n = K_rr.shape[0]
+    diag = np.abs(K_rr.diagonal())
+    d = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
+    scaled = sp.diags(d) @ K_rr @ sp.diags(d)
+
+    def solve_scaled(b):
+        b = np.asarray(b, dtype=float)
+        dd = d if b.ndim == 1 else d[:, None]
+        return red.factorization.solve(b / dd) / dd
+
+    inv = spla.LinearOperator((n, n), matvec=solve_scaled, rmatvec=solve_scaled, matmat=solve_scaled, dtype=float)
+    out = {"K": float(spla.onenormest(scaled) * spla.onenormest(inv))}
+    if red.S.size:
+        ds = 1.0 / np.sqrt(np.abs(np.diag(red.S)))
+        out["S"] = float(np.linalg.cond(ds[:, None] * red.S * ds[None, :], 1))
+    return out
+
+
+def _check_supports(scene: Scene, loads: Loads) -> None:
+    """Loads given directly: the scene's exact rigid-motion check on their supports."""
+    from .scene import BoundaryCondition
+
+    boundary = {lab: BoundaryCondition("clamped") for lab in loads.clamped}
+    boundary.update({lab: BoundaryCondition("roller") for lab in loads.roller})
+    boundary.update({lab: BoundaryCondition("displacement", (0.0, 0.0)) for lab in loads.displacement})
+    scene.with_(boundary=boundary)  # raises SceneError (a ValueError) if a part is not held
 
 
 def _check_pressure_determined(scene: Scene, loads: Loads) -> None:
@@ -171,6 +236,7 @@ def solve(
     loads: Loads | None = None,
     crack_model: str = "contact",
     order: int | None = None,
+    condition: bool = False,
     schur: str = "auto",
     warm_start=None,
 ) -> Solution:
@@ -186,14 +252,19 @@ def solve(
     crack_model: "contact" (unilateral contact, the default), "free" (traction-free
     crack faces that may interpenetrate: one linear solve) or "bonded" (jn = 0, the
     faces slide freely but never separate: one linear solve). order: the polynomial
-    order of elements that have one (tdnns: 1, 2 or 3; default 1).
+    order of elements that have one (tdnns: 1, 2 or 3; default 1). condition: also
+    estimate the 1-norm condition numbers of the condensed matrix K_rr and of the crack
+    Schur complement S (a few extra solves), in `sol.conditioning`.
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver, schur)
     if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
-    loads = loads if loads is not None else scene_loads(scene)
+    if loads is None:
+        loads = scene_loads(scene)
+    else:
+        _check_supports(scene, loads)
     _check_pressure_determined(scene, loads)
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
@@ -210,8 +281,20 @@ def solve(
 
     if crack_model == "free":
         system = system.without_contact()
+    case = f"scene {scene.name!r}, element {element!r}"
+    if not (np.all(np.isfinite(system.K.data)) and np.all(np.isfinite(system.F))):
+        raise SolveError(f"{case}: the assembled system has non-finite entries (check the loads and material data)")
     t0 = time.perf_counter()
-    red = reduce_to_contact(system, linear_solver=linear_solver, schur=schur if crack_model == "contact" else False)
+    try:
+        red = reduce_to_contact(system, linear_solver=linear_solver, schur=schur if crack_model == "contact" else False)
+    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
+        raise SolveError(f"{case}: the condensed system is singular ({exc}); is every part of the body held?") from exc
+    if not (np.all(np.isfinite(red.x0)) and np.all(np.isfinite(red.S))):
+        raise SolveError(f"{case}: the condensed solve gave non-finite values (singular system; is every part of the body held?)")
+    residual = _relative_residual(system, red.x0) if disc.definite else 0.0
+    if residual > RESIDUAL_TOL:
+        raise SolveError(f"{case}: the condensed system is singular to working precision (relative residual "
+                         f"{residual:.1e} of its solve); is every part of the body held?")
     m = len(system.contact)
     timings.update(red.timings)
 
@@ -230,14 +313,16 @@ def solve(
         jn = np.zeros(len(system.contact))
     timings["qp"] = time.perf_counter() - t0
 
+    conditioning = condition_estimates(red) if condition else {}
+
     t0 = time.perf_counter()
     y = red.recover(jn)
     if not np.all(np.isfinite(y)):
-        raise SolveError(f"scene {scene.name!r}, element {element!r}: the condensed solve gave non-finite values (singular system)")
+        raise SolveError(f"{case}: the condensed solve gave non-finite values (singular system)")
     gf = system.expand(y)
     timings["recover"] = time.perf_counter() - t0
     if not np.all(np.isfinite(gf.vec.FV().NumPy())):
-        raise SolveError(f"scene {scene.name!r}, element {element!r}: the local recovery gave non-finite values")
+        raise SolveError(f"{case}: the local recovery gave non-finite values")
 
     fields = disc.fields(gf)
     profiles = []
@@ -252,6 +337,9 @@ def solve(
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
                                           displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction))
     kkt = kkt_residuals(profiles, *field_scales(cmesh.mesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
+    sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__] + [np.array(list(kkt.values()))]
+    if not all(np.all(np.isfinite(a)) for a in sampled):
+        raise SolveError(f"{case}: the crack profiles or KKT residuals hold non-finite values")
     # linear: the factorization and solves a plain linear solve needs too (with the
     # local recovery); contact: what the crack adds (Schur complement and QP)
     timings["linear"] = timings["factorize"] + timings["solve"] + timings["recover"]
@@ -278,6 +366,8 @@ def solve(
         ndof=ndof,
         built=built,
         options={"qp_solver": qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
+                 "largest_dense": red.largest_dense,
                  "tip_h": tip_h, "crack_model": crack_model,
                  "order": order},
+        conditioning=conditioning,
     )

@@ -35,6 +35,12 @@ CRACK_BONUS_INTORDER = 2
 #: A(I) below this fraction of A's deviatoric part counts as incompressible (nu -> 1/2,
 #: plane strain): the element pressure is then kept out of the local solves
 PRESSURE_SPLIT_RTOL = 1e-6
+#: in the incompressible split, A(I) is kept at least this fraction of A's deviatoric part.
+#: At nu = 1/2 exactly the element pressures couple only through the discrete divergence;
+#: where that map is not onto the pressure space (TDNNS), pressure modes would be fixed by
+#: round-off. The floor selects the minimum-norm pressure, i.e. the limit nu -> 1/2, and
+#: changes nothing else beyond 1e-10 relative.
+SPHERICAL_FLOOR = 1e-10
 
 
 @dataclass
@@ -206,6 +212,7 @@ def weakly_symmetric_hybrid(
         built.append(f"crack jump: P{facet_order} per crack edge (normal and tangential)")
     split = compliance.spherical <= PRESSURE_SPLIT_RTOL * compliance.c_dev
     if split:
+        compliance = compliance.with_spherical_floor(SPHERICAL_FLOOR)
         pressure = ngs.L2(mesh, order=0)
         pressure.SetCouplingType(ngs.IntRange(0, pressure.ndof), ngs.COUPLING_TYPE.INTERFACE_DOF)
         spaces += [pressure, ngs.L2(mesh, order=0)]

@@ -42,7 +42,7 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
 from ..materials import Compliance
-from .base import CRACK_BONUS_INTORDER, PRESSURE_SPLIT_RTOL, Discretization, Loads, crack_facet_space, displacement_data
+from .base import CRACK_BONUS_INTORDER, PRESSURE_SPLIT_RTOL, SPHERICAL_FLOOR, Discretization, Loads, crack_facet_space, displacement_data
 
 ORDERS = (1, 2, 3)
 DEFAULT_ORDER = 1
@@ -101,6 +101,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         built.append(f"crack: normal jump P{k} per edge, tangential jump from the crack edges' HCurl dofs")
     split = compliance.spherical <= PRESSURE_SPLIT_RTOL * compliance.c_dev
     if split:
+        compliance = compliance.with_spherical_floor(SPHERICAL_FLOOR)
         pressure = ngs.L2(mesh, order=k)
         pressure.SetCouplingType(ngs.IntRange(0, pressure.ndof), ngs.COUPLING_TYPE.INTERFACE_DOF)
         spaces += [pressure, ngs.L2(mesh, order=k)]
