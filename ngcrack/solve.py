@@ -367,6 +367,7 @@ def solve(
         built=built,
         options={"qp_solver": qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
                  "largest_dense": red.largest_dense,
+                 "largest_dense": red.largest_dense,
                  "tip_h": tip_h, "crack_model": crack_model,
                  "order": order},
         conditioning=conditioning,
