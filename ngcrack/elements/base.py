@@ -115,14 +115,31 @@ def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
     Built as the whole-mesh facet space compressed to the crack edges, so that element
     boundary integrals of volume elements see it (a `definedon` boundary region would not).
     """
-    full = ngs.FacetFESpace(crack_mesh.mesh, order=order)
-    active = ngs.BitArray(full.ndof)
+    return on_crack_edges(ngs.FacetFESpace(crack_mesh.mesh, order=order), crack_mesh)
+
+
+def on_crack_edges(space: ngs.FESpace, crack_mesh: CrackMesh) -> ngs.FESpace:
+    """`space` compressed to the dofs that belong to the crack edges."""
+    active = ngs.BitArray(space.ndof)
     active.Clear()
     for crack in crack_mesh.cracks:
         for e in crack.edge:
-            for d in full.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
+            for d in space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
                 active[d] = True
-    return ngs.Compress(full, active_dofs=active)
+    return ngs.Compress(space, active_dofs=active)
+
+
+def roller_edges(mesh: ngs.Mesh, roller):
+    """(boundary element, outward unit normal) for every mesh edge on the roller labels."""
+    if not roller:
+        return
+    mask = boundary_region(mesh, roller).Mask()
+    for el in mesh.Elements(ngs.BND):
+        if mask[el.index]:
+            p, q = (np.array(mesh[v].point) for v in el.vertices)
+            t = (q - p) / np.linalg.norm(q - p)
+            # the polygon is counter-clockwise: the outward normal is t turned by -90 degrees
+            yield el, np.array([t[1], -t[0]])
 
 
 def displacement_data(mesh: ngs.Mesh, displacement: dict) -> tuple[ngs.CoefficientFunction, ngs.Region]:
@@ -142,20 +159,11 @@ def cartesian_roller_pairs(fes: ngs.FESpace, mesh: ngs.Mesh, comps: tuple[int, i
     of one space with the same dof numbering. With `nodal`, the vertex dofs of the
     roller edges are included too (a vertex on two rollers appears once per edge).
     """
-    if not roller:
-        return []
     ix, iy = comps
     comp = fes.components[ix]
     off_x, off_y = fes.Range(ix).start, fes.Range(iy).start
-    mask = boundary_region(mesh, roller).Mask()
     pairs = []
-    for el in mesh.Elements(ngs.BND):
-        if not mask[el.index]:
-            continue
-        p, q = (np.array(mesh[v].point) for v in el.vertices)
-        t = (q - p) / np.linalg.norm(q - p)
-        # the polygon is counter-clockwise: the outward normal is the tangent turned by -90 deg
-        nrm = np.array([t[1], -t[0]])
+    for el, nrm in roller_edges(mesh, roller):
         dofs = list(comp.GetDofNrs(el.edges[0]))
         if nodal:
             dofs += [d for v in el.vertices for d in comp.GetDofNrs(v)]

@@ -24,7 +24,7 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
 from ..materials import Compliance
-from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data
+from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data, roller_edges
 
 
 def _lame(compliance: Compliance) -> tuple[float, float]:
@@ -153,14 +153,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     if has_crack and loads.roller:
         # a crack node on a roller edge: both faces keep u.n_r = 0, so the jump has no
         # component along n_r there
-        mask = boundary_region(mesh, loads.roller).Mask()
         offs = fes.Range(2).start, fes.Range(3).start
-        for el in mesh.Elements(ngs.BND):
-            if not mask[el.index]:
-                continue
-            p_, q_ = (np.array(mesh[v].point) for v in el.vertices)
-            t_r = (q_ - p_) / np.linalg.norm(q_ - p_)
-            n_r = np.array([t_r[1], -t_r[0]])
+        for el, n_r in roller_edges(mesh, loads.roller):
             for vtx in el.vertices:
                 if vtx.nr not in nodes:
                     continue

@@ -42,7 +42,16 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
 from ..materials import Compliance
-from .base import CRACK_BONUS_INTORDER, PRESSURE_SPLIT_RTOL, SPHERICAL_FLOOR, Discretization, Loads, crack_facet_space, displacement_data
+from .base import (
+    CRACK_BONUS_INTORDER,
+    PRESSURE_SPLIT_RTOL,
+    SPHERICAL_FLOOR,
+    Discretization,
+    Loads,
+    crack_facet_space,
+    displacement_data,
+    on_crack_edges,
+)
 
 ORDERS = (1, 2, 3)
 DEFAULT_ORDER = 1
@@ -69,17 +78,6 @@ def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
     return H
 
 
-def crack_edge_copy(space: ngs.FESpace, crack_mesh: CrackMesh) -> ngs.FESpace:
-    """`space` compressed to the dofs of the crack edges."""
-    active = ngs.BitArray(space.ndof)
-    active.Clear()
-    for crack in crack_mesh.cracks:
-        for e in crack.edge:
-            for d in space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
-                active[d] = True
-    return ngs.Compress(space, active_dofs=active)
-
-
 def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> Discretization:
     """The hybridized TDNNS discretization of stress degree k = `order` (default 1)."""
     k = DEFAULT_ORDER if order is None else order
@@ -96,7 +94,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     built = [f"stress: HDivDiv P{k}+, broken", f"u: HCurl order {k + 1}, type 1", f"u_hat_n: normal facet P{k}"]
     has_crack = bool(crack_mesh.cracks)
     if has_crack:
-        spaces += [crack_facet_space(crack_mesh, k), crack_edge_copy(ngs.HCurl(mesh, order=k + 1, type1=True), crack_mesh)]
+        spaces += [crack_facet_space(crack_mesh, k), on_crack_edges(ngs.HCurl(mesh, order=k + 1, type1=True), crack_mesh)]
         H = plus_side(crack_mesh)
         built.append(f"crack: normal jump P{k} per edge, tangential jump from the crack edges' HCurl dofs")
     split = compliance.spherical <= PRESSURE_SPLIT_RTOL * compliance.c_dev
