@@ -90,6 +90,8 @@ class CrackMesh:
     """An NGSolve mesh of a scene plus the ordered crack edges."""
 
     mesh: ngs.Mesh
+    points: np.ndarray  # (nv, 2) vertex coordinates
+    triangles: np.ndarray  # (ne, 3) vertex numbers, in NGSolve's element order
     cracks: tuple[CrackEdges, ...]
     polylines: tuple[np.ndarray, ...]
     tips: frozenset[int]  # mesh vertex numbers of crack end points inside the body
@@ -97,6 +99,11 @@ class CrackMesh:
     maxh: float
     tip_h: float | None
     quality: float
+
+    @property
+    def centroids(self) -> np.ndarray:
+        """(ne, 2) triangle centroids."""
+        return self.points[self.triangles].mean(axis=1)
 
     @property
     def crack_region(self) -> ngs.Region:
@@ -261,10 +268,8 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
     )
 
 
-def mesh_quality(mesh: ngs.Mesh) -> float:
+def mesh_quality(P: np.ndarray, T: np.ndarray) -> float:
     """The smallest triangle quality 4 sqrt(3) area / (a^2 + b^2 + c^2) (1 = equilateral)."""
-    P = np.array([v.point for v in mesh.vertices])
-    T = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)], dtype=int)
     d1, d2 = P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]
     area = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
     sides = sum(np.sum((P[T[:, i]] - P[T[:, (i + 1) % 3]]) ** 2, axis=1) for i in range(3))
@@ -298,8 +303,10 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
         ) from exc
     coords = ngmesh.Coordinates()
     coords[:] = coords * scale + center
+    points = np.array(coords[:, :2], dtype=float)
+    triangles = np.asarray(ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=int) - 1  # netgen counts from 1
     mesh = ngs.Mesh(ngmesh)
-    quality = mesh_quality(mesh)
+    quality = mesh_quality(points, triangles)
     if quality < MIN_QUALITY:
         warnings.warn(f"scene {scene.name!r}: netgen made a triangle of quality {quality:.3f} (maxh={maxh:g}, "
                       f"grading={grading:g}); a milder grading or another maxh gives a better mesh", stacklevel=2)
@@ -310,6 +317,8 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     )
     return CrackMesh(
         mesh=mesh,
+        points=points,
+        triangles=triangles,
         cracks=cracks,
         tips=tips,
         polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
@@ -352,17 +361,17 @@ def crack_side(crack_mesh: CrackMesh) -> np.ndarray:
     Decided by the angle of the triangle's centroid around that vertex, measured from
     the crack's forward direction, so kinks are classified exactly.
     """
-    mesh = crack_mesh.mesh
-    verts = np.array([v.point for v in mesh.vertices])
+    verts, tris = crack_mesh.points, crack_mesh.triangles
     around: dict[int, list] = {}  # vertex -> [forward direction, backward direction]
     for c in crack_mesh.cracks:
         for k in range(len(c)):
             d = c.b[k] - c.a[k]
             around.setdefault(int(c.va[k]), [None, None])[0] = d
             around.setdefault(int(c.vb[k]), [None, None])[1] = -d
-    side = np.zeros(mesh.ne)
-    for el in mesh.Elements(ngs.VOL):
-        nrs = [v.nr for v in el.vertices]
+    side = np.zeros(len(tris))
+    touching = np.flatnonzero(np.isin(tris, list(around)).any(axis=1))
+    for el in touching:
+        nrs = list(tris[el])
         for v in nrs:
             if v not in around:
                 continue
@@ -375,7 +384,7 @@ def crack_side(crack_mesh: CrackMesh) -> np.ndarray:
                 a_f = np.arctan2(fwd[1], fwd[0])
                 span = (np.arctan2(bwd[1], bwd[0]) - a_f) % (2 * np.pi)
                 s = 1.0 if (np.arctan2(x[1], x[0]) - a_f) % (2 * np.pi) < span else -1.0
-            if side[el.nr] not in (0.0, s):
+            if side[el] not in (0.0, s):
                 raise ValueError("maxh: a triangle lies on both sides of the cracks; refine the mesh near the cracks")
-            side[el.nr] = s
+            side[el] = s
     return side

@@ -186,10 +186,10 @@ def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scal
     }
 
 
-def field_scales(mesh: ngs.Mesh, u, sigma) -> tuple[float, float]:
+def field_scales(crack_mesh: CrackMesh, u, sigma) -> tuple[float, float]:
     """max |u| and max |sigma| (Frobenius) over the triangles' centroids."""
-    pts = np.array([np.mean([mesh[v].point for v in el.vertices], axis=0) for el in mesh.Elements(ngs.VOL)])
-    mp = mesh(pts[:, 0], pts[:, 1])
+    pts = crack_mesh.centroids
+    mp = crack_mesh.mesh(pts[:, 0], pts[:, 1])
     uu = np.asarray(u(mp)).reshape(len(pts), -1)
     ss = np.asarray(sigma(mp)).reshape(len(pts), -1)
     return float(np.max(np.linalg.norm(uu, axis=1))), float(np.max(np.linalg.norm(ss, axis=1)))

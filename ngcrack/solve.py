@@ -336,7 +336,7 @@ def solve(
             jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
                                           displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction))
-    kkt = kkt_residuals(profiles, *field_scales(cmesh.mesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
+    kkt = kkt_residuals(profiles, *field_scales(cmesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
     sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__] + [np.array(list(kkt.values()))]
     if not all(np.all(np.isfinite(a)) for a in sampled):
         raise SolveError(f"{case}: the crack profiles or KKT residuals hold non-finite values")
@@ -366,7 +366,6 @@ def solve(
         ndof=ndof,
         built=built,
         options={"qp_solver": qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
-                 "largest_dense": red.largest_dense,
                  "largest_dense": red.largest_dense,
                  "tip_h": tip_h, "crack_model": crack_model,
                  "order": order},

@@ -110,7 +110,7 @@ def paper2_errors(element: str, nu: float, maxh: float, reference=None) -> dict:
     ref = reference if reference is not None else solve(scene, element="bdm", maxh=maxh / 2)
     sol = solve(scene, element=element, maxh=maxh)
     mesh = ref.mesh
-    pts = np.array([np.mean([mesh[v].point for v in el.vertices], axis=0) for el in mesh.Elements()])
+    pts = ref.crack_mesh.centroids
     mp_ref = mesh(pts[:, 0], pts[:, 1])
     mp = sol.mesh(pts[:, 0], pts[:, 1])
 

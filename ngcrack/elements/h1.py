@@ -91,8 +91,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         # the frame must be constant across each crack vertex's patch: a frame that fell
         # to zero at the patch's other vertices would make the rigid opening of a face
         # cost strain energy of order 1/h and lock the jump
-        for el in mesh.Elements(ngs.VOL):
-            nrs = [v.nr for v in el.vertices]
+        for nrs in crack_mesh.triangles:
             crack_v = [v for v in nrs if v in frame]
             if crack_v:
                 for v in nrs:

@@ -64,11 +64,11 @@ def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
     vals = H.vec.FV().NumPy()
     vals[:] = 0.0
     minus = np.zeros(mesh.ne, dtype=bool)
-    verts = np.array([v.point for v in mesh.vertices])
+    verts, tris = crack_mesh.points, crack_mesh.triangles
     for crack in crack_mesh.cracks:
         for e, mid, nu in zip(crack.edge, crack.mid, crack.normal):
             for el in mesh.edges[int(e)].elements:
-                c = verts[[v.nr for v in mesh[el].vertices]].mean(axis=0)
+                c = verts[tris[el.nr]].mean(axis=0)
                 if np.dot(c - mid, nu) > 0:
                     vals[el.nr] = 1.0
                 else:
