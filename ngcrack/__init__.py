@@ -4,6 +4,7 @@
     scene = nc.scenes.load("paper-2")            # or nc.Scene.from_toml("my.toml")
     sol = nc.solve(scene, element="peers", maxh=0.05)
     sol.u, sol.sigma, sol.crack_profiles(), sol.kkt, sol.timings, sol.ndof
+    table = nc.sweep(scene, elements=["peers", "bdm"], maxh=[0.2, 0.1, 0.05])  # a DataFrame
 
 Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 "Locking-free finite elements for unilateral crack problems in elasticity".
@@ -13,10 +14,11 @@ from . import scenes
 from .elements import ELEMENTS, Loads
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
 from .solve import CRACK_MODELS, Solution, SolveError, solve
+from .study import fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "scenes", "solve",
+    "SceneError", "Solution", "SolveError", "fitted_rates", "scenes", "solve", "sweep",
 ]
