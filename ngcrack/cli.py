@@ -3,10 +3,15 @@
     ngcrack scenes
     ngcrack solve SCENE [--element E] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
                         [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png]
+    ngcrack sweep SCENE --element E [E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
+                        [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS]
+    ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
 
 SCENE is a built-in scene name or a TOML file. Bad input exits with code 2 and a
 one-line message before any meshing; output files are written only after a successful
 solve, atomically (a temporary file renamed into place), so none is left half-written.
+`sweep` writes its CSV one complete line per finished run and resumes (ngcrack.study);
+`paper` runs the paper's study (ngcrack.paper).
 """
 
 from __future__ import annotations
@@ -108,6 +113,96 @@ def cmd_solve(args) -> int:
     return 0
 
 
+def _sweep_options(args) -> dict:
+    from .elements import ELEMENTS
+
+    for el in list(args.element or []) + ([args.reference_element] if getattr(args, "reference_element", None) else []):
+        if el not in ELEMENTS:
+            raise UsageError(f"--element = {el!r}: allowed values are {', '.join(ELEMENTS)}")
+    for name in ("maxh", "reference_maxh"):
+        vals = getattr(args, name, None)
+        for v in (vals if isinstance(vals, list) else [vals] if vals is not None else []):
+            if not (math.isfinite(v) and v > 0):
+                raise UsageError(f"--{name.replace('_', '-')} = {v:g}: must be a finite number > 0")
+    if args.jobs < 1:
+        raise UsageError(f"--jobs = {args.jobs}: must be an integer >= 1")
+    if args.dask is not None and args.jobs != 1:
+        raise UsageError("--jobs and --dask exclude each other: the dask cluster decides the parallelism")
+    return {"jobs": args.jobs, "dask": args.dask, "progress": not args.no_progress}
+
+
+def cmd_sweep(args) -> int:
+    from . import scenes
+
+    opts = _sweep_options(args)
+    out = _check_output(args.out, "--out", ".csv")
+    scene = scenes.resolve(args.scene)
+    for v in args.nu or []:
+        scene.with_(nu=v)  # a bad nu is refused here, before any meshing
+    solve_options = {k: v for k, v in (("tip_h", args.tip_h), ("crack_h", args.crack_h), ("grading", args.grading))
+                     if v is not None}
+    solve_options["crack_model"] = args.crack_model
+    if args.qp_solver is not None:
+        solve_options["qp_solver"] = args.qp_solver
+    from .solve import CRACK_MODELS, qp_solvers
+
+    if args.crack_model not in CRACK_MODELS:
+        raise UsageError(f"--crack-model = {args.crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
+    if args.qp_solver is not None and args.qp_solver not in qp_solvers():
+        raise UsageError(f"--qp-solver = {args.qp_solver!r}: allowed values are {', '.join(qp_solvers())}")
+    if args.grading is not None and not 0 < args.grading <= 1:
+        raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
+    from .study import QUANTITIES, fitted_rates, sweep
+
+    before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
+    df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, reference_maxh=args.reference_maxh,
+               reference_element=args.reference_element, out=out, solve_options=solve_options, **opts)
+    after = len(open(out).read().splitlines()) - 1
+    cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["time_total"]
+    if df["err_opening"].notna().any():
+        cols.insert(-1, "err_opening")
+    with _pandas_display():
+        print(df[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        rates = fitted_rates(df)
+        if len(rates):
+            print("fitted rates (e ~ h^rate_h ~ dof^-rate_dof):")
+            print(rates[["element", "nu", "quantity", "rate_h", "rate_dof", "points"]].to_string(
+                index=False, float_format=lambda v: f"{v:.3g}"))
+    print(f"wrote {out} ({after - before} new rows, {after} in the file)")
+    return 0
+
+
+def cmd_paper(args) -> int:
+    opts = _sweep_options(args)
+    out = Path(args.out)
+    if not out.parent.exists():
+        raise UsageError(f"--out = {args.out!r}: the directory {str(out.parent)!r} does not exist")
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out = {args.out!r}: exists and is not a directory")
+    from .paper import run
+
+    res = run(out, quick=args.quick, elements=args.element, maxh=args.maxh, reference_maxh=args.reference_maxh,
+              **opts)
+    with _pandas_display():
+        for scene, g in res.rates.groupby("scene", sort=False):
+            piv = g.pivot(index="element", columns="quantity", values="rate_dof")
+            piv = piv[[q for q in ("u1", "u2", "sigma_t1", "sigma_nu") if q in piv.columns]]
+            print(f"{scene}: fitted rates in dof (paper, example 1: u1 0.81, u2 0.65, sigma_t 0.93, sigma_nu 0.78)")
+            print(piv.to_string(float_format=lambda v: f"{v:.2f}"))
+    return 0
+
+
+class _pandas_display:
+    def __enter__(self):
+        import pandas as pd
+
+        self._ctx = pd.option_context("display.width", 200, "display.max_columns", 50)
+        self._ctx.__enter__()
+
+    def __exit__(self, *exc):
+        return self._ctx.__exit__(*exc)
+
+
 def _positive(text: str) -> float:
     try:
         return float(text)
@@ -133,6 +228,38 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", help="write the result (DESIGN.md's contract) to this file")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
     p.set_defaults(func=cmd_solve)
+
+    def parallel(p):
+        p.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+        p.add_argument("--dask", metavar="ADDRESS", help="run on a dask.distributed scheduler at ADDRESS")
+        p.add_argument("--no-progress", dest="no_progress", action="store_true", help="no progress bar")
+
+    p = sub.add_parser("sweep", help="solve every (element, maxh, nu); errors, rates, timings; CSV row by row")
+    p.add_argument("scene", help="built-in scene name or TOML file")
+    p.add_argument("--element", nargs="+", required=True, help="element families (see `solve --element`)")
+    p.add_argument("--maxh", nargs="+", type=_positive, required=True, help="global mesh sizes")
+    p.add_argument("--nu", nargs="+", type=_positive, help="Poisson ratios (default: the scene's)")
+    p.add_argument("--out", required=True, help="CSV file; rerunning skips the rows already in it")
+    p.add_argument("--reference-maxh", dest="reference_maxh", type=_positive,
+                   help="mesh size of a separate reference run (default: the finest --maxh is the reference)")
+    p.add_argument("--reference-element", dest="reference_element",
+                   help="measure every element against this element's reference (default: each its own)")
+    p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
+    p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
+    p.add_argument("--grading", type=_positive, help="mesh grading in (0, 1]")
+    p.add_argument("--qp-solver", dest="qp_solver", help="the crack QP's solver (default: solve's default)")
+    p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
+    parallel(p)
+    p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("paper", help="reproduce the paper's study: tables, convergence and isoline figures")
+    p.add_argument("--quick", action="store_true", help="the small study (under 3 minutes on 2 cores)")
+    p.add_argument("--out", default="paper-results", help="output folder (default paper-results)")
+    p.add_argument("--element", nargs="+", help="elements (default: every mixed element)")
+    p.add_argument("--maxh", nargs="+", type=_positive, help="override the study's mesh sizes")
+    p.add_argument("--reference-maxh", dest="reference_maxh", type=_positive, help="override the reference mesh size")
+    parallel(p)
+    p.set_defaults(func=cmd_paper)
     return parser
 
 
@@ -144,6 +271,18 @@ def main(argv=None) -> int:
     except ValueError as exc:  # SceneError, UsageError and option errors are ValueErrors
         print(f"ngcrack: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        if args.command in ("sweep", "paper"):
+            print("ngcrack: interrupted; finished runs are saved, run the same command again to resume",
+                  file=sys.stderr)
+        return 130
+    except RuntimeError as exc:
+        from .study import SweepError
+
+        if not isinstance(exc, SweepError):
+            raise
+        print(f"ngcrack: error: {exc}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

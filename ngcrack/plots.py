@@ -16,9 +16,7 @@ DEFORMED_FRACTION = 0.06
 
 
 def _element_data(sol):
-    mesh = sol.mesh
-    verts = np.array([v.point for v in mesh.vertices])
-    tris = np.array([[v.nr for v in el.vertices] for el in mesh.Elements()], dtype=int)
+    verts, tris = sol.crack_mesh.points, sol.crack_mesh.triangles
     cent = verts[tris].mean(axis=1)
     return verts, tris, cent
 
@@ -98,3 +96,198 @@ def plot_solution(sol, path=None, levels: int = 20):
         fig.savefig(path, dpi=150)
         plt.close(fig)
     return fig
+
+
+# ------------------------------------------------------------------- study figures
+#: one colour and marker per element family, stable across figures
+ELEMENT_STYLE = {
+    "peers": ("tab:blue", "o"), "bdm": ("tab:orange", "s"), "tdnns": ("tab:green", "^"),
+    "h1p1": ("tab:red", "v"), "h1p2": ("tab:purple", "D"),
+}
+#: line style per quantity when several share an axis
+QUANTITY_LINESTYLE = {"u1": "-", "u2": "--", "sigma_t1": "-", "sigma_nu": "--", "opening": ":"}
+
+
+def _element_style(element: str, k: int = 0):
+    import matplotlib.pyplot as plt
+
+    if element in ELEMENT_STYLE:
+        return ELEMENT_STYLE[element]
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    return colors[(5 + k) % len(colors)], "P"
+
+
+def _figure(path, **kw):
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(**kw)
+
+
+def _finish(fig, path):
+    import matplotlib.pyplot as plt
+
+    if path is not None:
+        fig.savefig(path, dpi=150)
+        plt.close(fig)
+    return fig
+
+
+def _log_ticks(ax) -> None:
+    """Plain tick labels on log axes (0.2, 5000, 1e+05); minor labels at 2 and 5 on short ranges."""
+    from matplotlib.ticker import FuncFormatter, NullFormatter
+
+    def plain(v, _pos=None):
+        return f"{v:g}" if 1e-3 <= abs(v) < 1e5 else f"{v:.0e}".replace("e+0", "e").replace("e-0", "e-")
+
+    def minor(v, _pos=None):
+        lead = round(v / 10 ** np.floor(np.log10(v)), 6)
+        return plain(v) if lead in (2.0, 5.0) else ""
+
+    for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if axis.get_scale() != "log" or lo <= 0:
+            continue
+        axis.set_major_formatter(FuncFormatter(plain))
+        axis.set_minor_formatter(FuncFormatter(minor) if np.log10(hi / lo) < 1.6 else NullFormatter())
+
+
+def _by_element(df):
+    """(element, rows) in a stable order: the known families first, in ELEMENT_STYLE order."""
+    known = list(ELEMENT_STYLE)
+    names = sorted(dict.fromkeys(df["element"]), key=lambda e: (known.index(e) if e in known else len(known), e))
+    return [(e, df[df["element"] == e]) for e in names]
+
+
+def _rows_with_error(df, quantity: str):
+    col = f"err_{quantity}"
+    g = df[np.isfinite(df[col].to_numpy(float)) & (df[col].to_numpy(float) > 0)]
+    return g.sort_values("ndof_total")
+
+
+def plot_convergence(df, quantities, path=None, title: str | None = None, paper_points: dict | None = None,
+                     guides: dict | None = None, ax=None):
+    """Log-log relative L2 error against the number of unknowns (the paper's Figures 3-6).
+
+    One colour per element, one line style per quantity; the legend gives the fitted
+    rate in dof (e ~ dof^-r) and in h (e ~ h^r). `paper_points`: {quantity: (dof, err)}
+    drawn as grey markers; `guides`: {label: exponent in dof} drawn as thin grey lines.
+    """
+    from .study import QUANTITY_LABELS, fitted_rates
+
+    fig = None
+    if ax is None:
+        fig, ax = _figure(path, figsize=(7, 5), constrained_layout=True)
+    rates = fitted_rates(df, quantities)
+    ymin, ymax, xmin, xmax = np.inf, 0.0, np.inf, 0.0
+    for k, (element, g) in enumerate(_by_element(df)):
+        color, marker = _element_style(element, k)
+        for q in quantities:
+            r = _rows_with_error(g, q)
+            if r.empty:
+                continue
+            x, y = r["ndof_total"].to_numpy(float), r[f"err_{q}"].to_numpy(float)
+            fit = rates[(rates.element == element) & (rates.quantity == q)]
+            label = f"{element}, {QUANTITY_LABELS[q]}"
+            if len(fit):
+                label += f": rate {fit.rate_dof.iloc[0]:.2f} in dof ({fit.rate_h.iloc[0]:.2f} in h)"
+            ax.loglog(x, y, QUANTITY_LINESTYLE.get(q, "-"), color=color, marker=marker, ms=5,
+                      mfc="white" if QUANTITY_LINESTYLE.get(q) == "--" else color, label=label)
+            ymin, ymax, xmin, xmax = min(ymin, y.min()), max(ymax, y.max()), min(xmin, x.min()), max(xmax, x.max())
+    for j, (q, (x, y)) in enumerate((paper_points or {}).items()):
+        ax.loglog(x, y, ":" if j % 2 == 0 else "-.", color="0.45", marker="x+"[j % 2], ms=6,
+                  label=f"paper (Table {1 + list(QUANTITY_LABELS).index(q)}), {QUANTITY_LABELS[q]}")
+        ymin, ymax, xmin, xmax = min(ymin, min(y)), max(ymax, max(y)), min(xmin, min(x)), max(xmax, max(x))
+    if guides and np.isfinite(ymin) and xmax > xmin:
+        xs = np.array([xmin, xmax])
+        for j, (label, r) in enumerate(guides.items()):
+            y0 = ymax * 1.15 * (1.25 ** j)
+            ys = y0 * (xs / xs[0]) ** (-r)
+            ax.loglog(xs, ys, color="0.6", lw=0.8, ls=(0, (4, 2 + 2 * j)))
+            ax.annotate(rf"$\propto$ {label}", (xs[1], ys[1]), textcoords="offset points", xytext=(-2, 4),
+                        fontsize=8, color="0.4", ha="right", va="bottom")
+    ax.set_xlabel("unknowns (dof, total)")
+    ax.set_ylabel(r"relative $L^2(\Omega)$ error")
+    ax.grid(True, which="both", lw=0.3, alpha=0.5)
+    ax.legend(fontsize=7.5, loc="lower left")
+    _log_ticks(ax)
+    if title:
+        ax.set_title(title)
+    return _finish(fig, path) if fig is not None else ax.figure
+
+
+def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, time_column: str = "time_total"):
+    """Log-log error of one quantity against wall-clock run time: one panel per scene, one line per element."""
+    from .study import QUANTITY_LABELS
+
+    scenes = list(dict.fromkeys(df["scene"]))
+    fig, axes = _figure(path, nrows=1, ncols=len(scenes), figsize=(5.2 * len(scenes), 4.4), squeeze=False,
+                        constrained_layout=True)
+    for ax, scene in zip(axes[0], scenes):
+        sub = df[df["scene"] == scene]
+        for k, (element, g) in enumerate(_by_element(sub)):
+            r = _rows_with_error(g, quantity).sort_values(time_column)
+            if r.empty:
+                continue
+            color, marker = _element_style(element, k)
+            ax.loglog(r[time_column], r[f"err_{quantity}"], "-", color=color, marker=marker, label=element)
+            for _, row in r.iterrows():
+                ax.annotate(f"{int(row.ndof_total):,}".replace(",", " "), (row[time_column], row[f"err_{quantity}"]),
+                            textcoords="offset points", xytext=(4, 3), fontsize=6.5, color=color)
+        nu = sub["nu"].iloc[0] if len(sub) else float("nan")
+        ax.set_title(f"{scene} (Poisson ratio {nu:g})")
+        ax.set_xlabel("run time of the solve [s] (wall clock, mesh to profiles)")
+        ax.set_ylabel(f"relative $L^2$ error of {QUANTITY_LABELS[quantity]}")
+        ax.grid(True, which="both", lw=0.3, alpha=0.5)
+        ax.legend(title="element (labels: dof)", fontsize=8, title_fontsize=8)
+        _log_ticks(ax)
+    fig.suptitle(title or f"error against run time: {QUANTITY_LABELS[quantity]}")
+    return _finish(fig, path)
+
+
+def plot_sigma_nu_isolines(solutions, path=None, levels: int = 24, title: str | None = None):
+    """Isolines of sigma_nu (the paper's Figures 7-8): one panel per solution, a shared colour scale.
+
+    sigma_nu = (sigma n).n with n the first crack's normal, averaged at the vertices;
+    the crack is drawn in black.
+    """
+    from matplotlib.colors import TwoSlopeNorm
+    from matplotlib.tri import Triangulation
+
+    solutions = list(solutions)
+    data = [sigma_nu_field(s) for s in solutions]
+    poly = np.asarray(solutions[0].scene.polygon)
+    aspect = np.ptp(poly[:, 1]) / max(np.ptp(poly[:, 0]), 1e-300)
+    fig, axes = _figure(path, nrows=len(solutions), ncols=1, squeeze=False, constrained_layout=True,
+                        figsize=(10, 0.5 + len(solutions) * (8.2 * aspect + 0.75)))
+    # the colour scale covers the 1st to 99th percentiles: the clamped corners' singular
+    # stresses saturate (shown in the extension colours) instead of washing out the rest
+    lo = min(float(np.percentile(d[2], 1.0)) for d in data)
+    hi = max(float(np.percentile(d[2], 99.0)) for d in data)
+    lo, hi = min(lo, -1e-12), max(hi, 1e-12)
+    bounds = np.linspace(lo, hi, levels + 1)
+    norm = TwoSlopeNorm(vmin=lo, vcenter=0.0, vmax=hi)
+    cf = None
+    for ax, sol, (verts, tris, snn, nu) in zip(axes[:, 0], solutions, data):
+        tri = Triangulation(verts[:, 0], verts[:, 1], tris)
+        cf = ax.tricontourf(tri, snn, levels=bounds, cmap="RdBu_r", norm=norm, extend="both")
+        ax.tricontour(tri, snn, levels=bounds, colors="k", linewidths=0.25)
+        for pts in sol.crack_mesh.polylines:
+            ax.plot(pts[:, 0], pts[:, 1], "-", color="k", lw=2.0)
+        ax.set_aspect("equal")
+        ax.set_title(f"{sol.element}: {sol.ndof['total']:,} dof, maxh {sol.maxh:g}".replace(",", " "), fontsize=10)
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+    from matplotlib.ticker import MaxNLocator
+
+    cb = fig.colorbar(cf, ax=axes[:, 0].tolist(), label=r"$\sigma_\nu = (\sigma\nu)\cdot\nu$ (unit of E)",
+                      shrink=0.95)
+    ticks = MaxNLocator(9).tick_values(lo, hi)
+    cb.set_ticks(ticks[(ticks >= lo) & (ticks <= hi)])
+    sc = solutions[0].scene
+    nu = data[0][3]
+    fig.suptitle(title or rf"isolines of $\sigma_\nu$, $\nu$ = ({nu[0] + 0.0:.0f}, {nu[1] + 0.0:.0f}): {sc.name}, "
+                 rf"Poisson ratio {sc.material.nu:g}")
+    return _finish(fig, path)
