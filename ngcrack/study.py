@@ -55,11 +55,13 @@ dominates) the observed rate_h lie between these: see tests/test_study.py for th
 and the measured values.
 
 Memory. `memory_peak_mb` is the peak resident set size (VmHWM) of the process that ran
-the case, reset at its start (Linux: /proc/self/clear_refs), so it is the run's own peak
-plus what the process already held (`memory_start_mb`: the interpreter, NGSolve, and in a
-long-lived worker its earlier allocations). Where the reset is unavailable (not Linux)
-it is the process's peak since it started, an upper bound. Runs sharing a process (dask
-threads) share one peak: again an upper bound.
+the case, reset at its start (Linux: /proc/self/clear_refs) after freed heap memory is
+handed back to the OS (gc, glibc malloc_trim). It is the run's own peak plus what the
+process still held at the start, `memory_start_mb` (the interpreter and NGSolve, about
+150 MB, plus whatever earlier runs in a long-lived process left behind); their
+difference estimates the run's own footprint. Where the reset is unavailable (not
+Linux) the peak is the process's peak since it started, an upper bound. Runs sharing a
+process (dask threads) share one peak: again an upper bound.
 
 Output. `sweep(..., out="results.csv")` appends one CSV line per finished run (one
 `write` of a complete line, then fsync), so an interruption loses at most the runs in
@@ -280,6 +282,18 @@ def opening_error(sol) -> float:
 
 
 # ------------------------------------------------------------------------- memory
+def _release_memory() -> None:
+    """Collect garbage and hand freed heap memory back to the OS (glibc malloc_trim)."""
+    import ctypes
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
 def _reset_peak_memory() -> None:
     try:
         with open("/proc/self/clear_refs", "w") as fh:
@@ -339,6 +353,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     """Solve one case: (its row or None, its Reference or None). Runs in any process."""
     from .solve import solve
 
+    _release_memory()
     _reset_peak_memory()
     mem_start, _ = _memory_mb()
     scene = case.scene.with_(nu=case.nu)
