@@ -136,7 +136,7 @@ def _finish(fig, path):
     return fig
 
 
-def _log_ticks(ax) -> None:
+def plain_log_ticks(ax) -> None:
     """Plain tick labels on log axes (0.2, 5000, 1e+05); minor labels at 2 and 5 on short ranges."""
     from matplotlib.ticker import FuncFormatter, NullFormatter
 
@@ -212,7 +212,7 @@ def plot_convergence(df, quantities, path=None, title: str | None = None, paper_
     ax.set_ylabel(r"relative $L^2(\Omega)$ error")
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
     ax.legend(fontsize=7.5, loc="lower left")
-    _log_ticks(ax)
+    plain_log_ticks(ax)
     if title:
         ax.set_title(title)
     return _finish(fig, path) if fig is not None else ax.figure
@@ -242,7 +242,7 @@ def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, t
         ax.set_ylabel(f"relative $L^2$ error of {QUANTITY_LABELS[quantity]}")
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
         ax.legend(title="element (labels: dof)", fontsize=8, title_fontsize=8)
-        _log_ticks(ax)
+        plain_log_ticks(ax)
     fig.suptitle(title or f"error against run time: {QUANTITY_LABELS[quantity]}")
     return _finish(fig, path)
 

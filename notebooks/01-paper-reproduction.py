@@ -1,0 +1,95 @@
+# %% [markdown]
+# # 01 — The paper's study, reproduced
+#
+# **Question.** Belhachmi et al. (section 4) report, for their two examples, relative
+# $L^2(\Omega)$ errors of $u_1$, $u_2$, $\sigma_{t,1}$ and $\sigma_\nu$ on five meshes up to
+# 937 unknowns, and rates of about 0.81, 0.65, 0.93 and 0.78. Do ngcrack's mixed elements
+# reproduce these errors and rates, and what do the rates become on meshes a hundred times
+# finer?
+#
+# **Setting.** `paper-1`: $\Omega = (0,4)\times(0,1)$ cut through by the crack $y = 1/2$,
+# $\nu = 0.29$; `paper-2`: the interior crack $(1,3)\times\{1/2\}$, $\nu = 0.49$; $E = 206900$,
+# plane strain, $f = (0,-1)$ (ngcrack's reading of the paper, see the README). Errors
+# against a finer reference mesh of the same element; rates as least-squares slopes
+# (`ngcrack.study`: `rate_dof` is the paper's convention, $e \sim \mathrm{dof}^{-r}$;
+# `rate_h` has $e \sim h^r$, about twice as large).
+#
+# This is `ngcrack paper --quick` from Python. Set `NGCRACK_QUICK=1` for a smoke run on
+# tiny meshes (what the tests do); `LEVEL = paper.FULL` runs the full study (about ten
+# minutes).
+
+# %%
+import os
+from pathlib import Path
+
+import pandas as pd
+from IPython.display import Image, Markdown, display
+
+import ngcrack as nc
+from ngcrack import paper
+
+SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
+LEVEL = paper.QUICK
+options = dict(maxh=(0.4, 0.3, 0.25), reference_maxh=0.2, elements=["peers", "bdm"]) if SMOKE else {}
+out = Path("01-output")
+
+# %% [markdown]
+# ## Run the study
+# Each scene's sweep is written to `01-output/sweep-<scene>.csv` as it goes; running the
+# cell again resumes from there.
+
+# %%
+result = paper.run(out, quick=LEVEL is paper.QUICK, progress=False, log=lambda s: None, **options)
+rows, rates = result.rows, result.rates
+rows[["scene", "element", "maxh", "ndof_total", "err_u1", "err_u2", "err_sigma_t1", "err_sigma_nu",
+      "time_total"]].round(4)
+
+# %% [markdown]
+# ## Tables 1–4 (one per quantity), example 2
+# dof, error, observed rates between consecutive meshes and run time, per element.
+
+# %%
+display(Markdown((out / "table4_sigma_nu.md").read_text()))
+
+# %% [markdown]
+# ## Figures 3–6: error against dof
+# The grey crosses in the paper-1 figures are the paper's own Tables 1–4.
+
+# %%
+for name in ("fig3_paper-1_displacement", "fig4_paper-1_stress", "fig5_paper-2_displacement", "fig6_paper-2_stress"):
+    display(Image(filename=str(out / f"{name}.png"), width=640))
+
+# %% [markdown]
+# ## Figures 7–8: isolines of $\sigma_\nu$
+
+# %%
+for name in ("fig7_paper-1_sigma_nu", "fig8_paper-2_sigma_nu"):
+    display(Image(filename=str(out / f"{name}.png"), width=720))
+
+# %% [markdown]
+# ## The rates next to the paper's
+# The paper's stated rates are the least-squares slopes of its Tables 1–4 in dof
+# (recomputed here from the tables).
+
+# %%
+from_tables = paper.paper_rates_from_tables()
+pivot = rates.pivot_table(index=["scene", "element"], columns="quantity", values="rate_dof")[list(nc.study.QUANTITIES)]
+pivot.loc[("paper (text)", "example 1"), :] = [paper.PAPER_RATES[q] for q in pivot.columns]
+pivot.loc[("paper (tables)", "example 1"), :] = [from_tables[q] for q in pivot.columns]
+pivot.round(2)
+
+# %% [markdown]
+# ## Conclusion
+
+# %%
+p2 = rates[rates.scene == "paper-2"]
+finest = rows.groupby(["scene", "element"]).ndof_total.max()
+print(f"Finest rows: {finest.max():,} unknowns (the paper: 937), reference "
+      f"{rows.reference_ndof.max():,}.")
+for el, g in p2.groupby("element", sort=False):
+    r = dict(zip(g.quantity, g.rate_dof))
+    print(f"paper-2, {el}: rates in dof u1 {r['u1']:.2f}, u2 {r['u2']:.2f}, sigma_t1 {r['sigma_t1']:.2f}, "
+          f"sigma_nu {r['sigma_nu']:.2f} (paper, example 1: 0.81, 0.65, 0.93, 0.78)")
+stress = p2[p2.quantity.isin(["sigma_t1", "sigma_nu"])]
+print(f"Stress rates in h on paper-2: {stress.rate_h.min():.2f} to {stress.rate_h.max():.2f} "
+      f"(between the crack tips' h^1/2 and the lowest-order h^1).")
