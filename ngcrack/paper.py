@@ -39,9 +39,9 @@ class Level:
     reference_maxh: float
 
 
-#: under 3 minutes on 2 cores (one process)
+#: about one minute on 2 cores (one process; the limit is 3)
 QUICK = Level(maxh=(0.2, 0.1, 0.05), reference_maxh=0.025)
-#: rows to 3e5 unknowns, reference 1.2e6 (about 10 minutes on 2 cores, 2.5 GB per process)
+#: rows to 3e5 unknowns, reference 1.2e6 (about 5 minutes on 2 cores, 2.5 GB per process)
 FULL = Level(maxh=(0.2, 0.14, 0.1, 0.07, 0.05, 0.035, 0.025), reference_maxh=0.0125)
 
 #: the paper's Tables 1-4 (example 1, nu = 0.29): dof and relative L2 error

@@ -238,6 +238,7 @@ def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, t
                             textcoords="offset points", xytext=(4, 3), fontsize=6.5, color=color)
         nu = sub["nu"].iloc[0] if len(sub) else float("nan")
         ax.set_title(f"{scene} (Poisson ratio {nu:g})")
+        ax.margins(x=0.1)  # room for the dof labels of the last point
         ax.set_xlabel("run time of the solve [s] (wall clock, mesh to profiles)")
         ax.set_ylabel(f"relative $L^2$ error of {QUANTITY_LABELS[quantity]}")
         ax.grid(True, which="both", lw=0.3, alpha=0.5)

@@ -55,7 +55,7 @@ dominates) the observed rate_h lie between these: see tests/test_study.py for th
 and the measured values.
 
 Memory. `memory_peak_mb` is the peak resident set size (VmHWM) of the process that ran
-the case, reset at its start (Linux: /proc/self/clear_refs) after freed heap memory is
+the case during its solve (not the error evaluation), reset at its start (Linux: /proc/self/clear_refs) after freed heap memory is
 handed back to the OS (gc, glibc malloc_trim). It is the run's own peak plus what the
 process still held at the start, `memory_start_mb` (the interpreter and NGSolve, about
 150 MB, plus whatever earlier runs in a long-lived process left behind); their
@@ -78,7 +78,6 @@ import io
 import itertools
 import math
 import os
-import resource
 import sys
 import time
 import warnings
@@ -312,6 +311,8 @@ def _memory_mb() -> tuple[float, float]:
                     vals[line[:5]] = float(line.split()[1]) / 1024
         return vals["VmRSS"], vals["VmHWM"]
     except (OSError, KeyError):
+        import resource  # not on Windows; there the peak is unknown
+
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
         peak = peak / 2**20 if sys.platform == "darwin" else peak / 1024
         return math.nan, peak
@@ -343,10 +344,13 @@ class Case:
         return f"{what}run scene={self.scene.name!r} element={self.element!r} maxh={self.maxh:g} nu={self.nu:g}"
 
 
-def _mesh_stats(mesh) -> tuple[float, int]:
-    verts = np.array([v.point for v in mesh.vertices])
-    edges = np.array([[v.nr for v in e.vertices] for e in mesh.edges], dtype=int)
-    return float(np.linalg.norm(verts[edges[:, 0]] - verts[edges[:, 1]], axis=1).max()), int(mesh.ne)
+def _mesh_stats(sol) -> tuple[float, int]:
+    """(h = the largest edge length, number of triangles) of the solution's mesh."""
+    cm = sol.crack_mesh
+    verts, tris = cm.points, cm.triangles
+    corners = verts[tris]
+    sides = corners - np.roll(corners, 1, axis=1)
+    return float(np.linalg.norm(sides, axis=2).max()), int(len(tris))
 
 
 def run_case(case: Case) -> tuple[dict | None, Reference | None]:
@@ -358,17 +362,17 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     mem_start, _ = _memory_mb()
     scene = case.scene.with_(nu=case.nu)
     sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
+    _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
     t0 = time.perf_counter()
     ref = Reference.from_solution(sol) if case.make_reference else None
     row = None
     if case.row:
-        h, ne = _mesh_stats(sol.mesh)
+        h, ne = _mesh_stats(sol)
         errors = {f"err_{q}": math.nan for q in QUANTITIES}
         if case.reference is not None and not case.is_reference:
             errors = case.reference.errors(sol)
         errors["err_opening"] = opening_error(sol)
         t_err = time.perf_counter() - t0
-        _, mem_peak = _memory_mb()
         prof = sol.profiles
         t = sol.timings
         row = {
@@ -436,8 +440,8 @@ def typed(df):
     return df
 
 
-def read_results(path) -> "pd.DataFrame":  # noqa: F821
-    """A sweep CSV as a typed DataFrame (ignoring a trailing partial line)."""
+def read_results(path):
+    """A sweep CSV as a typed pandas DataFrame (ignoring a trailing partial line)."""
     import pandas as pd
 
     path = Path(path)

@@ -15,14 +15,13 @@
 # `rate_h` has $e \sim h^r$, about twice as large).
 #
 # This is `ngcrack paper --quick` from Python. Set `NGCRACK_QUICK=1` for a smoke run on
-# tiny meshes (what the tests do); `LEVEL = paper.FULL` runs the full study (about ten
+# tiny meshes (what the tests do); `LEVEL = paper.FULL` runs the full study (about five
 # minutes).
 
 # %%
 import os
 from pathlib import Path
 
-import pandas as pd
 from IPython.display import Image, Markdown, display
 
 import ngcrack as nc

@@ -16,7 +16,6 @@ Run with `-s` to see the measured numbers (lines starting with "[study]").
 from __future__ import annotations
 
 import math
-import os
 import signal
 import subprocess
 import sys
