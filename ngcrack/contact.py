@@ -50,9 +50,11 @@ w = G j) starts uzawa, and the cvxpy solvers that accept a starting point.
 
 from __future__ import annotations
 
+import contextlib
 import time
 import warnings
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
@@ -75,6 +77,25 @@ UZAWA_TOL = 1e-10
 UZAWA_CHECK_EVERY = 25
 #: scaled KKT residual below which an answer counts as exact
 KKT_TOL = 1e-9
+#: BLAS threads for the dense QP work. The matrices are m x m with m in the hundreds:
+#: a second thread gains little, and on a busy machine the threads' synchronisation
+#: made a 320-unknown pdas solve take up to 2 s instead of 0.02 s (BENCHMARKS.md)
+QP_BLAS_THREADS = 1
+
+
+@lru_cache(maxsize=1)
+def _threadpools():
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:  # pragma: no cover - threadpoolctl is a dependency
+        return None
+    return ThreadpoolController()
+
+
+def _limited_blas():
+    """A context in which BLAS uses QP_BLAS_THREADS threads (no-op without threadpoolctl)."""
+    pools = _threadpools()
+    return pools.limit(limits=QP_BLAS_THREADS, user_api="blas") if pools is not None else contextlib.nullcontext()
 
 
 class ContactSolverError(RuntimeError):
@@ -269,8 +290,14 @@ def solve_qp(
     cvxpy's `Problem.solve` (or to uzawa: max_iter, tol, step, accelerate) unchanged.
     `initial_active` / `initial_guess`: warm starts (module docstring), in the indices
     and units of w = G j. Raises ContactSolverError if the answer's scaled KKT residual
-    exceeds `kkt_tol`, the solver fails, or S and b are not finite.
+    exceeds `kkt_tol`, the solver fails, or S and b are not finite. The dense work runs
+    with QP_BLAS_THREADS BLAS threads.
     """
+    with _limited_blas():
+        return _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, initial_guess)
+
+
+def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, initial_guess) -> QPResult:
     t0 = time.perf_counter()
     S = np.asarray(S, dtype=float)
     b = np.asarray(b, dtype=float)
