@@ -34,9 +34,13 @@ Solvers:
 - any QP solver that cvxpy knows: "clarabel", "osqp", "scs", ...; solver options are
   passed to cvxpy's Problem.solve unchanged.
 
-Measured on paper and random instances (BENCHMARKS.md): pdas reaches a scaled KKT
-residual of 1e-15 in 2-6 steps and is 10 to 1000 times faster than clarabel, which is
-the fastest of the cvxpy solvers; uzawa needs thousands of steps (kappa grows like 1/h).
+Measured on crack QPs of the paper's scenes and griffith (m = 80-1838) and on random
+SPD instances up to m = 2000, cond 1e8 (BENCHMARKS.md section 3): pdas reaches a
+scaled KKT residual of 1e-15 in 1-16 steps and is the fastest everywhere (5 to 30
+times faster than the fastest cvxpy solver from m = 476 on); clarabel reaches 1e-8 to
+1e-11 on its own, osqp and scs 1e-5 to 1e-7 with their default tolerances; the plain
+Uzawa iteration needs O(cond(S)) steps (3400-15000 on the small crack QPs, more than
+20000 from cond 2e5 on), the accelerated one 250-1300.
 
 After an approximate solver (uzawa, cvxpy) the answer is polished by active-set steps
 started from the active set it found; this makes it exact to round-off, and the polish
@@ -45,7 +49,9 @@ are checked, whoever produced it: above `kkt_tol` the solve raises ContactSolver
 
 Warm starts: `initial_active` (the indices, or a boolean mask, of the constrained
 values expected at zero) starts pdas from that active set; `initial_guess` (values of
-w = G j) starts uzawa, and the cvxpy solvers that accept a starting point.
+w = G j) starts uzawa, and the cvxpy solvers that accept a starting point. Along a mesh
+or nu sweep they halve the pdas steps, which saves milliseconds (section 4 of
+BENCHMARKS.md): `warm_start_data` maps a previous solution by crack position.
 """
 
 from __future__ import annotations
@@ -58,6 +64,8 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 #: solvers reached without cvxpy
 NATIVE_SOLVERS = ("pdas", "uzawa")
@@ -77,6 +85,8 @@ UZAWA_TOL = 1e-10
 UZAWA_CHECK_EVERY = 25
 #: scaled KKT residual below which an answer counts as exact
 KKT_TOL = 1e-9
+#: G is inverted as a sparse matrix when at most this fraction of its entries is nonzero
+G_SPARSE_FILL = 0.1
 #: BLAS threads for the dense QP work. The matrices are m x m with m in the hundreds:
 #: a second thread gains little, and on a busy machine the threads' synchronisation
 #: made a 320-unknown pdas solve take up to 2 s instead of 0.02 s (BENCHMARKS.md)
@@ -256,6 +266,25 @@ def _cvxpy_solve(S: np.ndarray, b: np.ndarray, solver: str, options: dict, v0: n
     return out
 
 
+def _inverse_map(G, m: int):
+    """G^{-1}: None for G = None or the identity, sparse where G is (block diagonal), else dense."""
+    if G is None:
+        return None
+    if sp.issparse(G):
+        Gs = sp.csc_matrix(G)
+    else:
+        G = np.asarray(G, dtype=float)
+        if G.shape != (m, m):
+            raise ValueError(f"G: a square matrix of size {m} (the number of crack unknowns) was expected, got {G.shape}")
+        if np.array_equal(G, np.eye(m)):
+            return None
+        Gs = sp.csc_matrix(G)
+    if Gs.nnz > G_SPARSE_FILL * m * m:
+        return np.linalg.inv(Gs.toarray())
+    inv = spla.inv(Gs) if m > 1 else sp.csc_matrix(1.0 / Gs.toarray())
+    return sp.csr_matrix(inv)
+
+
 def _mask(active, m: int) -> np.ndarray | None:
     """A boolean mask of length m from indices or a mask (None stays None)."""
     if active is None:
@@ -308,9 +337,12 @@ def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, 
     if m == 0:
         z = np.zeros(0)
         return QPResult(z, z, z, np.zeros(0, dtype=int), solver, 0, _scaled_kkt(S, b, z), 0.0)
-    Ginv = np.eye(m) if G is None else np.linalg.inv(G)
-    S_w = Ginv.T @ S @ Ginv
-    b_w = Ginv.T @ b
+    Ginv = _inverse_map(G, m)
+    if Ginv is None:
+        S_w, b_w = S, b
+    else:  # S_w = Ginv' S Ginv; with a sparse (block-diagonal) Ginv this is O(m^2) work
+        S_w = (Ginv.T @ (Ginv.T @ S).T).T
+        b_w = Ginv.T @ b
     diag = np.diag(S_w)
     if np.any(diag <= 0.0):
         raise ContactSolverError("the crack Schur complement is not positive definite: a part of the body is not held")
@@ -365,7 +397,7 @@ def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, 
     w = beta * D * v
     mult = beta * (S_s @ v - b_s) / D  # multipliers of w >= 0 in the unscaled problem
     mult[v > 0] = 0.0
-    j = Ginv @ w
+    j = w if Ginv is None else Ginv @ w
     return QPResult(
         j=j,
         w=w,

@@ -23,16 +23,17 @@ How S is formed (`method`):
 - "columns": one solve per crack unknown (the reference the others are tested against).
 - "auto": "factor" for pardiso and superlu on positive definite systems, else "blocked".
 
-Measured on the project's 2-core machine (BENCHMARKS.md has the full tables), paper-2
-with BDM at 1.06e6 unknowns in total (3.03e5 condensed, m = 296): factorization of
-K_rr 1.2 s (pardiso), 2.9 s (cholespy), 1.4 s (ngsolve sparsecholesky), 5.2 s (superlu);
-S on top of it: 0 s extra with pardiso "factor" (factorization and S together 0.94 s),
-8.9 s with cholespy "blocked", about 37 s with ngsolve column by column, 5.2 + 2.8 s
-with superlu "factor" and about a minute with superlu "blocked" (SuperLU's multi-RHS
-solve is a loop over the columns). MKL PARDISO's Schur option needs a positive definite
-K: on the saddle-point systems of the incompressible split (`definite=False`) it
-perturbs thousands of pivots and S is off by 1e-4, so those systems take a pivoting LU
-and "blocked".
+Measured on the project's 2-core machine (BENCHMARKS.md section 2), paper-2 with BDM at
+1.06e6 unknowns in total (3.03e5 condensed, m = 296): factorization of K_rr alone 0.9 s
+(pardiso), 3.2 s (cholespy), 2.6 s (ngsolve sparsecholesky), 3.7 s (superlu). S on top:
+pardiso "factor" 1.8 s for factorization and S together (S costs nothing extra beyond
+start-up noise), superlu "factor" 3.7 + 5.9 s, cholespy "blocked" 3.0 + 7.2 s,
+pardiso "blocked" 2.3 + 13.9 s, superlu "blocked" about 3 + 11 s, ngsolve column by
+column about 2.6 + 38 s. An active-set method on K that never forms S needs one
+factorization per step (7 steps, 11.3 s on paper-2 with PEERS at 1.0e6 unknowns).
+MKL PARDISO's Schur option needs a positive definite K: on the saddle-point systems of
+the incompressible split (`definite=False`) it perturbs thousands of pivots and S is off
+by 1e-4, so those systems take a pivoting LU and "blocked".
 
 The sparse direct solver (`linear_solver`): "pardiso" (MKL PARDISO, where the `mkl`
 package is installed: a dependency on x86-64), "superlu" (scipy), "cholespy" (CHOLMOD
