@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 import numpy as np
 import ngsolve as ngs
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from .elements import Discretization, Loads
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
