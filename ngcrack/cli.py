@@ -1,7 +1,8 @@
 """The `ngcrack` command.
 
     ngcrack scenes
-    ngcrack solve SCENE [--element E] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
+    ngcrack stability [--quick] [--out DIR]
+    ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
                         [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png]
     ngcrack sweep SCENE --element E [E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
                         [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS]
@@ -89,8 +90,9 @@ def cmd_solve(args) -> int:
         scene = scene.with_(**changes)
     from .solve import solve
 
+    options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order)) if v is not None}
     sol = solve(scene, element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
-                qp_solver=args.qp_solver, crack_model=args.crack_model)
+                crack_model=args.crack_model, **options)
     result = sol.to_json_dict()
     _finite_json(result)
     if json_path is not None:
@@ -192,6 +194,19 @@ def cmd_paper(args) -> int:
     return 0
 
 
+def cmd_stability(args) -> int:
+    out = Path(args.out)
+    if not out.parent.exists():
+        raise UsageError(f"--out = {args.out!r}: the directory {str(out.parent)!r} does not exist")
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out = {args.out!r}: exists and is not a directory")
+    from .stability import run
+
+    for what, path in run(quick=args.quick, out=out).items():
+        print(f"{what}: {path}")
+    return 0
+
+
 class _pandas_display:
     def __enter__(self):
         import pandas as pd
@@ -217,13 +232,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_scenes)
     p = sub.add_parser("solve", help="solve one scene")
     p.add_argument("scene", help="built-in scene name or TOML file")
-    p.add_argument("--element", default="peers", help="peers (default) or bdm")
+    p.add_argument("--element", default="peers", help="peers (default), bdm, tdnns, h1p1 or h1p2")
+    p.add_argument("--order", type=int, help="polynomial order of elements that have one (tdnns: stress degree 1, 2 or 3)")
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
-    p.add_argument("--qp-solver", dest="qp_solver", default="clarabel", help="clarabel (default), pdas, osqp, scs, ...")
+    p.add_argument("--qp-solver", dest="qp_solver", help="pdas (default), uzawa, clarabel, osqp, scs, ...")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
     p.add_argument("--json", help="write the result (DESIGN.md's contract) to this file")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
@@ -260,6 +276,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--reference-maxh", dest="reference_maxh", type=_positive, help="override the reference mesh size")
     parallel(p)
     p.set_defaults(func=cmd_paper)
+
+    p = sub.add_parser("stability", help="locking against nu, scaling laws, extreme geometry: tables and plots")
+    p.add_argument("--quick", action="store_true", help="the small study (about a minute on 2 cores)")
+    p.add_argument("--out", default="stability-results", help="output folder (default stability-results)")
+    p.set_defaults(func=cmd_stability)
     return parser
 
 

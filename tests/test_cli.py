@@ -232,3 +232,23 @@ def test_paper_quick_runs_in_time_and_writes_everything(tmp_path):
     check_paper_output(out, proc.stdout, mixed_elements(), 3)
     print(f"[cli] paper --quick: {elapsed:.0f} s")
     assert elapsed < 180
+
+
+def test_solve_order_is_passed_and_checked(tmp_path):
+    """--order reaches tdnns; an element of fixed order refuses it with exit code 2 and no file."""
+    from ngcrack.cli import main
+
+    out = tmp_path / "t.json"
+    assert main(["solve", "paper-2", "--element", "tdnns", "--order", "2", "--maxh", "0.2", "--json", str(out)]) == 0
+    data = json.loads(out.read_text())
+    assert data["element"] == "tdnns" and data["kkt"]["max_penetration"] <= 1e-6
+    bad = tmp_path / "u.json"
+    assert main(["solve", "paper-2", "--element", "peers", "--order", "2", "--json", str(bad)]) == 2
+    assert not bad.exists()
+
+
+def test_stability_refuses_a_missing_folder(tmp_path, capsys):
+    from ngcrack.cli import main
+
+    assert main(["stability", "--quick", "--out", str(tmp_path / "no" / "such")]) == 2
+    assert "--out" in capsys.readouterr().err

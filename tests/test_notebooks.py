@@ -25,6 +25,7 @@ NOTEBOOKS = [
     ("03-nu-sweep.py", "Mixed elements: every error grows by at most", False),
     ("04-error-vs-runtime.py", "the fastest solve is", False),
     ("05-contact-teaching.py", "Compression: the crack closes", False),
+    ("06-stability.py", "Scaling laws hold to", False),
 ]
 
 
