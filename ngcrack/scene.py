@@ -88,9 +88,17 @@ PLANE_TYPES = ("strain", "stress")
 #: to it, centred at ``center``; in plane strain the full opening is
 #: ``[u].nu = 4 p (1 - nu^2) / E * sqrt(a^2 - s^2)``, s the distance from the centre.
 #: ``uniform-stress``: the exact stress is the constant ``sigma = [s_xx, s_yy, s_xy]``.
+#: ``inclined``: a straight crack of half-length ``a`` centred at ``center``, its
+#: tangent at ``angle`` degrees from the x axis, under the remote uniaxial stress
+#: sigma_yy = ``p`` (p < 0: compression). On the crack, sigma_n = p cos^2(angle) and
+#: tau = p sin(angle) cos(angle); the crack opens as Griffith's under sigma_n when
+#: sigma_n > 0, stays closed otherwise, and slides as
+#: ``[u].t = 4 (1 - nu^2) / E * tau_eff * sqrt(a^2 - s^2)`` (plane strain), tau_eff = tau
+#: without friction.
 EXACT_KINDS: Mapping[str, tuple[str, ...]] = {
     "griffith": ("a", "p", "center"),
     "uniform-stress": ("sigma",),
+    "inclined": ("a", "p", "angle", "center"),
 }
 
 Point = tuple[float, float]
@@ -1055,7 +1063,7 @@ def _check_exact(ex: Any) -> FrozenMap:
         v, fld = ex[k], f"exact.{k}"
         if k == "a":
             out[k] = _positive(v, fld)
-        elif k == "p":
+        elif k in ("p", "angle"):
             out[k] = _finite(v, fld)
         elif k == "center":
             out[k] = _pair(v, fld)

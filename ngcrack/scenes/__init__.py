@@ -14,8 +14,9 @@ from importlib import resources
 from pathlib import Path
 
 from ngcrack.scene import Scene, SceneError
+from ngcrack.scenes.parametric import inclined_closed_form, inclined_crack
 
-__all__ = ["names", "load", "describe", "paper_example", "resolve"]
+__all__ = ["names", "load", "describe", "paper_example", "resolve", "inclined_crack", "inclined_closed_form"]
 
 _SUFFIX = ".toml"
 
