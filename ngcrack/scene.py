@@ -8,7 +8,7 @@ unilateral contact on every crack (DESIGN.md section 1).
 A :class:`Scene` is plain, immutable data. It is validated completely when it is built
 (``__post_init__``), before any meshing, so no invalid Scene can exist: every bad field
 raises :class:`SceneError` (a ``ValueError``) with a one-line message naming the field
-and what is allowed. This module is pure geometry: it imports neither ngsolve nor netgen.
+and what is allowed. This module is pure geometry (its predicates and distances are shapely's): it imports neither ngsolve nor netgen.
 
 Conventions
 -----------
@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import shapely
 
 try:  # Python >= 3.11
     import tomllib
@@ -205,7 +206,7 @@ class FrozenMap(Mapping):
 
 
 # --------------------------------------------------------------------------------------
-# plane geometry (pure Python; the polygons are small)
+# plane geometry (shapely's predicates and distances)
 # --------------------------------------------------------------------------------------
 
 
@@ -230,28 +231,16 @@ def _mid(p: Point, q: Point) -> Point:
 
 
 def _point_segment_distance(x: Point, p: Point, q: Point) -> float:
-    d = _sub(q, p)
-    dd = _dot(d, d)
-    if dd == 0.0:
+    if p == q:
         return _dist(x, p)
-    t = min(1.0, max(0.0, _dot(_sub(x, p), d) / dd))
-    return _dist(x, (p[0] + t * d[0], p[1] + t * d[1]))
-
-
-def _segments_cross(p1: Point, p2: Point, q1: Point, q2: Point) -> bool:
-    """True if the open segments cross properly (each separates the other's ends)."""
-    o1 = _cross(_sub(p2, p1), _sub(q1, p1))
-    o2 = _cross(_sub(p2, p1), _sub(q2, p1))
-    o3 = _cross(_sub(q2, q1), _sub(p1, q1))
-    o4 = _cross(_sub(q2, q1), _sub(p2, q1))
-    return o1 * o2 < 0 and o3 * o4 < 0
+    return shapely.Point(x).distance(shapely.LineString([p, q]))
 
 
 def _segment_distance(p1: Point, p2: Point, q1: Point, q2: Point) -> float:
-    if _segments_cross(p1, p2, q1, q2):
-        return 0.0
-    return min(_point_segment_distance(p1, q1, q2), _point_segment_distance(p2, q1, q2),
-               _point_segment_distance(q1, p1, p2), _point_segment_distance(q2, p1, p2))
+    """Distance between two closed segments (0 if they cross or touch)."""
+    a = shapely.LineString([p1, p2]) if p1 != p2 else shapely.Point(p1)
+    b = shapely.LineString([q1, q2]) if q1 != q2 else shapely.Point(q1)
+    return a.distance(b)
 
 
 def _signed_area(poly: Sequence[Point]) -> float:
@@ -259,39 +248,25 @@ def _signed_area(poly: Sequence[Point]) -> float:
     return 0.5 * sum(_cross(poly[i], poly[(i + 1) % n]) for i in range(n))
 
 
-def _inside_even_odd(x: Point, poly: Sequence[Point]) -> bool:
-    """Ray casting; only meaningful for points not on the boundary."""
-    inside = False
-    n = len(poly)
-    for i in range(n):
-        p, q = poly[i], poly[(i + 1) % n]
-        if (p[1] > x[1]) != (q[1] > x[1]):
-            xc = p[0] + (x[1] - p[1]) * (q[0] - p[0]) / (q[1] - p[1])
-            if xc > x[0]:
-                inside = not inside
-    return inside
+@functools.lru_cache(maxsize=256)
+def _polygon(poly: tuple[Point, ...]) -> shapely.Polygon:
+    """The shapely polygon of a simple loop of vertices (cached: scenes are immutable)."""
+    return shapely.Polygon(poly)
+
+
+def _inside(x: Point, poly: Sequence[Point]) -> bool:
+    """True if x lies strictly inside the simple polygon (points on its boundary are not)."""
+    return _polygon(tuple(poly)).contains(shapely.Point(x))
 
 
 def _boundary_distance(x: Point, poly: Sequence[Point]) -> float:
-    n = len(poly)
-    return min(_point_segment_distance(x, poly[i], poly[(i + 1) % n]) for i in range(n))
+    return _polygon(tuple(poly)).exterior.distance(shapely.Point(x))
 
 
 def _interior_point(poly: Sequence[Point]) -> Point:
-    """A point strictly inside a simple polygon: the middle of the widest chord on a
-    horizontal line that passes through no vertex."""
-    ys = sorted(set(p[1] for p in poly))
-    j = max(range(len(ys) - 1), key=lambda k: ys[k + 1] - ys[k])
-    y0 = 0.5 * (ys[j] + ys[j + 1])
-    xs = []
-    n = len(poly)
-    for i in range(n):
-        p, q = poly[i], poly[(i + 1) % n]
-        if (p[1] > y0) != (q[1] > y0):
-            xs.append(p[0] + (y0 - p[1]) * (q[0] - p[0]) / (q[1] - p[1]))
-    xs.sort()
-    k = max(range(0, len(xs) - 1, 2), key=lambda m: xs[m + 1] - xs[m])
-    return (0.5 * (xs[k] + xs[k + 1]), y0)
+    """A point strictly inside a simple polygon."""
+    p = _polygon(tuple(poly)).representative_point()
+    return (p.x, p.y)
 
 
 def _check_polyline_simple(pts: Sequence[Point], fld: str, tol: float, closed: bool,
@@ -541,7 +516,7 @@ class Part:
         """True if ``x`` lies strictly inside (points on the loop are not inside)."""
         p = (float(x[0]), float(x[1]))
         tol = GEOMETRY_RTOL * max(_dist(a, b) for a in self.loop for b in self.loop)
-        return _boundary_distance(p, self.loop) > tol and _inside_even_odd(p, self.loop)
+        return _boundary_distance(p, self.loop) > tol and _inside(p, self.loop)
 
 
 # --------------------------------------------------------------------------------------
@@ -690,7 +665,7 @@ class Scene:
         for k, p in enumerate(pts):
             d = _boundary_distance(p, poly)
             on = d <= tol
-            if not on and not _inside_even_odd(p, poly):
+            if not on and not _inside(p, poly):
                 raise SceneError(
                     f"{fld}.points[{k}] = {_fmt_pt(p)} lies outside domain.polygon; every "
                     f"crack point must lie inside the polygon (end points may lie on its "
@@ -722,7 +697,7 @@ class Scene:
                 if not any(_dist(x, y) <= tol for y in allowed):
                     raise SceneError(f"{where} touches {edge} at {_fmt_pt(x)}; {rule}")
             m = _mid(a, b)
-            if _boundary_distance(m, poly) <= tol or not _inside_even_odd(m, poly):
+            if _boundary_distance(m, poly) <= tol or not _inside(m, poly):
                 raise SceneError(f"{where} leaves the domain (its midpoint "
                                  f"{_fmt_pt(m)} is not inside domain.polygon); {rule}")
 
@@ -808,7 +783,7 @@ class Scene:
         for c in through:
             P = self.cracks[c].points
             mid = _mid(P[0], P[1])
-            li = next(k for k, (V, _) in enumerate(loops) if _inside_even_odd(mid, V))
+            li = next(k for k, (V, _) in enumerate(loops) if _inside(mid, V))
             V, T = list(loops[li][0]), list(loops[li][1])
             _insert_on_loop(V, T, P[0], tol)
             _insert_on_loop(V, T, P[-1], tol)
@@ -842,7 +817,7 @@ class Scene:
                     faces.append((tag, p, q))
                     ids.append(tag)
             for i, crack in enumerate(self.cracks):
-                if i not in through and _inside_even_odd(
+                if i not in through and _inside(
                         _mid(crack.points[0], crack.points[1]), V):
                     ids.append(i)
             parts.append(Part(loop=tuple(V), pieces=tuple(pieces),
