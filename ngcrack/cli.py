@@ -3,9 +3,9 @@
     ngcrack scenes
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
-                        [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png]
+                        [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png] [--max-dof N]
     ngcrack sweep SCENE --element E [E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
-                        [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS]
+                        [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS] [--max-dof N]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
 
 SCENE is a built-in scene name or a TOML file. Bad input exits with code 2 and a
@@ -92,7 +92,7 @@ def cmd_solve(args) -> int:
 
     options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order)) if v is not None}
     sol = solve(scene, element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
-                crack_model=args.crack_model, **options)
+                crack_model=args.crack_model, max_dof=args.max_dof, **options)
     result = sol.to_json_dict()
     _finite_json(result)
     if json_path is not None:
@@ -158,7 +158,8 @@ def cmd_sweep(args) -> int:
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
     df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, reference_maxh=args.reference_maxh,
-               reference_element=args.reference_element, out=out, solve_options=solve_options, **opts)
+               reference_element=args.reference_element, out=out, solve_options=solve_options, max_dof=args.max_dof,
+               **opts)
     after = len(open(out).read().splitlines()) - 1
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["time_total"]
     if df["err_opening"].notna().any():
@@ -225,6 +226,21 @@ def _positive(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
 
 
+def _count(text: str) -> int:
+    """A number of unknowns: an integer, also written like 2e6."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (math.isfinite(value) and value >= 1):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a number of unknowns >= 1")
+    return int(value)
+
+
+MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
+                "meshing (default: 5e6 and what fits in the available memory)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="ngcrack", description="Cracked elastic bodies with unilateral crack contact (NGSolve).")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -243,6 +259,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
     p.add_argument("--json", help="write the result (DESIGN.md's contract) to this file")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
+    p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP)
     p.set_defaults(func=cmd_solve)
 
     def parallel(p):
@@ -265,6 +282,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--grading", type=_positive, help="mesh grading in (0, 1]")
     p.add_argument("--qp-solver", dest="qp_solver", help="the crack QP's solver (default: solve's default)")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
+    p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP + "; checked for every case before any run")
     parallel(p)
     p.set_defaults(func=cmd_sweep)
 

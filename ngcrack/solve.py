@@ -23,6 +23,7 @@ from .schur import SCHUR_METHODS
 from .materials import compliance
 from .post import CrackProfile, crack_profile, endpoint_map, field_scales, kkt_residuals
 from .scene import Scene
+from .sizing import check_request
 
 
 #: scaled forward residual of the condensed solve above which a definite system counts
@@ -239,6 +240,7 @@ def solve(
     condition: bool = False,
     schur: str = "auto",
     warm_start=None,
+    max_dof: int | None = None,
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
@@ -254,13 +256,18 @@ def solve(
     faces slide freely but never separate: one linear solve). order: the polynomial
     order of elements that have one (tdnns: 1, 2 or 3; default 1). condition: also
     estimate the 1-norm condition numbers of the condensed matrix K_rr and of the crack
-    Schur complement S (a few extra solves), in `sol.conditioning`.
+    Schur complement S (a few extra solves), in `sol.conditioning`. max_dof: the largest
+    number of unknowns a solve may have; a request estimated above it (before meshing,
+    ngcrack.sizing) is refused with a ValueError. None: the default ceiling
+    (sizing.DEFAULT_MAX_DOF) and the machine's available memory. A mesh too coarse across a
+    thin part of the body for the element is refused, or warned about (sizing.check_thin_parts).
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver, schur)
     if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
+    check_request(scene, element, maxh, tip_h, crack_h, grading, order=order, max_dof=max_dof)
     if loads is None:
         loads = scene_loads(scene)
     else:

@@ -636,6 +636,7 @@ def sweep(
     dask=None,
     progress: bool = False,
     solve_options: dict | None = None,
+    max_dof: int | None = None,
 ):
     """Run every (element, maxh, nu) of `scene`; one row per run as a pandas DataFrame.
 
@@ -647,7 +648,8 @@ def sweep(
     script calling this with jobs > 1 needs the usual `if __name__ == "__main__":`
     guard); dask: a scheduler address or a distributed.Client (then jobs is ignored).
     progress: a tqdm bar with ETA on stderr. solve_options go to `solve` unchanged
-    (tip_h, crack_h, grading, qp_solver, crack_model, ...).
+    (tip_h, crack_h, grading, qp_solver, crack_model, ...). max_dof: as in `solve`; every
+    case (and reference) is checked against it (ngcrack.sizing) before any run starts.
 
     Returns the rows of this grid (from the CSV where already there), ordered by
     element, nu and decreasing maxh, with ROW_COLUMNS and the rate columns of `with_rates`.
@@ -658,7 +660,10 @@ def sweep(
 
     if isinstance(scene, (str, Path)):
         scene = resolve(scene)
+    if max_dof is not None:
+        solve_options = {**(solve_options or {}), "max_dof": max_dof}
     grid = _Grid.checked(scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options)
+    grid.check_sizes()
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
     bar = None
@@ -742,6 +747,16 @@ class _Grid:
         return cls(scene=scene, elements=list(dict.fromkeys(elements)), sizes=sizes, nus=list(dict.fromkeys(nus)),
                    ref_h=ref_h, separate=not _same(ref_h, sizes[-1]), reference_element=reference_element,
                    solve_options=solve_options, setup=setup)
+
+    def check_sizes(self) -> None:
+        """The size guard and the thin-part check of `solve` (ngcrack.sizing) for every run, before any starts."""
+        from .sizing import check_request
+
+        opts = {k: self.solve_options.get(k) for k in ("tip_h", "crack_h", "grading", "order", "max_dof")}
+        runs = {(el, h) for el in self.elements for h in self.sizes}
+        runs |= {(self.ref_element(el), self.ref_h) for el in self.elements}
+        for el, h in sorted(runs):
+            check_request(self.scene, el, h, what=f"sweep of {self.scene.name!r}, element {el!r}", **opts)
 
     def cases(self) -> list[tuple[str, float, float]]:
         return [(el, h, v) for el, v, h in itertools.product(self.elements, self.nus, self.sizes)]

@@ -29,7 +29,7 @@ from ngcrack import paper
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 LEVEL = paper.QUICK
-options = dict(maxh=(0.4, 0.3, 0.25), reference_maxh=0.2, elements=["peers", "bdm"]) if SMOKE else {}
+options = dict(maxh=(0.3, 0.25, 0.22), reference_maxh=0.2, elements=["peers", "bdm"]) if SMOKE else {}
 out = Path("01-output")
 
 # %% [markdown]

@@ -108,7 +108,7 @@ def test_sweep_output_must_be_a_csv_in_an_existing_folder(tmp_path, capsys):
 
 def test_sweep_writes_prints_and_resumes(tmp_path, capsys):
     out = tmp_path / "r.csv"
-    argv = ["sweep", "paper-2", "--element", "peers", "bdm", "--maxh", "0.4", "0.3", "--nu", "0.3", "0.49",
+    argv = ["sweep", "paper-2", "--element", "peers", "bdm", "--maxh", "0.3", "0.25", "--nu", "0.3", "0.49",
             "--reference-maxh", "0.2", "--out", out, "--no-progress"]
     code, text, err = run(argv, capsys)
     assert code == 0, err
@@ -120,7 +120,7 @@ def test_sweep_writes_prints_and_resumes(tmp_path, capsys):
     before = out.read_bytes()
     code, text, _ = run(argv, capsys)
     assert code == 0 and "(0 new rows, 8 in the file)" in text and out.read_bytes() == before
-    code, text, _ = run(argv[:6] + ["0.25"] + argv[6:], capsys)  # one more mesh size
+    code, text, _ = run(argv[:6] + ["0.22"] + argv[6:], capsys)  # one more mesh size
     assert code == 0 and "(4 new rows, 12 in the file)" in text
     df = read_results(out)
     assert out.read_bytes().startswith(before)
@@ -136,7 +136,7 @@ def test_sweep_progress_bar_goes_to_stderr(tmp_path, capsys):
 
 def test_sweep_jobs_and_dask_from_the_command_line(tmp_path, capsys):
     distributed = pytest.importorskip("distributed")
-    common = ["sweep", "paper-2", "--element", "peers", "bdm", "--maxh", "0.4", "0.3", "--no-progress"]
+    common = ["sweep", "paper-2", "--element", "peers", "bdm", "--maxh", "0.3", "0.25", "--no-progress"]
     code, _, err = run(common + ["--out", tmp_path / "j.csv", "--jobs", "2"], capsys)
     assert code == 0, err
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
@@ -197,7 +197,7 @@ def check_paper_output(out_dir: Path, text: str, elements: list[str], n_rows: in
 def test_paper_small_writes_everything_it_announces(tmp_path, capsys):
     out = tmp_path / "paper"
     t0 = time.perf_counter()
-    code, text, err = run(["paper", "--out", out, "--element", "peers", "bdm", "--maxh", "0.4", "0.3",
+    code, text, err = run(["paper", "--out", out, "--element", "peers", "bdm", "--maxh", "0.3", "0.25",
                            "--reference-maxh", "0.2", "--no-progress"], capsys)
     assert code == 0, err
     paths = check_paper_output(out, text, ["peers", "bdm"], 2)
@@ -205,7 +205,7 @@ def test_paper_small_writes_everything_it_announces(tmp_path, capsys):
     with capsys.disabled():
         print(f"[cli] paper (small): {len(paths)} files in {time.perf_counter() - t0:.1f} s")
     # a second run resumes from the sweeps' CSVs and rewrites the same files
-    code, text2, _ = run(["paper", "--out", out, "--element", "peers", "bdm", "--maxh", "0.4", "0.3",
+    code, text2, _ = run(["paper", "--out", out, "--element", "peers", "bdm", "--maxh", "0.3", "0.25",
                           "--reference-maxh", "0.2", "--no-progress"], capsys)
     assert code == 0 and ANNOUNCED.findall(text2) == ANNOUNCED.findall(text)
 

@@ -214,7 +214,7 @@ def test_paper2_rows_are_consistent(paper2_sweep):
 
 
 # ---------------------------------------------------------------------- schema
-SMALL = dict(elements=["peers", "bdm"], maxh=[0.4, 0.25], nu=[0.3, 0.49])
+SMALL = dict(elements=["peers", "bdm"], maxh=[0.3, 0.2], nu=[0.3, 0.49])
 
 
 def test_csv_and_dataframe_schema(tmp_path):
@@ -228,11 +228,11 @@ def test_csv_and_dataframe_schema(tmp_path):
     assert set(zip(df.element, df.maxh, df.nu)) == {(e, h, v) for e in SMALL["elements"] for h in SMALL["maxh"]
                                                     for v in SMALL["nu"]}
     # the finest mesh is the reference: its errors are empty, the others' finite
-    ref = df[df.maxh == 0.25]
+    ref = df[df.maxh == 0.2]
     assert ref.reference.all() and ref[[f"err_{q}" for q in QUANTITIES]].isna().all().all()
-    other = df[df.maxh == 0.4]
+    other = df[df.maxh == 0.3]
     assert not other.reference.any() and np.isfinite(other[[f"err_{q}" for q in QUANTITIES]]).all().all()
-    assert (df.reference_ndof[df.maxh == 0.4].to_numpy() == df.ndof_total[df.maxh == 0.25].to_numpy()).all()
+    assert (df.reference_ndof[df.maxh == 0.3].to_numpy() == df.ndof_total[df.maxh == 0.2].to_numpy()).all()
     assert df.err_opening.isna().all()
     assert (df.crack_model == "contact").all() and (df.reference_element == "").all()
     # the CSV: header = ROW_COLUMNS, one line per row, read back to the same values
@@ -247,8 +247,8 @@ def test_csv_and_dataframe_schema(tmp_path):
 
 
 def test_reference_element_measures_everyone_against_one(tmp_path):
-    df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.4, 0.25], reference_element="bdm")
-    fine = df[df.maxh == 0.25].set_index("element")
+    df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.3, 0.2], reference_element="bdm")
+    fine = df[df.maxh == 0.2].set_index("element")
     assert bool(fine.loc["bdm", "reference"]) and not bool(fine.loc["peers", "reference"])
     assert np.isfinite(fine.loc["peers", "err_u1"]) and np.isnan(fine.loc["bdm", "err_u1"])
     assert (df.reference_element == "bdm").all()
@@ -293,10 +293,10 @@ def test_resume_after_a_partial_sweep_adds_only_the_missing_rows(tmp_path):
 
 def test_resume_recomputes_a_missing_reference_cache(tmp_path):
     out = tmp_path / "r.csv"
-    sweep("paper-2", elements=["peers"], maxh=[0.4], reference_maxh=0.25, out=out)
+    sweep("paper-2", elements=["peers"], maxh=[0.3], reference_maxh=0.2, out=out)
     for f in (tmp_path / "r.csv.refs").iterdir():
         f.unlink()
-    df = sweep("paper-2", elements=["peers"], maxh=[0.4, 0.3], reference_maxh=0.25, out=out)
+    df = sweep("paper-2", elements=["peers"], maxh=[0.3, 0.25], reference_maxh=0.2, out=out)
     assert len(df) == 2 and np.isfinite(df.err_u1).all()
     assert len(list((tmp_path / "r.csv.refs").iterdir())) == 1
 
@@ -345,12 +345,12 @@ def _numbers(df):
 
 @pytest.fixture(scope="module")
 def serial_small():
-    return sweep("paper-2", elements=["peers", "bdm"], maxh=[0.4, 0.3], nu=[0.49])
+    return sweep("paper-2", elements=["peers", "bdm"], maxh=[0.3, 0.25], nu=[0.49])
 
 
 def test_jobs_give_the_serial_answer(tmp_path, serial_small):
     out = tmp_path / "p.csv"
-    df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.4, 0.3], nu=[0.49], jobs=2, out=out)
+    df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.3, 0.25], nu=[0.49], jobs=2, out=out)
     pd.testing.assert_frame_equal(_numbers(df), _numbers(serial_small), rtol=1e-9)
     assert study.read_results(out).shape[0] == 4
 
@@ -359,7 +359,7 @@ def test_dask_local_cluster_gives_the_serial_answer(tmp_path, serial_small):
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster:
-        df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.4, 0.3], nu=[0.49], dask=cluster.scheduler_address,
+        df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.3, 0.25], nu=[0.49], dask=cluster.scheduler_address,
                    out=tmp_path / "d.csv")
     pd.testing.assert_frame_equal(_numbers(df), _numbers(serial_small), rtol=1e-9)
     assert study.read_results(tmp_path / "d.csv").shape[0] == 4
