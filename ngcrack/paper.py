@@ -11,6 +11,20 @@ mesh (the quantities and conventions of `ngcrack.study`). Written to the output 
     fig3..fig6_*.png              Figures 3-6: error against dof, log-log
     fig7/fig8_*_sigma_nu.png      Figures 7-8: isolines of sigma_nu
     time_<quantity>.png           error against run time, one line per element
+    comparison.csv/.md, fig9_comparison.png
+                                  paper-1 on a common footing with the paper's Tables 1-4:
+                                  triangles on the abscissa, ngcrack's errors the paper's
+                                  way (element means against a next-finer mesh) beside
+                                  the true L2 errors against a fine reference
+
+The common footing. The paper counts the unknowns of the standard (not hybridized)
+formulation; ngcrack's dof are those of the hybridized one, about twice as many per
+triangle. Its dof are converted to triangles with the standard PEERS count on ngcrack's
+own meshes of paper-1 (`paper_triangles`): 2 E + 4 T + V unknowns for T triangles, E
+edges and V vertices (RT0 rows, curls of the cubic bubbles, P0 displacement, continuous
+P1 rotation), 9.0 per triangle on the coarsest meshes and 7.6 on fine ones. The paper
+measures errors against its own finest mesh, only somewhat finer than its rows; the
+comparison measures ngcrack's the same way (`study.comparison_errors`).
 
 The paper stopped at 937 unknowns; the full study here reaches 3e5 in its rows (and
 1.2e6 in its reference), `--quick` stops at 7.6e4 with a 3e5 reference.
@@ -55,6 +69,36 @@ PAPER_TABLES = {
 PAPER_RATES = {"u1": 0.81, "u2": 0.65, "sigma_t1": 0.93, "sigma_nu": 0.78}
 #: the paper's a-priori rates in h (its energy-type norm); in dof they are half of these
 THEORY_RATES_H = {"peers": 0.5, "bdm": 0.75}
+#: the comparison's meshes of paper-1 (from one triangle across each half, where the paper's
+#: meshes are, to the study's) and its reference; the full study adds finer ones
+COMPARISON_QUICK = Level(maxh=(0.5, 0.35, 0.25, 0.17, 0.12, 0.085), reference_maxh=0.042)
+COMPARISON_FULL = Level(maxh=(0.5, 0.35, 0.25, 0.17, 0.12, 0.085, 0.06, 0.042, 0.03), reference_maxh=0.015)
+#: mesh sizes of paper-1 on which the standard-count conversion is tabulated
+_CONVERSION_MAXH = tuple(np.geomspace(0.8, 0.05, 16))
+
+
+def standard_unknowns(crack_mesh) -> int:
+    """The unknowns of the standard (not hybridized) PEERS on a mesh: 2 E + 4 T + V.
+
+    Two RT0 rows (one unknown per edge each), two curls of cubic bubbles and a P0
+    displacement (two each per triangle), a continuous P1 rotation (one per vertex).
+    """
+    m = crack_mesh.mesh
+    return 2 * m.nedge + 4 * m.ne + m.nv
+
+
+def paper_triangles(dof) -> np.ndarray:
+    """Triangles of a paper-1 mesh whose standard PEERS has `dof` unknowns (log-log
+    interpolation over ngcrack's own meshes of paper-1; see `standard_unknowns`)."""
+    from . import scenes
+    from .geometry import make_mesh
+
+    scene = scenes.load("paper-1")
+    pairs = sorted((standard_unknowns(cm), cm.mesh.ne) for cm in (make_mesh(scene, maxh=h) for h in _CONVERSION_MAXH))
+    n, t = np.log([p[0] for p in pairs]), np.log([p[1] for p in pairs])
+    x = np.log(np.asarray(dof, float))
+    # beyond the tabulated meshes: the end's unknowns per triangle
+    return np.exp(np.interp(x, n, t) + np.where(x < n[0], x - n[0], 0.0) + np.where(x > n[-1], x - n[-1], 0.0))
 
 
 def mixed_elements() -> list[str]:
@@ -95,6 +139,27 @@ def _write_table(t, stem: Path, heading: str, note: str) -> list[Path]:
     md = stem.with_suffix(".md")
     md.write_text(f"## {heading}\n\n{note}\n\n" + markdown_table(t))
     return [stem.with_suffix(".csv"), md]
+
+
+COMPARISON_NOTE = (
+    "paper-1 (nu = 0.29), every element on meshes from one triangle across each half of the body (where the "
+    "paper's meshes are) to the study's. triangles: of ngcrack's mesh; the paper's dof convert to triangles by "
+    "the standard PEERS count 2E + 4T + V (paper.paper_triangles). true_<q>: relative L2 error against a fine "
+    "reference of the same element; means_<q>: element means against the reference's element means (both "
+    "projected onto the row's triangles); next_<q>: element means against the element means of the next finer "
+    "row (the finest against the reference), the paper's way. coarse: the element warned that the mesh is too "
+    "coarse across the body's thin halves (sizing.check_thin_parts); meshes it refuses have no row.")
+
+
+def comparison_table(elements, sizes, reference_maxh):
+    """`study.comparison_errors` of paper-1 (nu = 0.29) for every element, stacked."""
+    import pandas as pd
+
+    from .study import comparison_errors
+
+    nu = dict(PAPER_SCENES)["paper-1"]
+    frames = [comparison_errors("paper-1", e, sizes, reference_maxh, nu=nu) for e in elements]
+    return pd.concat(frames, ignore_index=True)
 
 
 def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, reference_maxh=None, jobs: int = 1,
@@ -157,9 +222,9 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
         sub = df[df.scene == name]
         for kind, qs in (("displacement", ("u1", "u2")), ("stress", ("sigma_t1", "sigma_nu"))):
             path = out / f"fig{fig_no}_{name}_{kind}.png"
-            pts = {q: PAPER_TABLES[q] for q in qs} if name == "paper-1" else None
+            pts = {q: (paper_triangles(PAPER_TABLES[q][0]), PAPER_TABLES[q][1]) for q in qs} if name == "paper-1" else None
             labels = " and ".join(QUANTITY_LABELS[q] for q in qs)
-            plots.plot_convergence(sub, qs, path, paper_points=pts, guides=guides,
+            plots.plot_convergence(sub, qs, path, paper_points=pts, guides=guides, x="n_elements",
                                    title=f"Figure {fig_no} analog: {labels}, {name} (Poisson ratio {nu:g})")
             files["figures"].append(path)
             fig_no += 1
@@ -179,6 +244,16 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
         path = out / f"time_{q}.png"
         plots.plot_error_vs_time(df, q, path)
         files["figures"].append(path)
+
+    # the paper's Tables 1-4 on a common footing (paper-1)
+    comp_level = COMPARISON_QUICK if quick else COMPARISON_FULL
+    comp_sizes = tuple(maxh) if maxh is not None else comp_level.maxh
+    comp_ref = reference_maxh if reference_maxh is not None else comp_level.reference_maxh
+    comp = comparison_table(elements, comp_sizes, comp_ref)
+    files["tables"] += _write_table(comp, out / "comparison", "paper-1 against the paper's Tables 1-4", COMPARISON_NOTE)
+    path = out / "fig9_comparison.png"
+    plots.plot_paper_comparison(comp, {q: (paper_triangles(d), e) for q, (d, e) in PAPER_TABLES.items()}, path)
+    files["figures"].append(path)
 
     log(f"paper study ({'quick' if quick else 'full'}): elements {', '.join(elements)}; maxh "
         f"{', '.join(f'{h:g}' for h in sizes)}; reference maxh {ref_h:g}")

@@ -168,12 +168,14 @@ def _rows_with_error(df, quantity: str):
 
 
 def plot_convergence(df, quantities, path=None, title: str | None = None, paper_points: dict | None = None,
-                     guides: dict | None = None, ax=None):
+                     guides: dict | None = None, ax=None, x: str = "ndof_total"):
     """Log-log relative L2 error against the number of unknowns (the paper's Figures 3-6).
 
     One colour per element, one line style per quantity; the legend gives the fitted
-    rate in dof (e ~ dof^-r) and in h (e ~ h^r). `paper_points`: {quantity: (dof, err)}
-    drawn as grey markers; `guides`: {label: exponent in dof} drawn as thin grey lines.
+    rate in dof (e ~ dof^-r) and in h (e ~ h^r). `paper_points`: {quantity: (abscissa, err)}
+    drawn as grey markers, in the units of `x`; `guides`: {label: exponent in dof} drawn as
+    thin grey lines. x: the abscissa column, "ndof_total" (unknowns) or "n_elements"
+    (triangles, a footing shared with other counts of unknowns).
     """
     from .study import QUANTITY_LABELS, fitted_rates
 
@@ -188,18 +190,19 @@ def plot_convergence(df, quantities, path=None, title: str | None = None, paper_
             r = _rows_with_error(g, q)
             if r.empty:
                 continue
-            x, y = r["ndof_total"].to_numpy(float), r[f"err_{q}"].to_numpy(float)
+            xs_, y = r[x].to_numpy(float), r[f"err_{q}"].to_numpy(float)
             fit = rates[(rates.element == element) & (rates.quantity == q)]
             label = f"{element}, {QUANTITY_LABELS[q]}"
             if len(fit):
                 label += f": rate {fit.rate_dof.iloc[0]:.2f} in dof ({fit.rate_h.iloc[0]:.2f} in h)"
-            ax.loglog(x, y, QUANTITY_LINESTYLE.get(q, "-"), color=color, marker=marker, ms=5,
+            ax.loglog(xs_, y, QUANTITY_LINESTYLE.get(q, "-"), color=color, marker=marker, ms=5,
                       mfc="white" if QUANTITY_LINESTYLE.get(q) == "--" else color, label=label)
-            ymin, ymax, xmin, xmax = min(ymin, y.min()), max(ymax, y.max()), min(xmin, x.min()), max(xmax, x.max())
-    for j, (q, (x, y)) in enumerate((paper_points or {}).items()):
-        ax.loglog(x, y, ":" if j % 2 == 0 else "-.", color="0.45", marker="x+"[j % 2], ms=6,
-                  label=f"paper (Table {1 + list(QUANTITY_LABELS).index(q)}), {QUANTITY_LABELS[q]}")
-        ymin, ymax, xmin, xmax = min(ymin, min(y)), max(ymax, max(y)), min(xmin, min(x)), max(xmax, max(x))
+            ymin, ymax, xmin, xmax = min(ymin, y.min()), max(ymax, y.max()), min(xmin, xs_.min()), max(xmax, xs_.max())
+    for j, (q, (px, py)) in enumerate((paper_points or {}).items()):
+        ax.loglog(px, py, ":" if j % 2 == 0 else "-.", color="0.45", marker="x+"[j % 2], ms=6,
+                  label=f"paper (Table {1 + list(QUANTITY_LABELS).index(q)}), {QUANTITY_LABELS[q]}"
+                        + (", dof converted to triangles" if x == "n_elements" else ""))
+        ymin, ymax, xmin, xmax = min(ymin, min(py)), max(ymax, max(py)), min(xmin, min(px)), max(xmax, max(px))
     if guides and np.isfinite(ymin) and xmax > xmin:
         xs = np.array([xmin, xmax])
         for j, (label, r) in enumerate(guides.items()):
@@ -208,7 +211,7 @@ def plot_convergence(df, quantities, path=None, title: str | None = None, paper_
             ax.loglog(xs, ys, color="0.6", lw=0.8, ls=(0, (4, 2 + 2 * j)))
             ax.annotate(rf"$\propto$ {label}", (xs[1], ys[1]), textcoords="offset points", xytext=(-2, 4),
                         fontsize=8, color="0.4", ha="right", va="bottom")
-    ax.set_xlabel("unknowns (dof, total)")
+    ax.set_xlabel("triangles" if x == "n_elements" else "unknowns (dof, total)")
     ax.set_ylabel(r"relative $L^2(\Omega)$ error")
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
     ax.legend(fontsize=7.5, loc="lower left")
@@ -291,4 +294,44 @@ def plot_sigma_nu_isolines(solutions, path=None, levels: int = 24, title: str | 
     nu = data[0][3]
     fig.suptitle(title or rf"isolines of $\sigma_\nu$, $\nu$ = ({nu[0] + 0.0:.0f}, {nu[1] + 0.0:.0f}): {sc.name}, "
                  rf"Poisson ratio {sc.material.nu:g}")
+    return _finish(fig, path)
+
+
+def plot_paper_comparison(df, paper_points: dict, path=None, title: str | None = None):
+    """The paper's Tables 1-4 and ngcrack on a common footing: one panel per quantity.
+
+    df: `study.comparison_errors` rows (several elements). Abscissa: triangles. Per
+    element: the true L2 error against a fine reference (solid, filled markers) and the
+    error measured the paper's way, element means against the next finer mesh (dashed,
+    open markers); rows the element warned about are circled in red. paper_points:
+    {quantity: (triangles, err)}, the paper's tables converted (grey crosses).
+    """
+    from .study import QUANTITIES, QUANTITY_LABELS
+
+    fig, axes = _figure(path, nrows=2, ncols=2, figsize=(11, 8.5), constrained_layout=True)
+    for ax, q in zip(axes.ravel(), QUANTITIES):
+        for k, (element, g) in enumerate(_by_element(df)):
+            color, marker = _element_style(element, k)
+            g = g.sort_values("triangles")
+            for kind, ls, mfc, what in (("true", "-", color, "true L2 error vs fine reference"),
+                                        ("next", "--", "white", "the paper's way: means vs next finer mesh")):
+                y = g[f"{kind}_{q}"].to_numpy(float)
+                ok = np.isfinite(y) & (y > 0)
+                ax.loglog(g["triangles"].to_numpy(float)[ok], y[ok], ls, color=color, marker=marker, mfc=mfc, ms=5,
+                          label=f"{element}: {what}")
+            warned = g[g["coarse"].astype(bool)]
+            if len(warned):
+                ax.loglog(warned["triangles"], warned[f"true_{q}"], "o", ms=11, mfc="none", mec="tab:red", mew=0.8,
+                          label=f"{element}: mesh too coarse for it (warned)" if q == QUANTITIES[0] else None)
+        px, py = paper_points[q]
+        ax.loglog(px, py, ":", color="0.3", marker="x", ms=7, label="paper, Tables 1-4 (dof converted to triangles)")
+        ax.set_title(f"{QUANTITY_LABELS[q]} (Table {1 + QUANTITIES.index(q)})")
+        ax.set_xlabel("triangles")
+        ax.set_ylabel(r"relative $L^2(\Omega)$ error")
+        ax.grid(True, which="both", lw=0.3, alpha=0.5)
+        plain_log_ticks(ax)
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=7.5)
+    fig.suptitle(title or "paper-1 (Poisson ratio 0.29): the paper's tables beside ngcrack, on triangles; "
+                          "errors measured both ways")
     return _finish(fig, path)

@@ -301,7 +301,7 @@ def check_thin_parts(scene, element: str, maxh=None, tip_h=None, crack_h=None, g
         warnings.warn(
             f"maxh = {H:g}: {case}: {where}; {element} is known to be more than {COARSE_ERROR:.0%} off on "
             f"such meshes (measured); maxh at most {H * thin.across / warn:.3g} gives {warn:g} mesh sizes across",
-            CoarseMeshWarning, stacklevel=3)
+            CoarseMeshWarning, stacklevel=4)
     return thin
 
 
