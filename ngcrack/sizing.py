@@ -20,9 +20,9 @@ with A the polygon's area, L the total crack length, h_c = min(crack_h, H), D = 
 h_c)/g, A/(2L)) the band's width (at most what fills the body), h_0 = tip_h, h_c' the
 size the end's refinement grows into (h_c), R = min((h_c' - h_0)/g, sqrt(2A/theta)),
 s = h_0 + g R, theta = 2 pi for an end inside the body and pi for one on its boundary.
-Measured against netgen on 60 meshes of 9 scenes from 16 to 2.5e5 triangles (graded and
-uniform; `benchmarks/size_estimate.py`, BENCHMARKS.md): the estimate is within -20% / +15%
-from 1000 triangles up, and up to 40% high on meshes of a few dozen triangles.
+Measured against netgen on 47 meshes of 9 scenes from 40 to 1.2e5 triangles (graded and
+uniform; `benchmarks/size_estimate.py`, BENCHMARKS.md): estimate / netgen is 0.81-1.14
+(median 0.98) from 1000 triangles up, and up to 1.41 on meshes of 40-200 triangles.
 
 Unknowns per triangle (all unknowns, `ndof["total"]`, measured on paper-2 and griffith)
 and peak memory per unknown (BENCHMARKS.md, section 1: 1.0-1.4 kB for the mixed elements

@@ -106,6 +106,8 @@ ZERO_FIELD = 1e-8
 KEY = ("scene", "element", "maxh", "nu")
 #: significant digits used to compare maxh and nu when matching rows
 KEY_DIGITS = 12
+#: solve options that shape the mesh or the element (what ngcrack.sizing's checks read)
+MESH_OPTIONS = ("tip_h", "crack_h", "grading", "order")
 
 #: the row schema: column -> type; the CSV has exactly these columns in this order
 ROW_SCHEMA: dict[str, type] = {
@@ -333,7 +335,7 @@ def comparison_errors(scene, element: str, maxh: Sequence[float], reference_maxh
     import pandas as pd
 
     from .scenes import resolve
-    from .sizing import CoarseMeshWarning
+    from .sizing import CoarseMeshWarning, check_thin_parts
     from .solve import solve
 
     if isinstance(scene, (str, Path)):
@@ -349,9 +351,12 @@ def comparison_errors(scene, element: str, maxh: Sequence[float], reference_maxh
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", CoarseMeshWarning)
                 try:
-                    sol = solve(scene, element=element, maxh=h, **solve_options)
+                    check_thin_parts(scene, element, h, **{k: solve_options.get(k) for k in MESH_OPTIONS})
+                    refused = False
                 except ValueError:
-                    sol = None  # refused: too coarse for this element
+                    refused = True  # too coarse for this element: no row
+                if not refused:
+                    sol = solve(scene, element=element, maxh=h, **solve_options)
             coarse = any(issubclass(w.category, CoarseMeshWarning) for w in caught)
         fine = Reference.from_solution(sol) if sol is not None else reference
         if prev is not None:
@@ -842,7 +847,7 @@ class _Grid:
         """The size guard and the thin-part check of `solve` (ngcrack.sizing) for every run, before any starts."""
         from .sizing import check_request
 
-        opts = {k: self.solve_options.get(k) for k in ("tip_h", "crack_h", "grading", "order", "max_dof")}
+        opts = {k: self.solve_options.get(k) for k in MESH_OPTIONS + ("max_dof",)}
         runs = {(el, h) for el in self.elements for h in self.sizes}
         runs |= {(self.ref_element(el), self.ref_h) for el in self.elements}
         for el, h in sorted(runs):
