@@ -296,7 +296,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_paper)
 
     p = sub.add_parser("stability", help="locking against nu, scaling laws, extreme geometry: tables and plots")
-    p.add_argument("--quick", action="store_true", help="the small study (about a minute on 2 cores)")
+    p.add_argument("--quick", action="store_true", help="the small study (about a minute and a half on 2 cores)")
     p.add_argument("--out", default="stability-results", help="output folder (default stability-results)")
     p.set_defaults(func=cmd_stability)
     return parser

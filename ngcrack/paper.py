@@ -8,7 +8,7 @@ mesh (the quantities and conventions of `ngcrack.study`). Written to the output 
     sweep-<scene>.csv             every run (the sweep's rows; rerunning resumes)
     table<k>_<quantity>.csv/.md   Tables 1-4: dof, error, rates and run time per row
     rates.csv/.md                 fitted rates per scene and element, next to the paper's
-    fig3..fig6_*.png              Figures 3-6: error against dof, log-log
+    fig3..fig6_*.png              Figures 3-6: error against triangles, log-log (the paper's dof converted)
     fig7/fig8_*_sigma_nu.png      Figures 7-8: isolines of sigma_nu
     time_<quantity>.png           error against run time, one line per element
     comparison.csv/.md, fig9_comparison.png
@@ -53,7 +53,7 @@ class Level:
     reference_maxh: float
 
 
-#: about one minute on 2 cores (one process; the limit is 3)
+#: about a minute and a half on 2 cores with the comparison (one process; the limit is 3)
 QUICK = Level(maxh=(0.2, 0.1, 0.05), reference_maxh=0.025)
 #: rows to 3e5 unknowns, reference 1.2e6 (about 5 minutes on 2 cores, 2.5 GB per process)
 FULL = Level(maxh=(0.2, 0.14, 0.1, 0.07, 0.05, 0.035, 0.025), reference_maxh=0.0125)

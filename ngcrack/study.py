@@ -845,13 +845,15 @@ class _Grid:
 
     def check_sizes(self) -> None:
         """The size guard and the thin-part check of `solve` (ngcrack.sizing) for every run, before any starts."""
-        from .sizing import check_request
+        from .sizing import CoarseMeshWarning, check_request
 
         opts = {k: self.solve_options.get(k) for k in MESH_OPTIONS + ("max_dof",)}
         runs = {(el, h) for el in self.elements for h in self.sizes}
         runs |= {(self.ref_element(el), self.ref_h) for el in self.elements}
-        for el, h in sorted(runs):
-            check_request(self.scene, el, h, what=f"sweep of {self.scene.name!r}, element {el!r}", **opts)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", CoarseMeshWarning)  # the run itself warns
+            for el, h in sorted(runs):
+                check_request(self.scene, el, h, what=f"sweep of {self.scene.name!r}, element {el!r}", **opts)
 
     def cases(self) -> list[tuple[str, float, float]]:
         return [(el, h, v) for el, v, h in itertools.product(self.elements, self.nus, self.sizes)]
