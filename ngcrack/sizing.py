@@ -196,9 +196,10 @@ MIN_ACROSS_WARN = {"peers": 2.9, "tdnns": 1.6, "h1p1": 4.0}
 COARSE_ERROR = 0.2
 #: elements and orders the tables above apply to (tdnns order 2 and 3 are safe on one layer)
 _ORDERED_SAFE = {("tdnns", 2), ("tdnns", 3)}
-#: sample points per boundary piece and crack face, in the middle MIDDLE of its length
+#: sample points per boundary piece and crack face, in the middle MIDDLE of its length;
+#: a piece counts by the median of its samples (a thin stretch, not a corner's wedge)
 SAMPLES_PER_PIECE = 9
-MIDDLE = (0.1, 0.9)
+MIDDLE = (0.25, 0.75)
 #: quadrature points along a ray for the number of mesh sizes across
 RAY_POINTS = 8
 
@@ -240,8 +241,10 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
 
     From sample points on every boundary piece and on both faces of every crack segment,
     a ray goes into the body along the inward normal to the next boundary or crack; the
-    number of mesh sizes across is the integral of 1/h (`local_size`) along it. A one-layer
-    strip is about 1.15 across (a layer of triangles of side h is 0.87 h high).
+    number of mesh sizes across is the integral of 1/h (`local_size`) along it. Each piece
+    counts by the median over its samples in the middle half of its length (so the wedge
+    at an acute corner is not a thin part); the least over the pieces is returned. A
+    one-layer strip is about 1.15 across (a layer of triangles of side h is 0.87 h high).
     """
     import shapely
 
@@ -260,6 +263,7 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
     best = None
     ts = np.linspace(*MIDDLE, SAMPLES_PER_PIECE)
     for p, d, n in starts:
+        samples = []
         for t in ts:
             x = p + t * d
             ray = shapely.LineString([x + 1e-9 * reach * n, x + reach * n])
@@ -269,9 +273,13 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
             width = shapely.Point(x).distance(hit)
             s = (np.arange(RAY_POINTS) + 0.5) / RAY_POINTS * width
             h = local_size(scene, x + s[:, None] * n, maxh, tip_h, crack_h, grading)
-            across = float(np.sum(width / RAY_POINTS / h))
-            if best is None or across < best.across:
-                best = ThinPart(across, float(width), (float(x[0]), float(x[1])), (float(n[0]), float(n[1])))
+            samples.append((float(np.sum(width / RAY_POINTS / h)), float(width), x))
+        if not samples:
+            continue
+        # the piece's median: a part is thin along a stretch, not at a corner's wedge
+        across, width, x = sorted(samples, key=lambda a: a[0])[(len(samples) - 1) // 2]
+        if best is None or across < best.across:
+            best = ThinPart(across, width, (float(x[0]), float(x[1])), (float(n[0]), float(n[1])))
     return best
 
 

@@ -142,6 +142,10 @@ def test_thinnest_part_of_the_paper_scenes():
         thin = sizing.thinnest_part(scenes.load(name), maxh=0.5)
         assert thin.width == pytest.approx(0.5) and thin.across == pytest.approx(1.0)
     assert sizing.thinnest_part(scenes.load("no-crack"), maxh=0.1).across == pytest.approx(10.0)
+    # an acute corner is not a thin part: a 30-degree wedge meshed at a tenth of its length
+    wedge = scenes.load("no-crack").with_(polygon=[[0, 0], [1, 0], [1, 0.577]], labels=["bottom", "right", "left"])
+    assert sizing.thinnest_part(wedge, maxh=0.1).across > 2.5
+    nc.solve(wedge, element="peers", maxh=0.1)  # not refused
 
 
 def test_peers_on_one_layer_is_refused_and_the_safe_value_is_safe(paper1_reference):
