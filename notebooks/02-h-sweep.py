@@ -24,7 +24,7 @@ from ngcrack import plots, study
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = [e for e in nc.ELEMENTS if e in nc.elements.MIXED]
-MAXH = [0.4, 0.3, 0.25] if SMOKE else [0.2, 0.14, 0.1, 0.07, 0.05]
+MAXH = [0.3, 0.25, 0.22] if SMOKE else [0.2, 0.14, 0.1, 0.07, 0.05]
 REFERENCE_MAXH = 0.2 if SMOKE else 0.025
 print("elements:", ELEMENTS, "maxh:", MAXH, "reference:", REFERENCE_MAXH)
 

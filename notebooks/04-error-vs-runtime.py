@@ -22,7 +22,7 @@ from ngcrack import plots, study
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = list(nc.ELEMENTS)
-MAXH = [0.4, 0.3] if SMOKE else [0.2, 0.14, 0.1, 0.07, 0.05, 0.035]
+MAXH = [0.3, 0.25] if SMOKE else [0.2, 0.14, 0.1, 0.07, 0.05, 0.035]
 REFERENCE_MAXH = 0.2 if SMOKE else 0.025
 
 df = nc.sweep("paper-2", elements=ELEMENTS, maxh=MAXH, reference_maxh=REFERENCE_MAXH, reference_element="bdm",
