@@ -302,44 +302,37 @@ def displacement_gradient(sol):
 
 
 def _quadrature(sol, tip: Tip, radius: float):
-    """The triangles where q_h != 0 and a quadrature rule on them.
+    """The triangles where q_h != 0 and NGSolve's quadrature points on them.
 
-    Returns (points (n, k, 2), weights (n, k), q at the points (n, k), grad q (n, 2) per
-    triangle, the subset of triangles). q_h is the P1 interpolant of the radial profile.
+    Returns (mapped points (n k,) for CoefficientFunction evaluation, their coordinates
+    (n k, 2), weights (n k,), q_h (n k,) and grad q_h (n k, 2) there). q_h is the P1
+    interpolant of the radial profile q(r).
     """
     cm = sol.crack_mesh
     P, T = cm.points, cm.triangles
     rv = np.linalg.norm(P - np.array([tip.x, tip.y]), axis=1)
     inner = PLATEAU_FRACTION * radius
-    qv = np.clip((radius - rv) / (radius - inner), 0.0, 1.0)
-    sel = np.flatnonzero((qv[T] > 0).any(axis=1))
-    a, b, c = (P[T[sel, i]] for i in range(3))
-    d1, d2 = b - a, c - a
-    det = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    q = ngs.GridFunction(ngs.H1(sol.mesh, order=1))  # vertex dofs in vertex order
+    q.vec.FV().NumPy()[:] = np.clip((radius - rv) / (radius - inner), 0.0, 1.0)
+    sel = np.flatnonzero((q.vec.FV().NumPy()[T] > 0).any(axis=1))
     rule = ngs.IntegrationRule(ngs.TRIG, QUADRATURE_ORDER)
-    ref = np.array([p[:2] for p in rule.points])
-    wref = np.array(rule.weights)
-    pts = a[:, None, :] + ref[None, :, 0, None] * d1[:, None, :] + ref[None, :, 1, None] * d2[:, None, :]
-    w = np.abs(det)[:, None] * wref[None, :]
-    qa, qb, qc = (qv[T[sel, i]] for i in range(3))
-    qp = qa[:, None] * (1 - ref[None, :, 0] - ref[None, :, 1]) + qb[:, None] * ref[None, :, 0] + qc[:, None] * ref[None, :, 1]
-    # grad q = J^-T (qb - qa, qc - qa), J = [d1 d2]
-    dq1, dq2 = qb - qa, qc - qa
-    gq = np.column_stack([(d2[:, 1] * dq1 - d1[:, 1] * dq2) / det, (-d2[:, 0] * dq1 + d1[:, 0] * dq2) / det])
-    return pts, w, qp, gq, sel
+    k = len(rule.weights)
+    mp = sol.mesh.MapToAllElements(rule, ngs.VOL).reshape(len(T), k)[sel].ravel()
+    d1, d2 = P[T[sel, 1]] - P[T[sel, 0]], P[T[sel, 2]] - P[T[sel, 0]]
+    det = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+    w = (det[:, None] * np.array(rule.weights)[None, :]).ravel()
+    xy = np.column_stack([np.asarray(ngs.x(mp)).ravel(), np.asarray(ngs.y(mp)).ravel()])
+    return mp, xy, w, np.asarray(q(mp)).ravel(), np.asarray(ngs.grad(q)(mp)).reshape(-1, 2)
 
 
 def _domain_terms(sol, tip: Tip, radius: float, A, kappa: float, mu: float, body_force) -> np.ndarray:
     """The area parts of (J, I_1, I_2): the fields sampled at quadrature points of the
-    triangles where q_h != 0 (one vectorized NGSolve evaluation), the rest in numpy."""
-    pts, w, qp, gq, _ = _quadrature(sol, tip, radius)
-    n, k = w.shape
-    flat = pts.reshape(-1, 2)
-    mp = sol.mesh(flat[:, 0], flat[:, 1])
+    triangles where q_h != 0 (vectorized NGSolve evaluations), the rest in numpy."""
+    mp, flat, w, qp, gq = _quadrature(sol, tip, radius)
     Q = np.array([tip.e1, (-tip.e1[1], tip.e1[0])])  # rows e1, e2: local = Q global
     sig = Q @ np.asarray(sol.sigma(mp)).reshape(-1, 2, 2) @ Q.T
     grad = Q @ np.asarray(displacement_gradient(sol)(mp)).reshape(-1, 2, 2) @ Q.T
-    gql = np.repeat(gq @ Q.T, k, axis=0)  # grad q in the tip frame, per point
+    gql = gq @ Q.T  # grad q in the tip frame
     X = (flat - np.array([tip.x, tip.y])) @ Q.T
     r = np.sqrt(X[:, 0] ** 2 + X[:, 1] ** 2 + (R_FLOOR * radius) ** 2)
     theta = np.arctan2(X[:, 1], X[:, 0])
@@ -361,7 +354,7 @@ def _domain_terms(sol, tip: Tip, radius: float, A, kappa: float, mu: float, body
         f = np.asarray(body_force(mp)).reshape(-1, 2) @ Q.T
         body = np.column_stack([(f * du1).sum(axis=1)] + [(f * d).sum(axis=1) for d in dua])
         integrand = integrand - qp.reshape(-1, 1) * body
-    return w.reshape(-1) @ integrand
+    return w @ integrand
 
 
 def _rings(sol, tip: Tip, radius: float) -> tuple[float, int]:
