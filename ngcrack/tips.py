@@ -85,6 +85,9 @@ R_FLOOR = 1e-12
 #: a crack edge whose mid-point opening is at most this fraction of the crack's largest
 #: jump counts as closed (its faces touch and may carry a normal traction)
 CLOSED_RTOL = 1e-6
+#: a crack end closer than this fraction of the body's diameter to another crack is a
+#: junction, not a tip: it gets no fracture parameters
+JUNCTION_RTOL = 1e-6
 #: `body_force` default of the domain integral: the scene's body force
 SCENE = "scene"
 #: crack ends
@@ -218,18 +221,19 @@ def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
 
 
 def crack_tips(scene, crack_mesh) -> list[Tip]:
-    """The crack ends inside the body (not on its boundary), crack by crack, first end then last."""
+    """The crack ends inside the body (not on its boundary nor on another crack), crack by crack, first end then last."""
     out = []
     for c in crack_mesh.cracks:
         if not len(c):
             continue
         pts = np.asarray(scene.cracks[c.index].points, dtype=float)
         for end, vertex, p, t in (("first", c.va[0], pts[0], pts[0] - pts[1]), ("last", c.vb[-1], pts[-1], pts[-1] - pts[-2])):
-            if int(vertex) not in crack_mesh.tips:
-                continue
+            clearance = _clearance(scene, c.index, end, p)
+            if int(vertex) not in crack_mesh.tips or clearance <= JUNCTION_RTOL * crack_mesh.diameter:
+                continue  # on the boundary, or on another crack (a junction, not a tip)
             e1 = t / np.linalg.norm(t)
             out.append(Tip(crack=c.index, end=end, x=float(p[0]), y=float(p[1]), e1=(float(e1[0]), float(e1[1])),
-                           clearance=_clearance(scene, c.index, end, p)))
+                           clearance=clearance))
     return out
 
 
@@ -244,7 +248,7 @@ def tip_labels(scene) -> list[str]:
         pts = np.asarray(crack.points, dtype=float)
         for end, p in (("first", pts[0]), ("last", pts[-1])):
             on_boundary = min(_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
-            if on_boundary > ON_EDGE_RTOL * diameter:
+            if on_boundary > ON_EDGE_RTOL * diameter and _clearance(scene, k, end, p) > JUNCTION_RTOL * diameter:
                 out.append(f"{k},{end}")
     return out
 

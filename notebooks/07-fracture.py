@@ -33,6 +33,7 @@ import numpy as np
 import pandas as pd
 
 import ngcrack as nc
+from ngcrack import plots
 from ngcrack.scenes import handbook
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
@@ -107,6 +108,7 @@ for name, style in (("centre", "ko"), ("edge", "bs")):
 ax.set_xlabel("a / b")
 ax.set_ylabel(r"$F = K_I / (p\sqrt{\pi a})$")
 ax.set_yscale("log")
+plots.plain_log_ticks(ax)
 ax.grid(True, which="both", lw=0.3)
 ax.legend(fontsize=8)
 ax.set_title("cracked strips under tension")
