@@ -129,7 +129,7 @@ from ngcrack import study
 
 griffith = nc.scenes.load("griffith")
 SCALES = [2.0, 1.0] if SMOKE else [2.0, 1.0, 0.5]
-G_ELEMENTS = ["bdm", "tdnns"] if SMOKE else list(nc.ELEMENTS)
+G_ELEMENTS = ["bdm"] if SMOKE else list(nc.ELEMENTS)
 conv = []
 for el in G_ELEMENTS:
     for f in SCALES:
