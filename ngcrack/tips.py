@@ -181,9 +181,8 @@ class Tip:
     """A crack end inside the body and its frame.
 
     `e1` the unit tangent of the tip segment pointing out of the crack; `clearance` the
-    distance from the tip to the body's boundary, to the other cracks and to its own
-    crack beyond the tip segment; `edges` the crack's edge numbers (in CrackEdges order)
-    and `r_a`, `r_b` the distances of their end points from the tip.
+    distance from the tip to the body's boundary, to the other cracks, to its own crack
+    beyond the tip segment and to the tip segment's far end (the largest domain radius).
     """
 
     crack: int
@@ -222,13 +221,17 @@ def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
 
 
 def crack_tips(scene, crack_mesh) -> list[Tip]:
-    """The crack ends inside the body (not on its boundary nor on another crack), crack by crack, first end then last."""
+    """The crack ends inside the body (not on its boundary nor on another crack).
+
+    Crack by crack, first end then last.
+    """
     out = []
     for c in crack_mesh.cracks:
         if not len(c):
             continue
         pts = np.asarray(scene.cracks[c.index].points, dtype=float)
-        for end, vertex, p, t in (("first", c.va[0], pts[0], pts[0] - pts[1]), ("last", c.vb[-1], pts[-1], pts[-1] - pts[-2])):
+        ends = (("first", c.va[0], pts[0], pts[0] - pts[1]), ("last", c.vb[-1], pts[-1], pts[-1] - pts[-2]))
+        for end, vertex, p, t in ends:
             clearance = _clearance(scene, c.index, end, p)
             if int(vertex) not in crack_mesh.tips or clearance <= JUNCTION_RTOL * crack_mesh.diameter:
                 continue  # on the boundary, or on another crack (a junction, not a tip)
