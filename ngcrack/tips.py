@@ -52,11 +52,12 @@ The domain. q is the P1 interpolant of the radial profile q(r) = 1 for r <= R/2,
 linearly to 0 at r = R, so that grad q vanishes on the triangles at the tip (where the
 fields are least accurate) and is constant on each triangle. R is chosen from the
 geometry: DOMAIN_FRACTION of the tip's clearance (its distance to the body's boundary,
-to other cracks and to its own crack beyond the tip segment, so that the faces inside
-the domain are straight); the number of element rings in the annulus R/2 < r < R is
-reported (the solve's table marks fewer than MIN_RINGS as coarse). The integrals are vectorized: the
-fields are evaluated by NGSolve at once at the quadrature points of the triangles where
-q_h != 0 (and only there), the Williams fields and the integrands in numpy.
+to other cracks, to its own crack beyond the tip segment and to the tip segment's far
+end, so that the faces inside the domain are straight); the number of element rings in
+the annulus R/2 < r < R is reported (the solve's table marks fewer than MIN_RINGS as
+coarse). The integrals are vectorized: the fields are evaluated by NGSolve at once at
+the quadrature points of the triangles where q_h != 0 (and only there), the Williams
+fields and the integrands in numpy.
 """
 
 from __future__ import annotations
