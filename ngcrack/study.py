@@ -35,6 +35,12 @@ crack of the normal jump against 4 p / E' sqrt(a^2 - s^2), E' = E / (1 - nu^2) i
 strain and E in plane stress, s the distance from `exact.center`, by the mid-point rule
 on the crack edges. Empty elsewhere.
 
+Tips. Each row carries the fracture parameters of every crack end inside the body
+(ngcrack/tips.py) as the columns `K_I[c,end]`, `K_II[c,end]`, `G[c,end]` (c the crack's
+index, end "first" or "last"), after ROW_COLUMNS; `time_tips` is their cost (part of
+time_total) and `err_K_I`, where the scene has a closed form (griffith, inclined), the
+largest |K_I - K_I exact| / (|p| sqrt(pi a)) over the tips (`k_error`).
+
 Rates. With e the error, h the mesh's largest edge length and N = ndof_total:
 
     rate_h   = log(e_prev / e) / log(h_prev / h)        (e ~ h^rate_h)
