@@ -109,6 +109,10 @@ def cmd_solve(args) -> int:
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
     print(f"KKT: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
           f"complementarity {k['complementarity']:.1e}")
+    if sol.tips:
+        from .tips import format_table
+
+        print(format_table(sol.tips))
     for path in (json_path, plot_path):
         if path is not None:
             print(f"wrote {path}")
@@ -164,6 +168,8 @@ def cmd_sweep(args) -> int:
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["time_total"]
     if df["err_opening"].notna().any():
         cols.insert(-1, "err_opening")
+    if df["err_K_I"].notna().any():
+        cols.insert(-1, "err_K_I")
     with _pandas_display():
         print(df[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
         rates = fitted_rates(df)

@@ -24,6 +24,7 @@ from .materials import compliance
 from .post import CrackProfile, crack_profile, endpoint_map, field_scales, kkt_residuals
 from .scene import Scene
 from .sizing import check_request
+from .tips import tip_parameters
 
 
 #: scaled forward residual of the condensed solve above which a definite system counts
@@ -84,6 +85,8 @@ class Solution:
     built: list[str]
     options: dict = field(default_factory=dict)
     conditioning: dict = field(default_factory=dict)
+    #: K_I, K_II, G at every crack end inside the body (tips.py, DESIGN.md section 7)
+    tips: list = field(default_factory=list)
 
     @property
     def mesh(self) -> ngs.Mesh:
@@ -121,6 +124,7 @@ class Solution:
             "ndof": {k: int(self.ndof[k]) for k in ("total", "global", "contact")},
             "time_s": {k: float(t[k]) for k in ("total", "mesh", "assemble", "linear", "contact")},
             "kkt": {k: float(self.kkt[k]) for k in ("max_penetration", "max_tension", "complementarity")},
+            "tips": [tip.to_dict() for tip in self.tips],
             "cracks": [p.to_dict() for p in self.profiles],
         }
 
@@ -359,7 +363,7 @@ def solve(
         built = list(disc.built) + ["no crack: one linear solve, no QP"]
     else:
         built = list(disc.built) + [f"crack model {crack_model!r}: one linear solve, no QP"]
-    return Solution(
+    sol = Solution(
         scene=scene,
         element=element,
         crack_mesh=cmesh,
@@ -378,3 +382,8 @@ def solve(
                  "order": order},
         conditioning=conditioning,
     )
+    t0 = time.perf_counter()
+    sol.tips = tip_parameters(sol, body_force=loads.body_force)
+    timings["tips"] = time.perf_counter() - t0
+    timings["total"] += timings["tips"]
+    return sol

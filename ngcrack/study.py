@@ -35,6 +35,12 @@ crack of the normal jump against 4 p / E' sqrt(a^2 - s^2), E' = E / (1 - nu^2) i
 strain and E in plane stress, s the distance from `exact.center`, by the mid-point rule
 on the crack edges. Empty elsewhere.
 
+Tips. Each row carries the fracture parameters of every crack end inside the body
+(ngcrack/tips.py) as the columns `K_I[c,end]`, `K_II[c,end]`, `G[c,end]` (c the crack's
+index, end "first" or "last"), after ROW_COLUMNS; `time_tips` is their cost (part of
+time_total) and `err_K_I`, where the scene has a closed form (griffith, inclined), the
+largest |K_I - K_I exact| / (|p| sqrt(pi a)) over the tips (`k_error`).
+
 Rates. With e the error, h the mesh's largest edge length and N = ndof_total:
 
     rate_h   = log(e_prev / e) / log(h_prev / h)        (e ~ h^rate_h)
@@ -91,11 +97,12 @@ import numpy as np
 #: the paper's error quantities, in the order of its Tables 1-4
 QUANTITIES = ("u1", "u2", "sigma_t1", "sigma_nu")
 #: quantities that get rates: the paper's four and the closed-form crack opening
-RATE_QUANTITIES = QUANTITIES + ("opening",)
+RATE_QUANTITIES = QUANTITIES + ("opening", "K_I")
 #: plain-text and LaTeX labels of the quantities
 QUANTITY_LABELS = {
     "u1": r"$u_1$", "u2": r"$u_2$", "sigma_t1": r"$\sigma_{t,1}$", "sigma_nu": r"$\sigma_\nu$",
     "opening": r"crack opening $[u]\cdot\nu$",
+    "K_I": r"$K_I$ at the tips",
 }
 #: degree for which the quadrature on the reference mesh's triangles is exact
 QUADRATURE_ORDER = 4
@@ -128,6 +135,7 @@ ROW_SCHEMA: dict[str, type] = {
     "time_contact": float,        # Schur complement and QP
     "time_total": float,          # the whole solve, mesh included
     "time_error": float,          # evaluating the errors (not part of the solve)
+    "time_tips": float,           # the tips' domain integrals (part of time_total)
     "memory_peak_mb": float,
     "memory_start_mb": float,
     "kkt_max_penetration": float,
@@ -145,10 +153,14 @@ ROW_SCHEMA: dict[str, type] = {
     "err_sigma_t1": float,
     "err_sigma_nu": float,
     "err_opening": float,         # against the closed form (griffith); empty elsewhere
+    "err_K_I": float,             # K_I against the closed form (griffith, inclined); empty elsewhere
     "crack_model": str,
     "qp_solver": str,
 }
 ROW_COLUMNS = tuple(ROW_SCHEMA)
+#: per crack end inside the body, the columns `K_I[c,end]`, `K_II[c,end]`, `G[c,end]`
+#: (c the crack's index, end "first" or "last") follow ROW_COLUMNS (see `tip_columns`)
+TIP_QUANTITIES = ("K_I", "K_II", "G")
 #: columns `with_rates` adds to a sweep's DataFrame
 RATE_COLUMNS = tuple(f"rate_{kind}_{q}" for q in RATE_QUANTITIES for kind in ("h", "dof"))
 #: columns that must agree between a CSV's rows and a resumed sweep asking for the same keys
@@ -256,6 +268,36 @@ class Reference:
             return cls(scene=str(d["scene"]), element=str(d["element"]), maxh=float(d["maxh"]), nu=float(d["nu"]),
                        ndof=int(d["ndof"]), normal=d["normal"], points=d["points"], weights=d["weights"],
                        values=d["values"])
+
+
+def tip_columns(scene) -> tuple[str, ...]:
+    """The tip columns of a sweep of `scene`: `K_I[c,end]`, `K_II[c,end]`, `G[c,end]` per interior crack end."""
+    from .tips import tip_labels
+
+    return tuple(f"{q}[{label}]" for label in tip_labels(scene) for q in TIP_QUANTITIES)
+
+
+def _is_tip_column(name: str) -> bool:
+    return any(name.startswith(f"{q}[") and name.endswith("]") for q in TIP_QUANTITIES)
+
+
+def k_error(sol) -> float:
+    """max over the tips of |K_I - K_I exact| / (|p| sqrt(pi a)) where the scene has a closed form (NaN if none).
+
+    griffith: K_I = p sqrt(pi a); inclined: K_I = max(p cos^2(angle), 0) sqrt(pi a)
+    (infinite plate: the scenes' finite plates add about 0.6%).
+    """
+    ex = sol.scene.exact
+    if ex is None or ex.get("kind") not in ("griffith", "inclined") or not sol.tips:
+        return math.nan
+    scale = abs(ex["p"]) * math.sqrt(math.pi * ex["a"])
+    if ex["kind"] == "griffith":
+        exact = ex["p"] * math.sqrt(math.pi * ex["a"])
+    else:
+        from .scenes import inclined_closed_form
+
+        exact = inclined_closed_form(sol.scene)["K_I"]
+    return float(max(abs(t.K_I - exact) for t in sol.tips) / scale)
 
 
 def griffith_opening(scene, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
@@ -467,6 +509,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
         if case.reference is not None and not case.is_reference:
             errors = case.reference.errors(sol)
         errors["err_opening"] = opening_error(sol)
+        errors["err_K_I"] = k_error(sol)
         t_err = time.perf_counter() - t0
         prof = sol.profiles
         t = sol.timings
@@ -478,6 +521,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
             "n_active": int(len(sol.qp.active)) if sol.qp is not None else 0,
             "time_mesh": t["mesh"], "time_assemble": t["assemble"], "time_linear": t["linear"],
             "time_contact": t["contact"], "time_total": t["total"], "time_error": t_err,
+            "time_tips": t.get("tips", 0.0),
             "memory_peak_mb": mem_peak, "memory_start_mb": mem_start,
             "kkt_max_penetration": sol.kkt["max_penetration"], "kkt_max_tension": sol.kkt["max_tension"],
             "kkt_complementarity": sol.kkt["complementarity"],
@@ -493,6 +537,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
         elif case.reference is not None:
             row["reference_ndof"] = case.reference.ndof
         row = {k: row[k] for k in ROW_COLUMNS}
+        row.update({f"{q}[{tip.label}]": float(getattr(tip, q)) for tip in sol.tips for q in TIP_QUANTITIES})
     return row, ref
 
 
@@ -509,10 +554,10 @@ def _format(value) -> str:
     return str(value)
 
 
-def csv_line(row: dict) -> str:
-    """One complete CSV line (with its newline) of a row, columns in ROW_COLUMNS order."""
+def csv_line(row: dict, columns: Sequence[str] = ROW_COLUMNS) -> str:
+    """One complete CSV line (with its newline) of a row, in the order of `columns` (missing: empty)."""
     buf = io.StringIO()
-    csv.writer(buf, lineterminator="\n").writerow([_format(row[c]) for c in ROW_COLUMNS])
+    csv.writer(buf, lineterminator="\n").writerow([_format(row.get(c, math.nan)) for c in columns])
     return buf.getvalue()
 
 
@@ -521,7 +566,8 @@ def typed(df):
     import pandas as pd
 
     df = df.copy()
-    for col, typ in ROW_SCHEMA.items():
+    schema = dict(ROW_SCHEMA, **{c: float for c in df.columns if _is_tip_column(str(c))})
+    for col, typ in schema.items():
         if col not in df.columns:
             continue
         if typ is float:
@@ -551,17 +597,19 @@ def read_results(path):
     df = pd.read_csv(io.StringIO(text), **exact,
                      dtype={"scene": str, "element": str, "reference_element": str, "crack_model": str,
                             "qp_solver": str})
-    if tuple(df.columns) != ROW_COLUMNS:
+    n = len(ROW_COLUMNS)
+    if tuple(df.columns[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in df.columns[n:]):
         raise ValueError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
-                         f"(expected {', '.join(ROW_COLUMNS)}); write to another file")
+                         f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
     return typed(df)
 
 
 class ResultsFile:
     """The sweep's CSV: header once, then one complete line per finished run."""
 
-    def __init__(self, path) -> None:
+    def __init__(self, path, columns: Sequence[str] = ROW_COLUMNS) -> None:
         self.path = Path(path)
+        self.columns = tuple(columns)
         if not self.path.parent.exists():
             raise ValueError(f"out = {str(self.path)!r}: the directory {str(self.path.parent)!r} does not exist")
         if self.path.exists() and self.path.stat().st_size:
@@ -573,9 +621,14 @@ class ResultsFile:
                 with open(self.path, "r+b") as fh:
                     fh.truncate(keep)
             self.existing = read_results(self.path)
+            if tuple(self.existing.columns) != self.columns:
+                raise ValueError(f"out = {str(self.path)!r}: its columns are not this sweep's (another scene's "
+                                 f"tips?); write to another file")
         else:
             self.existing = None
-            self._append(",".join(ROW_COLUMNS) + "\n")
+            buf = io.StringIO()  # tip columns hold a comma (K_I[0,last]): quoted
+            csv.writer(buf, lineterminator="\n").writerow(self.columns)
+            self._append(buf.getvalue())
 
     def _append(self, text: str) -> None:
         fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
@@ -589,7 +642,7 @@ class ResultsFile:
             os.close(fd)
 
     def append(self, row: dict) -> None:
-        self._append(csv_line(row))
+        self._append(csv_line(row, self.columns))
 
 
 # ---------------------------------------------------------------------- executors
@@ -763,7 +816,8 @@ def sweep(
     executor = _Dask(dask) if dask is not None else None
     bar = None
     try:
-        results = ResultsFile(out) if out is not None else None
+        columns = ROW_COLUMNS + tip_columns(scene)
+        results = ResultsFile(out, columns) if out is not None else None
         done: dict[tuple, dict] = {}
         if results is not None and results.existing is not None:
             for rec in results.existing.to_dict("records"):
@@ -792,7 +846,7 @@ def sweep(
             executor.close()
 
     rows = [done[k] for k in grid.keys() if k in done]
-    df = typed(pd.DataFrame(rows + new_rows, columns=list(ROW_COLUMNS)))
+    df = typed(pd.DataFrame(rows + new_rows, columns=list(columns)))
     order = {el: i for i, el in enumerate(grid.elements)}
     df = df.assign(_o=df["element"].map(order)).sort_values(["_o", "nu", "maxh"], ascending=[True, True, False])
     return with_rates(df.drop(columns="_o").reset_index(drop=True))

@@ -63,7 +63,10 @@ def test_solve_json_has_exactly_the_contract_keys(tmp_path, capsys):
     code, out, err = run(["solve", "paper-2", "--element", "bdm", "--maxh", "0.3", "--json", path], capsys)
     assert code == 0, err
     d = json.loads(path.read_text())
-    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "cracks"}
+    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "tips", "cracks"}
+    assert [(t["crack"], t["end"]) for t in d["tips"]] == [(0, "first"), (0, "last")]
+    assert all(set(t) == {"crack", "end", "x", "y", "K_I", "K_II", "G"} for t in d["tips"])
+    assert "K_II" in out and "0,first" in out  # the tip table
     assert set(d["ndof"]) == {"total", "global", "contact"}
     assert set(d["time_s"]) == {"total", "mesh", "assemble", "linear", "contact"}
     assert set(d["kkt"]) == {"max_penetration", "max_tension", "complementarity"}
@@ -113,7 +116,8 @@ def test_sweep_writes_prints_and_resumes(tmp_path, capsys):
     code, text, err = run(argv, capsys)
     assert code == 0, err
     df = read_results(out)
-    assert list(df.columns) == list(ROW_COLUMNS) and len(df) == 8
+    tips = [f"{q}[0,{end}]" for end in ("first", "last") for q in ("K_I", "K_II", "G")]
+    assert list(df.columns) == list(ROW_COLUMNS) + tips and len(df) == 8
     assert "fitted rates" in text and "(8 new rows, 8 in the file)" in text
     for q in QUANTITIES:
         assert f"err_{q}" in text

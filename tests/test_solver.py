@@ -553,7 +553,7 @@ def test_paper_1_builds_body_force_and_qp(element):
 
 JSON_KEYS = {
     "scene": str, "element": str, "maxh": float, "nu": float, "E": float,
-    "ndof": dict, "time_s": dict, "kkt": dict, "cracks": list,
+    "ndof": dict, "time_s": dict, "kkt": dict, "tips": list, "cracks": list,
 }
 NESTED = {
     "ndof": ("total", "global", "contact"),

@@ -220,7 +220,8 @@ SMALL = dict(elements=["peers", "bdm"], maxh=[0.3, 0.2], nu=[0.3, 0.49])
 def test_csv_and_dataframe_schema(tmp_path):
     out = tmp_path / "r.csv"
     df = sweep("paper-2", out=out, **SMALL)
-    assert list(df.columns) == list(ROW_COLUMNS) + list(RATE_COLUMNS)
+    tips = [f"{q}[0,{end}]" for end in ("first", "last") for q in ("K_I", "K_II", "G")]
+    assert list(df.columns) == list(ROW_COLUMNS) + tips + list(RATE_COLUMNS)
     kinds = {str: "O", float: "f", int: "i", bool: "b"}
     for col, typ in ROW_SCHEMA.items():
         assert df[col].dtype.kind == kinds[typ], (col, df[col].dtype)
@@ -237,12 +238,13 @@ def test_csv_and_dataframe_schema(tmp_path):
     assert (df.crack_model == "contact").all() and (df.reference_element == "").all()
     # the CSV: header = ROW_COLUMNS, one line per row, read back to the same values
     lines = out.read_text().splitlines()
-    assert lines[0].split(",") == list(ROW_COLUMNS) and len(lines) == 9
+    assert lines[0] == ",".join(list(ROW_COLUMNS) + [f'"{c}"' for c in tips]) and len(lines) == 9
     back = study.read_results(out)
-    assert list(back.columns) == list(ROW_COLUMNS)
+    assert list(back.columns) == list(ROW_COLUMNS) + tips
+    assert np.isfinite(back[tips]).all().all()
     key = ["element", "nu", "maxh"]
     a = back.sort_values(key).reset_index(drop=True)
-    b = df[list(ROW_COLUMNS)].sort_values(key).reset_index(drop=True)
+    b = df[list(ROW_COLUMNS) + tips].sort_values(key).reset_index(drop=True)
     pd.testing.assert_frame_equal(a, b)  # floats round-trip exactly
 
 

@@ -146,7 +146,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
-        return {"sigma": stress_of(strain(comps)), "u": displacement(comps)}
+        return {"sigma": stress_of(strain(comps)), "u": displacement(comps), "grad_u": grad_displacement(comps)}
 
     fixed = []
     if has_crack and loads.roller:

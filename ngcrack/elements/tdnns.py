@@ -151,7 +151,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
-        return {"sigma": stress(comps), "u": displacement(comps)}
+        return {"sigma": stress(comps), "u": displacement(comps), "grad_u": grad_displacement(comps)}
 
     def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
         g, reg = displacement_data(mesh, loads.displacement)

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ngcrack.scene import Scene, SceneError
 from ngcrack.scenes.parametric import inclined_closed_form, inclined_crack
+from ngcrack.scenes import handbook  # noqa: E402  finite cracked strips with handbook K (Tada-Paris-Irwin)
 
 __all__ = ["names", "load", "describe", "paper_example", "resolve", "inclined_crack", "inclined_closed_form"]
 
