@@ -13,7 +13,7 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 
 from . import scenes
 from .elements import ELEMENTS, Loads
-from .explore import Study, explore
+from .interactive import Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
 from .solve import CRACK_MODELS, Solution, SolveError, solve
 from .study import fitted_rates, sweep

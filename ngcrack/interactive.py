@@ -592,7 +592,7 @@ def __getattr__(name: str):
 
 class _ExplorerView:
     """Sliders and menus wired to `Study.update`, the figure, readouts and a status line
-    (an ipywidgets VBox: `ngcrack.explore.Explorer`).
+    (an ipywidgets VBox: `ngcrack.interactive.Explorer`).
 
     `controls` maps control names to their widgets; `image` holds the figure (PNG);
     `status` the one-line message of the last failure (empty after a success);
@@ -618,11 +618,12 @@ class _ExplorerView:
         h0 = float(st["maxh"] if st["maxh"] is not None else (study.solution.maxh if study.solution else 1.0))
         self.controls["maxh"] = w.FloatLogSlider(value=h0, base=10, min=math.log10(h0) - 1, max=math.log10(h0) + 0.5,
                                                  step=0.05, description="mesh size", readout_format=".3g", **cont)
+        menu = {k: v for k, v in cont.items() if k != "continuous_update"}
         self.controls["element"] = w.Dropdown(options=list(_elements.ELEMENTS), value=st["element"],
-                                              description="element", **cont)
+                                              description="element", **menu)
         crack_models = importlib.import_module(_SOLVE_MODULE).CRACK_MODELS
         self.controls["crack_model"] = w.Dropdown(options=list(crack_models), value=st["crack_model"],
-                                                  description="crack model", **cont)
+                                                  description="crack model", **menu)
         if study.function is not None:
             for p in study.function.geometry():
                 self.controls[p.name] = w.FloatSlider(value=float(st[p.name]), min=p.low, max=p.high, step=p.step,
