@@ -196,26 +196,35 @@ TEACHING_PLATE = 5.0
 TEACHING_MESH = {"maxh": 1.0, "tip_h": 0.02}
 
 
-def teaching_inclined(angle: float = 30.0, half_length: float = 1.0, center_x: float = 0.0,
-                      center_y: float = 0.0, load: float = -1.0, **options: Any) -> Scene:
-    """:func:`inclined_crack` in the fixed plate [-5, 5]^2, crack centre in absolute units."""
-    a = float(half_length)
-    if not (isinstance(half_length, (int, float)) and 0 < a < TEACHING_PLATE):
+def _teaching_half_length(half_length: float) -> float:
+    if not (isinstance(half_length, (int, float)) and 0 < half_length < TEACHING_PLATE):
         raise ValueError(f"half_length = {half_length!r}: must lie in (0, {TEACHING_PLATE:g})")
-    kw = {**TEACHING_MESH, **options}
-    return inclined_crack(angle=angle, half_length=a, load=load, plate=TEACHING_PLATE / a,
-                          center=(center_x / a, center_y / a), **kw)
+    return float(half_length)
+
+
+def teaching_inclined(angle: float = 30.0, half_length: float = 1.0, center_x: float = 0.0,
+                      center_y: float = 0.0, load: float = -1.0, E: float = 1000.0, nu: float = 0.3,
+                      plane: str = "strain", maxh: float | None = None, tip_h: float | None = None,
+                      name: str | None = None) -> Scene:
+    """:func:`inclined_crack` in the fixed plate [-5, 5]^2, crack centre in absolute units,
+    mesh TEACHING_MESH unless given."""
+    a = _teaching_half_length(half_length)
+    return inclined_crack(angle=angle, half_length=a, load=load, plate=TEACHING_PLATE / a, E=E, nu=nu, plane=plane,
+                          center=(center_x / a, center_y / a), name=name,
+                          maxh=TEACHING_MESH["maxh"] if maxh is None else maxh,
+                          tip_h=TEACHING_MESH["tip_h"] if tip_h is None else tip_h)
 
 
 def teaching_griffith(half_length: float = 1.0, center_x: float = 0.0, center_y: float = 0.0,
-                      load: float = 1.0, **options: Any) -> Scene:
-    """:func:`griffith_plate` in the fixed plate [-5, 5]^2, crack centre in absolute units."""
-    a = float(half_length)
-    if not (isinstance(half_length, (int, float)) and 0 < a < TEACHING_PLATE):
-        raise ValueError(f"half_length = {half_length!r}: must lie in (0, {TEACHING_PLATE:g})")
-    kw = {**TEACHING_MESH, **options}
-    return griffith_plate(half_length=a, load=load, plate=TEACHING_PLATE / a,
-                          center=(center_x / a, center_y / a), **kw)
+                      load: float = 1.0, E: float = 1000.0, nu: float = 0.3, plane: str = "strain",
+                      maxh: float | None = None, tip_h: float | None = None, name: str | None = None) -> Scene:
+    """:func:`griffith_plate` in the fixed plate [-5, 5]^2, crack centre in absolute units,
+    mesh TEACHING_MESH unless given."""
+    a = _teaching_half_length(half_length)
+    return griffith_plate(half_length=a, load=load, plate=TEACHING_PLATE / a, E=E, nu=nu, plane=plane,
+                          center=(center_x / a, center_y / a), name=name,
+                          maxh=TEACHING_MESH["maxh"] if maxh is None else maxh,
+                          tip_h=TEACHING_MESH["tip_h"] if tip_h is None else tip_h)
 
 
 _POSITION = (_p("center_x", 0, -4, 4, 0.25, "geometry", "x of the crack centre"),
