@@ -209,6 +209,14 @@ class ContactReduction:
     timings: dict = field(default_factory=dict)
     method: str = "none"
     largest_dense: int = 0
+    _K_rc: sp.csr_matrix | None = field(default=None, repr=False)  # K[rest][:, contact], sliced once
+
+    def coupling(self) -> sp.csr_matrix:
+        """K_rc = K[rest][:, contact], sliced on first use and kept (shared by `with_load`)."""
+        if self._K_rc is None:
+            sysm = self.system
+            self._K_rc = sp.csr_matrix(sysm.K[sysm.rest][:, sysm.contact])
+        return self._K_rc
 
     def with_load(self, system: CondensedSystem) -> "ContactReduction":
         """The reduction of `system` (same K, new F) from this one's factorization and S.
@@ -221,10 +229,10 @@ class ContactReduction:
         t0 = time.perf_counter()
         x0 = self.factorization.solve(system.F[system.rest])
         m = len(self.b)  # 0 where only K_rr was factorized (no crack, or no QP)
-        b = system.F[system.contact] - system.K[system.contact][:, system.rest] @ x0 if m else np.zeros(0)
+        b = system.F[system.contact] - self.coupling().T @ x0 if m else np.zeros(0)  # K symmetric: K_cr = K_rc^T
         return ContactReduction(S=self.S, b=b, x0=x0, factorization=self.factorization, system=system,
                                 timings={"factorize": 0.0, "solve": time.perf_counter() - t0, "schur": 0.0},
-                                method=self.method, largest_dense=self.largest_dense)
+                                method=self.method, largest_dense=self.largest_dense, _K_rc=self._K_rc)
 
     def recover(self, jn: np.ndarray) -> np.ndarray:
         """The full global vector y for given crack normal jumps (one more solve).
@@ -236,8 +244,7 @@ class ContactReduction:
         y = np.zeros(sysm.n)
         if jn.size and np.any(jn):
             y[sysm.contact] = jn
-            K_rc = sysm.K[sysm.rest][:, sysm.contact]
-            y[sysm.rest] = self.x0 - self.factorization.solve(K_rc @ jn)
+            y[sysm.rest] = self.x0 - self.factorization.solve(self.coupling() @ jn)
         else:
             y[sysm.rest] = self.x0
         return y

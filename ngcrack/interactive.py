@@ -342,10 +342,11 @@ class Study:
             self.redone.append("mesh")
         return self._mesh[1]
 
-    def _build_stage(self, name, crack_mesh, compliance, loads, order=None):
+    def _build_stage(self, name, crack_mesh, compliance, loads, order=None, **kwargs):
         scene = self._scene_in_flight
         mat = scene.material
-        key = (id(crack_mesh), name, order, (mat.E, mat.nu, mat.plane), load_structure(scene))
+        key = (id(crack_mesh), name, order, (mat.E, mat.nu, mat.plane), load_structure(scene),
+               tuple(sorted(kwargs.items())))
         if self._disc is not None and self._disc[0] == key:
             _, disc, ploads = self._disc
             ploads.set(scene)
@@ -354,7 +355,7 @@ class Study:
             self.redone.append("load vector")
             return disc
         ploads = _ParameterLoads(scene)
-        disc = _elements.build(name, crack_mesh, compliance, ploads.loads, order=order)
+        disc = _elements.build(name, crack_mesh, compliance, ploads.loads, order=order, **kwargs)
         self._disc = (key, disc, ploads)
         self._system = None
         self._reductions = {}
@@ -362,10 +363,10 @@ class Study:
         self.redone.append("assembly")
         return disc
 
-    def _condense_stage(self, disc, loads):
+    def _condense_stage(self, disc, loads, *args, **kwargs):
         ploads = self._disc[2] if self._disc is not None and self._disc[1] is disc else None
-        if ploads is None:  # not built by this model: no cache
-            return _condense(disc, loads)
+        if ploads is None or args or kwargs:  # not built by this model, or options it does not know: no cache
+            return _condense(disc, loads, *args, **kwargs)
         if self._system is not None and self._system[0] is disc:
             system = self._system[1].with_load(ploads.loads)
         else:
@@ -517,6 +518,7 @@ class Drawing:
         ax.autoscale_view()
         ax.set_title(f"{title or sol.scene.name} ({sol.element}): displacement x {scale:.3g}", fontsize=10)
         profiles = sol.crack_profiles()
+        has_state = False
         for k, p in enumerate(profiles):
             sfx = f" (crack {k})" if len(profiles) > 1 else ""
             self._temporary += axp.plot(p.s, p.normal_jump, "-", color="tab:blue", label="opening [u]·ν" + sfx)
@@ -525,10 +527,13 @@ class Drawing:
             self._temporary += axt.plot(p.s, p.shear_stress, ":", color="tab:purple", lw=1, label="σ_t" + sfx)
             state = getattr(p, "state", None)
             if state is not None and len(p.s) > 1:
-                half = 0.5 * float(np.diff(p.s).mean())
-                for s, st in zip(p.s, state):
+                s = np.asarray(p.s, float)
+                mids = 0.5 * (s[1:] + s[:-1])
+                edges = np.r_[s[0] - (mids[0] - s[0]), mids, s[-1] + (s[-1] - mids[-1])]
+                for lo, hi, st in zip(edges[:-1], edges[1:], state):
                     if st in STATE_COLORS:
-                        self._temporary.append(axp.axvspan(s - half, s + half, color=STATE_COLORS[st], lw=0, zorder=0))
+                        self._temporary.append(axp.axvspan(lo, hi, color=STATE_COLORS[st], lw=0, zorder=0))
+                        has_state = True
         self._temporary.append(axp.axhline(0.0, color="0.5", lw=0.5))
         # symmetric axes (both zeros on one line); round-off is not magnified to fill them
         stress_scale = float(np.percentile(np.abs(vals), 99)) or 1.0
@@ -543,11 +548,13 @@ class Drawing:
         handles_t, labels_t = axt.get_legend_handles_labels()
         if handles:
             self._temporary.append(axp.legend(handles + handles_t, labels + labels_t, fontsize=7, loc="best"))
+        title = "crack profiles" if profiles else "no crack"
+        if has_state:
+            title += " (grey: stick, orange: slip)"
         if tips:
-            axp.set_title("  ".join(f"K_I={_tip_value(t, 'K_I'):.3g}, K_II={_tip_value(t, 'K_II'):.3g}" for t in tips),
-                          fontsize=8)
-        else:
-            axp.set_title("crack profiles" if profiles else "no crack", fontsize=10)
+            title = "tips: " + "; ".join(f"K_I = {_tip_value(t, 'K_I'):.3g}, K_II = {_tip_value(t, 'K_II'):.3g}"
+                                         for t in tips) + "\n" + title
+        axp.set_title(title, fontsize=8 if tips or has_state else 10)
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png")
         return buf.getvalue()
