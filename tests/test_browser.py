@@ -202,13 +202,17 @@ def test_explore_widget_in_jupyterlab(jupyterlab, tmp_path):
             slider = page.locator(".widget-slider:has(.widget-label:text-is('load x'))").first
             handle = slider.locator(".noUi-handle").first
             handle.focus()
-            for _ in range(PRESSES):
+            changed = "(src) => { const i = document.querySelector('img.ngcrack-figure'); return i && i.src !== src; }"
+            t_key = time.monotonic()
+            page.keyboard.press("ArrowLeft")  # one step: the browser's slider-to-figure latency
+            page.wait_for_function(changed, arg=before_src, timeout=MOVE_TIMEOUT * 1000)
+            one_step = time.monotonic() - t_key
+            for _ in range(PRESSES - 1):
                 page.keyboard.press("ArrowLeft")
                 page.wait_for_timeout(50)
-            page.wait_for_function(
-                "(src) => { const i = document.querySelector('img.ngcrack-figure'); return i && i.src !== src; }",
-                arg=before_src, timeout=MOVE_TIMEOUT * 1000)
+            t_last = time.monotonic()
             _wait_settled(page, MOVE_TIMEOUT)
+            settle = time.monotonic() - t_last
             readout = slider.locator(".widget-readout").first.inner_text()
             after_png = figure.screenshot(path=str(shots / "figure-after.png"))
             page.screenshot(path=str(shots / "3-after-slider.png"))
@@ -217,7 +221,9 @@ def test_explore_widget_in_jupyterlab(jupyterlab, tmp_path):
             status = page.locator(".ngcrack-status").first.inner_text()
         finally:
             browser.close()
-    print(f"[browser] {time.monotonic() - t0:.1f} s, screenshots in {shots}")
+    print(f"[browser] {time.monotonic() - t0:.1f} s; one key press to a new figure {one_step:.2f} s, "
+          f"{PRESSES - 1} more presses settled {settle:.1f} s after the last (including 1 s of stillness); "
+          f"screenshots in {shots}")
     assert errors == 0 and broken == 0, f"{errors} error outputs, {broken} widgets not displayed"
     assert status.strip() == "", status
     assert float(readout.replace("\u2212", "-")) < 0.0, f"the slider did not move to tension: load x = {readout}"
