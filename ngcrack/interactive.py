@@ -57,7 +57,7 @@ from .hybrid import condense as _condense, reduce_to_contact as _reduce_to_conta
 from .scene import Crack, Scene
 from .scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
 
-#: the crack models `solve` knows (imported lazily from solve.py to avoid a cycle)
+#: solve.py, whose stage functions the model stands in for (imported when first needed: no import cycle)
 _SOLVE_MODULE = "ngcrack.solve"
 
 #: stress fields the figure can show: the crack-normal stress (sigma nu).nu and von Mises

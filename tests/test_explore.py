@@ -266,3 +266,26 @@ def test_webgui_view_is_optional():
     assert w.webgui is not None and w.status.value == ""
     w._draw_webgui(True)  # outside a notebook the 3D view has nowhere to go, but must not raise
     w._draw_webgui(False)
+
+
+@pytest.mark.parametrize("element", ["peers", "bdm", "tdnns", "h1p1", "h1p2"])
+def test_load_change_matches_fresh_solve_for_every_element(element):
+    """paper-1 (body force, a through crack partly in contact) on a coarse mesh, the load turned."""
+    study = nc.Study("paper-1", element, maxh=0.25)
+    assert study.error is None, study.error
+    sol = study.update(load=1.5, load_angle=-30.0)
+    assert study.error is None and study.counts["factorize"] == 1 and study.counts["load"] == 1
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+
+
+def test_prescribed_displacements_follow_the_load():
+    """A displacement boundary condition is a load too: scaled and turned through the Parameters."""
+    scene = nc.Scene(name="pulled", polygon=((0, 0), (2, 0), (2, 1), (0, 1)), labels=("bottom", "right", "top", "left"),
+                     cracks=({"points": [[0.5, 0.5], [1.5, 0.5]]},), material={"E": 100.0, "nu": 0.3},
+                     boundary={"left": {"type": "clamped"}, "right": {"type": "displacement", "value": [0.01, 0.0]}},
+                     maxh=0.25)
+    study = nc.Study(scene, "bdm")
+    sol = study.update(load=-2.0, load_angle=90.0)  # (0.01, 0) -> (0, -0.02)
+    assert study.error is None and study.counts["factorize"] == 1
+    assert np.allclose(study.scene.boundary["right"].value, (0.0, -0.02), atol=1e-15)
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
