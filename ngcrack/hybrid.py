@@ -19,6 +19,7 @@ QP with S = K_cc - K_cr K_rr^{-1} K_rc and b = F_c - K_cr K_rr^{-1} F_r.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -92,11 +93,8 @@ class CondensedSystem:
             x_fixed = gf.vec.FV().NumPy()[self._fixed].copy()
             if np.any(x_fixed):
                 rhs -= _to_scipy(a.mat)[self._free][:, self._fixed] @ x_fixed
-        return CondensedSystem(
-            disc=disc, K=self.K, F=disc.sign * (self._T.T @ rhs), contact=self.contact, rest=self.rest,
-            _T=self._T, _free=self._free, _fixed=self._fixed, _x_fixed=x_fixed, _fmod=fmod,
-            timings=dict(self.timings),
-        )
+        return dataclasses.replace(self, F=disc.sign * (self._T.T @ rhs), _x_fixed=x_fixed, _fmod=fmod,
+                                   timings=dict(self.timings))
 
     def expand(self, y: np.ndarray) -> ngs.GridFunction:
         gf = ngs.GridFunction(self.disc.fes)
@@ -230,9 +228,8 @@ class ContactReduction:
         x0 = self.factorization.solve(system.F[system.rest])
         m = len(self.b)  # 0 where only K_rr was factorized (no crack, or no QP)
         b = system.F[system.contact] - self.coupling().T @ x0 if m else np.zeros(0)  # K symmetric: K_cr = K_rc^T
-        return ContactReduction(S=self.S, b=b, x0=x0, factorization=self.factorization, system=system,
-                                timings={"factorize": 0.0, "solve": time.perf_counter() - t0, "schur": 0.0},
-                                method=self.method, largest_dense=self.largest_dense, _K_rc=self._K_rc)
+        return dataclasses.replace(self, b=b, x0=x0, system=system, _K_rc=self._K_rc,
+                                   timings={"factorize": 0.0, "solve": time.perf_counter() - t0, "schur": 0.0})
 
     def recover(self, jn: np.ndarray) -> np.ndarray:
         """The full global vector y for given crack normal jumps (one more solve).

@@ -399,7 +399,7 @@ class Study:
             "time_s": {k: float(t.get(k, 0.0)) for k in ("mesh", "assemble", "linear", "contact", "total")},
             "latency_s": self.latency,
             "redone": list(self.redone),
-            "kkt": max(float(v) for v in sol.kkt.values()) if sol.kkt else 0.0,
+            "kkt": max((float(v) for v in sol.kkt.values() if isinstance(v, (int, float))), default=0.0),
             "contact_length": contact_length(sol),
             "crack_length": float(sum(np.sum(c.length) for c in sol.crack_mesh.cracks)),
         }
