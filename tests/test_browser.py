@@ -71,8 +71,18 @@ def _settings(settings: Path) -> None:
 
 
 @pytest.fixture
-def jupyterlab(tmp_path):
-    """(url, token, root): a JupyterLab server of its own; always shut down."""
+def chromium():
+    """The system Chromium's path; skips (saying why) without Playwright or Chromium."""
+    pytest.importorskip("playwright.sync_api", reason="playwright is not installed (pip install -e '.[test]')")
+    path = _chromium()
+    if path is None:
+        pytest.skip("no Chromium found (apt-get install chromium, or set NGCRACK_CHROMIUM to a Chromium executable)")
+    return path
+
+
+@pytest.fixture
+def jupyterlab(tmp_path, chromium):
+    """(url, token, notebook name): a JupyterLab server of its own; always shut down."""
     pytest.importorskip("jupyterlab", reason="JupyterLab is not installed (pip install -e '.[test]')")
     pytest.importorskip("jupytext")
     root = tmp_path / "root"
@@ -169,11 +179,9 @@ def _wait_settled(page, timeout_s: float) -> None:
     raise TimeoutError("the figure kept changing")
 
 
-def test_explore_widget_in_jupyterlab(jupyterlab, tmp_path):
-    playwright = pytest.importorskip("playwright.sync_api", reason="playwright is not installed (pip install playwright)")
-    chromium = _chromium()
-    if chromium is None:
-        pytest.skip("no Chromium found (apt-get install chromium, or set NGCRACK_CHROMIUM to a Chromium executable)")
+def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
+    from playwright import sync_api as playwright
+
     url, token, name = jupyterlab
     shots = tmp_path / "screenshots"
     shots.mkdir()
