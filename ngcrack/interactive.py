@@ -227,7 +227,10 @@ class Study:
             raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
                              f"allowed: {', '.join(self.controls())}")
         self.state.update(params)
-        ref = self._base_scene()
+        try:
+            ref = self._base_scene()
+        except ValueError:  # bad geometry parameters: shown by the first update; material from the defaults
+            ref = self.function() if self.function is not None else self.base
         self.state.setdefault("E", ref.material.E)
         self.state.setdefault("nu", ref.material.nu)
         if friction_supported():
@@ -676,8 +679,9 @@ class _ExplorerView:
                 self.image.value = self._png
             except Exception as exc:  # noqa: BLE001  (a drawing failure is reported, never raised)
                 s.error = _one_line(exc)
+        kept = "showing the last good answer" if s.solution is not None else "no answer yet"
         self.status.value = ("" if s.error is None else
-                             f"<span style='color:#b00020'>&#9888; {_escape(s.error)} (showing the last good answer)</span>")
+                             f"<span style='color:#b00020'>&#9888; {_escape(s.error)} ({kept})</span>")
         r = s.readouts()
         if r:
             t = r["time_s"]

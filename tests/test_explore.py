@@ -220,6 +220,11 @@ def test_widget_wiring_and_failures_without_a_browser():
     assert w.status.value == ""
     w.controls["field"].value = "von_mises"
     assert w.study.redone == ["figure"] and w.latency > 0
+    # a bad start: the message and no figure, then a good value gives one
+    w = nc.explore("cracked-beam", maxh=0.5, center_y=0.95, angle=40)
+    assert "SceneError" in w.status.value and "no answer yet" in w.status.value and w.image.value == b""
+    w.controls["angle"].value = 0.0
+    assert w.status.value == "" and w.image.value[:4] == b"\x89PNG"
 
 
 class _WithTipsAndStates:
