@@ -510,12 +510,23 @@ class Drawing:
             self.body.set_clim(0.0, float(np.percentile(vals, 99)) or 1.0)
         self.colorbar.set_label("σ_ν = (σν)·ν" if field == "sigma_nu" else "von Mises stress")
         self._temporary += ax.plot(*np.vstack([poly, poly[:1]]).T, color="0.6", lw=0.6, ls="--")
-        for pts in sol.crack_mesh.polylines:
-            self._temporary += ax.plot(pts[:, 0], pts[:, 1], color="k", lw=0.8, alpha=0.5)
+        # the cracks drawn where the body went: each crack vertex moved by the mean of its
+        # triangles' corner displacements (the middle of the gap where the crack opens)
+        cm = sol.crack_mesh
+        moved = np.zeros_like(cm.points)
+        count = np.zeros(len(cm.points))
+        np.add.at(moved, cm.triangles.ravel(), disp.reshape(-1, 2))
+        np.add.at(count, cm.triangles.ravel(), 1.0)
+        moved = cm.points + scale * moved / np.maximum(count, 1.0)[:, None]
+        for crack in cm.cracks:
+            pts = moved[crack.vertices()]
+            self._temporary += ax.plot(pts[:, 0], pts[:, 1], color="k", lw=0.6, alpha=0.5)
         tips = [t for t in (getattr(sol, "tips", None) or []) if _tip_value(t, "K_I") is not None]
         for tip in tips:
             if _tip_value(tip, "x") is not None:
-                self._temporary += ax.plot([_tip_value(tip, "x")], [_tip_value(tip, "y")], "k*", ms=7)
+                at = np.array([_tip_value(tip, "x"), _tip_value(tip, "y")], float)
+                nearest = int(np.argmin(np.linalg.norm(cm.points - at, axis=1)))  # the tip is a mesh vertex
+                self._temporary += ax.plot([moved[nearest, 0]], [moved[nearest, 1]], "k*", ms=7)
         ax.relim()
         ax.update_datalim(np.vstack([(corners + scale * disp).reshape(-1, 2), poly]))
         ax.autoscale_view()
