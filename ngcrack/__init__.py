@@ -5,6 +5,7 @@
     sol = nc.solve(scene, element="peers", maxh=0.05)
     sol.u, sol.sigma, sol.crack_profiles(), sol.kkt, sol.timings, sol.ndof
     table = nc.sweep(scene, elements=["peers", "bdm"], maxh=[0.2, 0.1, 0.05])  # a DataFrame
+    nc.explore("inclined-crack")                 # ipywidgets: sliders and a live figure (JupyterLab)
 
 Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 "Locking-free finite elements for unilateral crack problems in elasticity".
@@ -12,6 +13,7 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 
 from . import scenes
 from .elements import ELEMENTS, Loads
+from .interactive import Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
 from .solve import CRACK_MODELS, Solution, SolveError, solve
 from .study import fitted_rates, sweep
@@ -20,5 +22,5 @@ __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "fitted_rates", "scenes", "solve", "sweep",
+    "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
 ]

@@ -73,6 +73,11 @@ def cmd_scenes(args) -> int:
     width = max(len(n) for n, _ in rows)
     for name, desc in rows:
         print(f"{name:<{width}}  {desc}")
+    print("\nscene functions (Python: nc.scenes.SCENE_FUNCTIONS[name](**params); nc.explore(name)):")
+    for fn in scenes.SCENE_FUNCTIONS.values():
+        print(f"{fn.name}  {fn.summary}")
+        for p in fn.parameters:
+            print(f"    {p.name} = {p.default:g}  [{p.low:g}, {p.high:g}]  {p.kind}: {p.doc}")
     return 0
 
 
@@ -250,7 +255,7 @@ MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimate
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="ngcrack", description="Cracked elastic bodies with unilateral crack contact (NGSolve).")
     sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("scenes", help="list the built-in scenes")
+    p = sub.add_parser("scenes", help="list the built-in scenes and the scene functions with their parameters")
     p.set_defaults(func=cmd_scenes)
     p = sub.add_parser("solve", help="solve one scene")
     p.add_argument("scene", help="built-in scene name or TOML file")

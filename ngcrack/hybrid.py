@@ -19,6 +19,7 @@ QP with S = K_cc - K_cr K_rr^{-1} K_rc and b = F_c - K_cr K_rr^{-1} F_r.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -71,6 +72,29 @@ class CondensedSystem:
             _T=self._T, _free=self._free, _fixed=self._fixed, _x_fixed=self._x_fixed, _fmod=self._fmod,
             timings=dict(self.timings),
         )
+
+    def with_load(self, loads: Loads) -> "CondensedSystem":
+        """The same K with F rebuilt from `disc.f` as assembled now (a new load, same matrix).
+
+        F = sign T^T (f_free + (E^T f)_free - A_fd x_fixed), as in `condense`, with E the
+        harmonic extension and x_fixed the prescribed displacements of `loads` (A_fd is
+        re-read from the assembled matrix only where some are nonzero). Nothing is
+        re-assembled or re-factorized: the caller re-assembles `disc.f` first.
+        """
+        disc, a = self.disc, self.disc.a
+        fmod = disc.f.vec.CreateVector()
+        fmod.data = disc.f.vec
+        fmod.data += a.harmonic_extension_trans * fmod
+        rhs = fmod.FV().NumPy()[self._free].copy()
+        x_fixed = np.zeros(len(self._fixed))
+        if loads.displacement:
+            gf = ngs.GridFunction(disc.fes)
+            disc.boundary_values(gf, loads)
+            x_fixed = gf.vec.FV().NumPy()[self._fixed].copy()
+            if np.any(x_fixed):
+                rhs -= _to_scipy(a.mat)[self._free][:, self._fixed] @ x_fixed
+        return dataclasses.replace(self, F=disc.sign * (self._T.T @ rhs), _x_fixed=x_fixed, _fmod=fmod,
+                                   timings=dict(self.timings))
 
     def expand(self, y: np.ndarray) -> ngs.GridFunction:
         gf = ngs.GridFunction(self.disc.fes)
@@ -183,6 +207,29 @@ class ContactReduction:
     timings: dict = field(default_factory=dict)
     method: str = "none"
     largest_dense: int = 0
+    _K_rc: sp.csr_matrix | None = field(default=None, repr=False)  # K[rest][:, contact], sliced once
+
+    def coupling(self) -> sp.csr_matrix:
+        """K_rc = K[rest][:, contact], sliced on first use and kept (shared by `with_load`)."""
+        if self._K_rc is None:
+            sysm = self.system
+            self._K_rc = sp.csr_matrix(sysm.K[sysm.rest][:, sysm.contact])
+        return self._K_rc
+
+    def with_load(self, system: CondensedSystem) -> "ContactReduction":
+        """The reduction of `system` (same K, new F) from this one's factorization and S.
+
+        One solve: x0 = K_rr^{-1} F_r and b = F_c - K_cr x0; S, the factorization and
+        the method are shared. Timings: "factorize" and "schur" 0 (reused), "solve".
+        """
+        if system.K is not self.system.K or not np.array_equal(system.contact, self.system.contact):
+            raise ValueError("with_load: the system has another matrix or other crack unknowns; use reduce_to_contact")
+        t0 = time.perf_counter()
+        x0 = self.factorization.solve(system.F[system.rest])
+        m = len(self.b)  # 0 where only K_rr was factorized (no crack, or no QP)
+        b = system.F[system.contact] - self.coupling().T @ x0 if m else np.zeros(0)  # K symmetric: K_cr = K_rc^T
+        return dataclasses.replace(self, b=b, x0=x0, system=system, _K_rc=self._K_rc,
+                                   timings={"factorize": 0.0, "solve": time.perf_counter() - t0, "schur": 0.0})
 
     def recover(self, jn: np.ndarray) -> np.ndarray:
         """The full global vector y for given crack normal jumps (one more solve).
@@ -194,8 +241,7 @@ class ContactReduction:
         y = np.zeros(sysm.n)
         if jn.size and np.any(jn):
             y[sysm.contact] = jn
-            K_rc = sysm.K[sysm.rest][:, sysm.contact]
-            y[sysm.rest] = self.x0 - self.factorization.solve(K_rc @ jn)
+            y[sysm.rest] = self.x0 - self.factorization.solve(self.coupling() @ jn)
         else:
             y[sysm.rest] = self.x0
         return y

@@ -48,6 +48,17 @@ fig.suptitle("paper-2: errors as the Poisson ratio approaches 1/2 (one mesh, com
 plt.show()
 
 # %% [markdown]
+# ## Try it: Poisson's ratio on a slider
+# `paper-2` in `nc.explore` with the displacement element `h1p1`: move *nu* toward 1/2
+# and watch $\sigma_\nu$ turn into a checkerboard (locking); at exactly 1/2 the widget
+# refuses `h1p1` in one line and keeps the last figure. Switch *element* to `bdm` or
+# `peers`: the stress stays smooth up to and at 1/2 (each change re-assembles on the same
+# mesh).
+
+# %%
+nc.explore("paper-2", element="h1p1", maxh=MAXH)
+
+# %% [markdown]
 # ## Conclusion: growth of each error from the first to the last $\nu$
 
 # %%

@@ -100,6 +100,16 @@ fig.suptitle("tension opens the crack; compression closes it, and only the tract
 plt.show()
 
 # %% [markdown]
+# ## Try it: the same plate with sliders
+# The compressed plate in `nc.explore`: drag *load x* through zero to −1 (tension) and watch
+# the crack open; switch *crack model* between `contact`, `free` and `bonded` and compare
+# with the figures above; turn the *load angle*. A new load re-uses the factorization (a
+# tenth of a second); the readouts give the contact length and the KKT residual.
+
+# %%
+nc.explore(scenes["compression"], maxh=MAXH)
+
+# %% [markdown]
 # ## Conclusion in numbers
 
 

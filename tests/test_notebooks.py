@@ -27,6 +27,7 @@ NOTEBOOKS = [
     ("05-contact-teaching.py", "Compression: the crack closes", False),
     ("06-stability.py", "Scaling laws hold to", False),
     ("07-fracture.py", "Compression with contact: |K_I| <=", False),
+    ("09-explore.py", "Unilateral contact: closed over", False),
 ]
 
 

@@ -4,7 +4,8 @@
 them (DESIGN.md section 4); ``griffith`` has a closed-form crack opening; the others are
 small checks (a crack that stays closed, one that never closes, no crack, a polyline
 crack, two cracks). Each file starts with comments that say what it models and why its
-supports are what they are.
+supports are what they are. The scene functions of ``SCENE_FUNCTIONS`` (parametric.py)
+build teaching scenes from a few parameters; ``nc.explore`` turns them into sliders.
 """
 
 from __future__ import annotations
@@ -14,10 +15,12 @@ from importlib import resources
 from pathlib import Path
 
 from ngcrack.scene import Scene, SceneError
-from ngcrack.scenes.parametric import inclined_closed_form, inclined_crack
+from ngcrack.scenes.parametric import (SCENE_FUNCTIONS, Parameter, SceneFunction, cracked_beam, griffith_plate,
+                                       inclined_closed_form, inclined_crack, scene_function)
 from ngcrack.scenes import handbook  # noqa: E402  finite cracked strips with handbook K (Tada-Paris-Irwin)
 
-__all__ = ["names", "load", "describe", "paper_example", "resolve", "inclined_crack", "inclined_closed_form"]
+__all__ = ["names", "load", "describe", "paper_example", "resolve", "inclined_crack", "inclined_closed_form",
+           "griffith_plate", "cracked_beam", "SCENE_FUNCTIONS", "SceneFunction", "Parameter", "scene_function"]
 
 _SUFFIX = ".toml"
 

@@ -1,0 +1,296 @@
+"""The interactive study without a browser: the model's caches against fresh solves, what
+each change redoes (counted calls), failures shown as one line, the widget's wiring.
+
+Cached answers must equal a fresh `nc.solve` of the same scene to round-off: the model
+runs the library's own solve with its caches standing in for the expensive stages.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import ngcrack as nc
+import ngcrack.elements
+import ngcrack.schur
+from ngcrack import interactive as ex
+from ngcrack.scenes import SCENE_FUNCTIONS
+
+#: cached against fresh answers: relative difference of the solution vector and profiles
+ROUNDOFF = 1e-10
+#: a coarse teaching mesh keeps these tests fast (about 1e4 unknowns)
+MAXH = 2.0
+
+
+def _relative(a, b, floor: float = 0.0) -> float:
+    """|a - b| / max(|b|, floor sqrt(len b)): relative, or relative to a scale where b is ~0."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.linalg.norm(a - b) / max(np.linalg.norm(b), floor * np.sqrt(b.size), 1e-300))
+
+
+def _same_answer(cached, fresh) -> float:
+    """The largest relative difference over the solution vector and the crack profiles
+    (the tractions of an open crack are round-off: relative to the body's stress scale)."""
+    from ngcrack.post import field_scales
+
+    assert cached.ndof == fresh.ndof
+    u_scale, sigma_scale = field_scales(fresh.crack_mesh, fresh.u, fresh.sigma)
+    diffs = [_relative(cached.gf.vec.FV().NumPy(), fresh.gf.vec.FV().NumPy())]
+    for p, q in zip(cached.crack_profiles(), fresh.crack_profiles()):
+        for k, scale in (("normal_jump", u_scale), ("tangential_jump", u_scale), ("normal_stress", sigma_scale),
+                         ("shear_stress", sigma_scale)):
+            diffs.append(_relative(getattr(p, k), getattr(q, k), scale))
+    return max(diffs)
+
+
+def _fresh(study):
+    return nc.solve(study.scene, element=study.state["element"], maxh=study.state["maxh"],
+                    crack_model=study.state["crack_model"])
+
+
+@pytest.fixture
+def factorizations(monkeypatch):
+    """Counts every sparse factorization and Schur complement formed, and every element assembly."""
+    counts = {"factorization": 0, "pardiso": 0, "schur_complement": 0, "build": 0}
+
+    def counting(name, fn):
+        def wrapped(*args, **kwargs):
+            counts[name] += 1
+            return fn(*args, **kwargs)
+        return wrapped
+
+    monkeypatch.setattr(ngcrack.schur.Factorization, "__init__",
+                        counting("factorization", ngcrack.schur.Factorization.__init__))
+    monkeypatch.setattr(ngcrack.schur._Pardiso, "__init__", counting("pardiso", ngcrack.schur._Pardiso.__init__))
+    monkeypatch.setattr(ngcrack.hybrid, "schur_complement", counting("schur_complement", ngcrack.hybrid.schur_complement))
+    monkeypatch.setattr(ngcrack.elements, "build", counting("build", ngcrack.elements.build))
+    return counts
+
+
+def test_load_change_reuses_factorization_and_matches_fresh_solve(factorizations):
+    study = nc.Study("inclined-crack", maxh=MAXH)
+    assert study.error is None, study.error
+    before = dict(factorizations)
+    first = study.solution
+    # compression -> tension: the crack opens, the contact zone changes completely
+    sol = study.update(load=-1.0, load_angle=10.0)
+    assert study.error is None, study.error
+    assert factorizations == before, "a load change must not re-assemble, re-factorize or re-form S"
+    assert study.counts["load"] == 1 and study.counts["factorize"] == 1 and study.counts["mesh"] == 1
+    assert "one solve (factorization and S reused)" in study.redone
+    assert sol.crack_mesh is first.crack_mesh and sol.disc is first.disc
+    assert ex.contact_length(first) > 0.99 * study.readouts()["crack_length"]  # closed under compression
+    assert ex.contact_length(sol) == 0.0  # open under tension
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+
+
+def test_material_change_reassembles_on_the_same_mesh(factorizations):
+    study = nc.Study("inclined-crack", maxh=MAXH)
+    mesh = study.solution.crack_mesh
+    sol = study.update(nu=0.45, E=2000.0)
+    assert study.error is None, study.error
+    assert sol.crack_mesh is mesh and study.counts["mesh"] == 1
+    assert study.counts["assemble"] == 2 and study.counts["factorize"] == 2
+    assert factorizations["build"] == 2
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+    # a load change after the material change uses the new factorization
+    n = dict(factorizations)
+    sol = study.update(load=0.5)
+    assert factorizations == n
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+
+
+def test_geometry_and_mesh_changes_remesh():
+    study = nc.Study("cracked-beam", maxh=0.5)
+    sol = study.update(angle=20.0, center_x=1.5)
+    assert study.error is None and study.counts["mesh"] == 2 and "mesh" in study.redone
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+    ndof = sol.ndof["total"]
+    study.update(maxh=0.15)
+    assert study.counts["mesh"] == 3 and study.solution.maxh == 0.15 and study.solution.ndof["total"] > ndof
+
+
+def test_crack_model_change_keeps_the_assembly_and_matches():
+    study = nc.Study("griffith-plate", maxh=MAXH, load=-1.0)  # compression: closed
+    assert ex.contact_length(study.solution) > 0
+    sol = study.update(crack_model="free")
+    assert study.counts["assemble"] == 1 and study.counts["factorize"] == 2
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+    # free faces interpenetrate under compression: the KKT residual says so
+    assert study.readouts()["kkt"] > 0.1
+    sol = study.update(crack_model="contact", load=-0.5)
+    assert study.counts["factorize"] == 2, "the contact reduction of the first solve is reused"
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+    assert study.readouts()["kkt"] < 1e-8
+
+
+def test_griffith_plate_opens_as_the_closed_form():
+    """The teaching Griffith plate (a = 1, plate 10 a wide) against the infinite plate:
+    the finite width raises the opening by about sqrt(sec(pi a / W)) - 1 = 2.5%."""
+    study = nc.Study("griffith-plate")
+    p = study.solution.crack_profiles()[0]
+    mat = study.scene.material
+    s = p.s - 1.0
+    exact = 4 * 1.0 * (1 - mat.nu ** 2) / mat.E * np.sqrt(1 - s ** 2)
+    ratio = p.normal_jump.max() / exact.max()
+    assert 1.0 < ratio < 1.05
+    # reversed load: closed everywhere, the pressure is the remote stress
+    study.update(load=-1.0)
+    p = study.solution.crack_profiles()[0]
+    assert np.max(np.abs(p.normal_jump)) < 1e-12
+    assert np.allclose(p.normal_stress, -1.0, rtol=0.05)
+
+
+def test_bad_combinations_show_one_line_and_keep_the_last_answer():
+    study = nc.Study("inclined-crack", maxh=MAXH)
+    good = study.solution
+    assert study.update(element="h1p1", nu=0.5) is None
+    assert study.error.startswith("ValueError: material.nu = 0.5") and "\n" not in study.error
+    assert study.solution is good
+    assert study.update(element="bdm") is not None and study.error is None  # nu = 1/2 is fine for bdm
+    assert study.update(center_x=4.5) is None
+    assert study.error.startswith("SceneError: crack[0].points")
+    assert study.update(center_x=0.0) is not None and study.error is None
+    assert study.update(colour="red") is None and "unknown control colour" in study.error
+    assert study.update(field="pressure") is None and "field = 'pressure'" in study.error
+    assert study.update(maxh=-1.0) is None and "maxh" in study.error
+    assert study.update(maxh=MAXH, field="von_mises") is not None and study.error is None
+
+
+def test_controls_follow_the_scene_and_the_installed_ngcrack():
+    study = nc.Study("inclined-crack", maxh=MAXH)
+    geo = {p.name for p in SCENE_FUNCTIONS["inclined-crack"].geometry()}
+    assert geo == {"angle", "half_length", "center_x", "center_y"} and geo <= set(study.controls())
+    assert ("friction" in study.controls()) == ex.friction_supported()
+    fixed = nc.Study(nc.scenes.load("griffith"), solve_now=False)
+    assert not geo & set(fixed.controls())
+    with pytest.raises(ValueError, match="scene = 3"):
+        nc.Study(3)
+    with pytest.raises(ValueError, match="unknown control"):
+        nc.Study("griffith", size=3, solve_now=False)
+
+
+def test_scaled_loads_turn_and_scale_every_load_vector():
+    scene = nc.scenes.load("paper-2")
+    turned = ex.scaled_loads(scene, load=-2.0, load_angle=90.0)
+    assert np.allclose(turned.body_force, (-2.0, 0.0), atol=1e-15)  # (0, -1) turned by 90 degrees, times -2
+    incl = SCENE_FUNCTIONS["inclined-crack"]()
+    top = ex.scaled_loads(incl, load=0.5, load_angle=-90.0).boundary["top"].value
+    assert np.allclose(top, (-0.5, 0.0), atol=1e-15)
+
+
+def test_scene_functions_and_listing(capsys):
+    for name, fn in SCENE_FUNCTIONS.items():
+        scene = fn()
+        assert scene.cracks and fn.signature().startswith(name + "(")
+        for p in fn.parameters:
+            assert p.low <= p.default <= p.high and p.kind in ("geometry", "load")
+    with pytest.raises(ValueError, match="unknown parameter"):
+        SCENE_FUNCTIONS["griffith-plate"](angle=3)
+    with pytest.raises(ValueError, match="scene function"):
+        nc.scenes.scene_function("nope")
+    from ngcrack.cli import main
+
+    assert main(["scenes"]) == 0
+    out = capsys.readouterr().out
+    for name in SCENE_FUNCTIONS:
+        assert name in out
+    assert "angle = 30  [-80, 80]  geometry" in out
+
+
+def test_widget_wiring_and_failures_without_a_browser():
+    pytest.importorskip("ipywidgets")
+    w = nc.explore("inclined-crack", maxh=MAXH)
+    png = w.image.value
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and w.status.value == ""
+    assert "unknowns" in w.readout.value and "KKT residual" in w.readout.value
+    w.controls["load"].value = -1.0
+    assert w.image.value != png and w.study.counts["factorize"] == 1
+    w.controls["element"].value = "h1p1"
+    good = w.image.value
+    w.controls["nu"].value = 0.5  # nu = 1/2 with a displacement baseline: refused
+    assert "ValueError" in w.status.value and w.image.value == good
+    w.controls["element"].value = "bdm"  # the widget keeps working
+    assert w.status.value == "" and w.image.value != good
+    w.controls["center_x"].value = 4.0
+    assert w.status.value == ""
+    w.controls["half_length"].value = 2.5  # the crack leaves the plate
+    assert "SceneError" in w.status.value
+    w.controls["half_length"].value = 1.0
+    assert w.status.value == ""
+    w.controls["field"].value = "von_mises"
+    assert w.study.redone == ["figure"] and w.latency > 0
+    # a bad start: the message and no figure, then a good value gives one
+    w = nc.explore("cracked-beam", maxh=0.5, center_y=0.95, angle=40)
+    assert "SceneError" in w.status.value and "no answer yet" in w.status.value and w.image.value == b""
+    w.controls["angle"].value = 0.0
+    assert w.status.value == "" and w.image.value[:4] == b"\x89PNG"
+
+
+class _WithTipsAndStates:
+    """A solution seen with fracture parameters and friction states (as the library may add them)."""
+
+    def __init__(self, sol):
+        from types import SimpleNamespace
+
+        self._sol = sol
+        p = sol.crack_profiles()[0]
+        fields = {k: getattr(p, k) for k in p.__dataclass_fields__}
+        state = np.where(np.arange(len(p.s)) < len(p.s) // 2, "stick", "slip")
+        self._profiles = [SimpleNamespace(**fields, state=list(state))]
+        self.tips = [{"crack": 0, "end": end, "x": float(x), "y": float(y), "K_I": 0.0, "K_II": 1.2, "G": 0.0}
+                     for end, (x, y) in (("first", (p.x[0], p.y[0])), ("last", (p.x[-1], p.y[-1])))]
+
+    def crack_profiles(self):
+        return self._profiles
+
+    def __getattr__(self, name):
+        return getattr(self._sol, name)
+
+
+def test_figure_draws_tips_and_stick_slip_states_where_present():
+    study = nc.Study("inclined-crack", maxh=MAXH)
+    drawing = ex.Drawing()
+    plain = drawing.render(study.solution)
+    richer = drawing.render(_WithTipsAndStates(study.solution))
+    again = drawing.render(study.solution)
+    assert plain[:4] == richer[:4] == b"\x89PNG" and richer != plain
+    assert again == plain, "a redraw of the same solution must give the same image (nothing left over)"
+    for field in ex.FIELDS:
+        vals = ex.stress_values(study.solution, field)
+        assert np.all(np.isfinite(vals)) and len(vals) == len(study.solution.crack_mesh.triangles)
+    # uniaxial compression p = -1 far from the crack: von Mises of (0, -1, 0) with sigma_zz = nu p
+    vm = ex.stress_values(study.solution, "von_mises")
+    nu = study.scene.material.nu
+    assert abs(np.median(vm) - np.sqrt(1 - nu + nu ** 2)) < 0.05
+
+
+def test_webgui_view_is_optional():
+    pytest.importorskip("ipywidgets")
+    w = nc.explore("griffith-plate", maxh=MAXH, webgui=True)
+    assert w.webgui is not None and w.status.value == ""
+    w._draw_webgui(True)  # outside a notebook the 3D view has nowhere to go, but must not raise
+    w._draw_webgui(False)
+
+
+@pytest.mark.parametrize("element", ["peers", "bdm", "tdnns", "h1p1", "h1p2"])
+def test_load_change_matches_fresh_solve_for_every_element(element):
+    """paper-1 (body force, a through crack partly in contact) on a coarse mesh, the load turned."""
+    study = nc.Study("paper-1", element, maxh=0.25)
+    assert study.error is None, study.error
+    sol = study.update(load=1.5, load_angle=-30.0)
+    assert study.error is None and study.counts["factorize"] == 1 and study.counts["load"] == 1
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+
+
+def test_prescribed_displacements_follow_the_load():
+    """A displacement boundary condition is a load too: scaled and turned through the Parameters."""
+    scene = nc.Scene(name="pulled", polygon=((0, 0), (2, 0), (2, 1), (0, 1)), labels=("bottom", "right", "top", "left"),
+                     cracks=({"points": [[0.5, 0.5], [1.5, 0.5]]},), material={"E": 100.0, "nu": 0.3},
+                     boundary={"left": {"type": "clamped"}, "right": {"type": "displacement", "value": [0.01, 0.0]}},
+                     maxh=0.25)
+    study = nc.Study(scene, "bdm")
+    sol = study.update(load=-2.0, load_angle=90.0)  # (0.01, 0) -> (0, -0.02)
+    assert study.error is None and study.counts["factorize"] == 1
+    assert np.allclose(study.scene.boundary["right"].value, (0.0, -0.02), atol=1e-15)
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
