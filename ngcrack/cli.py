@@ -107,8 +107,11 @@ def cmd_solve(args) -> int:
     k, t, n = result["kkt"], result["time_s"], result["ndof"]
     print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
-    print(f"KKT: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
-          f"complementarity {k['complementarity']:.1e}")
+    ks = result["kkt_sampled"]
+    print(f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
+          f"complementarity {k['complementarity']:.1e}, friction {k['friction']:.1e}")
+    print(f"    at the edge mid points:   penetration {ks['max_penetration']:.1e}, tension {ks['max_tension']:.1e}, "
+          f"complementarity {ks['complementarity']:.1e} (a diagnostic)")
     for path in (json_path, plot_path):
         if path is not None:
             print(f"wrote {path}")

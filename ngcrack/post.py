@@ -1,6 +1,6 @@
 """Post-processing along the cracks: traces of facet unknowns, crack profiles, KKT residuals.
 
-Sign conventions (DESIGN.md): t is the unit tangent of the crack from its first point
+Sign conventions: t is the unit tangent of the crack from its first point
 towards its last, nu is t turned by +90 degrees, [u] = u+ - u- with + the side nu points
 into. normal_jump = [u].nu, tangential_jump = [u].t, normal_stress = (sigma nu).nu,
 shear_stress = (sigma nu).t; compression is negative.
@@ -160,17 +160,20 @@ ZERO_RTOL = 1e-8
 
 
 def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scale: float = 0.0) -> dict:
-    """Relative KKT residuals over all crack samples (DESIGN.md section 3).
+    """Relative KKT residuals over all crack mid-point samples: the solution's `kkt_sampled`.
 
-    J = max |[u]|, P = max |sigma nu|; max_penetration = max(0, -min [u].nu)/J,
+    A diagnostic next to `kkt` (the residuals where the QP's constraints live): a P1
+    jump sampled on the edge where the contact zone ends carries both a small opening
+    and a small pressure, so the sampled complementarity is of the order of that
+    edge's opening there. J = max |[u]|, P = max |sigma nu|; max_penetration = max(0, -min [u].nu)/J,
     max_tension = max(0, max sigma_n)/P, complementarity = max |sigma_n [u].nu|/(J P).
     Where J (or P) is zero, up to round-off (below ZERO_RTOL times the body's
     displacement scale `u_scale`, or stress scale `sigma_scale`), the residual is taken
     relative to that body scale instead (or absolute if the scale is zero too).
-    No crack: all zero.
+    friction: 0.0 (frictionless). No crack: all zero.
     """
     if not profiles or sum(len(p.s) for p in profiles) == 0:
-        return {"max_penetration": 0.0, "max_tension": 0.0, "complementarity": 0.0}
+        return {"max_penetration": 0.0, "max_tension": 0.0, "complementarity": 0.0, "friction": 0.0}
     jn = np.concatenate([p.normal_jump for p in profiles])
     jt = np.concatenate([p.tangential_jump for p in profiles])
     sn = np.concatenate([p.normal_stress for p in profiles])
@@ -183,6 +186,7 @@ def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scal
         "max_penetration": float(max(0.0, -jn.min()) / J_),
         "max_tension": float(max(0.0, sn.max()) / P_),
         "complementarity": float(np.max(np.abs(sn * jn)) / (J_ * P_)),
+        "friction": 0.0,
     }
 
 
