@@ -4,7 +4,7 @@
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
                         [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png]
-    ngcrack sweep SCENE --element E [E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
+    ngcrack sweep SCENE [--element E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
                         [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
 
@@ -235,7 +235,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_scenes)
     p = sub.add_parser("solve", help="solve one scene")
     p.add_argument("scene", help="built-in scene name or TOML file")
-    p.add_argument("--element", default="peers", help="peers (default), bdm, tdnns, h1p1 or h1p2")
+    p.add_argument("--element", default="bdm",
+                   help="bdm (default), peers, tdnns, h1p1 or h1p2 (README: \"Which element when\")")
     p.add_argument("--order", type=int, help="polynomial order of elements that have one (tdnns: stress degree 1, 2 or 3)")
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
@@ -244,7 +245,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--qp-solver", dest="qp_solver", help="pdas (default), uzawa, clarabel, osqp, scs, ...")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
-    p.add_argument("--json", help="write the result (DESIGN.md's contract) to this file")
+    p.add_argument("--json", help="write the result to this JSON file: scene, element, maxh, nu, E, ndof, time_s, "
+                                  "kkt, kkt_sampled and one crack profile per crack (README: \"Command line\")")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
     p.set_defaults(func=cmd_solve)
 
@@ -255,7 +257,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sweep", help="solve every (element, maxh, nu); errors, rates, timings; CSV row by row")
     p.add_argument("scene", help="built-in scene name or TOML file")
-    p.add_argument("--element", nargs="+", required=True, help="element families (see `solve --element`)")
+    p.add_argument("--element", nargs="+", default=["bdm"], help="element families (default bdm; see `solve --element`)")
     p.add_argument("--maxh", nargs="+", type=_positive, required=True, help="global mesh sizes")
     p.add_argument("--nu", nargs="+", type=_positive, help="Poisson ratios (default: the scene's)")
     p.add_argument("--out", required=True, help="CSV file; rerunning skips the rows already in it")

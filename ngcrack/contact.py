@@ -35,7 +35,7 @@ Solvers:
   passed to cvxpy's Problem.solve unchanged.
 
 Measured on crack QPs of the paper's scenes and griffith (m = 80-1838) and on random
-SPD instances up to m = 2000, cond 1e8 (BENCHMARKS.md section 3): pdas reaches a
+SPD instances up to m = 2000, cond 1e8 (the source repository's QP benchmark): pdas reaches a
 scaled KKT residual of 1e-15 in 1-16 steps and is the fastest everywhere (5 to 30
 times faster than the fastest cvxpy solver from m = 476 on); clarabel reaches 1e-8 to
 1e-11 on its own, osqp and scs 1e-5 to 1e-7 with their default tolerances; the plain
@@ -50,8 +50,8 @@ are checked, whoever produced it: above `kkt_tol` the solve raises ContactSolver
 Warm starts: `initial_active` (the indices, or a boolean mask, of the constrained
 values expected at zero) starts pdas from that active set; `initial_guess` (values of
 w = G j) starts uzawa, and the cvxpy solvers that accept a starting point. Along a mesh
-or nu sweep they halve the pdas steps, which saves milliseconds (section 4 of
-BENCHMARKS.md): `warm_start_data` maps a previous solution by crack position.
+or nu sweep they halve the pdas steps, which saves milliseconds (measured):
+`warm_start_data` maps a previous solution by crack position.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ import scipy.sparse.linalg as spla
 
 #: solvers reached without cvxpy
 NATIVE_SOLVERS = ("pdas", "uzawa")
-#: the default QP solver: the fastest that reaches a scaled KKT residual of 1e-8 (BENCHMARKS.md)
+#: the default QP solver: the fastest that reaches a scaled KKT residual of 1e-8 (measured, module docstring)
 DEFAULT_SOLVER = "pdas"
 #: iteration cap of the primal-dual active set method
 PDAS_MAX_ITER = 200
@@ -89,7 +89,7 @@ KKT_TOL = 1e-9
 G_SPARSE_FILL = 0.1
 #: BLAS threads for the dense QP work. The matrices are m x m with m in the hundreds:
 #: a second thread gains little, and on a busy machine the threads' synchronisation
-#: made a 320-unknown pdas solve take up to 2 s instead of 0.02 s (BENCHMARKS.md)
+#: made a 320-unknown pdas solve take up to 2 s instead of 0.02 s (measured)
 QP_BLAS_THREADS = 1
 
 

@@ -197,3 +197,76 @@ def field_scales(crack_mesh: CrackMesh, u, sigma) -> tuple[float, float]:
     uu = np.asarray(u(mp)).reshape(len(pts), -1)
     ss = np.asarray(sigma(mp)).reshape(len(pts), -1)
     return float(np.max(np.linalg.norm(uu, axis=1))), float(np.max(np.linalg.norm(ss, axis=1)))
+
+
+def _component_rows(system, comp: int) -> tuple[np.ndarray, np.ndarray]:
+    """(dofs of compound component `comp`, their positions in the condensed vector y).
+
+    Only dofs that are free and unrolled (a unit column of the change of basis T) have
+    a row of their own; the others are left out.
+    """
+    fes = system.disc.fes
+    rng = fes.Range(comp)
+    free_pos = -np.ones(fes.ndof, dtype=int)
+    free_pos[system._free] = np.arange(len(system._free))
+    T = system._T.tocsr()
+    dofs, rows = [], []
+    for d in range(rng.start, rng.stop):
+        p = free_pos[d]
+        if p < 0 or T.indptr[p + 1] - T.indptr[p] != 1 or T.data[T.indptr[p]] != 1.0:
+            continue
+        dofs.append(d - rng.start)
+        rows.append(T.indices[T.indptr[p]])
+    return np.array(dofs, dtype=int), np.array(rows, dtype=int)
+
+
+def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh) -> list[dict[str, np.ndarray]]:
+    """The variationally consistent crack-face tractions at the crack edges' mid points.
+
+    For a component c of `disc.traction_rows` (the unknowns carrying the crack's normal
+    or tangential condition: a jump on the + face), every basis function phi of c on
+    the crack satisfies, by Green's formula on the + side (outward normal -nu),
+    (K y - F)_phi = -int_crack (sigma nu).d phi ds, d = nu or t the direction that c
+    carries. The traction is the function t_h in c's trace space on the crack with
+    M t_h = -(K y - F)_c, M the crack mass matrix of those traces, evaluated at the mid
+    points: the contact forces divided out by the mass matrix for the normal part, the
+    residual of the tangential equations (zero up to round-off when frictionless) for
+    the shear. Returns per crack {"normal_stress": ..., "shear_stress": ...} for the
+    components the element names (an empty dict per crack if none).
+    """
+    disc = system.disc
+    out = [dict() for _ in crack_mesh.cracks]
+    r = None
+    for key, comp in zip(("normal_stress", "shear_stress"), disc.traction_rows):
+        if comp is None:
+            continue
+        if r is None:
+            r = np.asarray(system.K @ y - system.F)
+        space = disc.fes.components[comp]
+        dofs, rows = _component_rows(system, comp)
+        u, v = space.TnT()
+        region = ngs.ds(definedon=crack_mesh.crack_region, bonus_intorder=2)
+        t = ngs.specialcf.tangential(2)
+        vector = u.dim > 1
+        m = ngs.BilinearForm(space, check_unused=False)
+        m += ((u.Trace() * t) * (v.Trace() * t) if vector else u * v) * region
+        m.Assemble()
+        rows_, cols_, vals_ = m.mat.COO()
+        import scipy.sparse as sp
+
+        M = sp.csr_matrix((np.asarray(vals_), (np.asarray(rows_), np.asarray(cols_))), shape=(space.ndof, space.ndof))
+        on = np.flatnonzero(np.abs(M.diagonal()) > 0)
+        rhs = np.zeros(space.ndof)
+        rhs[dofs] = -r[rows]
+        coef = np.zeros(space.ndof)
+        M_on = M[on][:, on].toarray()
+        coef[on] = np.linalg.lstsq(M_on, rhs[on], rcond=None)[0]
+        gf = ngs.GridFunction(space)
+        gf.vec.FV().NumPy()[:] = coef
+        for k, crack in enumerate(crack_mesh.cracks):
+            mp = crack_mesh.mesh(crack.mid[:, 0], crack.mid[:, 1])
+            vals = np.asarray(gf(mp)).reshape(len(crack), -1)
+            if vals.shape[1] == 2:  # a vector trace: its tangential component
+                vals = np.einsum("ei,ei->e", vals, crack.tangent)[:, None]
+            out[k][key] = vals[:, 0]
+    return out

@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import re
 import subprocess
@@ -253,3 +254,26 @@ def test_stability_refuses_a_missing_folder(tmp_path, capsys):
 
     assert main(["stability", "--quick", "--out", str(tmp_path / "no" / "such")]) == 2
     assert "--out" in capsys.readouterr().err
+
+
+def test_help_texts_stand_alone():
+    """No help text sends the reader to a file a user of the package does not have."""
+    import pydoc
+
+    import ngcrack
+    from ngcrack.cli import build_parser
+
+    parser = build_parser()
+    texts = {"ngcrack": parser.format_help()}
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, p in sub.choices.items():
+        texts[name] = p.format_help()
+    for mod in ("ngcrack", "ngcrack.solve", "ngcrack.contact", "ngcrack.post", "ngcrack.cli", "ngcrack.scene",
+                "ngcrack.scenes", "ngcrack.study"):
+        texts[mod] = pydoc.render_doc(__import__(mod, fromlist=["_"]), renderer=pydoc.plaintext)
+    texts["solve()"] = ngcrack.solve.__doc__
+    for name, text in texts.items():
+        for other in ("DESIGN.md", "STYLE.md"):
+            assert other not in text, f"{name}: help refers to {other}"
+    assert "bdm (default)" in texts["solve"]
+    assert "README" in texts["solve"]
