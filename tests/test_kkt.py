@@ -87,3 +87,25 @@ def test_kkt_formula_sees_each_violation():
     # nothing open and nothing pressed: relative to the body's scales
     k = kkt_at_constraints(np.array([-1e-20, 0.0]), np.array([0.0, 0.0]), 0.0, jump_scale=1e-3, force_scale=2.0)
     assert k["max_penetration"] == pytest.approx(1e-17) and k["max_tension"] == 0.0
+
+
+def test_a_wrong_contact_state_shows(monkeypatch):
+    """kkt is not vacuous: hold one open point of griffith closed and the tension shows."""
+    import ngcrack.contact as contact
+
+    solve_module = __import__("sys").modules["ngcrack.solve"]
+    true_qp = contact.solve_qp
+
+    def wrong_qp(*args, **kwargs):
+        r = true_qp(*args, **kwargs)
+        k = int(np.argmax(r.w))  # the widest-open point, held shut
+        r.w[k] = 0.0
+        r.active = np.sort(np.append(r.active, k))
+        G = kwargs.get("G")
+        r.j = np.linalg.solve(G, r.w) if G is not None else r.w.copy()
+        return r
+
+    monkeypatch.setattr(solve_module, "solve_qp", wrong_qp)
+    sol = nc.solve(nc.scenes.load("griffith"), element="bdm", maxh=2.0)
+    print(f"[kkt] griffith bdm with one open point held shut: {sol.kkt}")
+    assert sol.kkt["max_tension"] >= 0.1
