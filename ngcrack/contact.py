@@ -59,6 +59,7 @@ from __future__ import annotations
 import contextlib
 import time
 import warnings
+import weakref
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -266,23 +267,68 @@ def _cvxpy_solve(S: np.ndarray, b: np.ndarray, solver: str, options: dict, v0: n
     return out
 
 
+def _sparse_inverse(Gs) -> sp.csr_matrix:
+    """The inverse of a sparse block-diagonal G (blocks = its connected components).
+
+    Blocks of equal size are inverted together (numpy's batched inverse); G is read as
+    a dense array, which costs no more memory than the dense m x m Schur complement.
+    """
+    from scipy.sparse.csgraph import connected_components
+
+    m = Gs.shape[0]
+    n_blocks, label = connected_components(Gs, directed=False)
+    order = np.argsort(label, kind="stable")
+    bounds = np.searchsorted(label[order], np.arange(n_blocks + 1))
+    sizes = np.diff(bounds)
+    dense = Gs.toarray()
+    rows, cols, vals = [], [], []
+    for b in np.unique(sizes):
+        idx = np.stack([order[bounds[k]:bounds[k + 1]] for k in np.flatnonzero(sizes == b)])  # (blocks, b)
+        inv = np.linalg.inv(dense[idx[:, :, None], idx[:, None, :]])
+        rows.append(np.repeat(idx, b, axis=1).ravel())
+        cols.append(np.tile(idx, (1, b)).ravel())
+        vals.append(inv.ravel())
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(m, m))
+
+
+#: the last G inverted (a weak reference) and its inverse: one solve maps through the
+#: same G twice (the QP and the contact forces); the entry is dropped when G is
+_LAST_INVERSE: list = [None, None]
+
+
+def _forget_inverse() -> None:
+    _LAST_INVERSE[:] = [None, None]
+
+
 def _inverse_map(G, m: int):
     """G^{-1}: None for G = None or the identity, sparse where G is (block diagonal), else dense."""
     if G is None:
         return None
+    ref = _LAST_INVERSE[0]
+    if ref is not None and ref() is G:
+        return _LAST_INVERSE[1]
+    inv = _compute_inverse_map(G, m)
+    try:
+        _LAST_INVERSE[:] = [weakref.ref(G), inv]
+        weakref.finalize(G, _forget_inverse)
+    except TypeError:  # an object without weak references: no caching
+        _forget_inverse()
+    return inv
+
+
+def _compute_inverse_map(G, m: int):
     if sp.issparse(G):
         Gs = sp.csc_matrix(G)
     else:
         G = np.asarray(G, dtype=float)
         if G.shape != (m, m):
             raise ValueError(f"G: a square matrix of size {m} (the number of crack unknowns) was expected, got {G.shape}")
-        if np.array_equal(G, np.eye(m)):
+        if np.count_nonzero(G) == m and np.all(np.diag(G) == 1.0):  # the identity
             return None
         Gs = sp.csc_matrix(G)
     if Gs.nnz > G_SPARSE_FILL * m * m:
         return np.linalg.inv(Gs.toarray())
-    inv = spla.inv(Gs) if m > 1 else sp.csc_matrix(1.0 / Gs.toarray())
-    return sp.csr_matrix(inv)
+    return _sparse_inverse(Gs)
 
 
 def _mask(active, m: int) -> np.ndarray | None:
@@ -510,12 +556,10 @@ def discrete_contact_forces(K, F: np.ndarray, y: np.ndarray, contact: np.ndarray
     bound = gamma * (np.asarray(abs(K_c) @ np.abs(y)) + np.abs(F[contact]))
     if G is None or not len(r):
         return r, bound
-    Gs = sp.csc_matrix(G)
-    if Gs.nnz > G_SPARSE_FILL * Gs.shape[0] ** 2:
-        GinvT = np.linalg.inv(Gs.toarray().T)
-        return GinvT @ r, np.abs(GinvT) @ bound
-    GinvT = spla.inv(sp.csc_matrix(Gs.T)) if len(r) > 1 else sp.csc_matrix(1.0 / Gs.toarray())
-    return np.atleast_1d(GinvT @ r), np.atleast_1d(abs(GinvT) @ bound)
+    Ginv = _inverse_map(G, len(r))
+    if Ginv is None:
+        return r, bound
+    return np.asarray(Ginv.T @ r).ravel(), np.asarray(abs(Ginv).T @ bound).ravel()
 
 
 def kkt_at_constraints(w: np.ndarray, lam: np.ndarray, jump_max: float, jump_scale: float = 0.0,
@@ -552,41 +596,3 @@ def kkt_at_constraints(w: np.ndarray, lam: np.ndarray, jump_max: float, jump_sca
         "complementarity": float(np.max(np.abs(w * lam)) / (W * L)),
         "friction": float(friction),
     }
-
-
-def refine_contact_answer(K, F: np.ndarray, y: np.ndarray, rest: np.ndarray, contact: np.ndarray, solve_rest,
-                          S: np.ndarray, G, active: np.ndarray) -> np.ndarray:
-    """One step of iterative refinement of a contact answer y on its active set.
-
-    The QP is solved with the Schur complement S as computed (its round-off included);
-    the answer must satisfy the true system K y = F on every row but the constrained
-    ones, with w = G j held at zero on the active set and zero force on the others.
-    With r = K y - F, the correction d solves that linear problem for -r:
-    on the inactive constrained values I, (Ginv_I' S Ginv_I) dw_I = -Ginv_I' r_c (after
-    the rest's own residual is removed), dj = Ginv_I dw_I, and the rest follows from
-    K_rr dx_r = -(r_r + K_rc dj) (`solve_rest` applies K_rr^{-1}). Costs one solve
-    with the factorization and a dense solve on the inactive set. Returns the refined y.
-    """
-    y = np.array(y, dtype=float)
-    m = len(contact)
-    r = np.asarray(K @ y - F)
-    K_rc = K[rest][:, contact]
-    dx = -solve_rest(r[rest])  # the rest's own residual first
-    r_c = r[contact] + np.asarray(K[contact][:, rest] @ dx)
-    inactive = np.ones(m, dtype=bool)
-    inactive[np.asarray(active, dtype=int)] = False
-    dj = np.zeros(m)
-    if inactive.any():
-        Ginv = _inverse_map(G, m)
-        if Ginv is None:
-            idx = np.flatnonzero(inactive)
-            dj[idx] = sla.solve(S[np.ix_(idx, idx)], -r_c[idx], assume_a="sym")
-        else:
-            Z = Ginv[:, np.flatnonzero(inactive)]
-            Z = Z.toarray() if sp.issparse(Z) else np.asarray(Z)
-            dw = sla.solve(Z.T @ S @ Z, -(Z.T @ r_c), assume_a="sym")
-            dj = Z @ dw
-        dx = dx - solve_rest(np.asarray(K_rc @ dj))
-    y[rest] += dx
-    y[contact] += dj
-    return y

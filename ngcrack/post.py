@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import ngsolve as ngs
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from .geometry import CrackEdges, CrackMesh
 
@@ -252,15 +254,12 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh) -> list[d
         m += ((u.Trace() * t) * (v.Trace() * t) if vector else u * v) * region
         m.Assemble()
         rows_, cols_, vals_ = m.mat.COO()
-        import scipy.sparse as sp
-
         M = sp.csr_matrix((np.asarray(vals_), (np.asarray(rows_), np.asarray(cols_))), shape=(space.ndof, space.ndof))
         on = np.flatnonzero(np.abs(M.diagonal()) > 0)
         rhs = np.zeros(space.ndof)
         rhs[dofs] = -r[rows]
         coef = np.zeros(space.ndof)
-        M_on = M[on][:, on].toarray()
-        coef[on] = np.linalg.lstsq(M_on, rhs[on], rcond=None)[0]
+        coef[on] = spla.spsolve(sp.csc_matrix(M[on][:, on]), rhs[on])
         gf = ngs.GridFunction(space)
         gf.vec.FV().NumPy()[:] = coef
         for k, crack in enumerate(crack_mesh.cracks):

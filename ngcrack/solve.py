@@ -17,7 +17,7 @@ import ngsolve as ngs
 
 from . import elements as _elements
 from .contact import (DEFAULT_SOLVER, KKT_KEYS, NATIVE_SOLVERS, QPResult, constraint_positions, discrete_contact_forces,
-                      kkt_at_constraints, refine_contact_answer, solve_qp, warm_start_data)
+                      kkt_at_constraints, solve_qp, warm_start_data)
 from .elements import Discretization, Loads
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
@@ -338,9 +338,6 @@ def solve(
 
     t0 = time.perf_counter()
     y = red.recover(jn)
-    if qp is not None:  # the true system's residual, not only the QP's, at round-off
-        y = refine_contact_answer(system.K, system.F, y, system.rest, system.contact, red.factorization.solve,
-                                  red.S, G, qp.active)
     if not np.all(np.isfinite(y)):
         raise SolveError(f"{case}: the condensed solve gave non-finite values (singular system)")
     gf = system.expand(y)
