@@ -269,3 +269,34 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh) -> list[d
                 vals = np.einsum("ei,ei->e", vals, crack.tangent)[:, None]
             out[k][key] = vals[:, 0]
     return out
+
+
+def lumped_normal_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndarray,
+                           forces: np.ndarray) -> list[np.ndarray]:
+    """The crack-face normal stress at the edge mid points from the discrete contact forces.
+
+    For elements whose constraint points are nodes of the jump space (h1p1: the crack
+    vertices; h1p2: vertices and edge mid points), each contact force lam_i acts on the
+    tributary length w_i = int psi_i ds of its nodal basis function psi_i (the dual of
+    G: w = G^{-T} m, m_d = int phi_d ds of the jump basis), so sigma_n,i = -lam_i / w_i:
+    never tensile where lam >= 0 (the consistent mass-matrix traction oscillates in sign
+    next to a concentrated force). At a mid point: the edge's own mid-point value (P2),
+    else the mean of the end points that carry a constraint (a tip has none).
+    """
+    m = facet_moments(jump_space, crack_mesh, 0)[:, 0]
+    w = np.linalg.solve(np.asarray(G, dtype=float).T, m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.where(w > 0, -np.asarray(forces) / np.where(w > 0, w, 1.0), 0.0)
+    out = []
+    for crack in crack_mesh.cracks:
+        vals = np.zeros(len(crack))
+        for k in range(len(crack)):
+            mid = [d for d in jump_space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(crack.edge[k]))) if d >= 0]
+            if mid:
+                vals[k] = p[mid[0]]
+                continue
+            ends = [d for v in (int(crack.va[k]), int(crack.vb[k]))
+                    for d in jump_space.GetDofNrs(ngs.NodeId(ngs.VERTEX, v)) if d >= 0]
+            vals[k] = float(np.mean(p[ends])) if ends else 0.0
+        out.append(vals)
+    return out

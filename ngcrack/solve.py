@@ -23,7 +23,8 @@ from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
 from .schur import SCHUR_METHODS
 from .materials import compliance
-from .post import CrackProfile, consistent_tractions, crack_profile, endpoint_map, field_scales, kkt_residuals
+from .post import (CrackProfile, consistent_tractions, crack_profile, endpoint_map, field_scales, kkt_residuals,
+                   lumped_normal_traction)
 from .scene import Scene
 
 
@@ -357,11 +358,15 @@ def solve(
             jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
                                           displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction))
-    if profiles and any(c is not None for c in disc.traction_rows):
-        profiles = [dataclasses.replace(p, **t) for p, t in zip(profiles, consistent_tractions(system, y, cmesh))]
     scales = field_scales(cmesh, fields["u"], fields["sigma"]) if profiles else (0.0, 0.0)
-    kkt_sampled = kkt_residuals(profiles, *scales)
     kkt, forces = _constraint_kkt(system, y, contact, G, cmesh, profiles, *scales)
+    if profiles and any(c is not None for c in disc.traction_rows):
+        tractions = consistent_tractions(system, y, cmesh)
+        if disc.traction_rows[0] is not None and forces is not None:  # nodal forces: lumped
+            normal = lumped_normal_traction(disc.fes.components[disc.jn], cmesh, G, forces)
+            tractions = [dict(t, normal_stress=n) for t, n in zip(tractions, normal)]
+        profiles = [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
+    kkt_sampled = kkt_residuals(profiles, *scales)
     sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__] + [
         np.array(list(kkt.values()) + list(kkt_sampled.values()))]
     if not all(np.all(np.isfinite(a)) for a in sampled):

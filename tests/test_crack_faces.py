@@ -66,3 +66,12 @@ def test_normal_stress_on_the_closed_and_the_open_crack(element):
           f"max |sigma_n| / load on the open crack {open_:.1e}")
     assert mean == pytest.approx(sigma_n, rel=0.02)
     assert open_ <= ROUND_OFF
+
+
+@pytest.mark.parametrize("element", ELEMENTS)
+def test_no_tensile_crack_face_sample(element):
+    """A contact answer's sampled normal stress is never tensile (paper-2: a closed crack with
+    almost no pressure, where an oscillating traction would show; measured at most 1.6e-10)."""
+    sol = nc.solve(nc.scenes.load("paper-2"), element=element, maxh=0.2)
+    print(f"[faces] paper-2 {element}: sampled tension {sol.kkt_sampled['max_tension']:.1e}")
+    assert sol.kkt_sampled["max_tension"] <= 1e-8
