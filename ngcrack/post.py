@@ -222,7 +222,7 @@ def _component_rows(system, comp: int) -> tuple[np.ndarray, np.ndarray]:
     return np.array(dofs, dtype=int), np.array(rows, dtype=int)
 
 
-def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh) -> list[dict[str, np.ndarray]]:
+def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) -> list[dict[str, np.ndarray]]:
     """The variationally consistent crack-face tractions at the crack edges' mid points.
 
     For a component c of `disc.traction_rows` (the unknowns carrying the crack's normal
@@ -234,13 +234,14 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh) -> list[d
     points: the contact forces divided out by the mass matrix for the normal part, the
     residual of the tangential equations (zero up to round-off when frictionless) for
     the shear. Returns per crack {"normal_stress": ..., "shear_stress": ...} for the
-    components the element names (an empty dict per crack if none).
+    components the element names (an empty dict per crack if none), except the keys in
+    `skip`.
     """
     disc = system.disc
     out = [dict() for _ in crack_mesh.cracks]
     r = None
     for key, comp in zip(("normal_stress", "shear_stress"), disc.traction_rows):
-        if comp is None:
+        if comp is None or key in skip:
             continue
         if r is None:
             r = np.asarray(system.K @ y - system.F)

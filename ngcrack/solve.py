@@ -361,8 +361,9 @@ def solve(
     scales = field_scales(cmesh, fields["u"], fields["sigma"]) if profiles else (0.0, 0.0)
     kkt, forces = _constraint_kkt(system, y, contact, G, cmesh, profiles, *scales)
     if profiles and any(c is not None for c in disc.traction_rows):
-        tractions = consistent_tractions(system, y, cmesh)
-        if disc.traction_rows[0] is not None and forces is not None:  # nodal forces: lumped
+        lumped = disc.traction_rows[0] is not None and forces is not None  # nodal contact forces
+        tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress",) if lumped else ())
+        if lumped:
             normal = lumped_normal_traction(disc.fes.components[disc.jn], cmesh, G, forces)
             tractions = [dict(t, normal_stress=n) for t, n in zip(tractions, normal)]
         profiles = [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
