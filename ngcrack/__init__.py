@@ -2,9 +2,9 @@
 
     import ngcrack as nc
     scene = nc.scenes.load("paper-2")            # or nc.Scene.from_toml("my.toml")
-    sol = nc.solve(scene, element="peers", maxh=0.05)
+    sol = nc.solve(scene, element="bdm", maxh=0.05)
     sol.u, sol.sigma, sol.crack_profiles(), sol.kkt, sol.timings, sol.ndof
-    table = nc.sweep(scene, elements=["peers", "bdm"], maxh=[0.2, 0.1, 0.05])  # a DataFrame
+    table = nc.sweep(scene, elements=["bdm", "peers"], maxh=[0.2, 0.1, 0.05])  # a DataFrame
     nc.explore("inclined-crack")                 # ipywidgets: sliders and a live figure (JupyterLab)
 
 Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,

@@ -4,7 +4,7 @@
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
                         [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png] [--max-dof N]
-    ngcrack sweep SCENE --element E [E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
+    ngcrack sweep SCENE [--element E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
                         [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS] [--max-dof N]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
 
@@ -112,8 +112,11 @@ def cmd_solve(args) -> int:
     k, t, n = result["kkt"], result["time_s"], result["ndof"]
     print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
-    print(f"KKT: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
-          f"complementarity {k['complementarity']:.1e}")
+    ks = result["kkt_sampled"]
+    print(f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
+          f"complementarity {k['complementarity']:.1e}, friction {k['friction']:.1e}")
+    print(f"    at the edge mid points:   penetration {ks['max_penetration']:.1e}, tension {ks['max_tension']:.1e}, "
+          f"complementarity {ks['complementarity']:.1e} (a diagnostic)")
     if sol.tips:
         from .tips import format_table
 
@@ -259,7 +262,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_scenes)
     p = sub.add_parser("solve", help="solve one scene")
     p.add_argument("scene", help="built-in scene name or TOML file")
-    p.add_argument("--element", default="peers", help="peers (default), bdm, tdnns, h1p1 or h1p2")
+    p.add_argument("--element", default="bdm",
+                   help="bdm (default), peers, tdnns, h1p1 or h1p2 (README: \"Which element when\")")
     p.add_argument("--order", type=int, help="polynomial order of elements that have one (tdnns: stress degree 1, 2 or 3)")
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
@@ -268,7 +272,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--qp-solver", dest="qp_solver", help="pdas (default), uzawa, clarabel, osqp, scs, ...")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
-    p.add_argument("--json", help="write the result (DESIGN.md's contract) to this file")
+    p.add_argument("--json", help="write the result to this JSON file: scene, element, maxh, nu, E, ndof, time_s, "
+                                  "kkt, kkt_sampled and one crack profile per crack (README: \"Command line\")")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
     p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP)
     p.set_defaults(func=cmd_solve)
@@ -280,7 +285,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sweep", help="solve every (element, maxh, nu); errors, rates, timings; CSV row by row")
     p.add_argument("scene", help="built-in scene name or TOML file")
-    p.add_argument("--element", nargs="+", required=True, help="element families (see `solve --element`)")
+    p.add_argument("--element", nargs="+", default=["bdm"], help="element families (default bdm; see `solve --element`)")
     p.add_argument("--maxh", nargs="+", type=_positive, required=True, help="global mesh sizes")
     p.add_argument("--nu", nargs="+", type=_positive, help="Poisson ratios (default: the scene's)")
     p.add_argument("--out", required=True, help="CSV file; rerunning skips the rows already in it")

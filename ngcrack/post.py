@@ -1,6 +1,6 @@
 """Post-processing along the cracks: traces of facet unknowns, crack profiles, KKT residuals.
 
-Sign conventions (DESIGN.md): t is the unit tangent of the crack from its first point
+Sign conventions: t is the unit tangent of the crack from its first point
 towards its last, nu is t turned by +90 degrees, [u] = u+ - u- with + the side nu points
 into. normal_jump = [u].nu, tangential_jump = [u].t, normal_stress = (sigma nu).nu,
 shear_stress = (sigma nu).t; compression is negative.
@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import ngsolve as ngs
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from .geometry import CrackEdges, CrackMesh
 
@@ -160,17 +162,20 @@ ZERO_RTOL = 1e-8
 
 
 def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scale: float = 0.0) -> dict:
-    """Relative KKT residuals over all crack samples (DESIGN.md section 3).
+    """Relative KKT residuals over all crack mid-point samples: the solution's `kkt_sampled`.
 
-    J = max |[u]|, P = max |sigma nu|; max_penetration = max(0, -min [u].nu)/J,
+    A diagnostic next to `kkt` (the residuals where the QP's constraints live): a P1
+    jump sampled on the edge where the contact zone ends carries both a small opening
+    and a small pressure, so the sampled complementarity is of the order of that
+    edge's opening there. J = max |[u]|, P = max |sigma nu|; max_penetration = max(0, -min [u].nu)/J,
     max_tension = max(0, max sigma_n)/P, complementarity = max |sigma_n [u].nu|/(J P).
     Where J (or P) is zero, up to round-off (below ZERO_RTOL times the body's
     displacement scale `u_scale`, or stress scale `sigma_scale`), the residual is taken
     relative to that body scale instead (or absolute if the scale is zero too).
-    No crack: all zero.
+    friction: 0.0 (frictionless). No crack: all zero.
     """
     if not profiles or sum(len(p.s) for p in profiles) == 0:
-        return {"max_penetration": 0.0, "max_tension": 0.0, "complementarity": 0.0}
+        return {"max_penetration": 0.0, "max_tension": 0.0, "complementarity": 0.0, "friction": 0.0}
     jn = np.concatenate([p.normal_jump for p in profiles])
     jt = np.concatenate([p.tangential_jump for p in profiles])
     sn = np.concatenate([p.normal_stress for p in profiles])
@@ -183,6 +188,7 @@ def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scal
         "max_penetration": float(max(0.0, -jn.min()) / J_),
         "max_tension": float(max(0.0, sn.max()) / P_),
         "complementarity": float(np.max(np.abs(sn * jn)) / (J_ * P_)),
+        "friction": 0.0,
     }
 
 
@@ -193,3 +199,105 @@ def field_scales(crack_mesh: CrackMesh, u, sigma) -> tuple[float, float]:
     uu = np.asarray(u(mp)).reshape(len(pts), -1)
     ss = np.asarray(sigma(mp)).reshape(len(pts), -1)
     return float(np.max(np.linalg.norm(uu, axis=1))), float(np.max(np.linalg.norm(ss, axis=1)))
+
+
+def _component_rows(system, comp: int) -> tuple[np.ndarray, np.ndarray]:
+    """(dofs of compound component `comp`, their positions in the condensed vector y).
+
+    Only dofs that are free and unrolled (a unit column of the change of basis T) have
+    a row of their own; the others are left out.
+    """
+    fes = system.disc.fes
+    rng = fes.Range(comp)
+    free_pos = -np.ones(fes.ndof, dtype=int)
+    free_pos[system._free] = np.arange(len(system._free))
+    T = system._T.tocsr()
+    dofs, rows = [], []
+    for d in range(rng.start, rng.stop):
+        p = free_pos[d]
+        if p < 0 or T.indptr[p + 1] - T.indptr[p] != 1 or T.data[T.indptr[p]] != 1.0:
+            continue
+        dofs.append(d - rng.start)
+        rows.append(T.indices[T.indptr[p]])
+    return np.array(dofs, dtype=int), np.array(rows, dtype=int)
+
+
+def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) -> list[dict[str, np.ndarray]]:
+    """The variationally consistent crack-face tractions at the crack edges' mid points.
+
+    For a component c of `disc.traction_rows` (the unknowns carrying the crack's normal
+    or tangential condition: a jump on the + face), every basis function phi of c on
+    the crack satisfies, by Green's formula on the + side (outward normal -nu),
+    (K y - F)_phi = -int_crack (sigma nu).d phi ds, d = nu or t the direction that c
+    carries. The traction is the function t_h in c's trace space on the crack with
+    M t_h = -(K y - F)_c, M the crack mass matrix of those traces, evaluated at the mid
+    points: the contact forces divided out by the mass matrix for the normal part, the
+    residual of the tangential equations (zero up to round-off when frictionless) for
+    the shear. Returns per crack {"normal_stress": ..., "shear_stress": ...} for the
+    components the element names (an empty dict per crack if none), except the keys in
+    `skip`.
+    """
+    disc = system.disc
+    out = [dict() for _ in crack_mesh.cracks]
+    r = None
+    for key, comp in zip(("normal_stress", "shear_stress"), disc.traction_rows):
+        if comp is None or key in skip:
+            continue
+        if r is None:
+            r = np.asarray(system.K @ y - system.F)
+        space = disc.fes.components[comp]
+        dofs, rows = _component_rows(system, comp)
+        u, v = space.TnT()
+        region = ngs.ds(definedon=crack_mesh.crack_region, bonus_intorder=2)
+        t = ngs.specialcf.tangential(2)
+        vector = u.dim > 1
+        m = ngs.BilinearForm(space, check_unused=False)
+        m += ((u.Trace() * t) * (v.Trace() * t) if vector else u * v) * region
+        m.Assemble()
+        rows_, cols_, vals_ = m.mat.COO()
+        M = sp.csr_matrix((np.asarray(vals_), (np.asarray(rows_), np.asarray(cols_))), shape=(space.ndof, space.ndof))
+        on = np.flatnonzero(np.abs(M.diagonal()) > 0)
+        rhs = np.zeros(space.ndof)
+        rhs[dofs] = -r[rows]
+        coef = np.zeros(space.ndof)
+        coef[on] = spla.spsolve(sp.csc_matrix(M[on][:, on]), rhs[on])
+        gf = ngs.GridFunction(space)
+        gf.vec.FV().NumPy()[:] = coef
+        for k, crack in enumerate(crack_mesh.cracks):
+            mp = crack_mesh.mesh(crack.mid[:, 0], crack.mid[:, 1])
+            vals = np.asarray(gf(mp)).reshape(len(crack), -1)
+            if vals.shape[1] == 2:  # a vector trace: its tangential component
+                vals = np.einsum("ei,ei->e", vals, crack.tangent)[:, None]
+            out[k][key] = vals[:, 0]
+    return out
+
+
+def lumped_normal_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndarray,
+                           forces: np.ndarray) -> list[np.ndarray]:
+    """The crack-face normal stress at the edge mid points from the discrete contact forces.
+
+    For elements whose constraint points are nodes of the jump space (h1p1: the crack
+    vertices; h1p2: vertices and edge mid points), each contact force lam_i acts on the
+    tributary length w_i = int psi_i ds of its nodal basis function psi_i (the dual of
+    G: w = G^{-T} m, m_d = int phi_d ds of the jump basis), so sigma_n,i = -lam_i / w_i:
+    never tensile where lam >= 0 (the consistent mass-matrix traction oscillates in sign
+    next to a concentrated force). At a mid point: the edge's own mid-point value (P2),
+    else the mean of the end points that carry a constraint (a tip has none).
+    """
+    m = facet_moments(jump_space, crack_mesh, 0)[:, 0]
+    w = np.linalg.solve(np.asarray(G, dtype=float).T, m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.where(w > 0, -np.asarray(forces) / np.where(w > 0, w, 1.0), 0.0)
+    out = []
+    for crack in crack_mesh.cracks:
+        vals = np.zeros(len(crack))
+        for k in range(len(crack)):
+            mid = [d for d in jump_space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(crack.edge[k]))) if d >= 0]
+            if mid:
+                vals[k] = p[mid[0]]
+                continue
+            ends = [d for v in (int(crack.va[k]), int(crack.vb[k]))
+                    for d in jump_space.GetDofNrs(ngs.NodeId(ngs.VERTEX, v)) if d >= 0]
+            vals[k] = float(np.mean(p[ends])) if ends else 0.0
+        out.append(vals)
+    return out

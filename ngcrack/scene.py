@@ -3,7 +3,7 @@
 Domain: a simple polygon Omega (vertices listed counter-clockwise) holding zero or more
 cracks Gamma_c, each a polyline inside Omega whose end points may lie on the boundary.
 PDE (solved elsewhere): 2D linear elasticity, -div sigma = f, with frictionless
-unilateral contact on every crack (DESIGN.md section 1).
+unilateral contact on every crack (README, the introduction).
 
 A :class:`Scene` is plain, immutable data. It is validated completely when it is built
 (``__post_init__``), before any meshing, so no invalid Scene can exist: every bad field

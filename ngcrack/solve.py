@@ -7,6 +7,7 @@ A scene without a crack gets one linear solve and no QP.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -15,13 +16,15 @@ import numpy as np
 import ngsolve as ngs
 
 from . import elements as _elements
-from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS, QPResult, constraint_positions, solve_qp, warm_start_data
+from .contact import (DEFAULT_SOLVER, KKT_KEYS, NATIVE_SOLVERS, QPResult, constraint_positions, discrete_contact_forces,
+                      kkt_at_constraints, solve_qp, warm_start_data)
 from .elements import Discretization, Loads
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
 from .schur import SCHUR_METHODS
 from .materials import compliance
-from .post import CrackProfile, crack_profile, endpoint_map, field_scales, kkt_residuals
+from .post import (CrackProfile, consistent_tractions, crack_profile, endpoint_map, field_scales, kkt_residuals,
+                   lumped_normal_traction)
 from .scene import Scene
 from .sizing import check_request
 from .tips import tip_parameters
@@ -66,9 +69,20 @@ class Solution:
 
     `u`, `sigma`, `rotation` are NGSolve CoefficientFunctions (u is P0 per triangle,
     sigma the weakly symmetric 2x2 stress); `gf` is the full GridFunction. `profiles`
-    holds one CrackProfile per crack, `kkt` the relative KKT residuals on the crack
-    samples, `qp` the QP's answer (None without a crack). `timings` in seconds, `ndof`
-    counts (total, global after condensation, contact), `built` lists what was built.
+    holds one CrackProfile per crack, `qp` the QP's answer (None without a crack).
+
+    `kkt`: the relative residuals of the discrete Signorini conditions where the QP's
+    constraints live (edge mid points for P0 jumps, edge end points for P1 jumps, crack
+    nodes for h1p1/h1p2), with the constrained values w = G j of the answer and the
+    discrete contact forces `forces` computed from the solved system
+    (`contact.discrete_contact_forces`, `contact.kkt_at_constraints`): round-off small for
+    crack_model "contact". For "free" and "bonded" they measure the same conditions on
+    that model's answer: max_penetration > 0 where free faces interpenetrate, max_tension
+    > 0 where bonded faces pull on each other. `kkt_sampled`: the same figures from the
+    edge mid-point samples of the crack profiles (a diagnostic: a P1 jump sampled on the
+    edge where contact ends carries both a small opening and a small pressure). No crack:
+    all zero. `timings` in seconds, `ndof` counts (total, global after condensation,
+    contact), `built` lists what was built.
     """
 
     scene: Scene
@@ -87,6 +101,8 @@ class Solution:
     conditioning: dict = field(default_factory=dict)
     #: K_I, K_II, G at every crack end inside the body (tips.py, DESIGN.md section 7)
     tips: list = field(default_factory=list)
+    kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
+    forces: np.ndarray | None = None
 
     @property
     def mesh(self) -> ngs.Mesh:
@@ -113,7 +129,7 @@ class Solution:
         return self.profiles
 
     def to_json_dict(self) -> dict:
-        """The `solve --json` contract of DESIGN.md."""
+        """The result as the `solve --json` dictionary (README, "Command line")."""
         t = self.timings
         return {
             "scene": self.scene.name,
@@ -123,7 +139,8 @@ class Solution:
             "E": float(self.scene.material.E),
             "ndof": {k: int(self.ndof[k]) for k in ("total", "global", "contact")},
             "time_s": {k: float(t[k]) for k in ("total", "mesh", "assemble", "linear", "contact")},
-            "kkt": {k: float(self.kkt[k]) for k in ("max_penetration", "max_tension", "complementarity")},
+            "kkt": {k: float(self.kkt[k]) for k in KKT_KEYS},
+            "kkt_sampled": {k: float(self.kkt_sampled[k]) for k in KKT_KEYS},
             "tips": [tip.to_dict() for tip in self.tips],
             "cracks": [p.to_dict() for p in self.profiles],
         }
@@ -230,7 +247,7 @@ def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_so
 
 def solve(
     scene: Scene,
-    element: str = "peers",
+    element: str = "bdm",
     maxh: float | None = None,
     tip_h: float | None = None,
     crack_h: float | None = None,
@@ -248,6 +265,8 @@ def solve(
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
+    element: "bdm" (default: the most accurate per unknown and per second on the
+    measured cases, README "Which element when"), "peers", "tdnns", "h1p1" or "h1p2".
     maxh / tip_h / crack_h / grading override the scene's [mesh] values. qp_solver is "pdas" (default),
     "uzawa" or a cvxpy solver ("clarabel", "osqp", ...); qp_options go to the solver unchanged
     (contact.py). linear_solver: "auto" (MKL PARDISO where installed, else SuperLU), "pardiso",
@@ -290,6 +309,7 @@ def solve(
     system = condense(disc, loads)
     timings["assemble"] = time.perf_counter() - t0
 
+    contact = system.contact  # the crack normal jumps' rows, whatever the crack model
     if crack_model == "free":
         system = system.without_contact()
     case = f"scene {scene.name!r}, element {element!r}"
@@ -311,9 +331,11 @@ def solve(
 
     qp = None
     t0 = time.perf_counter()
-    if m and crack_model == "contact":
+    G = None
+    if len(contact):
         jn_space = disc.fes.components[disc.jn]
         G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(jn_space, cmesh, disc.facet_order)
+    if m and crack_model == "contact":
         positions = constraint_positions(disc, cmesh)
         initial_active, initial_guess = warm_start_data(warm_start, *positions)
         qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options,
@@ -347,8 +369,18 @@ def solve(
             jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
                                           displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction))
-    kkt = kkt_residuals(profiles, *field_scales(cmesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
-    sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__] + [np.array(list(kkt.values()))]
+    scales = field_scales(cmesh, fields["u"], fields["sigma"]) if profiles else (0.0, 0.0)
+    kkt, forces = _constraint_kkt(system, y, contact, G, cmesh, profiles, *scales)
+    if profiles and any(c is not None for c in disc.traction_rows):
+        lumped = disc.traction_rows[0] is not None and forces is not None  # nodal contact forces
+        tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress",) if lumped else ())
+        if lumped:
+            normal = lumped_normal_traction(disc.fes.components[disc.jn], cmesh, G, forces)
+            tractions = [dict(t, normal_stress=n) for t, n in zip(tractions, normal)]
+        profiles = [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
+    kkt_sampled = kkt_residuals(profiles, *scales)
+    sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__] + [
+        np.array(list(kkt.values()) + list(kkt_sampled.values()))]
     if not all(np.all(np.isfinite(a)) for a in sampled):
         raise SolveError(f"{case}: the crack profiles or KKT residuals hold non-finite values")
     # linear: the factorization and solves a plain linear solve needs too (with the
@@ -381,9 +413,28 @@ def solve(
                  "tip_h": tip_h, "crack_model": crack_model,
                  "order": order},
         conditioning=conditioning,
+        kkt_sampled=kkt_sampled,
+        forces=forces,
     )
     t0 = time.perf_counter()
     sol.tips = tip_parameters(sol, body_force=loads.body_force)
     timings["tips"] = time.perf_counter() - t0
     timings["total"] += timings["tips"]
     return sol
+
+
+def _constraint_kkt(system: CondensedSystem, y: np.ndarray, contact: np.ndarray, G, cmesh: CrackMesh,
+                    profiles: list[CrackProfile], u_scale: float, sigma_scale: float) -> tuple[dict, np.ndarray | None]:
+    """(kkt, forces) at the QP's constraint points: w = G j from the answer, the forces from its residual.
+
+    W = the largest jump on the crack (|w| at the constraint points, |[u]| at the edge mid
+    points); the body scales are max |u| and max |sigma| times the mean crack edge length.
+    """
+    if G is None or not len(contact):
+        return kkt_at_constraints(np.zeros(0), np.zeros(0), 0.0), None
+    w = G @ y[contact]
+    forces, bound = discrete_contact_forces(system.K, system.F, y, contact, G)
+    jump_max = max([float(np.max(np.abs(w)))] + [float(np.max(np.hypot(p.normal_jump, p.tangential_jump))) for p in profiles])
+    edge = float(np.mean(np.concatenate([c.length for c in cmesh.cracks])))
+    kkt = kkt_at_constraints(w, forces, jump_max, jump_scale=u_scale, force_scale=sigma_scale * edge, lam_bound=bound)
+    return kkt, forces

@@ -1,12 +1,12 @@
 """Sweeps over element, mesh size and Poisson ratio: one tidy row per run, errors, rates.
 
-    df = sweep(scene, elements=["peers", "bdm"], maxh=[0.2, 0.1, 0.05], nu=[0.49],
+    df = sweep(scene, elements=["bdm", "peers"], maxh=[0.2, 0.1, 0.05], nu=[0.49],
                reference_maxh=0.025)
     with_rates(df)            # observed rates between consecutive meshes
     fitted_rates(df)          # least-squares rates per (scene, element, nu, quantity)
 
 Error quantities (the paper's Tables 1-4). Let n be the unit normal of the first crack's
-first segment (the paper's and DESIGN.md's nu; (0, 1) for a scene without a crack: the
+first segment (the crack normal nu of the paper and of the README; (0, 1) for a scene without a crack: the
 column `nu` is Poisson's ratio). With (sigma n)_i = sum_j sigma_ij n_j:
 
     u1, u2      the displacement components
@@ -773,7 +773,7 @@ def _check_sizes(values: Sequence, name: str) -> list[float]:
 
 def sweep(
     scene,
-    elements: Iterable[str] | str = ("peers", "bdm"),
+    elements: Iterable[str] | str = ("bdm",),
     maxh: Iterable[float] | float = (0.2, 0.1, 0.05),
     nu: Iterable[float] | float | None = None,
     *,
@@ -788,7 +788,8 @@ def sweep(
 ):
     """Run every (element, maxh, nu) of `scene`; one row per run as a pandas DataFrame.
 
-    scene: a Scene, a built-in scene name or a TOML path. nu: Poisson ratios (default:
+    scene: a Scene, a built-in scene name or a TOML path. elements: element families
+    (default: bdm alone, as in `solve`). nu: Poisson ratios (default:
     the scene's). reference_maxh: the reference mesh size (default: the finest maxh,
     whose row is then the reference); reference_element: measure every element against
     this one's reference (default: each against its own). out: a CSV path, written row

@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import re
 import subprocess
@@ -63,13 +64,14 @@ def test_solve_json_has_exactly_the_contract_keys(tmp_path, capsys):
     code, out, err = run(["solve", "paper-2", "--element", "bdm", "--maxh", "0.3", "--json", path], capsys)
     assert code == 0, err
     d = json.loads(path.read_text())
-    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "tips", "cracks"}
+    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "kkt_sampled", "tips", "cracks"}
     assert [(t["crack"], t["end"]) for t in d["tips"]] == [(0, "first"), (0, "last")]
     assert all(set(t) == {"crack", "end", "x", "y", "K_I", "K_II", "G"} for t in d["tips"])
     assert "K_II" in out and "0,first" in out  # the tip table
     assert set(d["ndof"]) == {"total", "global", "contact"}
     assert set(d["time_s"]) == {"total", "mesh", "assemble", "linear", "contact"}
-    assert set(d["kkt"]) == {"max_penetration", "max_tension", "complementarity"}
+    assert set(d["kkt"]) == set(d["kkt_sampled"]) == {"max_penetration", "max_tension", "complementarity", "friction"}
+    assert max(d["kkt"].values()) <= 1e-10
     assert len(d["cracks"]) == 1
     crack = d["cracks"][0]
     assert set(crack) == {"s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress"}
@@ -256,3 +258,36 @@ def test_stability_refuses_a_missing_folder(tmp_path, capsys):
 
     assert main(["stability", "--quick", "--out", str(tmp_path / "no" / "such")]) == 2
     assert "--out" in capsys.readouterr().err
+
+
+def test_help_texts_stand_alone():
+    """No help text sends the reader to a file a user of the package does not have."""
+    import pydoc
+
+    import ngcrack
+    from ngcrack.cli import build_parser
+
+    parser = build_parser()
+    texts = {"ngcrack": parser.format_help()}
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, p in sub.choices.items():
+        texts[name] = p.format_help()
+    for mod in ("ngcrack", "ngcrack.solve", "ngcrack.contact", "ngcrack.post", "ngcrack.cli", "ngcrack.scene",
+                "ngcrack.scenes", "ngcrack.study"):
+        texts[mod] = pydoc.render_doc(__import__(mod, fromlist=["_"]), renderer=pydoc.plaintext)
+    texts["solve()"] = ngcrack.solve.__doc__
+    for name, text in texts.items():
+        for other in ("DESIGN.md", "STYLE.md"):
+            assert other not in text, f"{name}: help refers to {other}"
+    assert "bdm (default)" in texts["solve"]
+    assert "README" in texts["solve"]
+
+
+def test_solve_and_sweep_default_to_bdm(tmp_path, capsys):
+    code, out, err = run(["solve", "paper-2", "--maxh", "0.4", "--json", tmp_path / "r.json"], capsys)
+    assert code == 0, err
+    assert json.loads((tmp_path / "r.json").read_text())["element"] == "bdm"
+    assert "KKT at the constraint points" in out and "at the edge mid points" in out
+    code, out, err = run(["sweep", "paper-2", "--maxh", "0.4", "--out", tmp_path / "s.csv", "--no-progress"], capsys)
+    assert code == 0, err
+    assert set(read_results(tmp_path / "s.csv")["element"]) == {"bdm"}

@@ -84,7 +84,11 @@ class Discretization:
     end-point map; `crack_jumps(gf, crack)` returns the (normal, tangential) jumps at
     the crack's mid points instead of the facet evaluation; `two_sided_traction`
     averages the crack-face traction of both sides (post-computed, discontinuous
-    stresses); `fixed_dofs` are further dofs held at zero.
+    stresses); `fixed_dofs` are further dofs held at zero. `traction_rows` = (normal,
+    shear): the compound components whose equations carry the crack's normal and
+    tangential conditions, where the crack-face traction is to be taken from their
+    residual (the variationally consistent traction, `post.consistent_tractions`)
+    rather than sampled from sigma (None: sample sigma nu).
     """
 
     element: str
@@ -107,6 +111,7 @@ class Discretization:
     crack_jumps: Callable[[ngs.GridFunction, object], tuple[np.ndarray, np.ndarray]] | None = None
     two_sided_traction: bool = False
     fixed_dofs: tuple[int, ...] = ()
+    traction_rows: tuple[int | None, int | None] = (None, None)
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:

@@ -227,4 +227,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         crack_jumps=crack_jumps if has_crack else None,
         two_sided_traction=True,
         fixed_dofs=tuple(sorted(set(fixed))),
+        traction_rows=(2, 3) if has_crack else (None, None),
     )

@@ -23,11 +23,18 @@ chi = 1 on the minus side of a crack edge. Expected rates for smooth solutions:
 stress is symmetric by construction. Rollers are imposed on u_hat_n directly.
 
 The crack-face shear: TDNNS stresses have no single-valued tangential traction on an
-edge; sigma_t = 0 on the crack holds in the distributional sense of the TDNNS
-divergence (the edge's tangential traction and the element's equilibrium residual
-together), not pointwise. The profiles' shear_stress is the mid-point value of
-(sigma nu).t from one side and is not a measure of the crack condition for tdnns;
-the normal stress sigma_nn is single-valued and is.
+edge (sigma_nt jumps; the element's divergence residual balances it), so a point value
+of (sigma nu).t means nothing (about 0.3-1.3 times the load on frictionless cracks).
+The traction that the discrete equations transmit is the one tested by the crack's
+tangential unknowns u_e: for each HCurl function phi of a crack edge, on the + side T+,
+
+    int_e (sigma nu).t (phi.t) ds = -(sigma, grad phi)_T+ + <sigma_nn, phi.n>_dT+ + (f, phi)_T+
+
+(exact for the true solution, by Green's formula). The profiles' shear_stress is the
+P_k function on the crack with these moments, at the mid points
+(`post.consistent_tractions`): the residual of the u_e equations, zero up to round-off
+on a frictionless crack, the friction traction otherwise. sigma_nn is single-valued
+and is sampled directly.
 
 Why not a stress of degree 0: broken P0 stresses (3 per triangle) cannot control the
 two facet unknowns per edge (u_t and u_hat_n) of the hybrid form, whose condensed
@@ -174,4 +181,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         roller_pairs=lambda roller: [],
         definite=not split,
         tangential_jump=(lambda gf: gf.components[idx_ue]) if has_crack else None,
+        traction_rows=(None, idx_ue) if has_crack else (None, None),
     )
