@@ -17,6 +17,7 @@ import ngsolve as ngs
 from . import elements as _elements
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS, QPResult, constraint_positions, solve_qp, warm_start_data
 from .elements import Discretization, Loads
+from .friction import DEFAULT_FRICTION_METHOD, FrictionResult, crack_problem, solve_crack_problem
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
 from .schur import SCHUR_METHODS
@@ -119,7 +120,7 @@ class Solution:
             "E": float(self.scene.material.E),
             "ndof": {k: int(self.ndof[k]) for k in ("total", "global", "contact")},
             "time_s": {k: float(t[k]) for k in ("total", "mesh", "assemble", "linear", "contact")},
-            "kkt": {k: float(self.kkt[k]) for k in ("max_penetration", "max_tension", "complementarity")},
+            "kkt": {k: float(self.kkt.get(k, 0.0)) for k in ("max_penetration", "max_tension", "complementarity", "friction")},
             "cracks": [p.to_dict() for p in self.profiles],
         }
 
@@ -239,6 +240,8 @@ def solve(
     condition: bool = False,
     schur: str = "auto",
     warm_start=None,
+    friction_method: str = DEFAULT_FRICTION_METHOD,
+    tangential: bool | None = None,
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
@@ -255,6 +258,13 @@ def solve(
     order of elements that have one (tdnns: 1, 2 or 3; default 1). condition: also
     estimate the 1-norm condition numbers of the condensed matrix K_rr and of the crack
     Schur complement S (a few extra solves), in `sol.conditioning`.
+
+    Friction (a crack with `friction` > 0, e.g. `scene.with_(friction=0.3)`): the
+    tangential jumps stay in the reduced problem and Coulomb's law is solved by
+    `friction_method` ("fixed-point" of Tresca problems or "newton"; friction.py) with
+    qp_solver "pdas" (native) or a cvxpy solver for the Tresca steps; warm_start is not
+    used. `tangential`: keep the tangential jumps in the reduced problem (None: when a
+    crack has friction; True with no friction solves the frictionless problem that way).
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver, schur)
     if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
@@ -276,7 +286,11 @@ def solve(
     t0 = time.perf_counter()
     mat = scene.material
     disc = _elements.build(element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=order)
-    system = condense(disc, loads)
+    mu = [c.friction for c in scene.cracks]
+    if tangential is None:
+        tangential = any(f > 0 for f in mu)
+    tangential = bool(tangential) and crack_model == "contact" and disc.jn is not None
+    system = condense(disc, loads, tangential=tangential)
     timings["assemble"] = time.perf_counter() - t0
 
     if crack_model == "free":
@@ -303,12 +317,17 @@ def solve(
     if m and crack_model == "contact":
         jn_space = disc.fes.components[disc.jn]
         G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(jn_space, cmesh, disc.facet_order)
-        positions = constraint_positions(disc, cmesh)
-        initial_active, initial_guess = warm_start_data(warm_start, *positions)
-        qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options,
-                      initial_active=initial_active, initial_guess=initial_guess)
-        qp.crack, qp.s = positions
-        jn = qp.j
+        if tangential:
+            qp = solve_crack_problem(crack_problem(red, disc, cmesh, G, mu), solver=qp_solver,
+                                     solver_options=qp_options, method=friction_method)
+            jn = qp.z
+        else:
+            positions = constraint_positions(disc, cmesh)
+            initial_active, initial_guess = warm_start_data(warm_start, *positions)
+            qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options,
+                          initial_active=initial_active, initial_guess=initial_guess)
+            qp.crack, qp.s = positions
+            jn = qp.j
     else:  # no crack, or a bonded crack: jn = 0
         jn = np.zeros(len(system.contact))
     timings["qp"] = time.perf_counter() - t0
@@ -332,12 +351,15 @@ def solve(
         jt_vals = comps[disc.jt].vec.FV().NumPy() if disc.jt is not None else None
         displacement = disc.tangential_jump(gf) if disc.tangential_jump is not None else None
         jump_space = disc.fes.components[disc.jn]
-        for crack in cmesh.cracks:
+        for k, crack in enumerate(cmesh.cracks):
             jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
-                                          displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction))
+                                          displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction,
+                                          friction=mu[k]))
     kkt = kkt_residuals(profiles, *field_scales(cmesh, fields["u"], fields["sigma"])) if profiles else kkt_residuals([])
-    sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__] + [np.array(list(kkt.values()))]
+    # the discrete Coulomb law at the QP's constraint points (0 without friction)
+    kkt["friction"] = float(qp.kkt["friction"]) if isinstance(qp, FrictionResult) else 0.0
+    sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__ if k != "state"] + [np.array(list(kkt.values()))]
     if not all(np.all(np.isfinite(a)) for a in sampled):
         raise SolveError(f"{case}: the crack profiles or KKT residuals hold non-finite values")
     # linear: the factorization and solves a plain linear solve needs too (with the
@@ -346,7 +368,11 @@ def solve(
     timings["contact"] = timings["schur"] + timings["qp"]
     timings["total"] = time.perf_counter() - t_start
     ndof = {"total": disc.fes.ndof, "global": system.n, "contact": m}
-    if qp is not None:
+    if isinstance(qp, FrictionResult):
+        built = list(disc.built) + [f"crack problem with friction: {len(qp.w)} normal and {len(qp.wt)} tangential "
+                                    f"values, solver {qp_solver}, {qp.method}: {qp.coulomb_iterations} iterations, "
+                                    f"{qp.steps} active-set steps"]
+    elif qp is not None:
         built = list(disc.built) + [f"contact QP: {m} unknowns, solver {qp_solver}"]
     elif disc.jn is None:
         built = list(disc.built) + ["no crack: one linear solve, no QP"]
@@ -368,6 +394,7 @@ def solve(
         options={"qp_solver": qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
                  "largest_dense": red.largest_dense,
                  "tip_h": tip_h, "crack_model": crack_model,
-                 "order": order},
+                 "order": order, "friction": [float(f) for f in mu], "friction_method": friction_method,
+                 "tangential": tangential},
         conditioning=conditioning,
     )

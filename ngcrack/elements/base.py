@@ -84,7 +84,9 @@ class Discretization:
     end-point map; `crack_jumps(gf, crack)` returns the (normal, tangential) jumps at
     the crack's mid points instead of the facet evaluation; `two_sided_traction`
     averages the crack-face traction of both sides (post-computed, discontinuous
-    stresses); `fixed_dofs` are further dofs held at zero.
+    stresses); `fixed_dofs` are further dofs held at zero. `tangential`, where jt is
+    None, names the component whose crack dofs carry [u].t (the reduced problem with
+    friction keeps them; `tangential_jump` evaluates them).
     """
 
     element: str
@@ -107,6 +109,7 @@ class Discretization:
     crack_jumps: Callable[[ngs.GridFunction, object], tuple[np.ndarray, np.ndarray]] | None = None
     two_sided_traction: bool = False
     fixed_dofs: tuple[int, ...] = ()
+    tangential: int | None = None
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:

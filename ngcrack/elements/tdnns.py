@@ -174,4 +174,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         roller_pairs=lambda roller: [],
         definite=not split,
         tangential_jump=(lambda gf: gf.components[idx_ue]) if has_crack else None,
+        tangential=idx_ue,
     )
