@@ -164,6 +164,8 @@ class FrictionResult(QPResult):
     tangential value, `coulomb_iterations` the Tresca problems (or Newton steps)
     solved, `steps` the active-set steps in all, `kkt` the relative residuals
     (max_penetration, max_tension, complementarity, friction) at the constraint points.
+    `problem` is the CrackProblem it solved (solve() keeps it: a new coefficient or a
+    Tresca threshold is a new solve of the same problem, no new mesh or factorization).
     """
 
     z: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -176,6 +178,7 @@ class FrictionResult(QPResult):
     coulomb_iterations: int = 0
     steps: int = 0
     method: str = ""
+    problem: CrackProblem | None = None
 
 
 # --------------------------------------------------------------------------- the native method
@@ -457,7 +460,7 @@ def _result(problem, pf, v, g, act, slip, solver, iters, steps, method, raw, kkt
         j=z[:nn], w=wn, multiplier=lam_n, active=np.flatnonzero(act), solver=solver, iterations=iters,
         kkt=kkt, time_s=elapsed, raw_kkt=raw, crack=problem.crack, s=problem.s,
         z=z, jt=z[nn:], wt=wt, lam_t=lam_t, slip=slip.astype(int), t_point=pf.p, mu=problem.mu[pf.p],
-        coulomb_iterations=iters, steps=steps, method=method,
+        coulomb_iterations=iters, steps=steps, method=method, problem=problem,
     )
 
 
