@@ -65,8 +65,10 @@ class Solution:
 
     `u`, `sigma`, `rotation` are NGSolve CoefficientFunctions (u is P0 per triangle,
     sigma the weakly symmetric 2x2 stress); `gf` is the full GridFunction. `profiles`
-    holds one CrackProfile per crack, `kkt` the relative KKT residuals on the crack
-    samples, `qp` the QP's answer (None without a crack). `timings` in seconds, `ndof`
+    holds one CrackProfile per crack (with its open / stick / slip `state`), `kkt` the
+    relative KKT residuals on the crack samples and, under "friction", the discrete
+    Coulomb law's residual at the constraint points (0 without friction), `qp` the QP's
+    answer (None without a crack; a friction.FrictionResult with friction). `timings` in seconds, `ndof`
     counts (total, global after condensation, contact), `built` lists what was built.
     """
 
