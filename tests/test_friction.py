@@ -98,7 +98,8 @@ def test_inclined_crack_slips_below_tan_b(element):
     assert sol.qp.coulomb_iterations <= 3
 
 
-@pytest.mark.parametrize("element", ELEMENTS)
+@pytest.mark.parametrize("element", [pytest.param(e, marks=[pytest.mark.slow] if e in ("peers", "tdnns", "h1p2") else [])
+                                     for e in ELEMENTS])
 def test_inclined_crack_sticks_above_tan_b(element):
     sol = inclined(element, 0.7)
     prof = sol.crack_profiles()[0]
@@ -150,7 +151,7 @@ def test_tresca_threshold_in_stress_units():
     assert res.kkt["friction"] < ROUND_OFF
 
 
-@pytest.mark.parametrize("element", ["bdm", "tdnns"])
+@pytest.mark.parametrize("element", ["bdm", pytest.param("tdnns", marks=pytest.mark.slow)])
 def test_friction_leaves_an_open_crack_alone(element):
     """Open faces carry no traction: friction changes nothing."""
     rough = inclined(element, 0.5, load=1.0)
