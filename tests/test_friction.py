@@ -137,9 +137,12 @@ def test_several_coefficients_on_both_sides_of_tan_b():
     assert max(iterations.values()) <= 4, iterations
 
 
-def test_tresca_threshold_in_stress_units():
-    """A fixed slip threshold g (stress) slides as |tau| - g: the quadrature weights are right."""
-    sol = inclined("bdm", 0.3)
+@pytest.mark.parametrize("element", ELEMENTS)
+def test_tresca_threshold_in_stress_units(element):
+    """A fixed slip threshold g (stress) slides as |tau| - g: the quadrature weights are right
+    (measured at the constraint points away from the tips: peers 3.2%, bdm 0.18%, tdnns 0.65%,
+    h1p1 3.5%, h1p2 0.53%, as with Coulomb)."""
+    sol = inclined(element, 0.3)
     problem = sol.qp.problem
     a = sol.scene.exact["a"]
     g = 0.15
@@ -147,7 +150,7 @@ def test_tresca_threshold_in_stress_units():
     s = problem.s[res.t_point] - a
     exact = closed_form_slide(sol.scene, s, 0.0, threshold=g)
     inner = np.abs(s) < a * (1 - 1e-9)
-    assert np.linalg.norm((res.wt - exact)[inner]) < SLIDE_BANDS["bdm"] * np.linalg.norm(exact)
+    assert np.linalg.norm((res.wt - exact)[inner]) < SLIDE_BANDS[element] * np.linalg.norm(exact)
     assert res.kkt["friction"] < ROUND_OFF
 
 
