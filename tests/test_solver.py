@@ -537,7 +537,7 @@ def test_no_crack_means_no_qp_and_no_body_force():
     assert "body force" not in sol.built
     assert any(b.startswith("traction load on") for b in sol.built)
     assert not any("crack jump" in b for b in sol.built)
-    assert sol.kkt == {"max_penetration": 0.0, "max_tension": 0.0, "complementarity": 0.0}
+    assert sol.kkt == {"max_penetration": 0.0, "max_tension": 0.0, "complementarity": 0.0, "friction": 0.0}
 
 
 @pytest.mark.parametrize("element", ELEMENTS)
@@ -558,7 +558,7 @@ JSON_KEYS = {
 NESTED = {
     "ndof": ("total", "global", "contact"),
     "time_s": ("total", "mesh", "assemble", "linear", "contact"),
-    "kkt": ("max_penetration", "max_tension", "complementarity"),
+    "kkt": ("max_penetration", "max_tension", "complementarity", "friction"),
 }
 CRACK_KEYS = ("s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress")
 
@@ -581,7 +581,8 @@ def test_json_contract(element):
     assert d["kkt"] == sol.kkt
     assert len(d["cracks"]) == len(scene.cracks) == 1
     c = d["cracks"][0]
-    assert set(c) == set(CRACK_KEYS)
+    assert set(c) == set(CRACK_KEYS) | {"state"}
+    assert len(c["state"]) == len(c["s"]) and set(c["state"]) <= {"open", "stick", "slip"}
     n = len(c["s"])
     assert n > 0 and all(len(c[k]) == n for k in CRACK_KEYS)
     assert all(isinstance(v, float) and math.isfinite(v) for k in CRACK_KEYS for v in c[k])
