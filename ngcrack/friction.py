@@ -326,6 +326,20 @@ def coulomb_residual(wn, lam_n, wt, lam_t, t_point, bound) -> dict:
     }
 
 
+def check_friction_options(scene, qp_solver: str, method: str, tangential) -> None:
+    """Refuse, before any meshing, friction options that cannot work for `scene`."""
+    if method not in FRICTION_METHODS:
+        raise ValueError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
+    if tangential is not None and not isinstance(tangential, bool):
+        raise ValueError(f"tangential = {tangential!r}: must be None, True or False")
+    if not (tangential or any(c.friction > 0 for c in scene.cracks)):
+        return
+    if qp_solver in NATIVE_SOLVERS and qp_solver != "pdas":
+        raise ValueError(f"qp_solver = {qp_solver!r}: with friction the allowed values are pdas or a cvxpy solver")
+    if qp_solver != "pdas" and method == "newton":
+        raise ValueError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
+
+
 def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_options: dict | None = None,
                         method: str = DEFAULT_FRICTION_METHOD, tol: float = COULOMB_TOL,
                         max_iter: int = COULOMB_MAX_ITER, kkt_tol: float = 1e-6) -> FrictionResult:

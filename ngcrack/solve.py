@@ -17,7 +17,8 @@ import ngsolve as ngs
 from . import elements as _elements
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS, QPResult, constraint_positions, solve_qp, warm_start_data
 from .elements import Discretization, Loads
-from .friction import DEFAULT_FRICTION_METHOD, FrictionResult, crack_problem, solve_crack_problem
+from .friction import (DEFAULT_FRICTION_METHOD, FrictionResult, check_friction_options, crack_problem,
+                       solve_crack_problem)
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
 from .schur import SCHUR_METHODS
@@ -273,6 +274,7 @@ def solve(
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
+    check_friction_options(scene, qp_solver, friction_method, tangential)
     if loads is None:
         loads = scene_loads(scene)
     else:

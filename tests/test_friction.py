@@ -244,3 +244,20 @@ def test_sweep_over_friction_resumes(tmp_path):
     again = nc.sweep("paper-1", **kw)
     assert out.read_text().splitlines() == lines  # nothing recomputed
     assert len(again) == 4
+
+
+@pytest.mark.parametrize("options, field", [
+    (dict(qp_solver="uzawa"), "qp_solver"),
+    (dict(friction_method="bisection"), "friction_method"),
+    (dict(qp_solver="clarabel", friction_method="newton"), "friction_method"),
+    (dict(tangential="yes"), "tangential"),
+])
+def test_bad_friction_options_refused_before_meshing(options, field, monkeypatch):
+    import ngcrack.solve as solve_module
+
+    def no_mesh(*args, **kwargs):
+        raise AssertionError("meshed before the options were checked")
+
+    monkeypatch.setattr(solve_module, "make_mesh", no_mesh)
+    with pytest.raises(ValueError, match=field):
+        nc.solve(nc.scenes.load("paper-1").with_(friction=0.5), element="bdm", **options)
