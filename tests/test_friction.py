@@ -253,7 +253,9 @@ def test_sweep_over_friction_resumes(tmp_path):
     (dict(tangential="yes"), "tangential"),
 ])
 def test_bad_friction_options_refused_before_meshing(options, field, monkeypatch):
-    import ngcrack.solve as solve_module
+    import importlib
+
+    solve_module = importlib.import_module("ngcrack.solve")  # the module (ngcrack.solve is also the function)
 
     def no_mesh(*args, **kwargs):
         raise AssertionError("meshed before the options were checked")
