@@ -109,6 +109,10 @@ def cmd_solve(args) -> int:
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
     print(f"KKT: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
           f"complementarity {k['complementarity']:.1e}" + (f", friction {k['friction']:.1e}" if sol.options.get("tangential") else ""))
+    if sol.options.get("tangential"):
+        states = [s for c in result["cracks"] for s in c["state"]]
+        print(f"friction: {sol.qp.coulomb_iterations} Coulomb iterations; crack samples "
+              + ", ".join(f"{st} {states.count(st)}" for st in ("open", "stick", "slip")))
     for path in (json_path, plot_path):
         if path is not None:
             print(f"wrote {path}")

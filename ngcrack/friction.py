@@ -180,6 +180,21 @@ class FrictionResult(QPResult):
     method: str = ""
     problem: CrackProblem | None = None
 
+    def point_states(self) -> np.ndarray:
+        """open / stick / slip at every constraint point (as `sample_states`, STATE_RTOL).
+
+        Open where wn > 0; closed points stick where their tangential value is held
+        (slip 0, or no tangential unknown) and the crack carries friction, else slip.
+        """
+        W = float(max(np.max(np.abs(self.w), initial=0.0), np.max(np.abs(self.wt), initial=0.0)))
+        tol = STATE_RTOL * W
+        moving = np.zeros(len(self.w), dtype=bool)
+        moving[self.t_point[self.slip != 0]] = True
+        rough = np.zeros(len(self.w), dtype=bool)
+        rough[self.t_point[self.mu > 0]] = True
+        closed = np.where(rough & ~moving, "stick", "slip")
+        return np.where(self.w > tol, "open", closed)
+
 
 # --------------------------------------------------------------------------- the native method
 

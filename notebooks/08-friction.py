@@ -121,10 +121,7 @@ state_map = np.zeros((len(map_mus), pp.m))
 first_stick = None
 for i, mu in enumerate(map_mus):
     res = solve_crack_problem(dataclasses.replace(pp, mu=np.full_like(pp.mu, mu)))
-    W = max(np.max(np.abs(res.w)), np.max(np.abs(res.wt)))
-    codes = np.where(res.w > 1e-8 * W, 0, 2)
-    stuck = res.t_point[(res.slip == 0)]
-    codes[stuck[res.w[stuck] <= 1e-8 * W]] = 1
+    codes = np.array([STATE_CODE[st] for st in res.point_states()])
     state_map[i] = codes[order]
     if first_stick is None and np.any(codes == 1):
         first_stick = mu
