@@ -2,9 +2,9 @@
 
     ngcrack scenes
     ngcrack stability [--quick] [--out DIR]
-    ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
-                        [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png] [--max-dof N]
-    ngcrack sweep SCENE [--element E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
+    ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--friction MU] [--tip-h H]
+                        [--crack-h H] [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png] [--max-dof N]
+    ngcrack sweep SCENE [--element E ...] --maxh H [H ...] [--nu NU ...] [--friction MU ...] --out results.csv
                         [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS] [--max-dof N]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
 
@@ -90,7 +90,7 @@ def cmd_solve(args) -> int:
     json_path = _check_output(args.json, "--json")
     plot_path = _check_output(args.plot, "--plot", ".png")
     scene = scenes.resolve(args.scene)
-    changes = {k: v for k, v in (("nu", args.nu), ("E", args.E)) if v is not None}
+    changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
     from .solve import solve
@@ -117,6 +117,10 @@ def cmd_solve(args) -> int:
           f"complementarity {k['complementarity']:.1e}, friction {k['friction']:.1e}")
     print(f"    at the edge mid points:   penetration {ks['max_penetration']:.1e}, tension {ks['max_tension']:.1e}, "
           f"complementarity {ks['complementarity']:.1e} (a diagnostic)")
+    if sol.options.get("tangential"):
+        states = [s for c in result["cracks"] for s in c["state"]]
+        print(f"friction: {sol.qp.coulomb_iterations} Coulomb iterations; crack samples "
+              + ", ".join(f"{st} {states.count(st)}" for st in ("open", "stick", "slip")))
     if sol.tips:
         from .tips import format_table
 
@@ -153,6 +157,8 @@ def cmd_sweep(args) -> int:
     scene = scenes.resolve(args.scene)
     for v in args.nu or []:
         scene.with_(nu=v)  # a bad nu is refused here, before any meshing
+    for v in args.friction or []:
+        scene.with_(friction=v)
     solve_options = {k: v for k, v in (("tip_h", args.tip_h), ("crack_h", args.crack_h), ("grading", args.grading))
                      if v is not None}
     solve_options["crack_model"] = args.crack_model
@@ -169,11 +175,13 @@ def cmd_sweep(args) -> int:
     from .study import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
-    df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, reference_maxh=args.reference_maxh,
-               reference_element=args.reference_element, out=out, solve_options=solve_options, max_dof=args.max_dof,
-               **opts)
+    df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, friction=args.friction,
+               reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
+               solve_options=solve_options, max_dof=args.max_dof, **opts)
     after = len(open(out).read().splitlines()) - 1
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["time_total"]
+    if args.friction is not None:
+        cols[3:3] = ["friction", "n_stick", "kkt_friction"]
     if df["err_opening"].notna().any():
         cols.insert(-1, "err_opening")
     if df["err_K_I"].notna().any():
@@ -183,7 +191,8 @@ def cmd_sweep(args) -> int:
         rates = fitted_rates(df)
         if len(rates):
             print("fitted rates (e ~ h^rate_h ~ dof^-rate_dof):")
-            print(rates[["element", "nu", "quantity", "rate_h", "rate_dof", "points"]].to_string(
+            print(rates[["element", "nu"] + (["friction"] if args.friction is not None else [])
+                        + ["quantity", "rate_h", "rate_dof", "points"]].to_string(
                 index=False, float_format=lambda v: f"{v:.3g}"))
     print(f"wrote {out} ({after - before} new rows, {after} in the file)")
     return 0
@@ -270,6 +279,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
+    p.add_argument("--friction", type=_positive, metavar="MU",
+                   help="Coulomb friction coefficient of every crack (overrides the scene; 0: frictionless)")
     p.add_argument("--qp-solver", dest="qp_solver", help="pdas (default), uzawa, clarabel, osqp, scs, ...")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
     p.add_argument("--json", help="write the result to this JSON file: scene, element, maxh, nu, E, ndof, time_s, "
@@ -288,6 +299,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--element", nargs="+", default=["bdm"], help="element families (default bdm; see `solve --element`)")
     p.add_argument("--maxh", nargs="+", type=_positive, required=True, help="global mesh sizes")
     p.add_argument("--nu", nargs="+", type=_positive, help="Poisson ratios (default: the scene's)")
+    p.add_argument("--friction", nargs="+", type=_positive, metavar="MU",
+                   help="Coulomb coefficients, each on every crack (default: the scene's); a key column of the rows")
     p.add_argument("--out", required=True, help="CSV file; rerunning skips the rows already in it")
     p.add_argument("--reference-maxh", dest="reference_maxh", type=_positive,
                    help="mesh size of a separate reference run (default: the finest --maxh is the reference)")

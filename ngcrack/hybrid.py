@@ -15,6 +15,10 @@ Boundary conditions on u_hat:
 Partition the remaining unknowns into the crack normal jumps c (m of them) and the rest
 r. With jn = 0, the rest solves K_rr x_r = F_r; the contact problem in jn alone is the
 QP with S = K_cc - K_cr K_rr^{-1} K_rc and b = F_c - K_cr K_rr^{-1} F_r.
+
+With friction (`condense(..., tangential=True)`) c holds the crack's tangential jump
+unknowns too, after the normal ones: S and b are then the reduced problem in (jn, jt)
+of `friction.py`. Without friction the tangential jumps stay in r (free sliding).
 """
 
 from __future__ import annotations
@@ -60,6 +64,10 @@ class CondensedSystem:
     _x_fixed: np.ndarray
     _fmod: ngs.BaseVector
     timings: dict = field(default_factory=dict)
+    #: with tangential unknowns in `contact`: how many of its leading entries are jn, and
+    #: the tangential component's dofs (numbered within that component) that follow them
+    n_normal: int | None = None
+    tangential_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
 
     @property
     def n(self) -> int:
@@ -124,8 +132,13 @@ def _merge_roller_pairs(pairs: list) -> list:
     return [(dx, dy, nrm) for (dx, dy), nrm in merged.items()]
 
 
-def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
-    """Build K, F on the global unknowns of an assembled discretization."""
+def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> CondensedSystem:
+    """Build K, F on the global unknowns of an assembled discretization.
+
+    `tangential`: put the crack's tangential jump unknowns into `contact` after the
+    normal ones (a crack with friction); those held at zero (a crack node on a roller)
+    stay out.
+    """
     t0 = time.perf_counter()
     fes, a, f = disc.fes, disc.a, disc.f
     fmod = f.vec.CreateVector()
@@ -172,6 +185,18 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
         # jn dofs are never rolled: their position in y equals their position in `keep`
         where = {int(k): i for i, k in enumerate(keep)}
         contact = np.array([where[int(pos[d])] for d in jn_dofs], dtype=int)
+    n_normal, t_dofs = None, np.zeros(0, dtype=int)
+    if tangential and disc.jn is not None:
+        comp = disc.jt if disc.jt is not None else disc.tangential
+        if comp is None:
+            raise ValueError(f"friction: element {disc.element!r} has no tangential jump unknowns")
+        rng = fes.Range(comp)
+        kept = [(i, where[int(pos[d])]) for i, d in enumerate(range(rng.start, rng.stop)) if int(pos[d]) in where]
+        t_dofs = np.array([i for i, _ in kept], dtype=int)
+        n_normal = len(contact)
+        contact = np.concatenate([contact, np.array([k for _, k in kept], dtype=int)])
+        if np.any(np.diff(contact) <= 0):  # the Schur complement's order is the order of `contact`
+            raise AssertionError("crack unknowns out of order")
     mask = np.ones(n_red, dtype=bool)
     mask[contact] = False
     return CondensedSystem(
@@ -186,6 +211,8 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
         _x_fixed=x_fixed,
         _fmod=fmod,
         timings={"condense": time.perf_counter() - t0},
+        n_normal=n_normal,
+        tangential_dofs=t_dofs,
     )
 
 
@@ -232,9 +259,11 @@ class ContactReduction:
                                    timings={"factorize": 0.0, "solve": time.perf_counter() - t0, "schur": 0.0})
 
     def recover(self, jn: np.ndarray) -> np.ndarray:
-        """The full global vector y for given crack normal jumps (one more solve).
+        """The full global vector y for given crack unknowns (one more solve).
 
-        An empty `jn` means jn = 0 (a bonded crack, or no crack).
+        `jn` holds the values of the unknowns at `system.contact`: the normal jumps and,
+        with friction, the tangential ones after them. Empty means zero (a bonded crack,
+        or no crack).
         """
         sysm = self.system
         jn = np.asarray(jn, dtype=float)

@@ -15,6 +15,7 @@ import ngsolve as ngs
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .friction import sample_states
 from .geometry import CrackEdges, CrackMesh
 
 
@@ -94,7 +95,10 @@ def endpoint_map(space: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.nd
 
 @dataclass(frozen=True)
 class CrackProfile:
-    """Samples at the mid point of every crack edge, ordered along the crack."""
+    """Samples at the mid point of every crack edge, ordered along the crack.
+
+    `state` is "open", "stick" or "slip" per sample (`friction.sample_states`).
+    """
 
     s: np.ndarray
     x: np.ndarray
@@ -103,9 +107,12 @@ class CrackProfile:
     tangential_jump: np.ndarray
     normal_stress: np.ndarray
     shear_stress: np.ndarray
+    state: np.ndarray = None
 
     def to_dict(self) -> dict:
-        return {k: [float(v) for v in getattr(self, k)] for k in self.__dataclass_fields__}
+        out = {k: [float(v) for v in getattr(self, k)] for k in self.__dataclass_fields__ if k != "state"}
+        out["state"] = [str(v) for v in (self.state if self.state is not None else [])]
+        return out
 
 
 #: offset (times the edge length) of the two sides' stress samples for two-sided tractions:
@@ -114,7 +121,7 @@ SIDE_OFFSET = 1e-3
 
 
 def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals, jt_vals, sigma,
-                  displacement=None, jumps=None, two_sided: bool = False) -> CrackProfile:
+                  displacement=None, jumps=None, two_sided: bool = False, friction: float = 0.0) -> CrackProfile:
     """The crack profile of one crack from the jump dof values and the stress field.
 
     `jumps` = (normal, tangential) at the mid points, where the element computes them
@@ -123,6 +130,7 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
     field at the mid point: a field whose tangential trace on a crack edge is
     single-valued and equal to [u].t (TDNNS: the crack edges' HCurl copy u_e).
     `two_sided`: average the traction of both sides (post-computed stresses).
+    `friction`: the crack's Coulomb coefficient, for the samples' open / stick / slip state.
     """
     mesh = crack_mesh.mesh
     nu = crack.normal
@@ -154,6 +162,7 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
         tangential_jump=jt,
         normal_stress=np.einsum("ei,ei->e", traction, nu),
         shear_stress=shear,
+        state=sample_states(jn, jt, friction),
     )
 
 

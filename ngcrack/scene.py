@@ -2,8 +2,8 @@
 
 Domain: a simple polygon Omega (vertices listed counter-clockwise) holding zero or more
 cracks Gamma_c, each a polyline inside Omega whose end points may lie on the boundary.
-PDE (solved elsewhere): 2D linear elasticity, -div sigma = f, with frictionless
-unilateral contact on every crack (README, the introduction).
+PDE (solved elsewhere): 2D linear elasticity, -div sigma = f, with unilateral
+contact on every crack, frictionless or with Coulomb friction (README, the introduction).
 
 A :class:`Scene` is plain, immutable data. It is validated completely when it is built
 (``__post_init__``), before any meshing, so no invalid Scene can exist: every bad field
@@ -433,6 +433,15 @@ def _crack_points(v: Any, fld: str, tol: float | None) -> tuple[Point, ...]:
     return pts
 
 
+def _friction(v: Any, fld: str) -> float:
+    """A Coulomb coefficient: a finite number >= 0."""
+    what = "a finite number >= 0 (the Coulomb friction coefficient; 0: frictionless)"
+    x = _finite(v, fld, what)
+    if x < 0:
+        raise SceneError(f"{fld} = {v!r}: must be {what}")
+    return x
+
+
 @dataclass(frozen=True)
 class Crack:
     """A crack: a polyline of two or more points, from ``points[0]`` to ``points[-1]``.
@@ -440,12 +449,16 @@ class Crack:
     On each segment the unit tangent ``t`` points from the first towards the last point
     and the normal is ``nu = (-t_y, t_x)``; the ``+`` face is the side ``nu`` points
     into, ``[u] = u+ - u-``, and the contact condition is ``[u].nu >= 0``.
+    ``friction`` is the Coulomb coefficient mu >= 0 of the faces (0: frictionless):
+    |sigma_t| <= mu |sigma_n|, with no sliding where the inequality is strict.
     """
 
     points: tuple[tuple[float, float], ...]
+    friction: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", _crack_points(self.points, "crack", None))
+        object.__setattr__(self, "friction", _friction(self.friction, "crack.friction"))
 
     @property
     def segments(self) -> list[tuple[Point, Point]]:
@@ -478,7 +491,10 @@ class Crack:
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        return {"points": [list(p) for p in self.points]}
+        d: dict[str, Any] = {"points": [list(p) for p in self.points]}
+        if self.friction:
+            d["friction"] = self.friction
+        return d
 
 
 # --------------------------------------------------------------------------------------
@@ -620,22 +636,25 @@ class Scene:
         raw = self.cracks
         if isinstance(raw, (str, bytes, Mapping)) or not isinstance(raw, Sequence):
             raise SceneError(f"crack = {_short(raw)}: must be a list of cracks "
-                             f"([[crack]] tables with points = [[x, y], ...])")
+                             f"([[crack]] tables with points = [[x, y], ...] and "
+                             f"optionally friction = mu)")
         cracks = []
         for i, c in enumerate(raw):
             fld = f"crack[{i}]"
             pts_raw = c.points if isinstance(c, Crack) else c
+            mu = c.friction if isinstance(c, Crack) else 0.0
             if isinstance(pts_raw, Mapping):
-                _check_keys(pts_raw, ("points",), fld)
+                _check_keys(pts_raw, ("points", "friction"), fld)
                 if "points" not in pts_raw:
                     raise SceneError(f"{fld}.points: missing; give a polyline "
                                      f"[[x0, y0], [x1, y1], ...]")
+                mu = _friction(pts_raw.get("friction", 0.0), f"{fld}.friction")
                 pts_raw = pts_raw["points"]
             pts = _crack_points(pts_raw, fld, tol)
             self._check_crack_in_domain(pts, fld, tol)
             for j, other in enumerate(cracks):
                 self._check_cracks_disjoint(pts, other.points, i, j, tol)
-            cracks.append(c if isinstance(c, Crack) else Crack(pts))
+            cracks.append(c if isinstance(c, Crack) else Crack(pts, mu))
         set_("cracks", tuple(cracks))
 
         # boundary
@@ -981,9 +1000,19 @@ class Scene:
         ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``)
         and the material's ``E``, ``nu``, ``plane``. ``boundary`` replaces the whole
         mapping (label -> BoundaryCondition or {"type": ..., "value": ...}).
+        ``friction`` sets the Coulomb coefficient of every crack.
         """
         names = [f.name for f in dataclasses.fields(self)]
         mat_keys = ("E", "nu", "plane")
+        if "friction" in changes:
+            mu = _friction(changes.pop("friction"), "friction")
+            cracks = changes.get("cracks", self.cracks)
+            if isinstance(cracks, (str, bytes, Mapping)) or not isinstance(cracks, Sequence):
+                raise SceneError(f"crack = {_short(cracks)}: must be a list of cracks")
+            changes["cracks"] = tuple(
+                dataclasses.replace(c, friction=mu) if isinstance(c, Crack)
+                else {**c, "friction": mu} if isinstance(c, Mapping) else {"points": c, "friction": mu}
+                for c in cracks)
         unknown = [k for k in changes if k not in names and k not in mat_keys]
         if unknown:
             allowed = ", ".join(names + list(mat_keys))

@@ -19,6 +19,8 @@ from . import elements as _elements
 from .contact import (DEFAULT_SOLVER, KKT_KEYS, NATIVE_SOLVERS, QPResult, constraint_positions, discrete_contact_forces,
                       kkt_at_constraints, solve_qp, warm_start_data)
 from .elements import Discretization, Loads
+from .friction import (DEFAULT_FRICTION_METHOD, FrictionResult, check_friction_options, crack_problem,
+                       solve_crack_problem)
 from .geometry import CrackMesh, make_mesh
 from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, reduce_to_contact
 from .schur import SCHUR_METHODS
@@ -69,20 +71,22 @@ class Solution:
 
     `u`, `sigma`, `rotation` are NGSolve CoefficientFunctions (u is P0 per triangle,
     sigma the weakly symmetric 2x2 stress); `gf` is the full GridFunction. `profiles`
-    holds one CrackProfile per crack, `qp` the QP's answer (None without a crack).
+    holds one CrackProfile per crack (with its open / stick / slip `state`), `qp` the QP's
+    answer (None without a crack; a friction.FrictionResult with friction).
 
     `kkt`: the relative residuals of the discrete Signorini conditions where the QP's
     constraints live (edge mid points for P0 jumps, edge end points for P1 jumps, crack
     nodes for h1p1/h1p2), with the constrained values w = G j of the answer and the
     discrete contact forces `forces` computed from the solved system
     (`contact.discrete_contact_forces`, `contact.kkt_at_constraints`): round-off small for
-    crack_model "contact". For "free" and "bonded" they measure the same conditions on
-    that model's answer: max_penetration > 0 where free faces interpenetrate, max_tension
-    > 0 where bonded faces pull on each other. `kkt_sampled`: the same figures from the
-    edge mid-point samples of the crack profiles (a diagnostic: a P1 jump sampled on the
-    edge where contact ends carries both a small opening and a small pressure). No crack:
-    all zero. `timings` in seconds, `ndof` counts (total, global after condensation,
-    contact), `built` lists what was built.
+    crack_model "contact"; under "friction", the discrete Coulomb law's residual at the
+    same points (0 without friction). For "free" and "bonded" they measure the same
+    conditions on that model's answer: max_penetration > 0 where free faces
+    interpenetrate, max_tension > 0 where bonded faces pull on each other. `kkt_sampled`:
+    the same figures from the edge mid-point samples of the crack profiles (a diagnostic:
+    a P1 jump sampled on the edge where contact ends carries both a small opening and a
+    small pressure). No crack: all zero. `timings` in seconds, `ndof` counts (total,
+    global after condensation, contact), `built` lists what was built.
     """
 
     scene: Scene
@@ -262,6 +266,8 @@ def solve(
     schur: str = "auto",
     warm_start=None,
     max_dof: int | None = None,
+    friction_method: str = DEFAULT_FRICTION_METHOD,
+    tangential: bool | None = None,
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
@@ -284,12 +290,20 @@ def solve(
     ngcrack.sizing) is refused with a ValueError. None: the default ceiling
     (sizing.DEFAULT_MAX_DOF) and the machine's available memory. A mesh too coarse across a
     thin part of the body for the element is refused, or warned about (sizing.check_thin_parts).
+
+    Friction (a crack with `friction` > 0, e.g. `scene.with_(friction=0.3)`): the
+    tangential jumps stay in the reduced problem and Coulomb's law is solved by
+    `friction_method` ("fixed-point" of Tresca problems or "newton"; friction.py) with
+    qp_solver "pdas" (native) or a cvxpy solver for the Tresca steps; warm_start is not
+    used. `tangential`: keep the tangential jumps in the reduced problem (None: when a
+    crack has friction; True with no friction solves the frictionless problem that way).
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver, schur)
     if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
+    check_friction_options(scene, qp_solver, friction_method, tangential)
     check_request(scene, element, maxh, tip_h, crack_h, grading, order=order, max_dof=max_dof)
     if loads is None:
         loads = scene_loads(scene)
@@ -306,10 +320,17 @@ def solve(
     t0 = time.perf_counter()
     mat = scene.material
     disc = _elements.build(element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=order)
-    system = condense(disc, loads)
+    mu = [c.friction for c in scene.cracks]
+    if tangential is None:
+        tangential = any(f > 0 for f in mu)
+    tangential = bool(tangential) and crack_model == "contact" and disc.jn is not None
+    system = condense(disc, loads, tangential=tangential)
     timings["assemble"] = time.perf_counter() - t0
 
-    contact = system.contact  # the crack normal jumps' rows, whatever the crack model
+    # the crack normal jumps' rows, whatever the crack model (with friction the tangential
+    # jumps follow them in system.contact)
+    contact = system.contact if system.n_normal is None else system.contact[:system.n_normal]
+    normal_contact = contact
     if crack_model == "free":
         system = system.without_contact()
     case = f"scene {scene.name!r}, element {element!r}"
@@ -336,12 +357,17 @@ def solve(
         jn_space = disc.fes.components[disc.jn]
         G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(jn_space, cmesh, disc.facet_order)
     if m and crack_model == "contact":
-        positions = constraint_positions(disc, cmesh)
-        initial_active, initial_guess = warm_start_data(warm_start, *positions)
-        qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options,
-                      initial_active=initial_active, initial_guess=initial_guess)
-        qp.crack, qp.s = positions
-        jn = qp.j
+        if tangential:
+            qp = solve_crack_problem(crack_problem(red, disc, cmesh, G, mu), solver=qp_solver,
+                                     solver_options=qp_options, method=friction_method)
+            jn = qp.z
+        else:
+            positions = constraint_positions(disc, cmesh)
+            initial_active, initial_guess = warm_start_data(warm_start, *positions)
+            qp = solve_qp(red.S, red.b, G=G, solver=qp_solver, solver_options=qp_options,
+                          initial_active=initial_active, initial_guess=initial_guess)
+            qp.crack, qp.s = positions
+            jn = qp.j
     else:  # no crack, or a bonded crack: jn = 0
         jn = np.zeros(len(system.contact))
     timings["qp"] = time.perf_counter() - t0
@@ -365,12 +391,13 @@ def solve(
         jt_vals = comps[disc.jt].vec.FV().NumPy() if disc.jt is not None else None
         displacement = disc.tangential_jump(gf) if disc.tangential_jump is not None else None
         jump_space = disc.fes.components[disc.jn]
-        for crack in cmesh.cracks:
+        for k, crack in enumerate(cmesh.cracks):
             jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
-                                          displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction))
+                                          displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction,
+                                          friction=mu[k]))
     scales = field_scales(cmesh, fields["u"], fields["sigma"]) if profiles else (0.0, 0.0)
-    kkt, forces = _constraint_kkt(system, y, contact, G, cmesh, profiles, *scales)
+    kkt, forces = _constraint_kkt(system, y, normal_contact, G, cmesh, profiles, *scales)
     if profiles and any(c is not None for c in disc.traction_rows):
         lumped = disc.traction_rows[0] is not None and forces is not None  # nodal contact forces
         tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress",) if lumped else ())
@@ -379,7 +406,9 @@ def solve(
             tractions = [dict(t, normal_stress=n) for t, n in zip(tractions, normal)]
         profiles = [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
     kkt_sampled = kkt_residuals(profiles, *scales)
-    sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__] + [
+    # the discrete Coulomb law at the QP's constraint points (0 without friction)
+    kkt["friction"] = float(qp.kkt["friction"]) if isinstance(qp, FrictionResult) else 0.0
+    sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__ if k != "state"] + [
         np.array(list(kkt.values()) + list(kkt_sampled.values()))]
     if not all(np.all(np.isfinite(a)) for a in sampled):
         raise SolveError(f"{case}: the crack profiles or KKT residuals hold non-finite values")
@@ -389,7 +418,11 @@ def solve(
     timings["contact"] = timings["schur"] + timings["qp"]
     timings["total"] = time.perf_counter() - t_start
     ndof = {"total": disc.fes.ndof, "global": system.n, "contact": m}
-    if qp is not None:
+    if isinstance(qp, FrictionResult):
+        built = list(disc.built) + [f"crack problem with friction: {len(qp.w)} normal and {len(qp.wt)} tangential "
+                                    f"values, solver {qp_solver}, {qp.method}: {qp.coulomb_iterations} iterations, "
+                                    f"{qp.steps} active-set steps"]
+    elif qp is not None:
         built = list(disc.built) + [f"contact QP: {m} unknowns, solver {qp_solver}"]
     elif disc.jn is None:
         built = list(disc.built) + ["no crack: one linear solve, no QP"]
@@ -411,7 +444,8 @@ def solve(
         options={"qp_solver": qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
                  "largest_dense": red.largest_dense,
                  "tip_h": tip_h, "crack_model": crack_model,
-                 "order": order},
+                 "order": order, "friction": [float(f) for f in mu], "friction_method": friction_method,
+                 "tangential": tangential},
         conditioning=conditioning,
         kkt_sampled=kkt_sampled,
         forces=forces,

@@ -3,7 +3,7 @@
     df = sweep(scene, elements=["bdm", "peers"], maxh=[0.2, 0.1, 0.05], nu=[0.49],
                reference_maxh=0.025)
     with_rates(df)            # observed rates between consecutive meshes
-    fitted_rates(df)          # least-squares rates per (scene, element, nu, quantity)
+    fitted_rates(df)          # least-squares rates per (scene, element, nu, friction, quantity)
 
 Error quantities (the paper's Tables 1-4). Let n be the unit normal of the first crack's
 first segment (the crack normal nu of the paper and of the README; (0, 1) for a scene without a crack: the
@@ -23,7 +23,7 @@ fields are evaluated at the quadrature points of the reference mesh (the finer o
 rule exact for degree QUADRATURE_ORDER on each of its triangles), and the integral is
 that quadrature. (A reference quantity that vanishes, below ZERO_FIELD of the largest of
 u1, u2 or of sigma_t1, sigma_nu, is measured relative to that largest instead.)
-The reference is, per (element, nu), the solution at `reference_maxh`:
+The reference is, per (element, nu, friction), the solution at `reference_maxh`:
 by default the finest maxh of the sweep (its row is marked `reference` and its errors
 are empty), or a separate finer run when `reference_maxh` is given (the paper's method:
 every listed mesh has an error against a finer one that is not listed).
@@ -72,7 +72,7 @@ process (dask threads) share one peak: again an upper bound.
 Output. `sweep(..., out="results.csv")` appends one CSV line per finished run (one
 `write` of a complete line, then fsync), so an interruption loses at most the runs in
 progress; running the same sweep again skips the rows already present (keyed by scene,
-element, maxh, nu) and drops a trailing partial line. Reference samples are cached next
+element, maxh, nu, friction) and drops a trailing partial line. Reference samples are cached next
 to the CSV (`results.csv.refs/`, npz files) so a resumed sweep need not recompute them;
 a missing or unreadable cache file is recomputed.
 """
@@ -110,7 +110,7 @@ QUADRATURE_ORDER = 4
 #: (u1, u2 or sigma_t1, sigma_nu) counts as zero: its error is then relative to that largest
 ZERO_FIELD = 1e-8
 #: columns that identify a row (resume key)
-KEY = ("scene", "element", "maxh", "nu")
+KEY = ("scene", "element", "maxh", "nu", "friction")
 #: significant digits used to compare maxh and nu when matching rows
 KEY_DIGITS = 12
 #: solve options that shape the mesh or the element (what ngcrack.sizing's checks read)
@@ -122,6 +122,7 @@ ROW_SCHEMA: dict[str, type] = {
     "element": str,
     "maxh": float,                # requested global mesh size
     "nu": float,                  # Poisson's ratio
+    "friction": float,            # Coulomb coefficient of the cracks (the largest, if they differ)
     "E": float,
     "h": float,                   # the mesh's largest edge length
     "n_elements": int,
@@ -141,8 +142,10 @@ ROW_SCHEMA: dict[str, type] = {
     "kkt_max_penetration": float,
     "kkt_max_tension": float,
     "kkt_complementarity": float,
+    "kkt_friction": float,        # the discrete Coulomb law's residual (0 without friction)
     "max_opening": float,         # max [u].nu over the crack samples
     "max_slip": float,            # max |[u].t|
+    "n_stick": int,               # crack samples that stick (friction only)
     "min_normal_stress": float,   # most compressive sigma_n on the crack
     "reference": bool,            # this row is the reference of its group
     "reference_element": str,
@@ -470,6 +473,7 @@ class Case:
     is_reference: bool = False    # this run's row is its group's reference row
     row: bool = True              # return a row (False: a separate reference run)
     setup: dict = field(default_factory=dict)
+    friction: float | None = None  # None: the scene's own coefficients
 
     @property
     def cost(self) -> float:
@@ -478,7 +482,8 @@ class Case:
 
     def describe(self) -> str:
         what = "reference " if not self.row else ""
-        return f"{what}run scene={self.scene.name!r} element={self.element!r} maxh={self.maxh:g} nu={self.nu:g}"
+        mu = "" if self.friction is None else f" friction={self.friction:g}"
+        return f"{what}run scene={self.scene.name!r} element={self.element!r} maxh={self.maxh:g} nu={self.nu:g}{mu}"
 
 
 def _mesh_stats(sol) -> tuple[float, int]:
@@ -497,7 +502,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     _release_memory()
     _reset_peak_memory()
     mem_start, _ = _memory_mb()
-    scene = case.scene.with_(nu=case.nu)
+    scene = case.scene.with_(nu=case.nu) if case.friction is None else case.scene.with_(nu=case.nu, friction=case.friction)
     sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
     _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
     t0 = time.perf_counter()
@@ -515,6 +520,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
         t = sol.timings
         row = {
             "scene": scene.name, "element": case.element, "maxh": float(case.maxh), "nu": float(case.nu),
+            "friction": scene_friction(scene),
             "E": float(scene.material.E), "h": h, "n_elements": ne,
             "ndof_total": int(sol.ndof["total"]), "ndof_global": int(sol.ndof["global"]),
             "ndof_contact": int(sol.ndof["contact"]),
@@ -524,9 +530,10 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
             "time_tips": t.get("tips", 0.0),
             "memory_peak_mb": mem_peak, "memory_start_mb": mem_start,
             "kkt_max_penetration": sol.kkt["max_penetration"], "kkt_max_tension": sol.kkt["max_tension"],
-            "kkt_complementarity": sol.kkt["complementarity"],
+            "kkt_complementarity": sol.kkt["complementarity"], "kkt_friction": sol.kkt.get("friction", 0.0),
             "max_opening": max((float(p.normal_jump.max()) for p in prof), default=math.nan),
             "max_slip": max((float(np.abs(p.tangential_jump).max()) for p in prof), default=math.nan),
+            "n_stick": int(sum(np.count_nonzero(p.state == "stick") for p in prof)),
             "min_normal_stress": min((float(p.normal_stress.min()) for p in prof), default=math.nan),
             "reference": bool(case.is_reference), "reference_ndof": -1,
             **case.setup,
@@ -542,8 +549,14 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
 
 
 # ---------------------------------------------------------------------- CSV file
-def _key(scene: str, element: str, maxh: float, nu: float) -> tuple:
-    return (str(scene), str(element), float(f"{float(maxh):.{KEY_DIGITS}g}"), float(f"{float(nu):.{KEY_DIGITS}g}"))
+def _key(scene: str, element: str, maxh: float, nu: float, friction: float = 0.0) -> tuple:
+    return (str(scene), str(element), float(f"{float(maxh):.{KEY_DIGITS}g}"), float(f"{float(nu):.{KEY_DIGITS}g}"),
+            float(f"{float(friction):.{KEY_DIGITS}g}"))
+
+
+def scene_friction(scene) -> float:
+    """The scene's Coulomb coefficient for the `friction` column: its cracks' largest (0 without a crack)."""
+    return max((float(c.friction) for c in scene.cracks), default=0.0)
 
 
 def _format(value) -> str:
@@ -777,6 +790,7 @@ def sweep(
     maxh: Iterable[float] | float = (0.2, 0.1, 0.05),
     nu: Iterable[float] | float | None = None,
     *,
+    friction: Iterable[float] | float | None = None,
     reference_maxh: float | None = None,
     reference_element: str | None = None,
     out=None,
@@ -786,11 +800,12 @@ def sweep(
     solve_options: dict | None = None,
     max_dof: int | None = None,
 ):
-    """Run every (element, maxh, nu) of `scene`; one row per run as a pandas DataFrame.
+    """Run every (element, maxh, nu, friction) of `scene`; one row per run as a pandas DataFrame.
 
     scene: a Scene, a built-in scene name or a TOML path. elements: element families
     (default: bdm alone, as in `solve`). nu: Poisson ratios (default:
-    the scene's). reference_maxh: the reference mesh size (default: the finest maxh,
+    the scene's). friction: Coulomb coefficients, each set on every crack (default: the
+    scene's own; the `friction` column holds the cracks' largest). reference_maxh: the reference mesh size (default: the finest maxh,
     whose row is then the reference); reference_element: measure every element against
     this one's reference (default: each against its own). out: a CSV path, written row
     by row and resumed (see the module docstring). jobs: worker processes (spawned: a
@@ -811,7 +826,7 @@ def sweep(
         scene = resolve(scene)
     if max_dof is not None:
         solve_options = {**(solve_options or {}), "max_dof": max_dof}
-    grid = _Grid.checked(scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options)
+    grid = _Grid.checked(scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options, friction)
     grid.check_sizes()
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
@@ -822,7 +837,7 @@ def sweep(
         done: dict[tuple, dict] = {}
         if results is not None and results.existing is not None:
             for rec in results.existing.to_dict("records"):
-                done.setdefault(_key(rec["scene"], rec["element"], rec["maxh"], rec["nu"]), rec)
+                done.setdefault(_key(rec["scene"], rec["element"], rec["maxh"], rec["nu"], rec["friction"]), rec)
         grid.check_setup(done, out)
         plan = _Plan(grid, done, Path(str(out) + ".refs") if out is not None else None)
         if progress and plan.n_runs:
@@ -849,7 +864,8 @@ def sweep(
     rows = [done[k] for k in grid.keys() if k in done]
     df = typed(pd.DataFrame(rows + new_rows, columns=list(columns)))
     order = {el: i for i, el in enumerate(grid.elements)}
-    df = df.assign(_o=df["element"].map(order)).sort_values(["_o", "nu", "maxh"], ascending=[True, True, False])
+    df = df.assign(_o=df["element"].map(order)).sort_values(["_o", "nu", "friction", "maxh"],
+                                                                ascending=[True, True, True, False])
     return with_rates(df.drop(columns="_o").reset_index(drop=True))
 
 
@@ -861,6 +877,7 @@ class _Grid:
     elements: list[str]
     sizes: list[float]       # decreasing
     nus: list[float]
+    frictions: list[float | None]  # [None]: the scene's own coefficients
     ref_h: float
     separate: bool           # the reference is a run of its own, not the finest row
     reference_element: str | None
@@ -868,7 +885,8 @@ class _Grid:
     setup: dict              # the _SETUP_COLUMNS values of every row
 
     @classmethod
-    def checked(cls, scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options) -> _Grid:
+    def checked(cls, scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options,
+                friction=None) -> _Grid:
         from . import elements as _elements
 
         elements = _as_list(elements, "elements")
@@ -879,6 +897,12 @@ class _Grid:
         nus = [float(v) for v in _as_list(nu, "nu")] if nu is not None else [float(scene.material.nu)]
         for v in nus:
             scene.with_(nu=v)  # validates (a SceneError names the field)
+        frictions: list = [None]
+        if friction is not None:
+            values = _as_list(friction, "friction")
+            for f in values:
+                scene.with_(friction=f)  # validates (a SceneError names the field)
+            frictions = list(dict.fromkeys(float(f) for f in values))
         if reference_maxh is not None:
             (reference_maxh,) = _check_sizes([reference_maxh], "reference_maxh")
             if reference_maxh > sizes[-1] * (1 + 1e-12):
@@ -895,6 +919,7 @@ class _Grid:
                  "crack_model": solve_options.get("crack_model", defaults["crack_model"]),
                  "qp_solver": solve_options.get("qp_solver", defaults["qp_solver"])}
         return cls(scene=scene, elements=list(dict.fromkeys(elements)), sizes=sizes, nus=list(dict.fromkeys(nus)),
+                   frictions=frictions,
                    ref_h=ref_h, separate=not _same(ref_h, sizes[-1]), reference_element=reference_element,
                    solve_options=solve_options, setup=setup)
 
@@ -910,11 +935,15 @@ class _Grid:
             for el, h in sorted(runs):
                 check_request(self.scene, el, h, what=f"sweep of {self.scene.name!r}, element {el!r}", **opts)
 
-    def cases(self) -> list[tuple[str, float, float]]:
-        return [(el, h, v) for el, v, h in itertools.product(self.elements, self.nus, self.sizes)]
+    def cases(self) -> list[tuple[str, float, tuple]]:
+        """(element, maxh, (nu, friction)) of every run; friction None: the scene's own."""
+        return [(el, h, (v, f)) for el, v, f, h in itertools.product(self.elements, self.nus, self.frictions, self.sizes)]
+
+    def friction_value(self, f: float | None) -> float:
+        return scene_friction(self.scene) if f is None else float(f)
 
     def keys(self) -> list[tuple]:
-        return [_key(self.scene.name, el, h, v) for el, h, v in self.cases()]
+        return [_key(self.scene.name, el, h, v, self.friction_value(f)) for el, h, (v, f) in self.cases()]
 
     def ref_element(self, element: str) -> str:
         return self.reference_element or element
@@ -931,14 +960,17 @@ class _Grid:
                 same = math.isclose(have, want, rel_tol=1e-9) if isinstance(want, float) else str(have) == str(want)
                 if not same:
                     raise ValueError(f"out = {str(out)!r} holds a row for element={key[1]!r} maxh={key[2]:g} "
-                                     f"nu={key[3]:g} computed with {col} = {have!r}, this sweep asks for {want!r}: "
+                                     f"nu={key[3]:g} friction={key[4]:g} computed with {col} = {have!r}, this sweep asks for {want!r}: "
                                      f"write to another file")
 
-    def ref_file(self, ref_dir: Path, element: str, nu: float) -> Path:
-        return ref_dir / f"{self.scene.name}-{element}-nu{nu:.{KEY_DIGITS}g}-h{self.ref_h:.{KEY_DIGITS}g}.npz"
+    def ref_file(self, ref_dir: Path, element: str, variant: tuple) -> Path:
+        nu, f = variant
+        mu = "" if f is None else f"-mu{float(f):.{KEY_DIGITS}g}"
+        return ref_dir / f"{self.scene.name}-{element}-nu{nu:.{KEY_DIGITS}g}{mu}-h{self.ref_h:.{KEY_DIGITS}g}.npz"
 
-    def case(self, element: str, h: float, nu: float, **kw) -> Case:
-        return Case(self.scene, element, h, nu, self.solve_options, setup=dict(self.setup), **kw)
+    def case(self, element: str, h: float, variant: tuple, **kw) -> Case:
+        nu, f = variant
+        return Case(self.scene, element, h, nu, self.solve_options, setup=dict(self.setup), friction=f, **kw)
 
 
 def _same(a: float, b: float) -> bool:
@@ -950,8 +982,9 @@ class _Plan:
 
     def __init__(self, grid: _Grid, done: dict, ref_dir: Path | None) -> None:
         self.grid, self.ref_dir = grid, ref_dir
-        todo = [(el, h, v) for el, h, v in grid.cases() if _key(grid.scene.name, el, h, v) not in done]
-        needed = sorted({(grid.ref_element(el), v) for el, h, v in todo})
+        todo = [(el, h, v) for el, h, v in grid.cases()
+                if _key(grid.scene.name, el, h, v[0], grid.friction_value(v[1])) not in done]
+        needed = sorted({(grid.ref_element(el), v) for el, h, v in todo}, key=lambda k: (k[0], k[1][0], grid.friction_value(k[1][1])))
         self.refs: dict[tuple, Reference] = {}
         self.ref_cases: list[Case] = []
         for rel, v in needed:
@@ -962,7 +995,7 @@ class _Plan:
             row_too = (rel, grid.ref_h, v) in todo and grid.is_reference_row(rel, grid.ref_h)
             self.ref_cases.append(grid.case(rel, grid.ref_h, v, make_reference=True, is_reference=row_too,
                                             row=row_too))
-        written_by_ref = {(c.element, c.nu) for c in self.ref_cases if c.row}
+        written_by_ref = {(c.element, (c.nu, c.friction)) for c in self.ref_cases if c.row}
         self.pending: dict[tuple, list[Case]] = {key: [] for key in needed}
         for el, h, v in todo:
             if (el, v) in written_by_ref and grid.is_reference_row(el, h):
@@ -972,10 +1005,11 @@ class _Plan:
         self.n_runs = len(all_cases)
         self.total_cost = sum(c.cost for c in all_cases)
 
-    def _cached(self, element: str, nu: float) -> Reference | None:
+    def _cached(self, element: str, variant: tuple) -> Reference | None:
         if self.ref_dir is None:
             return None
-        path = self.grid.ref_file(self.ref_dir, element, nu)
+        nu = variant[0]
+        path = self.grid.ref_file(self.ref_dir, element, variant)
         if not path.exists():
             return None
         try:
@@ -1007,7 +1041,7 @@ class _Plan:
             while ready and len(running) < executor.capacity:
                 c = ready.pop(0)
                 if isinstance(executor, _Dask) and c.reference is not None:
-                    rk = (c.reference.element, c.reference.nu)
+                    rk = id(c.reference)
                     if rk not in scattered:
                         scattered[rk] = executor.prepare(c.reference)
                     running[executor.submit(_run_with_reference, _without_reference(c), scattered[rk])] = c
@@ -1021,11 +1055,12 @@ class _Plan:
                 except Exception as exc:
                     raise SweepError(f"{c.describe()} failed: {type(exc).__name__}: {exc}") from exc
                 if ref is not None:
-                    self.refs[(c.element, c.nu)] = ref
+                    variant = (c.nu, c.friction)
+                    self.refs[(c.element, variant)] = ref
                     if self.ref_dir is not None:
                         self.ref_dir.mkdir(exist_ok=True)
-                        ref.save(self.grid.ref_file(self.ref_dir, c.element, c.nu))
-                    self._release((c.element, c.nu), ready)
+                        ref.save(self.grid.ref_file(self.ref_dir, c.element, variant))
+                    self._release((c.element, variant), ready)
                 if row is not None:
                     if results is not None:
                         results.append(row)
@@ -1052,7 +1087,7 @@ def _run_with_reference(case: Case, reference: Reference):
 
 # -------------------------------------------------------------------------- rates
 def _groups(df):
-    cols = [c for c in ("scene", "element", "nu") if c in df.columns]
+    cols = [c for c in ("scene", "element", "nu", "friction") if c in df.columns]
     return df.groupby(cols, sort=False, dropna=False)
 
 
@@ -1094,7 +1129,8 @@ def fitted_rates(df, quantities: Sequence[str] = RATE_QUANTITIES):
 
     out = []
     for keys, g in _groups(df):
-        keys = dict(zip(["scene", "element", "nu"], keys if isinstance(keys, tuple) else (keys,)))
+        keys = dict(zip([c for c in ("scene", "element", "nu", "friction") if c in g.columns],
+                        keys if isinstance(keys, tuple) else (keys,)))
         for q in quantities:
             col = f"err_{q}"
             if col not in g:
@@ -1108,7 +1144,7 @@ def fitted_rates(df, quantities: Sequence[str] = RATE_QUANTITIES):
             out.append({**keys, "quantity": q, "rate_h": float(np.polyfit(np.log(h), le, 1)[0]),
                         "rate_dof": float(-np.polyfit(np.log(n), le, 1)[0]), "points": int(ok.sum()),
                         "h_min": float(h.min()), "ndof_max": int(n.max())})
-    return pd.DataFrame(out, columns=["scene", "element", "nu", "quantity", "rate_h", "rate_dof", "points",
+    return pd.DataFrame(out, columns=["scene", "element", "nu", "friction", "quantity", "rate_h", "rate_dof", "points",
                                       "h_min", "ndof_max"])
 
 

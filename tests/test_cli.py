@@ -74,7 +74,7 @@ def test_solve_json_has_exactly_the_contract_keys(tmp_path, capsys):
     assert max(d["kkt"].values()) <= 1e-10
     assert len(d["cracks"]) == 1
     crack = d["cracks"][0]
-    assert set(crack) == {"s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress"}
+    assert set(crack) == {"s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress", "state"}
     assert len({len(v) for v in crack.values()}) == 1 and len(crack["s"]) == d["ndof"]["contact"] // 2
     assert (d["scene"], d["element"], d["maxh"], d["nu"], d["E"]) == ("paper-2", "bdm", 0.3, 0.49, 206900.0)
     assert isinstance(d["ndof"]["total"], int) and d["time_s"]["total"] > 0
@@ -86,6 +86,7 @@ SWEEP_BAD = [
     (["sweep", "paper-2", "--element", "xyz", "--maxh", "0.4"], "--element = 'xyz'"),
     (["sweep", "nope", "--element", "bdm", "--maxh", "0.4"], "scene = 'nope'"),
     (["sweep", "paper-2", "--element", "bdm", "--maxh", "0.4", "--nu", "0.7"], "nu"),
+    (["sweep", "paper-2", "--element", "bdm", "--maxh", "0.4", "--friction", "0.2", "-1"], "friction"),
     (["sweep", "paper-2", "--element", "bdm", "--maxh", "0"], "--maxh"),
     (["sweep", "paper-2", "--element", "bdm", "--maxh", "0.4", "--jobs", "0"], "--jobs"),
     (["sweep", "paper-2", "--element", "bdm", "--maxh", "0.4", "--jobs", "2", "--dask", "tcp://x:1"], "--dask"),

@@ -28,6 +28,7 @@ NOTEBOOKS = [
     ("06-stability.py", "Scaling laws hold to", False),
     ("07-fracture.py", "Compression with contact: |K_I| <=", False),
     ("09-explore.py", "Unilateral contact: closed over", False),
+    ("08-friction.py", "Friction: the inclined crack slips below", False),
 ]
 
 

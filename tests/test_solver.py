@@ -586,7 +586,8 @@ def test_json_contract(element):
     assert d["kkt"] == sol.kkt and d["kkt_sampled"] == sol.kkt_sampled
     assert len(d["cracks"]) == len(scene.cracks) == 1
     c = d["cracks"][0]
-    assert set(c) == set(CRACK_KEYS)
+    assert set(c) == set(CRACK_KEYS) | {"state"}
+    assert len(c["state"]) == len(c["s"]) and set(c["state"]) <= {"open", "stick", "slip"}
     n = len(c["s"])
     assert n > 0 and all(len(c[k]) == n for k in CRACK_KEYS)
     assert all(isinstance(v, float) and math.isfinite(v) for k in CRACK_KEYS for v in c[k])

@@ -88,7 +88,9 @@ class Discretization:
     shear): the compound components whose equations carry the crack's normal and
     tangential conditions, where the crack-face traction is to be taken from their
     residual (the variationally consistent traction, `post.consistent_tractions`)
-    rather than sampled from sigma (None: sample sigma nu).
+    rather than sampled from sigma (None: sample sigma nu). `tangential`, where jt is
+    None, names the component whose crack dofs carry [u].t (the reduced problem with
+    friction keeps them; `tangential_jump` evaluates them).
     """
 
     element: str
@@ -112,6 +114,7 @@ class Discretization:
     two_sided_traction: bool = False
     fixed_dofs: tuple[int, ...] = ()
     traction_rows: tuple[int | None, int | None] = (None, None)
+    tangential: int | None = None
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:

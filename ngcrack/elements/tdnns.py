@@ -182,4 +182,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         definite=not split,
         tangential_jump=(lambda gf: gf.components[idx_ue]) if has_crack else None,
         traction_rows=(None, idx_ue) if has_crack else (None, None),
+        tangential=idx_ue,
     )
