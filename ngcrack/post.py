@@ -281,6 +281,23 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) 
     return out
 
 
+def component_forces(system, y: np.ndarray, comp: int, G) -> np.ndarray:
+    """The nodal forces G^{-T} (K y - F)_c on the rows of compound component `comp`.
+
+    For a jump component with nodal constraint points (the baselines), these are the
+    forces that the crack faces exert at those points, in the direction the component
+    carries (as `contact.discrete_contact_forces` for the normal one).
+    """
+    from .contact import _inverse_map
+
+    rng = system.disc.fes.Range(comp)
+    dofs, rows = _component_rows(system, comp)
+    res = np.zeros(rng.stop - rng.start)
+    res[dofs] = np.asarray(system.K[rows] @ y - system.F[rows]).ravel()
+    Ginv = _inverse_map(G, len(res))
+    return res if Ginv is None else np.asarray(Ginv.T @ res).ravel()
+
+
 def lumped_normal_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndarray,
                            forces: np.ndarray) -> list[np.ndarray]:
     """The crack-face normal stress at the edge mid points from the discrete contact forces.
@@ -291,7 +308,10 @@ def lumped_normal_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np
     G: w = G^{-T} m, m_d = int phi_d ds of the jump basis), so sigma_n,i = -lam_i / w_i:
     never tensile where lam >= 0 (the consistent mass-matrix traction oscillates in sign
     next to a concentrated force). At a mid point: the edge's own mid-point value (P2),
-    else the mean of the end points that carry a constraint (a tip has none).
+    else the mean of the end points that carry a constraint (a tip has none). The same
+    lumping of the tangential forces (`component_forces`) gives the shear: a uniform
+    traction is reproduced exactly, also next to the tips, where the consistent
+    mass-matrix traction (no unknown at the tip) is off by up to 40%.
     """
     m = facet_moments(jump_space, crack_mesh, 0)[:, 0]
     w = np.linalg.solve(np.asarray(G, dtype=float).T, m)

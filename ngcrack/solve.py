@@ -26,7 +26,7 @@ from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, 
 from .schur import SCHUR_METHODS
 from .materials import compliance
 from .post import (CrackProfile, consistent_tractions, crack_profile, endpoint_map, field_scales, kkt_residuals,
-                   lumped_normal_traction)
+                   component_forces, lumped_normal_traction)
 from .scene import Scene
 from .sizing import check_request
 from .tips import tip_parameters
@@ -400,10 +400,12 @@ def solve(
     kkt, forces = _constraint_kkt(system, y, normal_contact, G, cmesh, profiles, *scales)
     if profiles and any(c is not None for c in disc.traction_rows):
         lumped = disc.traction_rows[0] is not None and forces is not None  # nodal contact forces
-        tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress",) if lumped else ())
+        tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress", "shear_stress") if lumped else ())
         if lumped:
-            normal = lumped_normal_traction(disc.fes.components[disc.jn], cmesh, G, forces)
-            tractions = [dict(t, normal_stress=n) for t, n in zip(tractions, normal)]
+            space = disc.fes.components[disc.jn]
+            normal = lumped_normal_traction(space, cmesh, G, forces)
+            shear = lumped_normal_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G))
+            tractions = [dict(t, normal_stress=n, shear_stress=q) for t, n, q in zip(tractions, normal, shear)]
         profiles = [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
     kkt_sampled = kkt_residuals(profiles, *scales)
     # the discrete Coulomb law at the QP's constraint points (0 without friction)
