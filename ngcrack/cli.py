@@ -3,7 +3,8 @@
     ngcrack scenes
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--tip-h H] [--crack-h H]
-                        [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png]
+                        [--qp-solver S] [--crack-model M] [--adapt TOL [--max-dof N]]
+                        [--json OUT] [--plot OUT.png]
     ngcrack sweep SCENE --element E [E ...] --maxh H [H ...] [--nu NU ...] --out results.csv
                         [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
@@ -90,7 +91,8 @@ def cmd_solve(args) -> int:
         scene = scene.with_(**changes)
     from .solve import solve
 
-    options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order)) if v is not None}
+    options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order),
+                                 ("adapt", args.adapt), ("max_dof", args.max_dof)) if v is not None}
     sol = solve(scene, element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
                 crack_model=args.crack_model, **options)
     result = sol.to_json_dict()
@@ -109,6 +111,14 @@ def cmd_solve(args) -> int:
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
     print(f"KKT: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
           f"complementarity {k['complementarity']:.1e}")
+    if sol.error_estimate is not None:
+        est = sol.error_estimate
+        print(f"error estimate ({est.method}{'' if est.guaranteed else ', not a guaranteed bound'}): "
+              f"energy norm {est.energy:.3e}, relative {est.relative:.2%}")
+    if sol.adapt_history is not None:
+        steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
+        reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"
+        print(f"adapt to {args.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
     for path in (json_path, plot_path):
         if path is not None:
             print(f"wrote {path}")
@@ -225,6 +235,13 @@ def _positive(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
 
 
+def _integer(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="ngcrack", description="Cracked elastic bodies with unilateral crack contact (NGSolve).")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -241,6 +258,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--qp-solver", dest="qp_solver", help="pdas (default), uzawa, clarabel, osqp, scs, ...")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
+    p.add_argument("--adapt", type=_positive, metavar="TOL",
+                   help="refine adaptively until the relative error estimate is <= TOL, in (0, 1)")
+    p.add_argument("--max-dof", dest="max_dof", type=_integer, metavar="N",
+                   help="the budget of unknowns of --adapt (default 200000)")
     p.add_argument("--json", help="write the result (DESIGN.md's contract) to this file")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
     p.set_defaults(func=cmd_solve)

@@ -83,6 +83,10 @@ class Solution:
     built: list[str]
     options: dict = field(default_factory=dict)
     conditioning: dict = field(default_factory=dict)
+    #: the a posteriori estimate of the stress error (estimate.py), None where none exists
+    error_estimate: object = None
+    #: with adapt=TOL: one row per refinement step (adapt.py), a pandas DataFrame
+    adapt_history: object = None
 
     @property
     def mesh(self) -> ngs.Mesh:
@@ -121,6 +125,9 @@ class Solution:
             "time_s": {k: float(t[k]) for k in ("total", "mesh", "assemble", "linear", "contact")},
             "kkt": {k: float(self.kkt[k]) for k in ("max_penetration", "max_tension", "complementarity")},
             "cracks": [p.to_dict() for p in self.profiles],
+            **({"error_estimate": self.error_estimate.to_dict()} if self.error_estimate is not None else {}),
+            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate)} for r in self.adapt_history.itertuples()]}
+               if self.adapt_history is not None else {}),
         }
 
 
@@ -239,6 +246,9 @@ def solve(
     condition: bool = False,
     schur: str = "auto",
     warm_start=None,
+    adapt: float | None = None,
+    max_dof: int | None = None,
+    crack_mesh: CrackMesh | None = None,
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
@@ -255,8 +265,23 @@ def solve(
     order of elements that have one (tdnns: 1, 2 or 3; default 1). condition: also
     estimate the 1-norm condition numbers of the condensed matrix K_rr and of the crack
     Schur complement S (a few extra solves), in `sol.conditioning`.
+    adapt: a relative error tolerance in (0, 1): solve, estimate, mark and refine until
+    the relative estimate is <= adapt or the next mesh would exceed max_dof unknowns
+    (adapt.py; the mesh options give the first mesh). crack_mesh: solve on this mesh
+    (a CrackMesh of the scene) instead of meshing. Every solve carries
+    `sol.error_estimate` (estimate.py), None for an element or crack model without one.
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver, schur)
+    if adapt is not None or max_dof is not None:
+        from .adapt import check_adapt_options, solve_adaptive
+
+        check_adapt_options(0.5 if adapt is None else adapt, max_dof, element if adapt is not None else "bdm",
+                            crack_model if adapt is not None else "contact", scene if adapt is not None else None)
+    if adapt is not None:
+        return solve_adaptive(scene, element, adapt, max_dof=max_dof, maxh=maxh, tip_h=tip_h, crack_h=crack_h,
+                              grading=grading, qp_solver=qp_solver, qp_options=qp_options,
+                              linear_solver=linear_solver, loads=loads, crack_model=crack_model, order=order,
+                              condition=condition, schur=schur)
     if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
@@ -270,7 +295,7 @@ def solve(
     timings: dict[str, float] = {}
 
     t0 = time.perf_counter()
-    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h, grading=grading)
+    cmesh = crack_mesh if crack_mesh is not None else make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h, grading=grading)
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -352,7 +377,7 @@ def solve(
         built = list(disc.built) + ["no crack: one linear solve, no QP"]
     else:
         built = list(disc.built) + [f"crack model {crack_model!r}: one linear solve, no QP"]
-    return Solution(
+    sol = Solution(
         scene=scene,
         element=element,
         crack_mesh=cmesh,
@@ -371,3 +396,19 @@ def solve(
                  "order": order},
         conditioning=conditioning,
     )
+    sol.error_estimate = _estimate(sol, loads, crack_model)
+    return sol
+
+
+def _estimate(sol: Solution, loads: Loads, crack_model: str):
+    """The solve's error estimate (estimate.py), or None where none exists (with the reason
+    in sol.options["error_estimate"])."""
+    from .estimate import estimate
+
+    try:
+        est = estimate(sol, loads, crack_model)
+    except ValueError as exc:
+        sol.options["error_estimate"] = str(exc)
+        return None
+    sol.timings["estimate"] = est.time
+    return est
