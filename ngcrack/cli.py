@@ -167,10 +167,19 @@ def cmd_sweep(args) -> int:
     from .study import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
+    adaptive = {}
+    if args.adapt is not None:  # tolerances instead of mesh sizes; --maxh (one value) is the first mesh
+        if args.maxh is not None and len(args.maxh) != 1:
+            raise UsageError("--maxh: with --adapt give one value, the first mesh's size")
+        adaptive = {"adapt": args.adapt, "adapt_maxh": args.maxh[0] if args.maxh else None}
+        if args.max_dof is not None:
+            solve_options["max_dof"] = args.max_dof
+    elif args.maxh is None:
+        raise UsageError("--maxh: give the mesh sizes (or --adapt with tolerances)")
     df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, reference_maxh=args.reference_maxh,
-               reference_element=args.reference_element, out=out, solve_options=solve_options, **opts)
+               reference_element=args.reference_element, out=out, solve_options=solve_options, **opts, **adaptive)
     after = len(open(out).read().splitlines()) - 1
-    cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["time_total"]
+    cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["estimate", "time_total"]
     if df["err_opening"].notna().any():
         cols.insert(-1, "err_opening")
     with _pandas_display():
@@ -274,7 +283,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="solve every (element, maxh, nu); errors, rates, timings; CSV row by row")
     p.add_argument("scene", help="built-in scene name or TOML file")
     p.add_argument("--element", nargs="+", required=True, help="element families (see `solve --element`)")
-    p.add_argument("--maxh", nargs="+", type=_positive, required=True, help="global mesh sizes")
+    p.add_argument("--maxh", nargs="+", type=_positive, help="global mesh sizes (with --adapt: the first mesh's)")
+    p.add_argument("--adapt", nargs="+", type=_positive, metavar="TOL",
+                   help="adaptive runs to these relative error estimates, in (0, 1), instead of mesh sizes")
+    p.add_argument("--max-dof", dest="max_dof", type=_integer, metavar="N", help="the budget of unknowns of --adapt")
     p.add_argument("--nu", nargs="+", type=_positive, help="Poisson ratios (default: the scene's)")
     p.add_argument("--out", required=True, help="CSV file; rerunning skips the rows already in it")
     p.add_argument("--reference-maxh", dest="reference_maxh", type=_positive,
