@@ -326,24 +326,34 @@ def _sample_local(cf, cmesh: CrackMesh, top: _Topology, degree: int, ncomp: int)
 # ------------------------------------------------------------ boundary and crack data
 
 def _apply_boundary(W: np.ndarray, cmesh: CrackMesh, top: _Topology, loads, degree: int) -> None:
-    """Dirichlet nodes take the data, roller nodes lose their normal component."""
+    """Dirichlet nodes take the data, roller nodes lose their normal component.
+
+    Only the node copies of the boundary edge's own triangle are set: where a crack
+    meets the boundary, the other face's copy belongs to the next boundary piece (the
+    paper-1 crack ends between a clamped and a free edge)."""
     mesh = cmesh.mesh
-    nv, ned = len(top.P), mesh.nedge
     dirichlet = set(loads.dirichlet_labels)
     roller = set(loads.roller)
     if not dirichlet and not roller:
         return
+    ne = len(top.T)
+    owner = np.full(mesh.nedge, -1)
+    slot = np.full(mesh.nedge, -1)
+    owner[top.opp_edge.ravel()] = np.repeat(np.arange(ne), 3)
+    slot[top.opp_edge.ravel()] = np.tile(np.arange(3), ne)
     for el in mesh.Elements(ngs.BND):
         lab = el.mat
         if lab not in dirichlet and lab not in roller:
             continue
         vs = [v.nr for v in el.vertices]
         e = el.edges[0].nr
-        ids = [vs[0], vs[0] + nv, vs[1], vs[1] + nv]
-        pts = [top.P[vs[0]]] * 2 + [top.P[vs[1]]] * 2
+        T, k = owner[e], slot[e]
+        local = [int(np.flatnonzero(top.T[T] == v)[0]) for v in vs]
+        ids = [top.vertex_node[T, i] for i in local]
+        pts = [top.P[v] for v in vs]
         if degree == 2:
-            ids += [2 * nv + e, 2 * nv + e + ned]
-            pts += [0.5 * (top.P[vs[0]] + top.P[vs[1]])] * 2
+            ids.append(top.edge_node[T, k])
+            pts.append(0.5 * (top.P[vs[0]] + top.P[vs[1]]))
         if lab in dirichlet:
             g = loads.displacement.get(lab)
             for i, x in zip(ids, pts):

@@ -26,6 +26,7 @@ NOTEBOOKS = [
     ("04-error-vs-runtime.py", "the fastest solve is", False),
     ("05-contact-teaching.py", "Compression: the crack closes", False),
     ("06-stability.py", "Scaling laws hold to", False),
+    ("10-adaptivity.py", "Adaptive bdm: sliding error", False),
 ]
 
 
