@@ -28,7 +28,7 @@ from ngcrack.solve import solve
 X, Y = ngs.x, ngs.y
 LABELS = ("b", "r", "t", "l")
 #: effectivity bands on the manufactured solution (measured at maxh 0.1 / 0.05:
-#: peers 1.89 / 1.91, bdm 1.10 / 1.11, h1p1 1.42 / 1.49, h1p2 0.62 / 0.55: the P2 ZZ
+#: peers 1.89 / 1.91, bdm 1.10 / 1.11, h1p1 1.01 / 1.01, h1p2 0.62 / 0.55: the P2 ZZ
 #: recovery of h1p2 underestimates and drifts, it is no bound)
 EFFECTIVITY = {"peers": (1.0, 3.0), "bdm": (1.0, 3.0), "h1p1": (0.8, 2.0), "h1p2": (0.4, 1.6)}
 
