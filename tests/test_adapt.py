@@ -122,3 +122,17 @@ def test_cli_adapt(tmp_path, capsys):
     assert "adapt" in capsys.readouterr().err and not bad.exists()
     assert main(["solve", "griffith", "--adapt", "0.1", "--max-dof", "0"]) == 2
     assert "max_dof" in capsys.readouterr().err
+
+
+def test_sweep_takes_tolerances(tmp_path):
+    out = tmp_path / "a.csv"
+    df = nc.sweep("griffith", elements=["bdm"], adapt=[0.05, 0.04], adapt_maxh=4.0, reference_maxh=2.0, out=out,
+                  solve_options={"tip_h": 0.1})
+    assert df["adapt"].all() and sorted(df["maxh"]) == [0.04, 0.05]
+    assert (df["estimate"] <= df["maxh"]).all()
+    assert df.sort_values("maxh")["ndof_total"].iloc[0] >= df.sort_values("maxh")["ndof_total"].iloc[1]
+    assert (df["err_u1"] > 0).all()  # against the fixed-mesh reference at maxh 2
+    with pytest.raises(ValueError, match="adapt"):
+        nc.sweep("griffith", elements=["bdm"], adapt=[1.5])
+    with pytest.raises(ValueError, match="another file"):  # a fixed mesh never takes an adaptive row's place
+        nc.sweep("griffith", elements=["bdm"], maxh=[0.05], out=out, solve_options={"tip_h": 0.1})
