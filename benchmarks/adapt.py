@@ -135,9 +135,9 @@ def compare(quick: bool, elements) -> None:
         sol = solve_adaptive(coarse, element, 1e-4, max_dof=budget, maxh=0.5,
                              monitor=lambda s: {"sliding": sliding_error(s)})
         h = sol.adapt_history
-        for r in h.itertuples():
-            print(f"| {element} | adaptive step {r.step} | {r.ndof} | {r.__getattribute__('global')} | {r.sliding:.2%} | "
-                  f"{r.estimate:.2%} | {r.time_total:.1f} |", flush=True)
+        for r in h.to_dict("records"):
+            print(f"| {element} | adaptive step {r['step']} | {r['ndof']} | {r['global']} | {r['sliding']:.2%} | "
+                  f"{r['estimate']:.2%} | {r['time_total']:.1f} |", flush=True)
         for maxh in (1.0, 0.5) if quick else (1.0, 0.5, 0.25):
             t0 = time.perf_counter()
             sol = nc.solve(coarse, element=element, maxh=maxh)
