@@ -56,7 +56,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import ngsolve as ngs
 
-from .geometry import CrackMesh, boundary_region, crack_side
+from .geometry import CrackMesh, crack_side
+from .materials import compliance, lame_parameters
 
 #: the crack models with an estimate (the sign condition on [w].nu differs per model)
 ESTIMATE_CRACK_MODELS = ("contact", "free", "bonded")
@@ -448,9 +449,7 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     cmesh = sol.crack_mesh
     mesh = cmesh.mesh
     mat = sol.scene.material
-    from .materials import compliance as _compliance, lame_parameters
-
-    A = _compliance(mat.E, mat.nu, mat.plane)
+    A = compliance(mat.E, mat.nu, mat.plane)
     top = _Topology.build(cmesh)
     sigma_h = sol.sigma
     notes: list[str] = []
@@ -542,20 +541,17 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
 def energy_error(sol, sigma_exact) -> float:
     """||sigma - sigma_h||_A on sol's mesh for an exact stress given as a CoefficientFunction."""
     mat = sol.scene.material
-    from .materials import compliance as _compliance
-
-    A = _compliance(mat.E, mat.nu, mat.plane)
+    A = compliance(mat.E, mat.nu, mat.plane)
     d = sigma_exact - sol.sigma
     return math.sqrt(max(float(ngs.Integrate(ngs.InnerProduct(A.apply(d), d), sol.mesh, order=2 * INTORDER)), 0.0))
 
 
 def energy_error_against(sol, reference, order: int = INTORDER) -> float:
     """||sigma_ref - sigma_h||_A at the quadrature points of the reference (finer) mesh."""
-    from .materials import compliance as _compliance
     from .study import quadrature_points
 
     mat = sol.scene.material
-    A = _compliance(mat.E, mat.nu, mat.plane)
+    A = compliance(mat.E, mat.nu, mat.plane)
     pts, wts = quadrature_points(reference.mesh, order)
     s_ref = np.asarray(reference.sigma(reference.mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
     s_h = np.asarray(sol.sigma(sol.mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
