@@ -525,6 +525,8 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
             notes.append("body force not P0: oscillation term with an unknown Korn constant")
         if min_jump < 0:
             notes.append(f"reconstructed crack jump negative somewhere ({min_jump:.2e})")
+        if any(getattr(c, "friction", 0.0) for c in sol.scene.cracks):
+            notes.append("friction: the crack's shear traction times [w].t is not included (not covered)")
     norm2 = float(np.sum(_integrate(ngs.InnerProduct(A.apply(sigma_h), sigma_h), mesh)))
     energy = float(np.sqrt(max(eta2.sum(), 0.0)))
     relative = energy / math.sqrt(norm2) if norm2 > 0 else energy
