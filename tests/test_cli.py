@@ -63,7 +63,8 @@ def test_solve_json_has_exactly_the_contract_keys(tmp_path, capsys):
     code, out, err = run(["solve", "paper-2", "--element", "bdm", "--maxh", "0.3", "--json", path], capsys)
     assert code == 0, err
     d = json.loads(path.read_text())
-    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "cracks"}
+    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "cracks", "error_estimate"}
+    assert set(d["error_estimate"]) == {"energy", "relative"}
     assert set(d["ndof"]) == {"total", "global", "contact"}
     assert set(d["time_s"]) == {"total", "mesh", "assemble", "linear", "contact"}
     assert set(d["kkt"]) == {"max_penetration", "max_tension", "complementarity"}
