@@ -83,7 +83,8 @@ class ErrorEstimate:
     eta / ||sigma_h||_A, `eta` the per-triangle indicators eta_T (NGSolve element
     order; sum of squares = energy^2), `terms` the squared totals of the parts
     ("stress", "contact", "oscillation"), `guaranteed` whether the theory makes energy
-    an upper bound for this element and data (see the module), `notes` why not.
+    an upper bound for this element and data (see the module), `notes` why not,
+    `time` its seconds, `min_jump` the smallest [w].nu at the crack's quadrature points.
     """
 
     energy: float
@@ -438,103 +439,120 @@ def _integrate(cf, mesh) -> np.ndarray:
     return np.asarray(ngs.Integrate(cf.Compile(), mesh, order=INTORDER, element_wise=True)).reshape(-1)
 
 
+def _zz_recovery(sol, top: _Topology, A) -> dict[str, np.ndarray]:
+    """eta_T^2 = ||sigma* - sigma_h||_A,T^2, sigma* the node-averaged stress (per crack face)."""
+    cmesh, degree = sol.crack_mesh, DEGREE[sol.element]
+    nodal, nodes = _average(top, _sample_local(sol.sigma, cmesh, top, degree, 4), degree)
+    lag = _Lagrange(cmesh.mesh, top, degree, 4)
+    lag.set(nodal[nodes])
+    s = lag.value()
+    d = ngs.CF((s[0], s[1], s[2], s[3]), dims=(2, 2)) - sol.sigma
+    return {"stress": _integrate(ngs.InnerProduct(A.apply(d), d), cmesh.mesh)}
+
+
+def _admissible_displacement(sol, loads, crack_model: str, top: _Topology) -> tuple[np.ndarray, np.ndarray, int]:
+    """Node values W of w (admissible: data on the boundary, [w].nu >= 0 on the crack),
+    the element-node table and the degree."""
+    if sol.element in ("peers", "bdm"):
+        local, degree = _hybrid_traces(sol, top)
+    else:
+        degree = DEGREE[sol.element]
+        local = _sample_local(sol.u, sol.crack_mesh, top, degree, 2)
+    W, nodes = _average(top, local, degree)
+    _apply_boundary(W, sol.crack_mesh, top, loads, degree)
+    _admissible_crack(W, sol.crack_mesh, top, degree, crack_model)
+    return W, nodes, degree
+
+
+def _contact_term(sol, W: np.ndarray, top: _Topology, degree: int) -> tuple[np.ndarray, float]:
+    """2 int_e |sigma_h,n| [w].nu per crack edge, split between its two triangles; and min [w].nu."""
+    cmesh = sol.crack_mesh
+    mesh = cmesh.mesh
+    out = np.zeros(mesh.ne)
+    rows = _crack_jump_quadrature(W, cmesh, top, degree)
+    if not rows:
+        return out, 0.0
+    # sigma_h nu . nu is single-valued on the crack for the mixed elements: sample the minus side
+    pts = np.concatenate([x - INWARD * L * nu[None, :] for x, _, _, nu, _, L in rows])
+    sig = np.asarray(sol.sigma(mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
+    q, min_jump = 0, 0.0
+    for x, w, j, nu, e, L in rows:
+        sn = np.einsum("i,pij,j->p", nu, sig[q:q + len(w)], nu)
+        q += len(w)
+        els = [el.nr for el in mesh.edges[e].elements]
+        out[els] += 2.0 * float(np.sum(w * np.abs(sn) * j)) / len(els)
+        min_jump = min(min_jump, float(j.min()))
+    return out, min_jump
+
+
+def _oscillation(mesh, top: _Topology, f, A) -> np.ndarray:
+    """osc_T^2 = (h_T / pi)^2 ||f - Pi_0 f||_T^2 c_dev (Poincare on the triangle; Korn not included)."""
+    area = _integrate(ngs.CF(1.0), mesh)
+    osc2 = _integrate(f * f, mesh)
+    for i in range(2):
+        osc2 -= _integrate(f[i], mesh) ** 2 / area
+    return (_element_sizes(top) / math.pi) ** 2 * np.maximum(osc2, 0.0) * A.c_dev
+
+
+def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[str]) -> tuple[dict, float]:
+    """The squared per-triangle parts of the mixed elements' estimate (see the module)."""
+    mat = sol.scene.material
+    lam, mu = lame_parameters(mat.E, mat.nu, mat.plane)
+    if not math.isfinite(lam):
+        raise ValueError("material.nu = 0.5: the Prager-Synge estimate needs a finite C (nu < 1/2 in plane strain)")
+    mesh = sol.crack_mesh.mesh
+    W, nodes, degree = _admissible_displacement(sol, loads, crack_model, top)
+    lag = _Lagrange(mesh, top, degree, 2)
+    lag.set(W[nodes])
+    g = lag.gradient()
+    eps = 0.5 * (g + g.trans)
+    d = sol.sigma - (2 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2))
+    parts = {"stress": _integrate(ngs.InnerProduct(A.apply(d), d), mesh)}
+    min_jump = 0.0
+    if sol.crack_mesh.cracks and crack_model == "contact":
+        parts["contact"], min_jump = _contact_term(sol, W, top, degree)
+    if loads.body_force is not None:
+        parts["oscillation"] = _oscillation(mesh, top, loads.body_force, A)
+        if parts["oscillation"].sum() > 0:
+            notes.append("body force not P0: oscillation term with an unknown Korn constant")
+    notes.append("weak symmetry: the bound needs a Korn constant (not included)" if sol.element in ("peers", "bdm")
+                 else "tdnns stress is not in H(div): not a bound")
+    if min_jump < 0:
+        notes.append(f"reconstructed crack jump negative somewhere ({min_jump:.2e})")
+    if any(getattr(c, "friction", 0.0) for c in sol.scene.cracks):
+        notes.append("friction: the crack's shear traction times [w].t is not included (not covered)")
+    return parts, min_jump
+
+
 def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     """The error estimate of a Solution (see the module); loads are the solve's Loads."""
     t0 = time.perf_counter()
-    element = sol.element
-    if element not in METHODS:
-        raise ValueError(f"element = {element!r}: estimates exist for {', '.join(METHODS)}")
+    if sol.element not in METHODS:
+        raise ValueError(f"element = {sol.element!r}: estimates exist for {', '.join(METHODS)}")
     if crack_model not in ESTIMATE_CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: estimates exist for {', '.join(ESTIMATE_CRACK_MODELS)}")
-    cmesh = sol.crack_mesh
-    mesh = cmesh.mesh
     mat = sol.scene.material
     A = compliance(mat.E, mat.nu, mat.plane)
-    top = _Topology.build(cmesh)
-    sigma_h = sol.sigma
+    mesh = sol.crack_mesh.mesh
+    top = _Topology.build(sol.crack_mesh)
     notes: list[str] = []
-    terms = {"stress": 0.0, "contact": 0.0, "oscillation": 0.0}
-    ne = mesh.ne
-    eta2 = np.zeros(ne)
     min_jump = 0.0
-    if METHODS[element] == "zz-recovery":
-        degree = DEGREE[element]
-        local = _sample_local(sigma_h, cmesh, top, degree, 4)
-        nodal, nodes = _average(top, local, degree)
-        lag = _Lagrange(mesh, top, degree, 4)
-        lag.set(nodal[nodes])
-        s_star = lag.value()
-        s_star = ngs.CF((s_star[0], s_star[1], s_star[2], s_star[3]), dims=(2, 2))
-        d = s_star - sigma_h
-        eta2 = _integrate(ngs.InnerProduct(A.apply(d), d), mesh)
-        terms["stress"] = float(eta2.sum())
-        guaranteed = False
+    if METHODS[sol.element] == "zz-recovery":
+        parts = _zz_recovery(sol, top, A)
         notes.append("recovery (ZZ) estimate: not a bound")
     else:
-        lam, mu = lame_parameters(mat.E, mat.nu, mat.plane)
-        if not math.isfinite(lam):
-            raise ValueError("material.nu = 0.5: the Prager-Synge estimate needs a finite C (nu < 1/2 in plane strain)")
-        if element in ("peers", "bdm"):
-            local, degree = _hybrid_traces(sol, top)
-        else:
-            degree = DEGREE[element]
-            local = _sample_local(sol.u, cmesh, top, degree, 2)
-        W, nodes = _average(top, local, degree)
-        _apply_boundary(W, cmesh, top, loads, degree)
-        _admissible_crack(W, cmesh, top, degree, crack_model)
-        lag = _Lagrange(mesh, top, degree, 2)
-        lag.set(W[nodes])
-        g = lag.gradient()
-        eps = 0.5 * (g + g.trans)
-        d = sigma_h - (2 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2))
-        stress2 = _integrate(ngs.InnerProduct(A.apply(d), d), mesh)
-        eta2 = stress2.copy()
-        terms["stress"] = float(stress2.sum())
-        if cmesh.cracks and crack_model == "contact":
-            rows = _crack_jump_quadrature(W, cmesh, top, degree)
-            pts = np.concatenate([x - 1e-3 * L * nu[None, :] for x, _, _, nu, _, L in rows])  # the minus side
-            sig = np.asarray(sigma_h(mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
-            q = 0
-            for x, w, j, nu, e, L in rows:
-                s = sig[q:q + len(w)]
-                q += len(w)
-                sn = np.einsum("pi,pij,j->p", np.broadcast_to(nu, (len(w), 2)), s, nu)
-                c_e = 2.0 * float(np.sum(w * np.abs(sn) * j))
-                min_jump = min(min_jump, float(j.min()))
-                els = [el.nr for el in mesh.edges[e].elements]
-                for el in els:
-                    eta2[el] += c_e / len(els)
-                terms["contact"] += c_e
-        if loads.body_force is not None:
-            f = loads.body_force
-            h = _element_sizes(top)
-            area = _integrate(ngs.CF(1.0), mesh)
-            osc2 = _integrate(f * f, mesh)
-            for i in range(2):
-                osc2 -= _integrate(f[i], mesh) ** 2 / area
-            osc = (h / math.pi) ** 2 * np.maximum(osc2, 0.0) * A.c_dev
-            eta2 += osc
-            terms["oscillation"] = float(osc.sum())
-        guaranteed = element != "tdnns"
-        if element in ("peers", "bdm"):
-            notes.append("weak symmetry: the bound needs a Korn constant (not included)")
-            guaranteed = False
-        else:
-            notes.append("tdnns stress is not in H(div): not a bound")
-        if terms["oscillation"] > 0:
-            notes.append("body force not P0: oscillation term with an unknown Korn constant")
-        if min_jump < 0:
-            notes.append(f"reconstructed crack jump negative somewhere ({min_jump:.2e})")
-        if any(getattr(c, "friction", 0.0) for c in sol.scene.cracks):
-            notes.append("friction: the crack's shear traction times [w].t is not included (not covered)")
-    norm2 = float(np.sum(_integrate(ngs.InnerProduct(A.apply(sigma_h), sigma_h), mesh)))
-    energy = float(np.sqrt(max(eta2.sum(), 0.0)))
-    relative = energy / math.sqrt(norm2) if norm2 > 0 else energy
+        parts, min_jump = _prager_synge(sol, loads, crack_model, top, A, notes)
+    eta2 = sum(parts.values())
+    terms = {k: float(parts[k].sum()) if k in parts else 0.0 for k in ("stress", "contact", "oscillation")}
+    norm2 = float(np.sum(_integrate(ngs.InnerProduct(A.apply(sol.sigma), sol.sigma), mesh)))
     eta = np.sqrt(np.maximum(eta2, 0.0))
     if not np.all(np.isfinite(eta)):
         raise ValueError("the error estimate is not finite (check the loads and material data)")
-    return ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=METHODS[element],
-                         guaranteed=guaranteed, notes=notes, mesh=mesh, time=time.perf_counter() - t0,
+    energy = float(np.sqrt(np.sum(eta**2)))
+    relative = energy / math.sqrt(norm2) if norm2 > 0 else energy
+    # no element's bound is guaranteed today (module docstring: weak symmetry, H(div), recovery)
+    return ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=METHODS[sol.element],
+                         guaranteed=False, notes=notes, mesh=mesh, time=time.perf_counter() - t0,
                          min_jump=min_jump)
 
 
