@@ -3,9 +3,11 @@
     ngcrack scenes
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--friction MU] [--tip-h H]
-                        [--crack-h H] [--qp-solver S] [--crack-model M] [--json OUT] [--plot OUT.png] [--max-dof N]
-    ngcrack sweep SCENE [--element E ...] --maxh H [H ...] [--nu NU ...] [--friction MU ...] --out results.csv
-                        [--reference-maxh H] [--reference-element E] [--jobs N] [--dask ADDRESS] [--max-dof N]
+                        [--crack-h H] [--qp-solver S] [--crack-model M] [--adapt TOL] [--max-dof N]
+                        [--json OUT] [--plot OUT.png]
+    ngcrack sweep SCENE [--element E ...] (--maxh H [H ...] | --adapt TOL [TOL ...]) [--nu NU ...]
+                        [--friction MU ...] --out results.csv [--reference-maxh H] [--reference-element E]
+                        [--jobs N] [--dask ADDRESS] [--max-dof N]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
 
 SCENE is a built-in scene name or a TOML file. Bad input exits with code 2 and a
@@ -95,7 +97,8 @@ def cmd_solve(args) -> int:
         scene = scene.with_(**changes)
     from .solve import solve
 
-    options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order)) if v is not None}
+    options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order),
+                                 ("adapt", args.adapt)) if v is not None}
     sol = solve(scene, element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
                 crack_model=args.crack_model, max_dof=args.max_dof, **options)
     result = sol.to_json_dict()
@@ -125,6 +128,14 @@ def cmd_solve(args) -> int:
         from .tips import format_table
 
         print(format_table(sol.tips))
+    if sol.error_estimate is not None:
+        est = sol.error_estimate
+        print(f"error estimate ({est.method}{'' if est.guaranteed else ', not a guaranteed bound'}): "
+              f"energy norm {est.energy:.3e}, relative {est.relative:.2%}")
+    if sol.adapt_history is not None:
+        steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
+        reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"
+        print(f"adapt to {args.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
     for path in (json_path, plot_path):
         if path is not None:
             print(f"wrote {path}")
@@ -175,11 +186,18 @@ def cmd_sweep(args) -> int:
     from .study import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
+    adaptive = {}
+    if args.adapt is not None:  # tolerances instead of mesh sizes; --maxh (one value) is the first mesh
+        if args.maxh is not None and len(args.maxh) != 1:
+            raise UsageError("--maxh: with --adapt give one value, the first mesh's size")
+        adaptive = {"adapt": args.adapt, "adapt_maxh": args.maxh[0] if args.maxh else None}
+    elif args.maxh is None:
+        raise UsageError("--maxh: give the mesh sizes (or --adapt with tolerances)")
     df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, friction=args.friction,
                reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
-               solve_options=solve_options, max_dof=args.max_dof, **opts)
+               solve_options=solve_options, max_dof=args.max_dof, **opts, **adaptive)
     after = len(open(out).read().splitlines()) - 1
-    cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["time_total"]
+    cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["estimate", "time_total"]
     if args.friction is not None:
         cols[3:3] = ["friction", "n_stick", "kkt_friction"]
     if df["err_opening"].notna().any():
@@ -261,7 +279,8 @@ def _count(text: str) -> int:
 
 
 MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
-                "meshing (default: 5e6 and what fits in the available memory)")
+                "meshing (default: 5e6 and what fits in the available memory); with --adapt also the budget of "
+                "the refinement (default 2e5)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -283,8 +302,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="Coulomb friction coefficient of every crack (overrides the scene; 0: frictionless)")
     p.add_argument("--qp-solver", dest="qp_solver", help="pdas (default), uzawa, clarabel, osqp, scs, ...")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
+    p.add_argument("--adapt", type=_positive, metavar="TOL",
+                   help="refine adaptively until the relative error estimate is <= TOL, in (0, 1)")
     p.add_argument("--json", help="write the result to this JSON file: scene, element, maxh, nu, E, ndof, time_s, "
-                                  "kkt, kkt_sampled and one crack profile per crack (README: \"Command line\")")
+                                  "kkt, kkt_sampled, tips, error_estimate, adapt (with --adapt) and one crack "
+                                  "profile per crack (README: \"Command line\")")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
     p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP)
     p.set_defaults(func=cmd_solve)
@@ -297,7 +319,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="solve every (element, maxh, nu); errors, rates, timings; CSV row by row")
     p.add_argument("scene", help="built-in scene name or TOML file")
     p.add_argument("--element", nargs="+", default=["bdm"], help="element families (default bdm; see `solve --element`)")
-    p.add_argument("--maxh", nargs="+", type=_positive, required=True, help="global mesh sizes")
+    p.add_argument("--maxh", nargs="+", type=_positive, help="global mesh sizes (with --adapt: the first mesh's)")
+    p.add_argument("--adapt", nargs="+", type=_positive, metavar="TOL",
+                   help="adaptive runs to these relative error estimates, in (0, 1), instead of mesh sizes")
     p.add_argument("--nu", nargs="+", type=_positive, help="Poisson ratios (default: the scene's)")
     p.add_argument("--friction", nargs="+", type=_positive, metavar="MU",
                    help="Coulomb coefficients, each on every crack (default: the scene's); a key column of the rows")

@@ -388,3 +388,48 @@ def crack_side(crack_mesh: CrackMesh) -> np.ndarray:
                 raise ValueError("maxh: a triangle lies on both sides of the cracks; refine the mesh near the cracks")
             side[el] = s
     return side
+
+
+# ------------------------------------------------------------ refined meshes (adaptivity)
+
+def crack_mesh_of(mesh: ngs.Mesh, scene: Scene, maxh: float, tip_h: float | None) -> CrackMesh:
+    """Re-identify the cracks of `scene` on an existing mesh (e.g. after netgen's refinement).
+
+    Bisection keeps every crack segment a chain of boundary segments named crack_bc(k)
+    and every crack end point a vertex, so the crack edges, their order along the crack
+    and the interior tips are read back from the mesh exactly as `make_mesh` does.
+    """
+    ngmesh = mesh.ngmesh
+    points = np.array(ngmesh.Coordinates()[:, :2], dtype=float)
+    triangles = np.asarray(ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=int) - 1
+    cracks = tuple(_crack_edges(mesh, scene, k) for k in range(len(scene.cracks)))
+    bnd_vertices = {v.nr for el in mesh.Elements(ngs.BND) if not el.mat.startswith("ngcrack_crack") for v in el.vertices}
+    tips = frozenset(int(v) for c in cracks if len(c) for v in (c.va[0], c.vb[-1]) if int(v) not in bnd_vertices)
+    return CrackMesh(mesh=mesh, points=points, triangles=triangles, cracks=cracks, tips=tips,
+                     polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
+                     diameter=_diameter(np.asarray(scene.polygon, float)), maxh=float(maxh), tip_h=tip_h,
+                     quality=mesh_quality(points, triangles))
+
+
+def refine_crack_mesh(crack_mesh: CrackMesh, scene: Scene, marked: np.ndarray) -> CrackMesh:
+    """A copy of the mesh with the marked triangles bisected by netgen (plus the closure
+    netgen adds for conformity), its cracks re-identified. The input mesh is unchanged.
+
+    Crack and polygon edges are straight, so the new boundary points are the edges' mid
+    points (netgen's geometry is detached first): the crack stays a chain of mesh
+    edges and the tips stay vertices.
+    """
+    ngmesh = crack_mesh.mesh.ngmesh.Copy()
+    # netgen would project the new boundary points onto the spline geometry, which
+    # make_mesh built in normalized coordinates; without it they are the mid points
+    ngmesh.SetGeometry(None)
+    mesh = ngs.Mesh(ngmesh)
+    for el in mesh.Elements(ngs.VOL):
+        mesh.SetRefinementFlag(el, bool(marked[el.nr]))
+    for el in mesh.Elements(ngs.BND):
+        mesh.SetRefinementFlag(el, False)
+    mesh.Refine()
+    # a fresh mesh of the refined elements: NGSolve keeps the bisected parent edges of a
+    # refined mesh in its topology (unused dofs of facet spaces), a copy does not
+    mesh = ngs.Mesh(mesh.ngmesh.Copy())
+    return crack_mesh_of(mesh, scene, crack_mesh.maxh, crack_mesh.tip_h)

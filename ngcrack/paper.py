@@ -10,7 +10,8 @@ mesh (the quantities and conventions of `ngcrack.study`). Written to the output 
     rates.csv/.md                 fitted rates per scene and element, next to the paper's
     fig3..fig6_*.png              Figures 3-6: error against triangles, log-log (the paper's dof converted)
     fig7/fig8_*_sigma_nu.png      Figures 7-8: isolines of sigma_nu
-    time_<quantity>.png           error against run time, one line per element
+    time_<quantity>.png           error against run time, one line per element (and per
+                                  element's adaptive runs, `adapt-<scene>.csv`)
     comparison.csv/.md, fig9_comparison.png
                                   paper-1 on a common footing with the paper's Tables 1-4:
                                   triangles on the abscissa, ngcrack's errors the paper's
@@ -57,6 +58,17 @@ class Level:
 QUICK = Level(maxh=(0.2, 0.1, 0.05), reference_maxh=0.025)
 #: rows to 3e5 unknowns, reference 1.2e6 (about 5 minutes on 2 cores, 2.5 GB per process)
 FULL = Level(maxh=(0.2, 0.14, 0.1, 0.07, 0.05, 0.035, 0.025), reference_maxh=0.0125)
+
+#: adaptive runs of the error-against-time figures: relative estimate tolerances, the first
+#: mesh size and the budget of unknowns (adapt.py); the tables' `estimate` column is the
+#: relative estimate in the energy norm of every row (estimate.py)
+#: (measured from maxh 0.2: bdm 0.30 on paper-1 and 0.99 on paper-2 (nu = 0.49, where the
+#: estimate overestimates, see the README), peers 1.03 on paper-1; bdm reaches 0.13 on
+#: paper-2 with 1.4e5 unknowns)
+ADAPT_QUICK = {"tolerances": (0.5, 0.3), "maxh": 0.2, "max_dof": 40_000}
+ADAPT_FULL = {"tolerances": (0.5, 0.3, 0.2, 0.15), "maxh": 0.2, "max_dof": 400_000}
+#: with the mesh sizes overridden (tests, experiments): one cheap adaptive run per element
+ADAPT_SMALL = {"tolerances": (0.6,), "max_dof": 15_000}
 
 #: the paper's Tables 1-4 (example 1, nu = 0.29): dof and relative L2 error
 PAPER_TABLES = {
@@ -129,7 +141,7 @@ class PaperResult:
 
 def _table(df, q: str):
     cols = {"scene": "scene", "element": "element", "maxh": "maxh", "h": "h", "ndof_total": "dof",
-            f"err_{q}": "error", f"rate_dof_{q}": "rate_dof", f"rate_h_{q}": "rate_h", "time_total": "time_s",
+            f"err_{q}": "error", "estimate": "estimate", f"rate_dof_{q}": "rate_dof", f"rate_h_{q}": "rate_h", "time_total": "time_s",
             "memory_peak_mb": "memory_mb"}
     return df[list(cols)].rename(columns=cols).reset_index(drop=True)
 
@@ -160,6 +172,29 @@ def comparison_table(elements, sizes, reference_maxh):
     nu = dict(PAPER_SCENES)["paper-1"]
     frames = [comparison_errors("paper-1", e, sizes, reference_maxh, nu=nu) for e in elements]
     return pd.concat(frames, ignore_index=True)
+def _adaptive_runs(out: Path, level: dict, elements, ref_h: float, jobs: int, dask, progress: bool, files):
+    """The adaptive sweeps (one CSV per scene) against the same references as the fixed
+    meshes (their saved references are reused); rows relabelled "<element> (adaptive)"."""
+    import shutil
+
+    import pandas as pd
+
+    from . import scenes
+
+    frames = []
+    for name, nu in PAPER_SCENES:
+        path = out / f"adapt-{name}.csv"
+        refs = Path(str(path) + ".refs")
+        refs.mkdir(exist_ok=True)
+        for f in Path(str(out / f"sweep-{name}.csv") + ".refs").glob("*.npz"):
+            if not (refs / f.name).exists():
+                shutil.copy(f, refs / f.name)
+        frames.append(sweep(scenes.load(name), elements=elements, nu=[nu], reference_maxh=ref_h, out=path, jobs=jobs,
+                            dask=dask, progress=progress, adapt=level["tolerances"], adapt_maxh=level["maxh"],
+                            solve_options={"max_dof": level["max_dof"]}))
+        files["sweeps"].append(path)
+    df = pd.concat(frames, ignore_index=True)
+    return df.assign(element=[f"{e} (adaptive)" for e in df["element"]])
 
 
 def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, reference_maxh=None, jobs: int = 1,
@@ -199,7 +234,9 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
         note = (f"Relative L2(Omega) error of {q} against the reference mesh (maxh {ref_h:g}; "
                 + ", ".join(f"{s}: {n:,} dof".replace(",", " ") for s, n in ref_note.items())
                 + "), per element. dof: all unknowns; rate_dof: log(e_prev/e)/log(dof/dof_prev); "
-                  "rate_h: log(e_prev/e)/log(h_prev/h), h the largest edge; time_s: the whole solve, "
+                  "rate_h: log(e_prev/e)/log(h_prev/h), h the largest edge; estimate: the a posteriori "
+                  "estimate of the relative stress error in the energy norm (a different norm from the error "
+                  "column: compare trends, not values); time_s: the whole solve, "
                   "wall clock; memory_mb: peak resident memory of the process.")
         files["tables"] += _write_table(_table(df, q), out / f"table{k}_{q}", f"Table {k}: {q}", note)
 
@@ -239,10 +276,13 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
         files["figures"].append(path)
         fig_no += 1
 
-    # error against run time, one figure per quantity
+    # error against run time, one figure per quantity, with the adaptive runs
+    level = (ADAPT_QUICK if quick else ADAPT_FULL) if maxh is None else {**ADAPT_SMALL, "maxh": max(sizes)}
+    adaptive = _adaptive_runs(out, level, elements, ref_h, jobs, dask, progress, files)
+    timed = pd.concat([df, adaptive], ignore_index=True) if adaptive is not None else df
     for q in QUANTITIES:
         path = out / f"time_{q}.png"
-        plots.plot_error_vs_time(df, q, path)
+        plots.plot_error_vs_time(timed, q, path)
         files["figures"].append(path)
 
     # the paper's Tables 1-4 on a common footing (paper-1)

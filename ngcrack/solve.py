@@ -107,6 +107,10 @@ class Solution:
     tips: list = field(default_factory=list)
     kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
     forces: np.ndarray | None = None
+    #: the a posteriori estimate of the stress error (estimate.py), None where none exists
+    error_estimate: object = None
+    #: with adapt=TOL: one row per refinement step (adapt.py), a pandas DataFrame
+    adapt_history: object = None
 
     @property
     def mesh(self) -> ngs.Mesh:
@@ -147,6 +151,9 @@ class Solution:
             "kkt_sampled": {k: float(self.kkt_sampled[k]) for k in KKT_KEYS},
             "tips": [tip.to_dict() for tip in self.tips],
             "cracks": [p.to_dict() for p in self.profiles],
+            **({"error_estimate": self.error_estimate.to_dict()} if self.error_estimate is not None else {}),
+            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate)} for r in self.adapt_history.itertuples()]}
+               if self.adapt_history is not None else {}),
         }
 
 
@@ -268,6 +275,8 @@ def solve(
     max_dof: int | None = None,
     friction_method: str = DEFAULT_FRICTION_METHOD,
     tangential: bool | None = None,
+    adapt: float | None = None,
+    crack_mesh: CrackMesh | None = None,
 ) -> Solution:
     """Solve the unilateral crack problem of `scene` with one element family.
 
@@ -297,6 +306,13 @@ def solve(
     qp_solver "pdas" (native) or a cvxpy solver for the Tresca steps; warm_start is not
     used. `tangential`: keep the tangential jumps in the reduced problem (None: when a
     crack has friction; True with no friction solves the frictionless problem that way).
+
+    adapt: a relative error tolerance in (0, 1): solve, estimate, mark and refine until
+    the relative estimate is <= adapt or the next mesh would exceed max_dof unknowns
+    (adapt.py, default budget adapt.DEFAULT_MAX_DOF; the mesh options give the first
+    mesh, which the size guard checks). crack_mesh: solve on this mesh (a CrackMesh of the
+    scene) instead of meshing. Every solve carries `sol.error_estimate` (estimate.py),
+    None for an element or crack model without one.
     """
     _check_options(element, maxh, tip_h, crack_h, qp_solver, linear_solver, schur)
     if grading is not None and (isinstance(grading, bool) or not (isinstance(grading, (int, float)) and 0 < grading <= 1)):
@@ -304,7 +320,19 @@ def solve(
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
     check_friction_options(scene, qp_solver, friction_method, tangential)
-    check_request(scene, element, maxh, tip_h, crack_h, grading, order=order, max_dof=max_dof)
+    if adapt is not None or max_dof is not None:
+        from .adapt import check_adapt_options, solve_adaptive
+
+        check_adapt_options(0.5 if adapt is None else adapt, max_dof, element if adapt is not None else "bdm",
+                            crack_model if adapt is not None else "contact", scene if adapt is not None else None)
+    if crack_mesh is None:  # the size guard and the thin-part check, before any meshing
+        check_request(scene, element, maxh, tip_h, crack_h, grading, order=order, max_dof=max_dof)
+    if adapt is not None:
+        return solve_adaptive(scene, element, adapt, max_dof=max_dof, maxh=maxh, tip_h=tip_h, crack_h=crack_h,
+                              grading=grading, qp_solver=qp_solver, qp_options=qp_options,
+                              linear_solver=linear_solver, loads=loads, crack_model=crack_model, order=order,
+                              condition=condition, schur=schur, friction_method=friction_method,
+                              tangential=tangential)
     if loads is None:
         loads = scene_loads(scene)
     else:
@@ -314,7 +342,7 @@ def solve(
     timings: dict[str, float] = {}
 
     t0 = time.perf_counter()
-    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h, grading=grading)
+    cmesh = crack_mesh if crack_mesh is not None else make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h, grading=grading)
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -456,7 +484,22 @@ def solve(
     sol.tips = tip_parameters(sol, body_force=loads.body_force)
     timings["tips"] = time.perf_counter() - t0
     timings["total"] += timings["tips"]
+    sol.error_estimate = _estimate(sol, loads, crack_model)
     return sol
+
+
+def _estimate(sol: Solution, loads: Loads, crack_model: str):
+    """The solve's error estimate (estimate.py), or None where none exists (with the reason
+    in sol.options["error_estimate"])."""
+    from .estimate import estimate
+
+    try:
+        est = estimate(sol, loads, crack_model)
+    except ValueError as exc:
+        sol.options["error_estimate"] = str(exc)
+        return None
+    sol.timings["estimate"] = est.time
+    return est
 
 
 def _constraint_kkt(system: CondensedSystem, y: np.ndarray, contact: np.ndarray, G, cmesh: CrackMesh,

@@ -159,6 +159,9 @@ ROW_SCHEMA: dict[str, type] = {
     "err_K_I": float,             # K_I against the closed form (griffith, inclined); empty elsewhere
     "crack_model": str,
     "qp_solver": str,
+    "adapt": bool,                # an adaptive run: maxh holds its tolerance (the relative estimate)
+    "estimate": float,            # the solve's relative error estimate (estimate.py), energy norm
+    "estimate_energy": float,     # the same, absolute
 }
 ROW_COLUMNS = tuple(ROW_SCHEMA)
 #: per crack end inside the body, the columns `K_I[c,end]`, `K_II[c,end]`, `G[c,end]`
@@ -167,7 +170,7 @@ TIP_QUANTITIES = ("K_I", "K_II", "G")
 #: columns `with_rates` adds to a sweep's DataFrame
 RATE_COLUMNS = tuple(f"rate_{kind}_{q}" for q in RATE_QUANTITIES for kind in ("h", "dof"))
 #: columns that must agree between a CSV's rows and a resumed sweep asking for the same keys
-_SETUP_COLUMNS = ("reference_element", "reference_maxh", "crack_model", "qp_solver")
+_SETUP_COLUMNS = ("reference_element", "reference_maxh", "crack_model", "qp_solver", "adapt")
 
 
 class SweepError(RuntimeError):
@@ -474,6 +477,7 @@ class Case:
     row: bool = True              # return a row (False: a separate reference run)
     setup: dict = field(default_factory=dict)
     friction: float | None = None  # None: the scene's own coefficients
+    adapt_maxh: float | None = None  # adaptive run from this mesh size; maxh is then the tolerance
 
     @property
     def cost(self) -> float:
@@ -503,7 +507,12 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     _reset_peak_memory()
     mem_start, _ = _memory_mb()
     scene = case.scene.with_(nu=case.nu) if case.friction is None else case.scene.with_(nu=case.nu, friction=case.friction)
-    sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
+    if case.adapt_maxh is not None:
+        with warnings.catch_warnings():  # a budget reached is recorded in the row (estimate > maxh)
+            warnings.simplefilter("ignore", UserWarning)
+            sol = solve(scene, element=case.element, maxh=case.adapt_maxh, adapt=case.maxh, **case.solve_options)
+    else:
+        sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
     _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
     t0 = time.perf_counter()
     ref = Reference.from_solution(sol) if case.make_reference else None
@@ -526,7 +535,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
             "ndof_contact": int(sol.ndof["contact"]),
             "n_active": int(len(sol.qp.active)) if sol.qp is not None else 0,
             "time_mesh": t["mesh"], "time_assemble": t["assemble"], "time_linear": t["linear"],
-            "time_contact": t["contact"], "time_total": t["total"], "time_error": t_err,
+            "time_contact": t["contact"], "time_total": t.get("adapt_total", t["total"]), "time_error": t_err,
             "time_tips": t.get("tips", 0.0),
             "memory_peak_mb": mem_peak, "memory_start_mb": mem_start,
             "kkt_max_penetration": sol.kkt["max_penetration"], "kkt_max_tension": sol.kkt["max_tension"],
@@ -538,6 +547,8 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
             "reference": bool(case.is_reference), "reference_ndof": -1,
             **case.setup,
             **errors,
+            "estimate": sol.error_estimate.relative if sol.error_estimate is not None else math.nan,
+            "estimate_energy": sol.error_estimate.energy if sol.error_estimate is not None else math.nan,
         }
         if case.is_reference:
             row["reference_ndof"] = int(sol.ndof["total"])
@@ -799,8 +810,16 @@ def sweep(
     progress: bool = False,
     solve_options: dict | None = None,
     max_dof: int | None = None,
+    adapt: Iterable[float] | float | None = None,
+    adapt_maxh: float | None = None,
 ):
     """Run every (element, maxh, nu, friction) of `scene`; one row per run as a pandas DataFrame.
+
+    adapt: relative error tolerances in (0, 1) instead of mesh sizes: each run refines
+    adaptively (solve(..., adapt=tol), from the mesh size adapt_maxh, default the
+    scene's) and its row holds the tolerance in the maxh column, adapt = True, and the
+    whole adaptive loop's wall time in time_total (max_dof is then the budget of each run).
+    The reference is then the finest tolerance's run or a fixed mesh at reference_maxh.
 
     scene: a Scene, a built-in scene name or a TOML path. elements: element families
     (default: bdm alone, as in `solve`). nu: Poisson ratios (default:
@@ -826,7 +845,9 @@ def sweep(
         scene = resolve(scene)
     if max_dof is not None:
         solve_options = {**(solve_options or {}), "max_dof": max_dof}
-    grid = _Grid.checked(scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options, friction)
+    grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
+                         jobs, solve_options, friction,
+                         adapt_maxh=(adapt_maxh or scene.maxh or 0.0) if adapt is not None else None)
     grid.check_sizes()
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
@@ -883,17 +904,27 @@ class _Grid:
     reference_element: str | None
     solve_options: dict
     setup: dict              # the _SETUP_COLUMNS values of every row
+    adapt_maxh: float | None = None  # adaptive runs (sizes are tolerances) from this mesh size
 
     @classmethod
     def checked(cls, scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options,
-                friction=None) -> _Grid:
+                friction=None, adapt_maxh: float | None = None) -> _Grid:
         from . import elements as _elements
 
         elements = _as_list(elements, "elements")
         for el in elements + ([reference_element] if reference_element is not None else []):
             if el not in _elements.ELEMENTS:
                 raise ValueError(f"element = {el!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
-        sizes = sorted(set(_check_sizes(_as_list(maxh, "maxh"), "maxh")), reverse=True)
+        sizes = sorted(set(_check_sizes(_as_list(maxh, "maxh" if adapt_maxh is None else "adapt"),
+                                        "maxh" if adapt_maxh is None else "adapt")), reverse=True)
+        if adapt_maxh is not None:
+            from .adapt import check_adapt_options
+
+            for tol in sizes:
+                check_adapt_options(tol, (solve_options or {}).get("max_dof"), elements[0] if elements else "bdm",
+                                    (solve_options or {}).get("crack_model", "contact"))
+            if not adapt_maxh or adapt_maxh <= 0:
+                raise ValueError("adapt_maxh: the first mesh size of adaptive runs is missing (the scene has no maxh)")
         nus = [float(v) for v in _as_list(nu, "nu")] if nu is not None else [float(scene.material.nu)]
         for v in nus:
             scene.with_(nu=v)  # validates (a SceneError names the field)
@@ -905,7 +936,7 @@ class _Grid:
             frictions = list(dict.fromkeys(float(f) for f in values))
         if reference_maxh is not None:
             (reference_maxh,) = _check_sizes([reference_maxh], "reference_maxh")
-            if reference_maxh > sizes[-1] * (1 + 1e-12):
+            if adapt_maxh is None and reference_maxh > sizes[-1] * (1 + 1e-12):
                 raise ValueError(f"reference_maxh = {reference_maxh:g}: must be at most the finest maxh ({sizes[-1]:g})")
         if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
             raise ValueError(f"jobs = {jobs!r}: must be an integer >= 1")
@@ -917,23 +948,34 @@ class _Grid:
         defaults = _solve_defaults()
         setup = {"reference_element": reference_element or "", "reference_maxh": ref_h,
                  "crack_model": solve_options.get("crack_model", defaults["crack_model"]),
-                 "qp_solver": solve_options.get("qp_solver", defaults["qp_solver"])}
+                 "qp_solver": solve_options.get("qp_solver", defaults["qp_solver"]),
+                 "adapt": adapt_maxh is not None}
+        separate = not _same(ref_h, sizes[-1]) or (adapt_maxh is not None and reference_maxh is not None)
         return cls(scene=scene, elements=list(dict.fromkeys(elements)), sizes=sizes, nus=list(dict.fromkeys(nus)),
                    frictions=frictions,
-                   ref_h=ref_h, separate=not _same(ref_h, sizes[-1]), reference_element=reference_element,
-                   solve_options=solve_options, setup=setup)
+                   ref_h=ref_h, separate=separate, reference_element=reference_element,
+                   solve_options=solve_options, setup=setup, adapt_maxh=adapt_maxh)
 
     def check_sizes(self) -> None:
         """The size guard and the thin-part check of `solve` (ngcrack.sizing) for every run, before any starts."""
         from .sizing import CoarseMeshWarning, check_request
 
         opts = {k: self.solve_options.get(k) for k in MESH_OPTIONS + ("max_dof",)}
-        runs = {(el, h) for el in self.elements for h in self.sizes}
-        runs |= {(self.ref_element(el), self.ref_h) for el in self.elements}
+        # adaptive rows start from adapt_maxh (their sizes are tolerances); a reference
+        # that is one of them needs no check of its own
+        runs = {(el, h if self.adapt_maxh is None else self.adapt_maxh) for el in self.elements for h in self.sizes}
+        refs = set()
+        if self.adapt_maxh is None:
+            runs |= {(self.ref_element(el), self.ref_h) for el in self.elements}
+        elif self.separate:  # a fixed-mesh reference: the adaptive budget does not apply to it
+            refs = {(self.ref_element(el), self.ref_h) for el in self.elements}
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", CoarseMeshWarning)  # the run itself warns
             for el, h in sorted(runs):
                 check_request(self.scene, el, h, what=f"sweep of {self.scene.name!r}, element {el!r}", **opts)
+            for el, h in sorted(refs):
+                check_request(self.scene, el, h, what=f"sweep of {self.scene.name!r}, reference {el!r}",
+                              **dict(opts, max_dof=None))
 
     def cases(self) -> list[tuple[str, float, tuple]]:
         """(element, maxh, (nu, friction)) of every run; friction None: the scene's own."""
@@ -970,7 +1012,13 @@ class _Grid:
 
     def case(self, element: str, h: float, variant: tuple, **kw) -> Case:
         nu, f = variant
-        return Case(self.scene, element, h, nu, self.solve_options, setup=dict(self.setup), friction=f, **kw)
+        # adaptive grids: the rows (and a reference that is a row) adapt; a separate reference
+        # is a fixed mesh, to which the budget max_dof of the adaptive runs does not apply
+        adaptive = self.adapt_maxh is not None and (kw.get("row", True) or not self.separate)
+        fixed_ref = self.adapt_maxh is not None and not adaptive
+        options = {k: v for k, v in self.solve_options.items() if k != "max_dof"} if fixed_ref else self.solve_options
+        return Case(self.scene, element, h, nu, options, setup=dict(self.setup), friction=f,
+                    adapt_maxh=self.adapt_maxh if adaptive else None, **kw)
 
 
 def _same(a: float, b: float) -> bool:

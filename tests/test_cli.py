@@ -64,7 +64,9 @@ def test_solve_json_has_exactly_the_contract_keys(tmp_path, capsys):
     code, out, err = run(["solve", "paper-2", "--element", "bdm", "--maxh", "0.3", "--json", path], capsys)
     assert code == 0, err
     d = json.loads(path.read_text())
-    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "kkt_sampled", "tips", "cracks"}
+    assert set(d) == {"scene", "element", "maxh", "nu", "E", "ndof", "time_s", "kkt", "kkt_sampled", "tips", "cracks",
+                      "error_estimate"}
+    assert set(d["error_estimate"]) == {"energy", "relative"}
     assert [(t["crack"], t["end"]) for t in d["tips"]] == [(0, "first"), (0, "last")]
     assert all(set(t) == {"crack", "end", "x", "y", "K_I", "K_II", "G"} for t in d["tips"])
     assert "K_II" in out and "0,first" in out  # the tip table
@@ -190,8 +192,8 @@ def check_paper_output(out_dir: Path, text: str, elements: list[str], n_rows: in
             assert img.shape[0] > 400 and img.shape[1] > 600 and img.std() > 0.01, p  # a real picture
     for k, q in enumerate(QUANTITIES, start=1):
         t = pd.read_csv(out_dir / f"table{k}_{q}.csv")
-        assert list(t.columns) == ["scene", "element", "maxh", "h", "dof", "error", "rate_dof", "rate_h", "time_s",
-                                   "memory_mb"]
+        assert list(t.columns) == ["scene", "element", "maxh", "h", "dof", "error", "estimate", "rate_dof", "rate_h",
+                                   "time_s", "memory_mb"]
         assert len(t) == 2 * len(elements) * n_rows and set(t.element) == set(elements)
         assert (t.error > 0).all() and (t.time_s > 0).all()
         md = (out_dir / f"table{k}_{q}.md").read_text()

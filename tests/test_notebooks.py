@@ -29,6 +29,7 @@ NOTEBOOKS = [
     ("07-fracture.py", "Compression with contact: |K_I| <=", False),
     ("09-explore.py", "Unilateral contact: closed over", False),
     ("08-friction.py", "Friction: the inclined crack slips below", False),
+    ("10-adaptivity.py", "Adaptive bdm: sliding error", False),
 ]
 
 

@@ -557,13 +557,14 @@ def test_paper_1_builds_body_force_and_qp(element):
 
 JSON_KEYS = {
     "scene": str, "element": str, "maxh": float, "nu": float, "E": float,
-    "ndof": dict, "time_s": dict, "kkt": dict, "kkt_sampled": dict, "tips": list, "cracks": list,
+    "ndof": dict, "time_s": dict, "kkt": dict, "kkt_sampled": dict, "tips": list, "cracks": list, "error_estimate": dict,
 }
 NESTED = {
     "ndof": ("total", "global", "contact"),
     "time_s": ("total", "mesh", "assemble", "linear", "contact"),
     "kkt": ("max_penetration", "max_tension", "complementarity", "friction"),
     "kkt_sampled": ("max_penetration", "max_tension", "complementarity", "friction"),
+    "error_estimate": ("energy", "relative"),
 }
 CRACK_KEYS = ("s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress")
 
