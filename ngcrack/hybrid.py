@@ -27,17 +27,24 @@ import ngsolve as ngs
 import scipy.sparse as sp
 
 from .elements import Discretization, Loads
+from .parallel import task_manager
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
 
 
 def _bits(ba: ngs.BitArray) -> np.ndarray:
-    return np.array(list(ba), dtype=bool)
+    """The BitArray as a boolean array (NGSolve's projector sets the bits' entries, in C++)."""
+    vec = ngs.BaseVector(len(ba))
+    vals = vec.FV().NumPy()
+    vals[:] = 1.0
+    ngs.Projector(ba, True).Project(vec)
+    return vals != 0.0
 
 
 def _to_scipy(mat) -> sp.csr_matrix:
-    rows, cols, vals = mat.COO()
+    """NGSolve's sparse matrix as scipy CSR (its CSR arrays, copied once)."""
+    vals, cols, first = mat.CSR()
     n = mat.height
-    return sp.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
+    return sp.csr_matrix((np.array(vals), np.array(cols), np.array(first)), shape=(n, mat.width))
 
 
 @dataclass
@@ -79,8 +86,9 @@ class CondensedSystem:
         vec[self._free] = self._T @ y
         vec[self._fixed] = self._x_fixed
         a = self.disc.a
-        gf.vec.data += a.harmonic_extension * gf.vec
-        gf.vec.data += a.inner_solve * self._fmod
+        with task_manager():
+            gf.vec.data += a.harmonic_extension * gf.vec
+            gf.vec.data += a.inner_solve * self._fmod
         return gf
 
 
@@ -106,7 +114,8 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
     fes, a, f = disc.fes, disc.a, disc.f
     fmod = f.vec.CreateVector()
     fmod.data = f.vec
-    fmod.data += a.harmonic_extension_trans * fmod
+    with task_manager():
+        fmod.data += a.harmonic_extension_trans * fmod
     A = _to_scipy(a.mat)
     coupling_free = _bits(fes.FreeDofs(True))
     fixed = ~_bits(fes.FreeDofs(False))
@@ -146,8 +155,7 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
         rng = fes.Range(disc.jn)
         jn_dofs = np.arange(rng.start, rng.stop)
         # jn dofs are never rolled: their position in y equals their position in `keep`
-        where = {int(k): i for i, k in enumerate(keep)}
-        contact = np.array([where[int(pos[d])] for d in jn_dofs], dtype=int)
+        contact = np.searchsorted(keep, pos[jn_dofs])  # keep is sorted
     mask = np.ones(n_red, dtype=bool)
     mask[contact] = False
     return CondensedSystem(

@@ -355,13 +355,15 @@ def _mesh_stats(sol) -> tuple[float, int]:
 
 def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     """Solve one case: (its row or None, its Reference or None). Runs in any process."""
+    from .geometry import reuse_meshes
     from .solve import solve
 
     _release_memory()
     _reset_peak_memory()
     mem_start, _ = _memory_mb()
     scene = case.scene.with_(nu=case.nu)
-    sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
+    with reuse_meshes():  # the elements and Poisson ratios of a sweep share each size's mesh
+        sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
     _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
     t0 = time.perf_counter()
     ref = Reference.from_solution(sol) if case.make_reference else None
