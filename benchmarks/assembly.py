@@ -58,38 +58,47 @@ STAGES = ("mesh", "forms", "ngs_asm", "condense", "factorize", "schur", "qp", "r
 
 
 def run_case(element: str, maxh: float, crack_h: float, model: str) -> dict:
-    """One solve in this process, with the forms and the condensation timed apart."""
+    """One solve in this process: wall times per stage, and CPU times (all threads) per stage."""
     import ngsolve as ngs
 
+    import ngcrack.hybrid as hybrid
     import ngcrack.scenes as scenes
-    S = importlib.import_module("ngcrack.solve")
 
-    split: dict[str, float] = {}
+    S = importlib.import_module("ngcrack.solve")
+    wall: dict[str, float] = {}
+    cpu: dict[str, float] = {}
 
     def timed(name, fn):
         def wrapper(*args, **kw):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             out = fn(*args, **kw)
-            split[name] = split.get(name, 0.0) + time.perf_counter() - t0
+            wall[name] = wall.get(name, 0.0) + time.perf_counter() - t0
+            cpu[name] = cpu.get(name, 0.0) + time.process_time() - c0
             return out
         return wrapper
 
     S._elements = types.SimpleNamespace(**{**vars(S._elements), "build": timed("forms", S._elements.build)})
     S.condense = timed("condense", S.condense)
+    S.make_mesh = timed("mesh", S.make_mesh)
+    S.reduce_to_contact = timed("reduce", S.reduce_to_contact)
+    S.solve_qp = timed("qp", S.solve_qp)
+    hybrid.ContactReduction.recover = timed("recover", hybrid.ContactReduction.recover)
+    hybrid.CondensedSystem.expand = timed("recover", hybrid.CondensedSystem.expand)
     load = os.getloadavg()[0]
-    t0 = time.perf_counter()
+    c0 = time.process_time()
     sol = S.solve(scenes.load(SCENE), element, maxh=maxh, crack_h=crack_h, crack_model=model)
-    wall = time.perf_counter() - t0
+    cpu["total"] = time.process_time() - c0
+    cpu["post"] = cpu["total"] - sum(v for k, v in cpu.items() if k != "total")
     t = dict(sol.timings)
     timers = {x["name"]: x["time"] for x in ngs.Timers()}
-    t["forms"] = split["forms"]
-    t["condense"] = split["condense"]
+    t["forms"] = wall["forms"]
+    t["condense"] = wall["condense"]
     t["ngs_asm"] = timers.get("Matrix assembling", 0.0)
     t["post"] = t["total"] - sum(t[k] for k in ("mesh", "assemble", "factorize", "solve", "schur", "qp", "recover"))
     t["recover"] += t.pop("solve")
     return {"element": element, "maxh": maxh, "crack_h": crack_h, "model": model, "ndof": sol.ndof,
-            "timings": t, "wall": wall, "maxrss": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-            "load": load}
+            "timings": t, "cpu": cpu, "maxrss": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+            "load": load, "threads": os.environ.get("NGCRACK_THREADS", "")}
 
 
 def in_subprocess(*args) -> dict:
@@ -117,6 +126,25 @@ def line(row: dict) -> str:
             f"{asm / lin:7.2f} {t['total'] / t['factorize']:7.2f} {b['maxrss'] / nd:6.0f} {b['load']:5.1f}")
 
 
+CPU_STAGES = ("mesh", "forms", "condense", "reduce", "qp", "recover", "post")
+CPU_HEAD = (f"{'element':7s} {'size':>4s} {'ndof':>8s} " + " ".join(f"{k:>7s}" for k in CPU_STAGES)
+            + f" {'total':>7s} {'linear':>7s} {'asm/lin':>7s} {'tot/red':>7s}")
+
+
+def cpu_line(row: dict) -> str:
+    """CPU seconds per stage (all threads; with NGCRACK_THREADS=1 and MKL_NUM_THREADS=1 the
+    single-thread work, which the machine's load hardly changes). reduce = factorization
+    + Schur complement + the first solve; linear = reduce + recover of the bonded run."""
+    a, b = row["a"], row["b"]
+    if "cpu" not in a or "cpu" not in b:
+        return f"{row['element']:7s} {row['size']:>4s} error or not measured"
+    c, ca = b["cpu"], a["cpu"]
+    lin = ca["reduce"] + ca["recover"]
+    cells = " ".join(f"{c.get(k, 0.0):7.2f}" for k in CPU_STAGES)
+    return (f"{row['element']:7s} {row['size']:>4s} {b['ndof']['total']:8d} {cells} {c['total']:7.2f} {lin:7.2f} "
+            f"{(c['forms'] + c['condense']) / lin:7.2f} {c['total'] / c['reduce']:7.2f}")
+
+
 def main() -> None:
     if len(sys.argv) > 1 and sys.argv[1] == "case":
         print(json.dumps(run_case(*json.loads(sys.argv[2]))))
@@ -125,11 +153,25 @@ def main() -> None:
     p.add_argument("--elements", nargs="*", default=["peers", "bdm", "tdnns", "h1p1", "h1p2"])
     p.add_argument("--sizes", nargs="*", default=list(SIZES), choices=list(SIZES))
     p.add_argument("--out", default=None, help="append one JSON line per case to this file")
+    p.add_argument("--show", default=None, help="print the tables of a file written by --out, and stop")
     args = p.parse_args()
+    if args.show:
+        rows = [json.loads(text) for text in open(args.show) if text.strip()]
+        print(HEAD)
+        print("-" * len(HEAD))
+        for row in rows:
+            print(line(row))
+        print()
+        print(CPU_HEAD)
+        print("-" * len(CPU_HEAD))
+        for row in rows:
+            print(cpu_line(row))
+        return
     print(machine(), flush=True)
     print(HEAD)
     print("-" * len(HEAD), flush=True)
     out = open(args.out, "a") if args.out else None
+    rows = []
     for size in args.sizes:
         for element in args.elements:
             maxh, crack_h = SIZES[size][element]
@@ -139,7 +181,14 @@ def main() -> None:
             if out:
                 out.write(json.dumps(row) + "\n")
                 out.flush()
+            rows.append(row)
             print(line(row), flush=True)
+    print()
+    print("CPU seconds (all threads):")
+    print(CPU_HEAD)
+    print("-" * len(CPU_HEAD))
+    for row in rows:
+        print(cpu_line(row))
     print(f"targets: asm/lin <= {TARGET_ASM_OVER_LINEAR}, tot/fac <= {TARGET_TOTAL_OVER_FACTOR} at 1e6, "
           f"B/dof <= {TARGET_BYTES_PER_DOF}")
 

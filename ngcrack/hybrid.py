@@ -41,10 +41,26 @@ def _bits(ba: ngs.BitArray) -> np.ndarray:
 
 
 def _to_scipy(mat) -> sp.csr_matrix:
-    """NGSolve's sparse matrix as scipy CSR (its CSR arrays, copied once)."""
+    """NGSolve's sparse matrix as scipy CSR on NGSolve's own arrays (no copy of the
+    values: valid while `mat` lives and is not reassembled)."""
     vals, cols, first = mat.CSR()
-    n = mat.height
-    return sp.csr_matrix((np.array(vals), np.array(cols), np.array(first)), shape=(n, mat.width))
+    return sp.csr_matrix((np.asarray(vals), np.asarray(cols), np.asarray(first)), shape=(mat.height, mat.width), copy=False)
+
+
+def _congruence(A: sp.csr_matrix, column: np.ndarray, coef: np.ndarray, n: int, sign: float) -> sp.csr_matrix:
+    """sign T^T A T for a T with at most one entry per row, T[g, column[g]] = coef[g]
+    (column -1: an empty row), in one pass over A's entries (no sparse products)."""
+    counts = np.diff(A.indptr)
+    rows = np.repeat(np.arange(A.shape[0], dtype=np.int64), counts)
+    cols = A.indices.astype(np.int64, copy=False)
+    i, j = column[rows], column[cols]
+    ok = (i >= 0) & (j >= 0)
+    rows, cols, i, j = rows[ok], cols[ok], i[ok], j[ok]
+    vals = A.data[ok] * ((sign * coef[rows]) * coef[cols])
+    K = sp.csr_matrix((vals, (i, j)), shape=(n, n))
+    K.sum_duplicates()
+    K.eliminate_zeros()
+    return K
 
 
 @dataclass
@@ -144,12 +160,18 @@ def condense(disc: Discretization, loads: Loads) -> CondensedSystem:
     cols = np.concatenate([np.arange(len(keep)), len(keep) + np.arange(len(pairs)), len(keep) + np.arange(len(pairs))]).astype(int)
     vals = np.concatenate([np.ones(len(keep)), [-nrm[1] for *_, nrm in pairs], [nrm[0] for *_, nrm in pairs]])
     T = sp.csr_matrix((vals, (rows, cols)), shape=(len(free_idx), n_red))
-    A_ff = A[free_idx][:, free_idx]
-    A_fd = A[free_idx][:, fixed_idx]
-    rhs = fmod.FV().NumPy()[free_idx] - A_fd @ x_fixed
-    K = sp.csr_matrix(disc.sign * (T.T @ A_ff @ T))
-    K.eliminate_zeros()
-    F = disc.sign * (T.T @ rhs)
+    # T has at most one entry per row: the column and coefficient of each NGSolve dof
+    column = np.full(fes.ndof, -1, dtype=np.int64)
+    coef = np.zeros(fes.ndof)
+    column[free_idx[rows]], coef[free_idx[rows]] = cols, vals
+    rhs = fmod.FV().NumPy().copy()
+    if np.any(x_fixed):
+        x_full = np.zeros(fes.ndof)
+        x_full[fixed_idx] = x_fixed
+        rhs -= A @ x_full
+    K = _congruence(A, column, coef, n_red, disc.sign)
+    used = column >= 0
+    F = np.bincount(column[used], weights=disc.sign * coef[used] * rhs[used], minlength=n_red)
     contact = np.zeros(0, dtype=int)
     if disc.jn is not None:
         rng = fes.Range(disc.jn)
