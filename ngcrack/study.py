@@ -192,19 +192,6 @@ def sample_quantities(sol, points: np.ndarray, normal: np.ndarray) -> np.ndarray
     return _quantities(sol, mp, normal)
 
 
-def _own_quantities(sol, order: int, normal: np.ndarray) -> np.ndarray:
-    """sample_quantities at quadrature_points(sol.mesh, order), without a point search:
-    the same points, mapped from the reference triangle on every element at once."""
-    import ngsolve as ngs
-
-    rule = ngs.IntegrationRule(ngs.TRIG, order)
-    # quadrature_points maps (xi, eta) to a + xi (b - a) + eta (c - a); NGSolve maps
-    # (xi', eta') to xi' a + eta' b + (1 - xi' - eta') c
-    mapped = ngs.IntegrationRule([(1.0 - p[0] - p[1], p[0], 0.0) for p in rule.points], list(rule.weights))
-    mp = sol.mesh.MapToAllElements({ngs.ET.TRIG: mapped}, ngs.VOL)
-    return _quantities(sol, mp, normal)
-
-
 def _quantities(sol, mp, normal: np.ndarray) -> np.ndarray:
     u = np.asarray(sol.u(mp)).reshape(-1, 2)
     sig = np.asarray(sol.sigma(mp)).reshape(-1, 2, 2)
@@ -241,7 +228,7 @@ class Reference:
         normal = quantity_normal(sol.scene)
         return cls(scene=sol.scene.name, element=sol.element, maxh=float(sol.maxh),
                    nu=float(sol.scene.material.nu), ndof=int(sol.ndof["total"]), normal=normal,
-                   points=points, weights=weights, values=_own_quantities(sol, order, normal))
+                   points=points, weights=weights, values=sample_quantities(sol, points, normal))
 
     def denominators(self) -> np.ndarray:
         """The norms the errors are divided by: each quantity's own, or (a zero field,
