@@ -51,12 +51,11 @@ def _congruence(A: sp.csr_matrix, column: np.ndarray, coef: np.ndarray, n: int, 
     """sign T^T A T for a T with at most one entry per row, T[g, column[g]] = coef[g]
     (column -1: an empty row), in one pass over A's entries (no sparse products)."""
     counts = np.diff(A.indptr)
-    rows = np.repeat(np.arange(A.shape[0], dtype=np.int64), counts)
-    cols = A.indices.astype(np.int64, copy=False)
-    i, j = column[rows], column[cols]
+    i, c_i = np.repeat(column, counts), np.repeat(sign * coef, counts)  # per entry, by its row
+    j, c_j = column[A.indices], coef[A.indices]
     ok = (i >= 0) & (j >= 0)
-    rows, cols, i, j = rows[ok], cols[ok], i[ok], j[ok]
-    vals = A.data[ok] * ((sign * coef[rows]) * coef[cols])
+    i, j = i[ok], j[ok]
+    vals = A.data[ok] * (c_i[ok] * c_j[ok])
     K = sp.csr_matrix((vals, (i, j)), shape=(n, n))
     K.sum_duplicates()
     K.eliminate_zeros()
