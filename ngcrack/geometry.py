@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import re
 import warnings
+from collections import OrderedDict
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -225,7 +227,8 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
     return geo
 
 
-def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
+def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int, verts: np.ndarray | None = None) -> CrackEdges:
+    """The ordered crack edges of crack k; `verts` are the mesh's vertex coordinates."""
     crack = scene.cracks[k]
     pts = np.asarray(crack.points, dtype=float)
     seg_t = pts[1:] - pts[:-1]
@@ -233,7 +236,8 @@ def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int) -> CrackEdges:
     seg_t = seg_t / seg_len[:, None]
     seg_s0 = np.concatenate([[0.0], np.cumsum(seg_len)[:-1]])
     name = crack_bc(k)
-    verts = np.array([v.point for v in mesh.vertices])
+    if verts is None:
+        verts = np.array([v.point for v in mesh.vertices])
     rows = []
     for el in mesh.Elements(ngs.BND):
         if el.mat != name:
@@ -276,12 +280,43 @@ def mesh_quality(P: np.ndarray, T: np.ndarray) -> float:
     return float(np.min(4.0 * np.sqrt(3.0) * area / sides))
 
 
+#: how many meshes `reuse_meshes` keeps (the most recently used ones)
+MESH_CACHE_SIZE = 2
+_mesh_cache: OrderedDict = OrderedDict()
+_reusing = 0
+
+
+@contextmanager
+def reuse_meshes():
+    """Inside this context, `make_mesh` reuses the meshes of earlier calls.
+
+    A mesh depends on the scene's geometry (polygon, labels, crack polylines) and the
+    mesh sizes only, not on the material or the loads: a sweep over elements or Poisson
+    ratios meshes each size once. The last MESH_CACHE_SIZE meshes are kept between
+    contexts (a sweep worker enters it for every case); outside the context nothing is
+    reused or stored, so code that changes a mesh (refinement) gets a fresh one.
+    """
+    global _reusing
+    _reusing += 1
+    try:
+        yield
+    finally:
+        _reusing -= 1
+
+
+def _mesh_key(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> tuple:
+    return (tuple(map(tuple, np.asarray(scene.polygon, float).tolist())), tuple(scene.labels),
+            tuple(tuple(map(tuple, np.asarray(c.points, float).tolist())) for c in scene.cracks),
+            float(maxh), tip_h, crack_h, float(grading))
+
+
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
               crack_h: float | None = None, grading: float | None = None) -> CrackMesh:
     """Mesh the scene with netgen; the arguments override the scene's [mesh] values.
 
     Warns if netgen produced a triangle of quality below MIN_QUALITY (a strong grading
-    can do that); such a triangle spoils the accuracy nearby.
+    can do that); such a triangle spoils the accuracy nearby. Inside `reuse_meshes()`
+    the mesh of an earlier call with the same geometry and sizes is returned.
     """
     maxh = maxh if maxh is not None else scene.maxh
     if maxh is None:
@@ -289,6 +324,29 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     tip_h = tip_h if tip_h is not None else scene.tip_h
     crack_h = crack_h if crack_h is not None else scene.crack_h
     grading = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
+    if not _reusing:
+        return _make_mesh(scene, maxh, tip_h, crack_h, grading)
+    key = _mesh_key(scene, maxh, tip_h, crack_h, grading)
+    if key in _mesh_cache:
+        _mesh_cache.move_to_end(key)
+        cached = _mesh_cache[key]
+        _warn_quality(scene, cached.quality, maxh, grading, stacklevel=3)
+        return cached
+    cmesh = _make_mesh(scene, maxh, tip_h, crack_h, grading)
+    _mesh_cache[key] = cmesh
+    while len(_mesh_cache) > MESH_CACHE_SIZE:
+        _mesh_cache.popitem(last=False)
+    return cmesh
+
+
+def _warn_quality(scene: Scene, quality: float, maxh: float, grading: float, stacklevel: int) -> None:
+    """Warn (at `stacklevel`: make_mesh's caller) about a triangle of quality below MIN_QUALITY."""
+    if quality < MIN_QUALITY:
+        warnings.warn(f"scene {scene.name!r}: netgen made a triangle of quality {quality:.3f} (maxh={maxh:g}, "
+                      f"grading={grading:g}); a milder grading or another maxh gives a better mesh", stacklevel=stacklevel)
+
+
+def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> CrackMesh:
     # netgen meshes the scene scaled to unit diameter, and the vertices are mapped back:
     # a scaled scene gets the same mesh, scaled (up to round-off)
     center, scale = normalizing_frame(scene)
@@ -307,10 +365,8 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     triangles = np.asarray(ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=int) - 1  # netgen counts from 1
     mesh = ngs.Mesh(ngmesh)
     quality = mesh_quality(points, triangles)
-    if quality < MIN_QUALITY:
-        warnings.warn(f"scene {scene.name!r}: netgen made a triangle of quality {quality:.3f} (maxh={maxh:g}, "
-                      f"grading={grading:g}); a milder grading or another maxh gives a better mesh", stacklevel=2)
-    cracks = tuple(_crack_edges(mesh, scene, k) for k in range(len(scene.cracks)))
+    _warn_quality(scene, quality, maxh, grading, stacklevel=4)
+    cracks = tuple(_crack_edges(mesh, scene, k, points) for k in range(len(scene.cracks)))
     bnd_vertices = {v.nr for el in mesh.Elements(ngs.BND) if not el.mat.startswith("ngcrack_crack") for v in el.vertices}
     tips = frozenset(
         int(v) for c in cracks if len(c) for v in (c.va[0], c.vb[-1]) if int(v) not in bnd_vertices

@@ -32,17 +32,39 @@ import ngsolve as ngs
 import scipy.sparse as sp
 
 from .elements import Discretization, Loads
+from .parallel import task_manager
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
 
 
 def _bits(ba: ngs.BitArray) -> np.ndarray:
-    return np.array(list(ba), dtype=bool)
+    """The BitArray as a boolean array (NGSolve's projector sets the bits' entries, in C++)."""
+    vec = ngs.BaseVector(len(ba))
+    vals = vec.FV().NumPy()
+    vals[:] = 1.0
+    ngs.Projector(ba, True).Project(vec)
+    return vals != 0.0
 
 
 def _to_scipy(mat) -> sp.csr_matrix:
-    rows, cols, vals = mat.COO()
-    n = mat.height
-    return sp.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
+    """NGSolve's sparse matrix as scipy CSR on NGSolve's own arrays (no copy of the
+    values: valid while `mat` lives and is not reassembled)."""
+    vals, cols, first = mat.CSR()
+    return sp.csr_matrix((np.asarray(vals), np.asarray(cols), np.asarray(first)), shape=(mat.height, mat.width), copy=False)
+
+
+def _congruence(A: sp.csr_matrix, column: np.ndarray, coef: np.ndarray, n: int, sign: float) -> sp.csr_matrix:
+    """sign T^T A T for a T with at most one entry per row, T[g, column[g]] = coef[g]
+    (column -1: an empty row), in one pass over A's entries (no sparse products)."""
+    counts = np.diff(A.indptr)
+    i, c_i = np.repeat(column, counts), np.repeat(sign * coef, counts)  # per entry, by its row
+    j, c_j = column[A.indices], coef[A.indices]
+    ok = (i >= 0) & (j >= 0)
+    i, j = i[ok], j[ok]
+    vals = A.data[ok] * (c_i[ok] * c_j[ok])
+    K = sp.csr_matrix((vals, (i, j)), shape=(n, n))
+    K.sum_duplicates()
+    K.eliminate_zeros()
+    return K
 
 
 @dataclass
@@ -111,8 +133,9 @@ class CondensedSystem:
         vec[self._free] = self._T @ y
         vec[self._fixed] = self._x_fixed
         a = self.disc.a
-        gf.vec.data += a.harmonic_extension * gf.vec
-        gf.vec.data += a.inner_solve * self._fmod
+        with task_manager():
+            gf.vec.data += a.harmonic_extension * gf.vec
+            gf.vec.data += a.inner_solve * self._fmod
         return gf
 
 
@@ -143,7 +166,8 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
     fes, a, f = disc.fes, disc.a, disc.f
     fmod = f.vec.CreateVector()
     fmod.data = f.vec
-    fmod.data += a.harmonic_extension_trans * fmod
+    with task_manager():
+        fmod.data += a.harmonic_extension_trans * fmod
     A = _to_scipy(a.mat)
     coupling_free = _bits(fes.FreeDofs(True))
     fixed = ~_bits(fes.FreeDofs(False))
@@ -172,29 +196,36 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
     cols = np.concatenate([np.arange(len(keep)), len(keep) + np.arange(len(pairs)), len(keep) + np.arange(len(pairs))]).astype(int)
     vals = np.concatenate([np.ones(len(keep)), [-nrm[1] for *_, nrm in pairs], [nrm[0] for *_, nrm in pairs]])
     T = sp.csr_matrix((vals, (rows, cols)), shape=(len(free_idx), n_red))
-    A_ff = A[free_idx][:, free_idx]
-    A_fd = A[free_idx][:, fixed_idx]
-    rhs = fmod.FV().NumPy()[free_idx] - A_fd @ x_fixed
-    K = sp.csr_matrix(disc.sign * (T.T @ A_ff @ T))
-    K.eliminate_zeros()
-    F = disc.sign * (T.T @ rhs)
+    # T has at most one entry per row: the column and coefficient of each NGSolve dof
+    column = np.full(fes.ndof, -1, dtype=np.int64)
+    coef = np.zeros(fes.ndof)
+    column[free_idx[rows]], coef[free_idx[rows]] = cols, vals
+    rhs = fmod.FV().NumPy().copy()
+    if np.any(x_fixed):
+        x_full = np.zeros(fes.ndof)
+        x_full[fixed_idx] = x_fixed
+        rhs -= A @ x_full
+    K = _congruence(A, column, coef, n_red, disc.sign)
+    used = column >= 0
+    F = np.bincount(column[used], weights=disc.sign * coef[used] * rhs[used], minlength=n_red)
     contact = np.zeros(0, dtype=int)
     if disc.jn is not None:
         rng = fes.Range(disc.jn)
         jn_dofs = np.arange(rng.start, rng.stop)
         # jn dofs are never rolled: their position in y equals their position in `keep`
-        where = {int(k): i for i, k in enumerate(keep)}
-        contact = np.array([where[int(pos[d])] for d in jn_dofs], dtype=int)
+        contact = np.searchsorted(keep, pos[jn_dofs])  # keep is sorted
     n_normal, t_dofs = None, np.zeros(0, dtype=int)
     if tangential and disc.jn is not None:
         comp = disc.jt if disc.jt is not None else disc.tangential
         if comp is None:
             raise ValueError(f"friction: element {disc.element!r} has no tangential jump unknowns")
         rng = fes.Range(comp)
-        kept = [(i, where[int(pos[d])]) for i, d in enumerate(range(rng.start, rng.stop)) if int(pos[d]) in where]
-        t_dofs = np.array([i for i, _ in kept], dtype=int)
+        p = pos[np.arange(rng.start, rng.stop)]
+        at = np.searchsorted(keep, p)
+        kept = (p >= 0) & (at < len(keep)) & (keep[np.minimum(at, len(keep) - 1)] == p)
+        t_dofs = np.flatnonzero(kept)
         n_normal = len(contact)
-        contact = np.concatenate([contact, np.array([k for _, k in kept], dtype=int)])
+        contact = np.concatenate([contact, at[kept]]).astype(int)
         if np.any(np.diff(contact) <= 0):  # the Schur complement's order is the order of `contact`
             raise AssertionError("crack unknowns out of order")
     mask = np.ones(n_red, dtype=bool)

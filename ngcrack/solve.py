@@ -166,12 +166,13 @@ def _relative_residual(system: CondensedSystem, x_rest: np.ndarray) -> float:
     for a singular one.
     """
     r, K = system.rest, system.K
-    K_rr = K[r][:, r]
-    diag = np.abs(K_rr.diagonal())
+    y = np.zeros(system.n)
+    y[r] = x_rest  # K_rr x_rest = (K y)_r with y_c = 0, without copying K_rr
+    diag = np.abs(K.diagonal()[r])
     D = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
     Fs = D * system.F[r]
     norm_F = np.linalg.norm(Fs)
-    return float(np.linalg.norm(D * (K_rr @ x_rest - system.F[r])) / norm_F) if norm_F > 0 else 0.0
+    return float(np.linalg.norm(D * ((K @ y)[r] - system.F[r])) / norm_F) if norm_F > 0 else 0.0
 
 
 def condition_estimates(red) -> dict:
@@ -251,7 +252,8 @@ def _check_options(element: str, maxh, tip_h, crack_h, qp_solver: str, linear_so
         raise ValueError(f"linear_solver = {linear_solver!r}: allowed values are {', '.join(Factorization.BACKENDS)}")
     if schur not in SCHUR_METHODS:
         raise ValueError(f"schur = {schur!r}: allowed values are {', '.join(SCHUR_METHODS)}")
-    allowed = qp_solvers()
+    # the native solvers need no cvxpy import (about 0.8 s of CPU in a fresh process)
+    allowed = NATIVE_SOLVERS if qp_solver in NATIVE_SOLVERS else qp_solvers()
     if qp_solver not in allowed:
         raise ValueError(f"qp_solver = {qp_solver!r}: allowed values are {', '.join(allowed)}")
 

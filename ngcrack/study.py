@@ -192,8 +192,9 @@ def quadrature_points(mesh, order: int = QUADRATURE_ORDER) -> tuple[np.ndarray, 
     rule = ngs.IntegrationRule(ngs.TRIG, order)
     ref = np.array([p[:2] for p in rule.points])
     wref = np.array(rule.weights)  # sums to 1/2, the reference triangle's area
-    verts = np.array([v.point for v in mesh.vertices])
-    tris = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)], dtype=int)
+    # netgen's arrays: the vertices and triangles of NGSolve's mesh, in its order
+    verts = np.array(mesh.ngmesh.Coordinates()[:, :2], dtype=float)
+    tris = np.asarray(mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=int) - 1
     a, b, c = verts[tris[:, 0]], verts[tris[:, 1]], verts[tris[:, 2]]
     pts = a[:, None, :] + ref[None, :, 0, None] * (b - a)[:, None, :] + ref[None, :, 1, None] * (c - a)[:, None, :]
     det = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
@@ -208,6 +209,10 @@ def sample_quantities(sol, points: np.ndarray, normal: np.ndarray) -> np.ndarray
         x = points[missing[0]]
         raise ValueError(f"{len(missing)} evaluation points lie outside the mesh of {sol.scene.name!r} "
                          f"(first: ({x[0]:.6g}, {x[1]:.6g})): the meshes do not cover the same domain")
+    return _quantities(sol, mp, normal)
+
+
+def _quantities(sol, mp, normal: np.ndarray) -> np.ndarray:
     u = np.asarray(sol.u(mp)).reshape(-1, 2)
     sig = np.asarray(sol.sigma(mp)).reshape(-1, 2, 2)
     traction = np.einsum("pij,j->pi", sig, normal)
@@ -501,18 +506,20 @@ def _mesh_stats(sol) -> tuple[float, int]:
 
 def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     """Solve one case: (its row or None, its Reference or None). Runs in any process."""
+    from .geometry import reuse_meshes
     from .solve import solve
 
     _release_memory()
     _reset_peak_memory()
     mem_start, _ = _memory_mb()
     scene = case.scene.with_(nu=case.nu) if case.friction is None else case.scene.with_(nu=case.nu, friction=case.friction)
-    if case.adapt_maxh is not None:
+    if case.adapt_maxh is not None:  # refines its own meshes: none is shared
         with warnings.catch_warnings():  # a budget reached is recorded in the row (estimate > maxh)
             warnings.simplefilter("ignore", UserWarning)
             sol = solve(scene, element=case.element, maxh=case.adapt_maxh, adapt=case.maxh, **case.solve_options)
     else:
-        sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
+        with reuse_meshes():  # the elements and Poisson ratios of a sweep share each size's mesh
+            sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
     _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
     t0 = time.perf_counter()
     ref = Reference.from_solution(sol) if case.make_reference else None

@@ -140,7 +140,7 @@ def test_sweep_takes_tolerances(tmp_path):
 #: issue 13's targets from the coarse ungraded mesh (maxh 0.5): element -> (tolerance of
 #: the estimate to run to, sliding error to reach, unknowns allowed, which count). bdm's
 #: first mesh has 7.8e4 unknowns in total, so its 6e4 can only hold for the global
-#: (condensed) unknowns (BENCHMARKS.md, section 5)
+#: (condensed) unknowns (BENCHMARKS.md, section 8)
 TARGETS = {"bdm": (0.006, 0.005, 60_000, "global"), "peers": (0.013, 0.02, 200_000, "total")}
 
 

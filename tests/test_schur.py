@@ -129,7 +129,9 @@ def test_saddle_point_takes_blocked_path():
         assert got.method == "blocked"
         errs = (rel(got.S, ref.S), rel(got.b, ref.b))
         report(f"paper-2 bdm nu=0.5 {solver}/blocked: S, b rel diff {errs}")
-        assert max(errs) <= 1e-8
+        # b sits at the round-off level of this nearly singular saddle point: K perturbed by
+        # one ulp per entry moves pardiso's b against superlu's by 5e-9 to 6e-8
+        assert max(errs) <= 1e-7
     with pytest.warns(UserWarning, match="positive definite"):
         got = schur_complement(sysm.K, sysm.F, sysm.rest, sysm.contact, linear_solver="superlu", method="factor",
                                definite=False)

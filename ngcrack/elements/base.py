@@ -29,6 +29,7 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
 from ..materials import Compliance
+from ..parallel import task_manager
 
 #: extra quadrature order for element-boundary terms that carry the crack indicator
 CRACK_BONUS_INTORDER = 2
@@ -126,6 +127,29 @@ def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
     return on_crack_edges(ngs.FacetFESpace(crack_mesh.mesh, order=order), crack_mesh)
 
 
+def crack_elements(crack_mesh: CrackMesh) -> ngs.BitArray:
+    """The triangles with an edge on a crack (both sides), as a BitArray over the elements."""
+    mesh = crack_mesh.mesh
+    els = ngs.BitArray(mesh.ne)
+    els.Clear()
+    for crack in crack_mesh.cracks:
+        for e in crack.edge:
+            for el in mesh.edges[int(e)].elements:
+                els[el.nr] = True
+    return els
+
+
+def crack_boundary(crack_mesh: CrackMesh) -> ngs.comp.DifferentialSymbol:
+    """Element-boundary integration over the crack's triangles only.
+
+    The crack indicator chi (and the crack frame) vanish on every other element
+    boundary, so the crack terms need not be evaluated there: assembling them on the
+    few triangles at the crack instead of in every element's boundary integral gives
+    the same matrix up to round-off, at a fraction of the cost (BENCHMARKS.md section 9).
+    """
+    return ngs.dx(element_boundary=True, bonus_intorder=CRACK_BONUS_INTORDER, definedonelements=crack_elements(crack_mesh))
+
+
 def on_crack_edges(space: ngs.FESpace, crack_mesh: CrackMesh) -> ngs.FESpace:
     """`space` compressed to the dofs that belong to the crack edges."""
     active = ngs.BitArray(space.ndof)
@@ -201,12 +225,16 @@ def weakly_symmetric_hybrid(
     rotation: Callable[[tuple], ngs.CoefficientFunction],
     facet_order: int,
     built: list[str],
+    trace_rows: Callable[[tuple], tuple] | None = None,
 ) -> Discretization:
     """Assemble the hybrid form above for the given stress and rotation spaces.
 
     `rows(symbols)` maps the stress-space symbols (trial or test functions) to the two
     stress rows and their divergences; `rotation(symbols)` maps the rotation-space
-    symbols to the scalar rotation r.
+    symbols to the scalar rotation r. `trace_rows(symbols)`, where given, maps them to
+    two rows with the same normal traces on every element boundary as the stress rows
+    (the parts with zero normal trace left out; PEERS: the curls of the bubbles), used in
+    the element-boundary terms.
 
     Incompressible limit (plane strain, nu -> 1/2): A annihilates the spherical stress
     c I, and c I with c constant on a triangle is divergence free and symmetric, so the
@@ -252,27 +280,32 @@ def weakly_symmetric_hybrid(
         _, sig, div = stress(sym)
         return sig, div, sym[idx_u], rotation(sym[idx_r]), ngs.CF((sym[idx_ux], sym[idx_uy]))
 
+    def boundary_stress(sym):
+        if trace_rows is None:
+            return stress(sym)[1]
+        sig_n = stress_matrix(*trace_rows(sym[:ns]))
+        return sig_n + sym[idx_p] * ngs.Id(2) if split else sig_n
+
     sig, div_sig, u, r, uh = unpack(trial)
     tau, div_tau, v, eta, muh = unpack(test)
     n = ngs.specialcf.normal(2)
     a = ngs.BilinearForm(fes, condense=True)
-    a += (ngs.InnerProduct(compliance.apply(sig), tau) + div_tau * u + div_sig * v + skew(tau) * r + skew(sig) * eta) * ngs.dx
+    volume = ngs.InnerProduct(compliance.apply(sig), tau) + div_tau * u + div_sig * v + skew(tau) * r + skew(sig) * eta
+    a += volume.Compile() * ngs.dx
     if split:
         lam, mu_l = trial[idx_p + 1], test[idx_p + 1]
         a += (ngs.Trace(stress(trial)[0]) * mu_l + ngs.Trace(stress(test)[0]) * lam) * ngs.dx
+    sig, tau = boundary_stress(trial), boundary_stress(test)
+    a += (-((tau * n) * uh + (sig * n) * muh)).Compile() * ngs.dx(element_boundary=True)
     if has_crack:
+        # the crack part of the traces, -chi j and -chi k, on the crack's triangles only
         nu, t = crack_frame_cf(crack_mesh)
         chi = ngs.IfPos(n * nu - 0.5, 1.0, 0.0)
         jn, jt = trial[idx_jn], trial[idx_jt]
         kn, kt = test[idx_jn], test[idx_jt]
-        trace_trial = uh - chi * (jn * nu + jt * t)
-        trace_test = muh - chi * (kn * nu + kt * t)
-        dbnd = ngs.dx(element_boundary=True, bonus_intorder=CRACK_BONUS_INTORDER)
-    else:
-        trace_trial, trace_test = uh, muh
-        dbnd = ngs.dx(element_boundary=True)
-    a += -((tau * n) * trace_trial + (sig * n) * trace_test) * dbnd
-    a.Assemble()
+        a += ((tau * n) * (chi * (jn * nu + jt * t)) + (sig * n) * (chi * (kn * nu + kt * t))) * crack_boundary(crack_mesh)
+    with task_manager():
+        a.Assemble()
     f = ngs.LinearForm(fes)
     if loads.body_force is not None:
         f += -(loads.body_force * v) * ngs.dx
@@ -281,7 +314,8 @@ def weakly_symmetric_hybrid(
         f += -(g * muh) * ngs.ds(definedon=boundary_region(mesh, [label]))
     if loads.traction:
         built.append("traction load on " + ", ".join(sorted(loads.traction)))
-    f.Assemble()
+    with task_manager():
+        f.Assemble()
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components

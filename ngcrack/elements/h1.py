@@ -24,6 +24,7 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
 from ..materials import Compliance
+from ..parallel import task_manager
 from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data, roller_edges
 
 
@@ -91,13 +92,24 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         # the frame must be constant across each crack vertex's patch: a frame that fell
         # to zero at the patch's other vertices would make the rigid opening of a face
         # cost strain energy of order 1/h and lock the jump
-        for nrs in crack_mesh.triangles:
-            crack_v = [v for v in nrs if v in frame]
-            if crack_v:
+        # (one pass in element order, a vertex taking the value of the first framed vertex of
+        # the first triangle that reaches it)
+        framed = bytearray(len(crack_mesh.points))
+        for v in frame:
+            framed[v] = 1
+        for nrs in crack_mesh.triangles.tolist():
+            a, b, c = nrs
+            src = a if framed[a] else b if framed[b] else c if framed[c] else -1
+            if src >= 0:
                 for v in nrs:
-                    frame.setdefault(v, frame[crack_v[0]])
-        for v, nrm in frame.items():
-            nu_x.vec[v], nu_y.vec[v] = float(nrm[0]), float(nrm[1])
+                    if not framed[v]:
+                        framed[v] = 1
+                        frame[v] = frame[src]
+        if frame:
+            where = np.fromiter(frame, dtype=int, count=len(frame))
+            values = np.array(list(frame.values()), dtype=float).reshape(-1, 2)
+            nu_x.vec.FV().NumPy()[where] = values[:, 0]
+            nu_y.vec.FV().NumPy()[where] = values[:, 1]
         nu_cf = ngs.CF((nu_x, nu_y))
         t_cf = ngs.CF((nu_y, -nu_x))
         grad_nu = ngs.CF((ngs.grad(nu_x), ngs.grad(nu_y)), dims=(2, 2))  # row i: grad nu_i
@@ -113,26 +125,46 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
             u = u + H * (sym[2] * nu_cf + sym[3] * t_cf)
         return u
 
+    def grad_continuous(sym):
+        return ngs.CF((ngs.grad(sym[0]), ngs.grad(sym[1])), dims=(2, 2))
+
+    def grad_jump(sym):
+        # grad(u_e) where H+ = 1; nu_h varies only at kinks (linear), so the product rule
+        return ngs.OuterProduct(nu_cf, ngs.grad(sym[2])) + sym[2] * grad_nu \
+            + ngs.OuterProduct(t_cf, ngs.grad(sym[3])) + sym[3] * grad_t
+
     def grad_displacement(sym):
-        g = ngs.CF((ngs.grad(sym[0]), ngs.grad(sym[1])), dims=(2, 2))
+        g = grad_continuous(sym)
         if has_crack:
-            # H+ is constant per triangle; nu_h varies only at kinks (linear), so the product rule
-            ge = ngs.OuterProduct(nu_cf, ngs.grad(sym[2])) + sym[2] * grad_nu \
-                + ngs.OuterProduct(t_cf, ngs.grad(sym[3])) + sym[3] * grad_t
-            g = g + H * ge
+            g = g + H * grad_jump(sym)  # H+ is constant per triangle
         return g
 
-    def strain(sym):
-        g = grad_displacement(sym)
+    def sym_part(g):
         return 0.5 * (g + g.trans)
+
+    def strain(sym):
+        return sym_part(grad_displacement(sym))
 
     def stress_of(eps):
         return 2.0 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2)
 
     trial, test = fes.TrialFunction(), fes.TestFunction()
     a = ngs.BilinearForm(fes, condense=True)
-    a += ngs.InnerProduct(stress_of(strain(trial)), strain(test)) * ngs.dx
-    a.Assemble()
+    # eps(u) = eps(u_c) + H+ eps(u_e): the u_c part everywhere, the terms with u_e on the
+    # + side's triangles only (H+ = 1 there, 0 elsewhere); the same matrix as with H+ in
+    # every element, up to round-off
+    eps_c, eps_c_test = sym_part(grad_continuous(trial)), sym_part(grad_continuous(test))
+    a += ngs.InnerProduct(stress_of(eps_c), eps_c_test).Compile() * ngs.dx
+    if has_crack:
+        plus = ngs.BitArray(mesh.ne)
+        plus.Clear()
+        for el in np.flatnonzero(H.vec.FV().NumPy() > 0):
+            plus[int(el)] = True
+        eps_e, eps_e_test = sym_part(grad_jump(trial)), sym_part(grad_jump(test))
+        a += (ngs.InnerProduct(stress_of(eps_c), eps_e_test) + ngs.InnerProduct(stress_of(eps_e), eps_c_test)
+              + ngs.InnerProduct(stress_of(eps_e), eps_e_test)) * ngs.dx(definedonelements=plus)
+    with task_manager():
+        a.Assemble()
     f = ngs.LinearForm(fes)
     v = displacement(test)
     if loads.body_force is not None:
@@ -142,7 +174,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         f += (g * v) * ngs.ds(definedon=boundary_region(mesh, [label]))
     if loads.traction:
         built.append("traction load on " + ", ".join(sorted(loads.traction)))
-    f.Assemble()
+    with task_manager():
+        f.Assemble()
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components

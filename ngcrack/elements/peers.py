@@ -17,13 +17,18 @@ from .base import Discretization, Loads, weakly_symmetric_hybrid
 
 
 def cubic_bubbles(mesh: ngs.Mesh) -> ngs.FESpace:
-    """The span of the cubic bubble b_T on each triangle: the interior dofs of H1 order 3."""
+    """The span of the cubic bubble b_T on each triangle: the interior dofs of H1 order 3.
+
+    The edges are given order 1 (no edge dofs), so that each triangle's element has 4
+    shape functions (3 vertex, 1 bubble) instead of the 10 of a full cubic element;
+    NGSolve's face bubble of order 3 does not depend on the edge orders, so the
+    compressed space (the bubbles only) is the same. The bubbles are the space's local
+    dofs (free, but not coupling).
+    """
     h1 = ngs.H1(mesh, order=3)
-    interior = ngs.BitArray(h1.ndof)
-    interior.Clear()
-    for el in mesh.Elements(ngs.VOL):
-        for d in h1.GetDofNrs(ngs.NodeId(ngs.FACE, el.nr)):
-            interior[d] = True
+    h1.SetOrder(ngs.ET.SEGM, 1)
+    h1.Update()
+    interior = ngs.BitArray(h1.FreeDofs(False)) & ~h1.FreeDofs(True)
     return ngs.Compress(h1, active_dofs=interior)
 
 
@@ -35,6 +40,13 @@ def _rows(sym):
         return ngs.CF((g[1], -g[0]))
 
     return (s1 + curl(b1), s2 + curl(b2)), (ngs.div(s1), ngs.div(s2))
+
+
+def _normal_trace_rows(sym):
+    """The rows without the bubble curls: curl(b_T).n is the tangential derivative of
+    b_T along dT, where b_T vanishes, so the normal traces are those of the RT0 parts."""
+    s1, s2, _, _ = sym
+    return s1, s2
 
 
 def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discretization:
@@ -56,4 +68,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discre
         rotation=rotation,
         facet_order=0,
         built=built,
+        trace_rows=_normal_trace_rows,
     )

@@ -49,12 +49,13 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
 from ..materials import Compliance
+from ..parallel import task_manager
 from .base import (
-    CRACK_BONUS_INTORDER,
     PRESSURE_SPLIT_RTOL,
     SPHERICAL_FLOOR,
     Discretization,
     Loads,
+    crack_boundary,
     crack_facet_space,
     displacement_data,
     on_crack_edges,
@@ -118,32 +119,38 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     def displacement(sym):
         return sym[1] + H * sym[idx_ue] if has_crack else sym[1]
 
-    def grad_displacement(sym):
-        # H+ is constant on each triangle, so grad(H+ u_e) = H+ grad(u_e) elementwise
-        return ngs.Grad(sym[1]) + H * ngs.Grad(sym[idx_ue]) if has_crack else ngs.Grad(sym[1])
-
     def stress(sym):
         return sym[0] + sym[idx_p] * ngs.Id(2) if split else sym[0]
 
     trial, test = fes.TrialFunction(), fes.TestFunction()
     sig, tau = stress(trial), stress(test)
-    u, v = displacement(trial), displacement(test)
+    v = displacement(test)
     n = ngs.specialcf.normal(2)
     a = ngs.BilinearForm(fes, condense=True)
-    a += (ngs.InnerProduct(compliance.apply(sig), tau) - ngs.InnerProduct(tau, grad_displacement(trial)) - ngs.InnerProduct(sig, grad_displacement(test))) * ngs.dx
+    # u = u_c + H+ u_e: the u_c terms everywhere, the u_e terms on the + side's triangles
+    # only (H+ = 1 there, 0 elsewhere), the crack jump jn on the crack's triangles only
+    # (chi = 0 on every other element boundary): the same matrix as with H+ and chi in
+    # every element, up to round-off
+    volume = ngs.InnerProduct(compliance.apply(sig), tau) - ngs.InnerProduct(tau, ngs.Grad(trial[1])) \
+        - ngs.InnerProduct(sig, ngs.Grad(test[1]))
+    a += volume.Compile() * ngs.dx
     if split:
         a += (ngs.Trace(trial[0]) * test[idx_p + 1] + ngs.Trace(test[0]) * trial[idx_p + 1]) * ngs.dx
     un_hat, vn_hat = trial[2] * n, test[2] * n
+    boundary = (n * (tau * n)) * (trial[1] * n - un_hat) + (n * (sig * n)) * (test[1] * n - vn_hat)
+    a += boundary.Compile() * ngs.dx(element_boundary=True)
     if has_crack:
+        plus = ngs.BitArray(mesh.ne)
+        plus.Clear()
+        for el in np.flatnonzero(H.vec.FV().NumPy() > 0):
+            plus[int(el)] = True
+        a += (-ngs.InnerProduct(tau, ngs.Grad(trial[idx_ue])) - ngs.InnerProduct(sig, ngs.Grad(test[idx_ue]))) * ngs.dx(definedonelements=plus)
+        a += ((n * (tau * n)) * (trial[idx_ue] * n) + (n * (sig * n)) * (test[idx_ue] * n)) * ngs.dx(element_boundary=True, definedonelements=plus)
         nu, _ = crack_frame_cf(crack_mesh)
         chi = ngs.IfPos(n * nu - 0.5, 1.0, 0.0)
-        un_hat = un_hat - chi * trial[idx_jn]
-        vn_hat = vn_hat - chi * test[idx_jn]
-        dbnd = ngs.dx(element_boundary=True, bonus_intorder=CRACK_BONUS_INTORDER)
-    else:
-        dbnd = ngs.dx(element_boundary=True)
-    a += ((n * (tau * n)) * (u * n - un_hat) + (n * (sig * n)) * (v * n - vn_hat)) * dbnd
-    a.Assemble()
+        a += ((n * (tau * n)) * (chi * trial[idx_jn]) + (n * (sig * n)) * (chi * test[idx_jn])) * crack_boundary(crack_mesh)
+    with task_manager():
+        a.Assemble()
     f = ngs.LinearForm(fes)
     if loads.body_force is not None:
         f += -(loads.body_force * v) * ngs.dx
@@ -154,7 +161,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         f += -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t)) * ngs.ds(definedon=reg)
     if loads.traction:
         built.append("traction load on " + ", ".join(sorted(loads.traction)))
-    f.Assemble()
+    with task_manager():
+        f.Assemble()
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
