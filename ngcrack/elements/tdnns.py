@@ -119,6 +119,10 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     def displacement(sym):
         return sym[1] + H * sym[idx_ue] if has_crack else sym[1]
 
+    def grad_displacement(sym):
+        # H+ is constant on each triangle, so grad(H+ u_e) = H+ grad(u_e) elementwise
+        return ngs.Grad(sym[1]) + H * ngs.Grad(sym[idx_ue]) if has_crack else ngs.Grad(sym[1])
+
     def stress(sym):
         return sym[0] + sym[idx_p] * ngs.Id(2) if split else sym[0]
 
