@@ -41,6 +41,7 @@ import contextlib
 import dataclasses
 import functools
 import importlib
+import inspect
 import io
 import math
 import time
@@ -54,6 +55,7 @@ from .contact import DEFAULT_SOLVER
 from .elements import Loads
 from .geometry import make_mesh as _make_mesh
 from .hybrid import condense as _condense, reduce_to_contact as _reduce_to_contact
+from .parallel import task_manager as _task_manager
 from .scene import Crack, Scene
 from .scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
 
@@ -172,6 +174,36 @@ def geometry_key(scene: Scene) -> tuple:
             scene.maxh, scene.tip_h, scene.crack_h, scene.grading)
 
 
+#: the stages' signatures, read once (what a call's arguments are compared by)
+_BUILD_SIGNATURE = inspect.signature(_elements.build)
+_CONDENSE_SIGNATURE = inspect.signature(_condense)
+_REDUCE_SIGNATURE = inspect.signature(_reduce_to_contact)
+
+
+def _options_key(signature: inspect.Signature, skip: tuple[str, ...], args: tuple, kwargs: dict) -> tuple | None:
+    """The arguments of a call of a stage with `signature` other than those named in `skip`, defaults filled
+    in, as a hashable key (so that positional and keyword spellings of one call agree);
+    None where they cannot be bound or compared: then the stage runs for real."""
+    try:
+        bound = signature.bind(*args, **kwargs)
+    except TypeError:
+        return None
+    bound.apply_defaults()
+    items = []
+    for name, value in bound.arguments.items():
+        if name in skip:
+            continue
+        if isinstance(value, dict):  # **kwargs
+            value = tuple(sorted(value.items()))
+        items.append((name, value))
+    key = tuple(items)
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
+
+
 class _ElementsView:
     """`ngcrack.elements` with `build` replaced by the model's cached stage."""
 
@@ -243,8 +275,8 @@ class Study:
         self.counts = {"mesh": 0, "assemble": 0, "factorize": 0, "load": 0}
         self._mesh = None  # (key, CrackMesh)
         self._disc = None  # (key, Discretization, _ParameterLoads)
-        self._system = None  # (disc, CondensedSystem) of the last condense
-        self._reductions: dict = {}  # key -> ContactReduction on the current matrix
+        self._systems: dict = {}  # condense options -> CondensedSystem of the current discretization
+        self._reductions: dict = {}  # options -> ContactReduction on the current matrix
         if solve_now:
             self.update()
 
@@ -339,28 +371,30 @@ class Study:
         key = (geometry_key(scene), args, tuple(sorted(kwargs.items())))
         if self._mesh is None or self._mesh[0] != key:
             self._mesh = (key, _make_mesh(scene, *args, **kwargs))
-            self._disc = self._system = None
-            self._reductions = {}
+            self._disc = None
+            self._systems, self._reductions = {}, {}
             self.counts["mesh"] += 1
             self.redone.append("mesh")
         return self._mesh[1]
 
-    def _build_stage(self, name, crack_mesh, compliance, loads, order=None, **kwargs):
+    def _build_stage(self, name, crack_mesh, material, loads, *args, **kwargs):
         scene = self._scene_in_flight
-        mat = scene.material
-        key = (id(crack_mesh), name, order, (mat.E, mat.nu, mat.plane), load_structure(scene),
-               tuple(sorted(kwargs.items())))
-        if self._disc is not None and self._disc[0] == key:
+        options = _options_key(_BUILD_SIGNATURE, ("crack_mesh", "loads"), (name, crack_mesh, material, loads) + args, kwargs)
+        key = (id(crack_mesh), options, load_structure(scene))
+        if options is not None and self._disc is not None and self._disc[0] == key:
             _, disc, ploads = self._disc
             ploads.set(scene)
-            disc.f.Assemble()
+            with _task_manager():
+                disc.f.Assemble()
             self.counts["load"] += 1
             self.redone.append("load vector")
             return disc
+        if options is None:  # arguments the model cannot compare: the real stage, no cache
+            return _elements.build(name, crack_mesh, material, loads, *args, **kwargs)
         ploads = _ParameterLoads(scene)
-        disc = _elements.build(name, crack_mesh, compliance, ploads.loads, order=order, **kwargs)
+        disc = _elements.build(name, crack_mesh, material, ploads.loads, *args, **kwargs)
         self._disc = (key, disc, ploads)
-        self._system = None
+        self._systems = {}
         self._reductions = {}
         self.counts["assemble"] += 1
         self.redone.append("assembly")
@@ -368,20 +402,26 @@ class Study:
 
     def _condense_stage(self, disc, loads, *args, **kwargs):
         ploads = self._disc[2] if self._disc is not None and self._disc[1] is disc else None
-        if ploads is None or args or kwargs:  # not built by this model, or options it does not know: no cache
+        options = _options_key(_CONDENSE_SIGNATURE, ("disc", "loads"), (disc, loads) + args, kwargs)
+        if ploads is None or options is None:  # not built by this model, or arguments it cannot compare
             return _condense(disc, loads, *args, **kwargs)
-        if self._system is not None and self._system[0] is disc:
-            system = self._system[1].with_load(ploads.loads)
+        cached = self._systems.get(options)
+        if cached is not None:
+            system = cached.with_load(ploads.loads)
         else:
-            system = _condense(disc, ploads.loads)
+            system = _condense(disc, ploads.loads, *args, **kwargs)
             self.redone.append("condensation")
-        self._system = (disc, system)
+        self._systems[options] = system
         return system
 
     def _reduce_stage(self, system, *args, **kwargs):
-        key = (len(system.contact), args, tuple(sorted(kwargs.items())))
+        options = _options_key(_REDUCE_SIGNATURE, ("system",), (system,) + args, kwargs)
+        if options is None:
+            return _reduce_to_contact(system, *args, **kwargs)
+        key = (options, len(system.contact), system.n_normal)
         cached = self._reductions.get(key)
-        if cached is not None and cached.system.K is system.K:
+        if cached is not None and cached.system.K is system.K \
+                and np.array_equal(cached.system.contact, system.contact):
             self.redone.append("one solve (factorization and S reused)")
             return cached.with_load(system)
         red = _reduce_to_contact(system, *args, **kwargs)

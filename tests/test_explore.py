@@ -236,8 +236,8 @@ class _WithTipsAndStates:
         self._sol = sol
         p = sol.crack_profiles()[0]
         fields = {k: getattr(p, k) for k in p.__dataclass_fields__}
-        state = np.where(np.arange(len(p.s)) < len(p.s) // 2, "stick", "slip")
-        self._profiles = [SimpleNamespace(**fields, state=list(state))]
+        fields["state"] = np.where(np.arange(len(p.s)) < len(p.s) // 2, "stick", "slip")  # replaces the real one
+        self._profiles = [SimpleNamespace(**fields)]
         self.tips = [{"crack": 0, "end": end, "x": float(x), "y": float(y), "K_I": 0.0, "K_II": 1.2, "G": 0.0}
                      for end, (x, y) in (("first", (p.x[0], p.y[0])), ("last", (p.x[-1], p.y[-1])))]
 
