@@ -14,7 +14,9 @@ and `update(**changes)` redoes only what a change invalidates:
   are NGSolve Parameters in the assembled linear form), F is rebuilt
   (`CondensedSystem.with_load`), one solve gives the new x0 and b
   (`ContactReduction.with_load`), and a new QP is solved (warm-started from the last
-  contact zone);
+  contact zone); a friction coefficient turned on from zero (or back) needs the
+  reduction on the normal and tangential jumps, formed once (from the same assembly)
+  and kept next to the frictionless one;
 - a new material (``E``, ``nu``) or element re-assembles on the same mesh;
 - a new geometry (a scene function's parameters, ``maxh``) remeshes;
 - ``field`` (the stress shown) only redraws.
@@ -23,9 +25,12 @@ The stages are the library's own: `ngcrack.solve.solve` runs every stage, with t
 model's caches standing in for `make_mesh`, `elements.build`, `condense` and
 `reduce_to_contact` (bound in `ngcrack.solve` for the duration of the call, then
 restored). A cached answer is therefore the library's answer to round-off, with
-everything `solve` computes (crack profiles, KKT residuals and, where the installed
-ngcrack has them, fracture parameters and friction states). A stage whose arguments
-differ from the cached ones runs for real, so a cache can never give a stale answer.
+everything `solve` computes (crack profiles with their open / stick / slip states, KKT
+residuals, the tips' K_I, K_II, the error estimate). Each cache is keyed by its stage's
+arguments as bound to the stage's signature (defaults filled in: condense's
+``tangential``, reduce_to_contact's ``linear_solver`` and ``schur``, the element's
+material and order): a stage whose arguments differ from the cached ones, or cannot be
+compared, runs for real, so a cache can never give a stale answer.
 
 `explore(...)` wraps a `Study` in an ipywidgets view (`Explorer`): sliders and menus wired
 to `update`, a figure (PNG from matplotlib's Agg canvas: the deformed body coloured by a
@@ -175,6 +180,7 @@ def geometry_key(scene: Scene) -> tuple:
 
 
 #: the stages' signatures, read once (what a call's arguments are compared by)
+_MESH_SIGNATURE = inspect.signature(_make_mesh)
 _BUILD_SIGNATURE = inspect.signature(_elements.build)
 _CONDENSE_SIGNATURE = inspect.signature(_condense)
 _REDUCE_SIGNATURE = inspect.signature(_reduce_to_contact)
@@ -368,7 +374,10 @@ class Study:
                 setattr(solve_mod, n, v)
 
     def _mesh_stage(self, scene, *args, **kwargs):
-        key = (geometry_key(scene), args, tuple(sorted(kwargs.items())))
+        options = _options_key(_MESH_SIGNATURE, ("scene",), (scene,) + args, kwargs)
+        if options is None:  # arguments the model cannot compare: the real stage, no cache
+            return _make_mesh(scene, *args, **kwargs)
+        key = (geometry_key(scene), options)
         if self._mesh is None or self._mesh[0] != key:
             self._mesh = (key, _make_mesh(scene, *args, **kwargs))
             self._disc = None
@@ -380,8 +389,9 @@ class Study:
     def _build_stage(self, name, crack_mesh, material, loads, *args, **kwargs):
         scene = self._scene_in_flight
         options = _options_key(_BUILD_SIGNATURE, ("crack_mesh", "loads"), (name, crack_mesh, material, loads) + args, kwargs)
-        key = (id(crack_mesh), options, load_structure(scene))
-        if options is not None and self._disc is not None and self._disc[0] == key:
+        key = (options, load_structure(scene))
+        if options is not None and self._disc is not None and self._disc[0] == key \
+                and self._disc[1].crack_mesh is crack_mesh:
             _, disc, ploads = self._disc
             ploads.set(scene)
             with _task_manager():
