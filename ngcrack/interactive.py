@@ -523,7 +523,7 @@ class Drawing:
         self.fig = fig = Figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI)
         FigureCanvasAgg(fig)
         self.ax, self.axp = fig.subplots(1, 2, width_ratios=[1.15, 1])
-        fig.subplots_adjust(left=0.04, right=0.92, bottom=0.12, top=0.91, wspace=0.32)
+        fig.subplots_adjust(left=0.04, right=0.92, bottom=0.12, top=0.87, wspace=0.32)
         self.axt = self.axp.twinx()
         self.body = PolyCollection(np.zeros((0, 3, 2)), cmap="RdBu_r", edgecolors="face", linewidths=0.1)
         self.body.set_array(np.zeros(0))
@@ -616,8 +616,8 @@ class Drawing:
         if has_state:
             title += " (grey: stick, orange: slip)"
         if tips:
-            title = "tips: " + "; ".join(f"K_I = {_tip_value(t, 'K_I'):.3g}, K_II = {_tip_value(t, 'K_II'):.3g}"
-                                         for t in tips) + "\n" + title
+            title = "(K_I, K_II) at the tips: " + ", ".join(
+                f"({_tip_value(t, 'K_I'):.3g}, {_tip_value(t, 'K_II'):.3g})" for t in tips) + "\n" + title
         axp.set_title(title, fontsize=8 if tips or has_state else 10)
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png")
