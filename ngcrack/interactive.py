@@ -60,7 +60,6 @@ from .contact import DEFAULT_SOLVER
 from .elements import Loads
 from .geometry import make_mesh as _make_mesh
 from .hybrid import condense as _condense, reduce_to_contact as _reduce_to_contact
-from .parallel import task_manager as _task_manager
 from .scene import Crack, Scene
 from .scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
 
@@ -394,8 +393,7 @@ class Study:
                 and self._disc[1].crack_mesh is crack_mesh:
             _, disc, ploads = self._disc
             ploads.set(scene)
-            with _task_manager():
-                disc.f.Assemble()
+            disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
             self.counts["load"] += 1
             self.redone.append("load vector")
             return disc
