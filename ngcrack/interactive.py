@@ -14,7 +14,9 @@ and `update(**changes)` redoes only what a change invalidates:
   are NGSolve Parameters in the assembled linear form), F is rebuilt
   (`CondensedSystem.with_load`), one solve gives the new x0 and b
   (`ContactReduction.with_load`), and a new QP is solved (warm-started from the last
-  contact zone);
+  contact zone); a friction coefficient turned on from zero (or back) needs the
+  reduction on the normal and tangential jumps, formed once (from the same assembly)
+  and kept next to the frictionless one;
 - a new material (``E``, ``nu``) or element re-assembles on the same mesh;
 - a new geometry (a scene function's parameters, ``maxh``) remeshes;
 - ``field`` (the stress shown) only redraws.
@@ -23,9 +25,12 @@ The stages are the library's own: `ngcrack.solve.solve` runs every stage, with t
 model's caches standing in for `make_mesh`, `elements.build`, `condense` and
 `reduce_to_contact` (bound in `ngcrack.solve` for the duration of the call, then
 restored). A cached answer is therefore the library's answer to round-off, with
-everything `solve` computes (crack profiles, KKT residuals and, where the installed
-ngcrack has them, fracture parameters and friction states). A stage whose arguments
-differ from the cached ones runs for real, so a cache can never give a stale answer.
+everything `solve` computes (crack profiles with their open / stick / slip states, KKT
+residuals, the tips' K_I, K_II, the error estimate). Each cache is keyed by its stage's
+arguments as bound to the stage's signature (defaults filled in: condense's
+``tangential``, reduce_to_contact's ``linear_solver`` and ``schur``, the element's
+material and order): a stage whose arguments differ from the cached ones, or cannot be
+compared, runs for real, so a cache can never give a stale answer.
 
 `explore(...)` wraps a `Study` in an ipywidgets view (`Explorer`): sliders and menus wired
 to `update`, a figure (PNG from matplotlib's Agg canvas: the deformed body coloured by a
@@ -41,6 +46,7 @@ import contextlib
 import dataclasses
 import functools
 import importlib
+import inspect
 import io
 import math
 import time
@@ -172,6 +178,37 @@ def geometry_key(scene: Scene) -> tuple:
             scene.maxh, scene.tip_h, scene.crack_h, scene.grading)
 
 
+#: the stages' signatures, read once (what a call's arguments are compared by)
+_MESH_SIGNATURE = inspect.signature(_make_mesh)
+_BUILD_SIGNATURE = inspect.signature(_elements.build)
+_CONDENSE_SIGNATURE = inspect.signature(_condense)
+_REDUCE_SIGNATURE = inspect.signature(_reduce_to_contact)
+
+
+def _options_key(signature: inspect.Signature, skip: tuple[str, ...], args: tuple, kwargs: dict) -> tuple | None:
+    """The arguments of a call of a stage with `signature` other than those named in `skip`, defaults filled
+    in, as a hashable key (so that positional and keyword spellings of one call agree);
+    None where they cannot be bound or compared: then the stage runs for real."""
+    try:
+        bound = signature.bind(*args, **kwargs)
+    except TypeError:
+        return None
+    bound.apply_defaults()
+    items = []
+    for name, value in bound.arguments.items():
+        if name in skip:
+            continue
+        if isinstance(value, dict):  # **kwargs
+            value = tuple(sorted(value.items()))
+        items.append((name, value))
+    key = tuple(items)
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
+
+
 class _ElementsView:
     """`ngcrack.elements` with `build` replaced by the model's cached stage."""
 
@@ -243,8 +280,8 @@ class Study:
         self.counts = {"mesh": 0, "assemble": 0, "factorize": 0, "load": 0}
         self._mesh = None  # (key, CrackMesh)
         self._disc = None  # (key, Discretization, _ParameterLoads)
-        self._system = None  # (disc, CondensedSystem) of the last condense
-        self._reductions: dict = {}  # key -> ContactReduction on the current matrix
+        self._systems: dict = {}  # condense options -> CondensedSystem of the current discretization
+        self._reductions: dict = {}  # options -> ContactReduction on the current matrix
         if solve_now:
             self.update()
 
@@ -336,31 +373,36 @@ class Study:
                 setattr(solve_mod, n, v)
 
     def _mesh_stage(self, scene, *args, **kwargs):
-        key = (geometry_key(scene), args, tuple(sorted(kwargs.items())))
+        options = _options_key(_MESH_SIGNATURE, ("scene",), (scene,) + args, kwargs)
+        if options is None:  # arguments the model cannot compare: the real stage, no cache
+            return _make_mesh(scene, *args, **kwargs)
+        key = (geometry_key(scene), options)
         if self._mesh is None or self._mesh[0] != key:
             self._mesh = (key, _make_mesh(scene, *args, **kwargs))
-            self._disc = self._system = None
-            self._reductions = {}
+            self._disc = None
+            self._systems, self._reductions = {}, {}
             self.counts["mesh"] += 1
             self.redone.append("mesh")
         return self._mesh[1]
 
-    def _build_stage(self, name, crack_mesh, compliance, loads, order=None, **kwargs):
+    def _build_stage(self, name, crack_mesh, material, loads, *args, **kwargs):
         scene = self._scene_in_flight
-        mat = scene.material
-        key = (id(crack_mesh), name, order, (mat.E, mat.nu, mat.plane), load_structure(scene),
-               tuple(sorted(kwargs.items())))
-        if self._disc is not None and self._disc[0] == key:
+        options = _options_key(_BUILD_SIGNATURE, ("crack_mesh", "loads"), (name, crack_mesh, material, loads) + args, kwargs)
+        key = (options, load_structure(scene))
+        if options is not None and self._disc is not None and self._disc[0] == key \
+                and self._disc[1].crack_mesh is crack_mesh:
             _, disc, ploads = self._disc
             ploads.set(scene)
-            disc.f.Assemble()
+            disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
             self.counts["load"] += 1
             self.redone.append("load vector")
             return disc
+        if options is None:  # arguments the model cannot compare: the real stage, no cache
+            return _elements.build(name, crack_mesh, material, loads, *args, **kwargs)
         ploads = _ParameterLoads(scene)
-        disc = _elements.build(name, crack_mesh, compliance, ploads.loads, order=order, **kwargs)
+        disc = _elements.build(name, crack_mesh, material, ploads.loads, *args, **kwargs)
         self._disc = (key, disc, ploads)
-        self._system = None
+        self._systems = {}
         self._reductions = {}
         self.counts["assemble"] += 1
         self.redone.append("assembly")
@@ -368,20 +410,26 @@ class Study:
 
     def _condense_stage(self, disc, loads, *args, **kwargs):
         ploads = self._disc[2] if self._disc is not None and self._disc[1] is disc else None
-        if ploads is None or args or kwargs:  # not built by this model, or options it does not know: no cache
+        options = _options_key(_CONDENSE_SIGNATURE, ("disc", "loads"), (disc, loads) + args, kwargs)
+        if ploads is None or options is None:  # not built by this model, or arguments it cannot compare
             return _condense(disc, loads, *args, **kwargs)
-        if self._system is not None and self._system[0] is disc:
-            system = self._system[1].with_load(ploads.loads)
+        cached = self._systems.get(options)
+        if cached is not None:
+            system = cached.with_load(ploads.loads)
         else:
-            system = _condense(disc, ploads.loads)
+            system = _condense(disc, ploads.loads, *args, **kwargs)
             self.redone.append("condensation")
-        self._system = (disc, system)
+        self._systems[options] = system
         return system
 
     def _reduce_stage(self, system, *args, **kwargs):
-        key = (len(system.contact), args, tuple(sorted(kwargs.items())))
+        options = _options_key(_REDUCE_SIGNATURE, ("system",), (system,) + args, kwargs)
+        if options is None:
+            return _reduce_to_contact(system, *args, **kwargs)
+        key = (options, len(system.contact), system.n_normal)
         cached = self._reductions.get(key)
-        if cached is not None and cached.system.K is system.K:
+        if cached is not None and cached.system.K is system.K \
+                and np.array_equal(cached.system.contact, system.contact):
             self.redone.append("one solve (factorization and S reused)")
             return cached.with_load(system)
         red = _reduce_to_contact(system, *args, **kwargs)
@@ -473,7 +521,7 @@ class Drawing:
         self.fig = fig = Figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI)
         FigureCanvasAgg(fig)
         self.ax, self.axp = fig.subplots(1, 2, width_ratios=[1.15, 1])
-        fig.subplots_adjust(left=0.04, right=0.92, bottom=0.12, top=0.91, wspace=0.32)
+        fig.subplots_adjust(left=0.04, right=0.92, bottom=0.12, top=0.87, wspace=0.32)
         self.axt = self.axp.twinx()
         self.body = PolyCollection(np.zeros((0, 3, 2)), cmap="RdBu_r", edgecolors="face", linewidths=0.1)
         self.body.set_array(np.zeros(0))
@@ -566,8 +614,8 @@ class Drawing:
         if has_state:
             title += " (grey: stick, orange: slip)"
         if tips:
-            title = "tips: " + "; ".join(f"K_I = {_tip_value(t, 'K_I'):.3g}, K_II = {_tip_value(t, 'K_II'):.3g}"
-                                         for t in tips) + "\n" + title
+            title = "(K_I, K_II) at the tips: " + ", ".join(
+                f"({_tip_value(t, 'K_I'):.3g}, {_tip_value(t, 'K_II'):.3g})" for t in tips) + "\n" + title
         axp.set_title(title, fontsize=8 if tips or has_state else 10)
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png")

@@ -236,8 +236,8 @@ class _WithTipsAndStates:
         self._sol = sol
         p = sol.crack_profiles()[0]
         fields = {k: getattr(p, k) for k in p.__dataclass_fields__}
-        state = np.where(np.arange(len(p.s)) < len(p.s) // 2, "stick", "slip")
-        self._profiles = [SimpleNamespace(**fields, state=list(state))]
+        fields["state"] = np.where(np.arange(len(p.s)) < len(p.s) // 2, "stick", "slip")  # replaces the real one
+        self._profiles = [SimpleNamespace(**fields)]
         self.tips = [{"crack": 0, "end": end, "x": float(x), "y": float(y), "K_I": 0.0, "K_II": 1.2, "G": 0.0}
                      for end, (x, y) in (("first", (p.x[0], p.y[0])), ("last", (p.x[-1], p.y[-1])))]
 
@@ -294,3 +294,59 @@ def test_prescribed_displacements_follow_the_load():
     assert study.error is None and study.counts["factorize"] == 1
     assert np.allclose(study.scene.boundary["right"].value, (0.0, -0.02), atol=1e-15)
     assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+
+
+@pytest.mark.skipif(not ex.friction_supported(), reason="the installed ngcrack has no crack friction")
+def test_friction_change_keeps_the_assembly_and_matches(factorizations):
+    """The inclined crack (30 degrees) under uniaxial compression: the faces carry
+    tau = sin 30 cos 30 = 0.433 and sigma_n = -cos^2 30 = -0.75 of the remote stress, so
+    they stick for mu >= tan 30 = 0.577 and slip below, where Coulomb's law leaves the
+    driving shear tau - mu |sigma_n|: K_II scales by 1 - mu cot 30 (0.480 at mu = 0.3)."""
+    study = nc.Study("inclined-crack", maxh=MAXH)
+    K_II = [t.K_II for t in study.solution.tips]
+    assert len(K_II) == 2
+    build = factorizations["build"]
+    sol = study.update(friction=0.6)
+    assert study.error is None, study.error
+    assert factorizations["build"] == build and study.counts["assemble"] == 1
+    assert study.counts["factorize"] == 2  # the tangential jumps join the crack unknowns once
+    assert all(set(p.state) == {"stick"} for p in sol.crack_profiles())
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+    n = dict(factorizations)
+    sol = study.update(friction=0.3)
+    assert factorizations == n and "one solve (factorization and S reused)" in study.redone
+    assert all(set(p.state) == {"slip"} for p in sol.crack_profiles())
+    assert sol.kkt["friction"] < 1e-8
+    ratio = 1 - 0.3 / np.tan(np.radians(30.0))
+    for k, tip in zip(K_II, sol.tips):
+        assert abs(tip.K_II / k - ratio) < 0.02 * ratio
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+    png = ex.Drawing().render(sol)  # the real states and tips drawn
+    assert png[:4] == b"\x89PNG"
+    n = dict(factorizations)  # (the fresh solves count too)
+    sol = study.update(load=1.5, load_angle=10.0, friction=0.6)  # partly stuck, partly slipping
+    assert factorizations == n and study.error is None
+    assert {"stick", "slip"} <= set(np.concatenate([p.state for p in sol.crack_profiles()]))
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+    n = dict(factorizations)
+    sol = study.update(friction=0.0)  # back to the frictionless reduction of the first solve
+    assert factorizations == n and study.counts["factorize"] == 2
+    assert _same_answer(sol, _fresh(study)) < ROUNDOFF
+
+
+def test_a_stage_with_other_arguments_runs_for_real():
+    """The caches are keyed by each stage's arguments: another linear solver or Schur
+    method is a new factorization, another mesh size a new mesh, never a stale answer."""
+    study = nc.Study("griffith-plate", maxh=MAXH)
+    study.solve_options["linear_solver"] = "superlu"
+    sol = study.update(load=0.5)
+    assert study.counts["factorize"] == 2 and study.counts["assemble"] == 1
+    assert sol.options["linear_solver"] == "superlu"
+    study.solve_options["schur"] = "columns"
+    sol = study.update(load=0.7)
+    assert study.counts["factorize"] == 3 and sol.options["schur"] == "columns"
+    fresh = nc.solve(study.scene, element="bdm", maxh=MAXH, linear_solver="superlu", schur="columns")
+    assert _same_answer(sol, fresh) < ROUNDOFF
+    study.solve_options["tip_h"] = 0.2
+    study.update()
+    assert study.counts["mesh"] == 2 and study.counts["assemble"] == 2
