@@ -104,6 +104,8 @@ ELEMENT_STYLE = {
     "peers": ("tab:blue", "o"), "bdm": ("tab:orange", "s"), "tdnns": ("tab:green", "^"),
     "h1p1": ("tab:red", "v"), "h1p2": ("tab:purple", "D"),
 }
+#: how the study labels an element's adaptive runs ("bdm (adaptive)"): drawn dashed in the element's colour
+ADAPTIVE_SUFFIX = " (adaptive)"
 #: line style per quantity when several share an axis
 QUANTITY_LINESTYLE = {"u1": "-", "u2": "--", "sigma_t1": "-", "sigma_nu": "--", "opening": ":"}
 
@@ -113,6 +115,9 @@ def _element_style(element: str, k: int = 0):
 
     if element in ELEMENT_STYLE:
         return ELEMENT_STYLE[element]
+    base = element.removesuffix(ADAPTIVE_SUFFIX)
+    if base in ELEMENT_STYLE:  # an element's adaptive runs: its colour, a plus marker
+        return ELEMENT_STYLE[base][0], "P"
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     return colors[(5 + k) % len(colors)], "P"
 
@@ -235,7 +240,8 @@ def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, t
             if r.empty:
                 continue
             color, marker = _element_style(element, k)
-            ax.loglog(r[time_column], r[f"err_{quantity}"], "-", color=color, marker=marker, label=element)
+            ax.loglog(r[time_column], r[f"err_{quantity}"], "--" if element.endswith(ADAPTIVE_SUFFIX) else "-",
+                      color=color, marker=marker, label=element)
             for _, row in r.iterrows():
                 ax.annotate(f"{int(row.ndof_total):,}".replace(",", " "), (row[time_column], row[f"err_{quantity}"]),
                             textcoords="offset points", xytext=(4, 3), fontsize=6.5, color=color)
