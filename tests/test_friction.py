@@ -244,6 +244,12 @@ def test_sweep_over_friction_resumes(tmp_path):
     again = nc.sweep("paper-1", **kw)
     assert out.read_text().splitlines() == lines  # nothing recomputed
     assert len(again) == 4
+    # two worker processes give the serial rows
+    parallel = nc.sweep("paper-1", **dict(kw, out=tmp_path / "jobs.csv"), jobs=2)
+    key = ["friction", "maxh"]
+    a, b = df.sort_values(key).reset_index(drop=True), parallel.sort_values(key).reset_index(drop=True)
+    for col in ("err_u1", "err_u2", "err_sigma_t1", "err_sigma_nu", "n_stick", "kkt_friction"):
+        np.testing.assert_allclose(b[col], a[col], rtol=1e-9, atol=1e-14)
 
 
 @pytest.mark.parametrize("options, field", [
