@@ -264,6 +264,8 @@ class Study:
             raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
                              f"allowed: {', '.join(self.controls())}")
         self.state.update(params)
+        # the friction control overrides the scene's per-crack coefficients only once it is set
+        self._friction_set = "friction" in params
         try:
             ref = self._base_scene()
         except ValueError:  # bad geometry parameters: shown by the first update; material from the defaults
@@ -309,7 +311,7 @@ class Study:
         """The scene the current controls describe (validated; raises on a bad combination)."""
         st = self.state
         scene = scaled_loads(self._base_scene(), st["load"], st["load_angle"]).with_(E=st["E"], nu=st["nu"])
-        if friction_supported() and scene.cracks:
+        if friction_supported() and scene.cracks and self._friction_set:
             scene = scene.with_(friction=st["friction"])
         return scene
 
@@ -331,6 +333,7 @@ class Study:
             if "field" in changes and changes["field"] not in FIELDS:
                 raise ValueError(f"field = {changes['field']!r}: allowed values are {', '.join(FIELDS)}")
             self.state.update(changes)
+            self._friction_set = self._friction_set or "friction" in changes
             if self.solution is not None and changes and all(self.level(k) == "view" for k in changes) \
                     and self.error is None:
                 self.redone = ["figure"]

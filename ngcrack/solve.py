@@ -28,7 +28,7 @@ from .materials import compliance
 from .post import (CrackProfile, consistent_tractions, crack_profile, endpoint_map, field_scales, kkt_residuals,
                    component_forces, lumped_normal_traction)
 from .scene import Scene
-from .sizing import check_request
+from .sizing import check_max_dof, check_request
 from .tips import tip_parameters
 
 
@@ -321,12 +321,18 @@ def solve(
         raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     if crack_model not in CRACK_MODELS:
         raise ValueError(f"crack_model = {crack_model!r}: allowed values are {', '.join(CRACK_MODELS)}")
-    check_friction_options(scene, qp_solver, friction_method, tangential)
-    if adapt is not None or max_dof is not None:
+    if crack_model == "contact":  # the free and bonded models solve no crack problem: friction plays no part
+        check_friction_options(scene, qp_solver, friction_method, tangential)
+    check_max_dof(max_dof)
+    if max_dof is not None:
+        max_dof = int(max_dof)
+    if adapt is not None:
         from .adapt import check_adapt_options, solve_adaptive
 
-        check_adapt_options(0.5 if adapt is None else adapt, max_dof, element if adapt is not None else "bdm",
-                            crack_model if adapt is not None else "contact", scene if adapt is not None else None)
+        check_adapt_options(adapt, max_dof, element, crack_model, scene)
+        if crack_mesh is not None:
+            raise ValueError("crack_mesh: adapt=TOL makes its own first mesh from maxh, tip_h, crack_h and grading; "
+                             "give either adapt or crack_mesh")
     if crack_mesh is None:  # the size guard and the thin-part check, before any meshing
         check_request(scene, element, maxh, tip_h, crack_h, grading, order=order, max_dof=max_dof)
     if adapt is not None:
@@ -425,7 +431,7 @@ def solve(
             jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
             profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
                                           displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction,
-                                          friction=mu[k]))
+                                          friction=mu[k] if tangential else 0.0))
     scales = field_scales(cmesh, fields["u"], fields["sigma"]) if profiles else (0.0, 0.0)
     kkt, forces = _constraint_kkt(system, y, normal_contact, G, cmesh, profiles, *scales)
     if profiles and any(c is not None for c in disc.traction_rows):

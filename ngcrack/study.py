@@ -851,7 +851,10 @@ def sweep(
     if isinstance(scene, (str, Path)):
         scene = resolve(scene)
     if max_dof is not None:
-        solve_options = {**(solve_options or {}), "max_dof": max_dof}
+        from .sizing import check_max_dof
+
+        check_max_dof(max_dof)
+        solve_options = {**(solve_options or {}), "max_dof": int(max_dof)}
     grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
                          jobs, solve_options, friction,
                          adapt_maxh=(adapt_maxh or scene.maxh or 0.0) if adapt is not None else None)
@@ -924,14 +927,6 @@ class _Grid:
                 raise ValueError(f"element = {el!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
         sizes = sorted(set(_check_sizes(_as_list(maxh, "maxh" if adapt_maxh is None else "adapt"),
                                         "maxh" if adapt_maxh is None else "adapt")), reverse=True)
-        if adapt_maxh is not None:
-            from .adapt import check_adapt_options
-
-            for tol in sizes:
-                check_adapt_options(tol, (solve_options or {}).get("max_dof"), elements[0] if elements else "bdm",
-                                    (solve_options or {}).get("crack_model", "contact"))
-            if not adapt_maxh or adapt_maxh <= 0:
-                raise ValueError("adapt_maxh: the first mesh size of adaptive runs is missing (the scene has no maxh)")
         nus = [float(v) for v in _as_list(nu, "nu")] if nu is not None else [float(scene.material.nu)]
         for v in nus:
             scene.with_(nu=v)  # validates (a SceneError names the field)
@@ -941,6 +936,23 @@ class _Grid:
             for f in values:
                 scene.with_(friction=f)  # validates (a SceneError names the field)
             frictions = list(dict.fromkeys(float(f) for f in values))
+        options = solve_options or {}
+        crack_model = options.get("crack_model", "contact")
+        if crack_model == "contact":  # every run's friction options, before any run starts
+            from .friction import DEFAULT_FRICTION_METHOD, check_friction_options
+
+            for f in frictions:
+                check_friction_options(scene if f is None else scene.with_(friction=f),
+                                       options.get("qp_solver", _solve_defaults()["qp_solver"]),
+                                       options.get("friction_method", DEFAULT_FRICTION_METHOD),
+                                       options.get("tangential"))
+        if adapt_maxh is not None:  # every run's adaptivity options, before any run starts
+            from .adapt import check_adapt_options
+
+            for tol, el, v in itertools.product(sizes, elements, nus):
+                check_adapt_options(tol, options.get("max_dof"), el, crack_model, scene.with_(nu=v))
+            if not adapt_maxh or adapt_maxh <= 0:
+                raise ValueError("adapt_maxh: the first mesh size of adaptive runs is missing (the scene has no maxh)")
         if reference_maxh is not None:
             (reference_maxh,) = _check_sizes([reference_maxh], "reference_maxh")
             if adapt_maxh is None and reference_maxh > sizes[-1] * (1 + 1e-12):
@@ -948,7 +960,7 @@ class _Grid:
         if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
             raise ValueError(f"jobs = {jobs!r}: must be an integer >= 1")
         solve_options = dict(solve_options or {})
-        for k in ("maxh", "element", "scene"):
+        for k in ("maxh", "element", "scene", "adapt"):
             if k in solve_options:
                 raise ValueError(f"solve_options: {k!r} is set by the sweep itself")
         ref_h = reference_maxh if reference_maxh is not None else sizes[-1]
@@ -1146,11 +1158,18 @@ def _groups(df):
     return df.groupby(cols, sort=False, dropna=False)
 
 
+def _adaptive(g) -> bool:
+    """Whether a group's rows are adaptive runs (their maxh column holds tolerances)."""
+    return "adapt" in g.columns and bool(g["adapt"].fillna(False).astype(bool).any())
+
+
 def with_rates(df):
     """`df` plus rate_h_<q> and rate_dof_<q> between consecutive meshes of each (scene, element, nu).
 
-    Rows are taken in order of decreasing h; rows without a finite positive error (the
-    reference) are skipped, and the first row of each group has no rate (NaN).
+    Rows are taken in order of decreasing h (adaptive rows: of increasing unknowns, and
+    no rate in h, since adaptive refinement leaves the largest edge where it is); rows
+    without a finite positive error (the reference) are skipped, and the first row of
+    each group has no rate (NaN). Groups are (scene, element, nu, friction).
     """
     df = df.copy()
     for col in RATE_COLUMNS:
@@ -1158,7 +1177,8 @@ def with_rates(df):
     if df.empty:
         return df
     for _, g in _groups(df):
-        g = g.sort_values("h", ascending=False)
+        adaptive = _adaptive(g)
+        g = g.sort_values("ndof_total", kind="stable") if adaptive else g.sort_values("h", ascending=False, kind="stable")
         for q in RATE_QUANTITIES:
             e = g[f"err_{q}"].to_numpy(dtype=float)
             ok = np.isfinite(e) & (e > 0)
@@ -1168,7 +1188,7 @@ def with_rates(df):
                 continue
             de = np.log(e[:-1] / e[1:])
             with np.errstate(divide="ignore", invalid="ignore"):
-                df.loc[idx[1:], f"rate_h_{q}"] = de / np.log(h[:-1] / h[1:])
+                df.loc[idx[1:], f"rate_h_{q}"] = np.nan if adaptive else de / np.log(h[:-1] / h[1:])
                 df.loc[idx[1:], f"rate_dof_{q}"] = de / np.log(n[1:] / n[:-1])
     return df
 
@@ -1178,7 +1198,7 @@ def fitted_rates(df, quantities: Sequence[str] = RATE_QUANTITIES):
 
     Columns: scene, element, nu, quantity, rate_h, rate_dof, points (rows used), h_min,
     ndof_max. Rows without a finite positive error are left out; a quantity with fewer
-    than two such rows gives no line.
+    than two such rows gives no line. Adaptive groups have no rate in h (NaN).
     """
     import pandas as pd
 
@@ -1196,7 +1216,8 @@ def fitted_rates(df, quantities: Sequence[str] = RATE_QUANTITIES):
                 continue
             le = np.log(e[ok])
             h, n = g["h"].to_numpy(float)[ok], g["ndof_total"].to_numpy(float)[ok]
-            out.append({**keys, "quantity": q, "rate_h": float(np.polyfit(np.log(h), le, 1)[0]),
+            rate_h = math.nan if _adaptive(g) else float(np.polyfit(np.log(h), le, 1)[0])
+            out.append({**keys, "quantity": q, "rate_h": rate_h,
                         "rate_dof": float(-np.polyfit(np.log(n), le, 1)[0]), "points": int(ok.sum()),
                         "h_min": float(h.min()), "ndof_max": int(n.max())})
     return pd.DataFrame(out, columns=["scene", "element", "nu", "friction", "quantity", "rate_h", "rate_dof", "points",

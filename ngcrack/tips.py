@@ -406,7 +406,9 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     scale = float(np.max(np.hypot(jn, jt))) if len(jn) else 0.0
     closed = jn <= CLOSED_RTOL * scale
     sn = np.where(closed, sn, 0.0)
-    friction = float(getattr(sol.scene.cracks[k], "friction", 0.0) or 0.0)
+    # friction acts only where the solve applied it (unilateral contact with the tangential jumps kept)
+    applied = bool(sol.options.get("tangential"))
+    friction = float(getattr(sol.scene.cracks[k], "friction", 0.0) or 0.0) if applied else 0.0
     tau = np.where(closed, np.asarray(prof.shear_stress, dtype=float), 0.0) if friction > 0 else np.zeros_like(sn)
     return sn, tau
 

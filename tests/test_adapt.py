@@ -6,12 +6,14 @@ import json
 import warnings
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import ngcrack as nc
 from ngcrack.adapt import mark, solve_adaptive
 from ngcrack.cli import main
 from ngcrack.geometry import make_mesh, refine_crack_mesh
+from ngcrack import study
 from ngcrack.scenes import inclined_closed_form
 
 
@@ -152,3 +154,29 @@ def test_adaptive_targets_from_the_coarse_mesh(element):
     assert sol.options["adapt"]["reached"]
     assert sliding_error(sol) <= err
     assert sol.ndof[count] <= budget
+
+
+def test_adapt_with_a_given_mesh_and_float_budgets(tmp_path):
+    """adapt makes its own first mesh (a given crack_mesh is refused, naming it); a whole-number
+    float budget is a budget; every run's options are checked before a sweep writes anything."""
+    scene = nc.scenes.load("inclined-compression")
+    first = nc.solve(scene, maxh=4.0, tip_h=0.5, crack_h=0.5)
+    with pytest.raises(ValueError, match="crack_mesh"):
+        nc.solve(scene, adapt=0.1, crack_mesh=first.crack_mesh)
+    sol = nc.solve(scene, maxh=4.0, tip_h=0.5, crack_h=0.5, max_dof=2e6)
+    assert sol.ndof["total"] == first.ndof["total"]
+    out = tmp_path / "never.csv"
+    with pytest.raises(ValueError, match="nu"):  # plane strain at nu = 1/2 has no estimate
+        nc.sweep("paper-1", elements=["bdm"], adapt=[0.5], adapt_maxh=0.3, nu=[0.5], out=out)
+    assert not out.exists()
+
+
+def test_adaptive_rows_have_rates_in_dof_only():
+    df = pd.DataFrame({"scene": "s", "element": "bdm", "nu": 0.3, "friction": 0.0, "adapt": True,
+                       "h": [0.4, 0.4, 0.4], "ndof_total": [1000, 2000, 4000],
+                       **{f"err_{q}": [0.4, 0.2, 0.1] for q in study.RATE_QUANTITIES}})
+    rated = study.with_rates(df)
+    assert rated[[f"rate_h_{q}" for q in study.RATE_QUANTITIES]].isna().all().all()
+    np.testing.assert_allclose(rated["rate_dof_u1"].iloc[1:], 1.0)
+    fit = study.fitted_rates(df)
+    assert fit["rate_h"].isna().all() and np.allclose(fit["rate_dof"], 1.0)

@@ -269,3 +269,12 @@ def test_bad_friction_options_refused_before_meshing(options, field, monkeypatch
     monkeypatch.setattr(solve_module, "make_mesh", no_mesh)
     with pytest.raises(ValueError, match=field):
         nc.solve(nc.scenes.load("paper-1").with_(friction=0.5), element="bdm", **options)
+
+
+def test_friction_plays_no_part_without_contact():
+    """A bonded or free crack solves no crack problem: no friction check, no stick states."""
+    scene = inclined_crack(angle=30.0, load=-1.0).with_(friction=0.3)
+    for model in ("bonded", "free"):
+        sol = nc.solve(scene, element="bdm", crack_model=model, qp_solver="uzawa")
+        assert "stick" not in set(sol.crack_profiles()[0].state)
+        assert not sol.options["tangential"] and sol.kkt["friction"] == 0.0
