@@ -293,26 +293,30 @@ def _sparse_inverse(Gs) -> sp.csr_matrix:
 
 #: the last G inverted (a weak reference) and its inverse: one solve maps through the
 #: same G twice (the QP and the contact forces); the entry is dropped when G is
-_LAST_INVERSE: list = [None, None]
+_LAST_INVERSE: list = [None]  # one (weak reference to G, G^{-1}) pair, replaced as a whole
 
 
-def _forget_inverse() -> None:
-    _LAST_INVERSE[:] = [None, None]
+def _forget_inverse(ref) -> None:
+    """Drop the cached pair of the G that `ref` referred to (not a newer one)."""
+    entry = _LAST_INVERSE[0]
+    if entry is not None and entry[0] is ref:
+        _LAST_INVERSE[0] = None
 
 
 def _inverse_map(G, m: int):
     """G^{-1}: None for G = None or the identity, sparse where G is (block diagonal), else dense."""
     if G is None:
         return None
-    ref = _LAST_INVERSE[0]
-    if ref is not None and ref() is G:
-        return _LAST_INVERSE[1]
+    entry = _LAST_INVERSE[0]  # read once: another thread may replace it meanwhile
+    if entry is not None and entry[0]() is G:
+        return entry[1]
     inv = _compute_inverse_map(G, m)
     try:
-        _LAST_INVERSE[:] = [weakref.ref(G), inv]
-        weakref.finalize(G, _forget_inverse)
+        ref = weakref.ref(G)
     except TypeError:  # an object without weak references: no caching
-        _forget_inverse()
+        return inv
+    _LAST_INVERSE[0] = (ref, inv)
+    weakref.finalize(G, _forget_inverse, ref)
     return inv
 
 

@@ -172,6 +172,8 @@ def comparison_table(elements, sizes, reference_maxh):
     nu = dict(PAPER_SCENES)["paper-1"]
     frames = [comparison_errors("paper-1", e, sizes, reference_maxh, nu=nu) for e in elements]
     return pd.concat(frames, ignore_index=True)
+
+
 def _adaptive_runs(out: Path, level: dict, elements, ref_h: float, jobs: int, dask, progress: bool, files):
     """The adaptive sweeps (one CSV per scene) against the same references as the fixed
     meshes (their saved references are reused); rows relabelled "<element> (adaptive)"."""

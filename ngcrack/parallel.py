@@ -42,9 +42,9 @@ def task_manager():
             _depth -= 1
         return
     ngs.SetNumThreads(thread_count())
-    _depth = 1
+    _depth += 1
     try:
         with ngs.TaskManager():
             yield
     finally:
-        _depth = 0
+        _depth -= 1
