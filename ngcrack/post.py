@@ -299,8 +299,14 @@ def component_forces(system, y: np.ndarray, comp: int, G) -> np.ndarray:
     return res if Ginv is None else np.asarray(Ginv.T @ res).ravel()
 
 
+def tributary_lengths(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndarray) -> np.ndarray:
+    """w_i = int psi_i ds of every constraint point's nodal basis function (w = G^{-T} m)."""
+    m = facet_moments(jump_space, crack_mesh, 0)[:, 0]
+    return np.linalg.solve(np.asarray(G, dtype=float).T, m)
+
+
 def lumped_normal_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndarray,
-                           forces: np.ndarray) -> list[np.ndarray]:
+                           forces: np.ndarray, w: np.ndarray | None = None) -> list[np.ndarray]:
     """The crack-face normal stress at the edge mid points from the discrete contact forces.
 
     For elements whose constraint points are nodes of the jump space (h1p1: the crack
@@ -314,8 +320,8 @@ def lumped_normal_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np
     traction is reproduced exactly, also next to the tips, where the consistent
     mass-matrix traction (no unknown at the tip) is off by up to 40%.
     """
-    m = facet_moments(jump_space, crack_mesh, 0)[:, 0]
-    w = np.linalg.solve(np.asarray(G, dtype=float).T, m)
+    if w is None:  # `tributary_lengths`, passed in where several force vectors share them
+        w = tributary_lengths(jump_space, crack_mesh, G)
     with np.errstate(divide="ignore", invalid="ignore"):
         p = np.where(w > 0, -np.asarray(forces) / np.where(w > 0, w, 1.0), 0.0)
     out = []

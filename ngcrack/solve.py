@@ -26,7 +26,7 @@ from .hybrid import CondensedSystem, ContactReduction, Factorization, condense, 
 from .schur import SCHUR_METHODS
 from .materials import compliance
 from .post import (CrackProfile, consistent_tractions, crack_profile, endpoint_map, field_scales, kkt_residuals,
-                   component_forces, lumped_normal_traction)
+                   component_forces, lumped_normal_traction, tributary_lengths)
 from .scene import Scene
 from .sizing import check_max_dof, check_request
 from .tips import tip_parameters
@@ -439,8 +439,9 @@ def solve(
         tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress", "shear_stress") if lumped else ())
         if lumped:
             space = disc.fes.components[disc.jn]
-            normal = lumped_normal_traction(space, cmesh, G, forces)
-            shear = lumped_normal_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G))
+            w = tributary_lengths(space, cmesh, G)
+            normal = lumped_normal_traction(space, cmesh, G, forces, w)
+            shear = lumped_normal_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G), w)
             tractions = [dict(t, normal_stress=n, shear_stress=q) for t, n, q in zip(tractions, normal, shear)]
         profiles = [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
     kkt_sampled = kkt_residuals(profiles, *scales)
