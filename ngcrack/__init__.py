@@ -15,12 +15,15 @@ from . import scenes
 from .elements import ELEMENTS, Loads
 from .interactive import Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
-from .solve import CRACK_MODELS, Solution, SolveError, solve
+from .options import CRACK_MODELS, SolveOptions
+from .pipeline import Pipeline
+from .solution import Solution
+from .solve import SolveError, solve
 from .study import fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
+    "SceneError", "Pipeline", "Solution", "SolveError", "SolveOptions", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
 ]

@@ -287,9 +287,9 @@ def component_forces(system, y: np.ndarray, comp: int, G) -> np.ndarray:
 
     For a jump component with nodal constraint points (the baselines), these are the
     forces that the crack faces exert at those points, in the direction the component
-    carries (as `contact.discrete_contact_forces` for the normal one).
+    carries (as `constraints.discrete_contact_forces` for the normal one).
     """
-    from .contact import _inverse_map
+    from .constraints import _inverse_map
 
     rng = system.disc.fes.Range(comp)
     dofs, rows = _component_rows(system, comp)

@@ -774,14 +774,6 @@ def _executor(jobs: int, dask):
 
 
 # -------------------------------------------------------------------------- sweep
-def _solve_defaults() -> dict:
-    import inspect
-
-    from .solve import solve
-
-    return {k: p.default for k, p in inspect.signature(solve).parameters.items()}
-
-
 def _as_list(values, name: str) -> list:
     if values is None:
         return []
@@ -936,21 +928,22 @@ class _Grid:
             for f in values:
                 scene.with_(friction=f)  # validates (a SceneError names the field)
             frictions = list(dict.fromkeys(float(f) for f in values))
-        options = solve_options or {}
-        crack_model = options.get("crack_model", "contact")
-        if crack_model == "contact":  # every run's friction options, before any run starts
-            from .friction import DEFAULT_FRICTION_METHOD, check_friction_options
+        for k in ("maxh", "element", "scene", "adapt"):
+            if k in (solve_options or {}):
+                raise ValueError(f"solve_options: {k!r} is set by the sweep itself")
+        from .options import SolveOptions
 
-            for f in frictions:
-                check_friction_options(scene if f is None else scene.with_(friction=f),
-                                       options.get("qp_solver", _solve_defaults()["qp_solver"]),
-                                       options.get("friction_method", DEFAULT_FRICTION_METHOD),
-                                       options.get("tangential"))
-        if adapt_maxh is not None:  # every run's adaptivity options, before any run starts
+        try:  # every solve option checked once, before any run starts
+            options = SolveOptions.of(**(solve_options or {}))
+        except TypeError as exc:
+            raise ValueError(f"solve_options: {exc}") from None
+        for f in frictions:  # every run's friction options
+            options.check_for(scene if f is None else scene.with_(friction=f))
+        if adapt_maxh is not None:  # every run's adaptivity options
             from .adapt import check_adapt_options
 
             for tol, el, v in itertools.product(sizes, elements, nus):
-                check_adapt_options(tol, options.get("max_dof"), el, crack_model, scene.with_(nu=v))
+                check_adapt_options(options.replace(element=el, adapt=tol), scene.with_(nu=v))
             if not adapt_maxh or adapt_maxh <= 0:
                 raise ValueError("adapt_maxh: the first mesh size of adaptive runs is missing (the scene has no maxh)")
         if reference_maxh is not None:
@@ -960,14 +953,9 @@ class _Grid:
         if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
             raise ValueError(f"jobs = {jobs!r}: must be an integer >= 1")
         solve_options = dict(solve_options or {})
-        for k in ("maxh", "element", "scene", "adapt"):
-            if k in solve_options:
-                raise ValueError(f"solve_options: {k!r} is set by the sweep itself")
         ref_h = reference_maxh if reference_maxh is not None else sizes[-1]
-        defaults = _solve_defaults()
         setup = {"reference_element": reference_element or "", "reference_maxh": ref_h,
-                 "crack_model": solve_options.get("crack_model", defaults["crack_model"]),
-                 "qp_solver": solve_options.get("qp_solver", defaults["qp_solver"]),
+                 "crack_model": options.crack_model, "qp_solver": options.qp_solver,
                  "adapt": adapt_maxh is not None}
         separate = not _same(ref_h, sizes[-1]) or (adapt_maxh is not None and reference_maxh is not None)
         return cls(scene=scene, elements=list(dict.fromkeys(elements)), sizes=sizes, nus=list(dict.fromkeys(nus)),
