@@ -16,7 +16,7 @@ from .elements import ELEMENTS, Loads
 from .interactive import Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
 from .solve import CRACK_MODELS, Solution, SolveError, solve
-from .study import fitted_rates, sweep
+from .sweeps import fitted_rates, sweep
 
 __version__ = "0.1.0"
 
