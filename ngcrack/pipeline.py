@@ -46,7 +46,7 @@ from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_conta
 from .materials import compliance
 from .options import SolveOptions
 from .post import (CrackProfile, component_forces, consistent_tractions, crack_profile, endpoint_map, field_scales,
-                   kkt_residuals, lumped_normal_traction, tributary_lengths)
+                   kkt_residuals, lumped_traction, tributary_lengths)
 from .scene import BoundaryCondition, Scene
 from .sizing import check_request
 from .solution import Solution
@@ -468,8 +468,8 @@ def with_tractions(profiles: list[CrackProfile], disc: Discretization, system: C
     if lumped:
         space = disc.fes.components[disc.jn]
         w = tributary_lengths(space, cmesh, G)
-        normal = lumped_normal_traction(space, cmesh, G, forces, w)
-        shear = lumped_normal_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G), w)
+        normal = lumped_traction(space, cmesh, G, forces, w)
+        shear = lumped_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G), w)
         tractions = [dict(t, normal_stress=n, shear_stress=q) for t, n, q in zip(tractions, normal, shear)]
     return [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
 

@@ -18,10 +18,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "contact", "references")),
+    ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "references")),
     ("scene", ("scene", "scenes", "sizing")),
     ("mesh", ("geometry", "hp")),
-    ("discretization", ("elements", "hybrid", "friction")),
+    ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
     ("post-processing", ("post", "tips", "estimate", "vtk")),
     ("options and solution", ("options", "solution")),
     ("pipeline", ("pipeline",)),
