@@ -362,3 +362,30 @@ def test_former_names_still_work():
     assert old.Drawing is ex.Drawing and old.scaled_loads is ex.scaled_loads and old.explore is nc.explore
     pytest.importorskip("ipywidgets")
     assert old.Explorer is ex.ExplorerWidget
+
+
+@pytest.mark.parametrize("element,crack_model", [("peers", "contact"), ("bdm", "contact"), ("tdnns", "bonded"),
+                                                 ("h1p1", "contact"), ("h1p2", "free")])
+def test_estimate_sums_in_numpy_as_ngsolve_integrates(monkeypatch, element, crack_model):
+    """The estimate's element integrals are sums over NGSolve's own quadrature points in
+    numpy, with the fields evaluated in their own element (no point search): the same
+    numbers to 1e-12 as NGSolve's element-wise Integrate over the same integrands with
+    the point search (the path kept for curved meshes). paper-1: a body force, a clamped
+    edge, a crack partly in contact."""
+    from ngcrack import estimate as est
+
+    model = nc.Explorer("paper-1", element, maxh=0.2, crack_model=crack_model)
+    sol, loads = model.solution, model._disc[2].loads
+    fast = est.estimate(sol, loads, crack_model)
+    again = est.estimate(sol, loads, crack_model)  # the mesh's topology and quadrature kept
+    monkeypatch.setattr(est, "_quadrature", lambda cmesh, top: None)
+    monkeypatch.setattr(est, "_element_mesh_points", lambda cmesh, top, lam: None)
+    monkeypatch.setattr(est, "_topology", est._Topology.build)
+    slow = est.estimate(sol, loads, crack_model)
+    assert np.max(np.abs(fast.eta - slow.eta)) <= 1e-12 * np.max(slow.eta)
+    assert np.array_equal(fast.eta, again.eta)
+    assert abs(fast.energy - slow.energy) <= 1e-12 * slow.energy
+    assert abs(fast.relative - slow.relative) <= 1e-12 * slow.relative
+    for k, v in slow.terms.items():
+        assert abs(fast.terms[k] - v) <= 1e-12 * max(abs(v), slow.energy ** 2)
+    assert fast.notes == slow.notes and fast.min_jump == pytest.approx(slow.min_jump, rel=1e-12, abs=1e-300)
