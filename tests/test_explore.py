@@ -148,13 +148,61 @@ def test_bad_combinations_show_one_line_and_keep_the_last_answer():
     assert study.error.startswith("ValueError: material.nu = 0.5") and "\n" not in study.error
     assert study.solution is good
     assert study.update(element="bdm") is not None and study.error is None  # nu = 1/2 is fine for bdm
-    assert study.update(center_x=4.5) is None
+    assert study.update(center_x=4.0, half_length=2.0) is None  # in range, but the crack leaves the plate
     assert study.error.startswith("SceneError: crack[0].points")
     assert study.update(center_x=0.0) is not None and study.error is None
     assert study.update(colour="red") is None and "unknown control colour" in study.error
-    assert study.update(field="pressure") is None and "field = 'pressure'" in study.error
+    assert study.update(field="pressure") is None and "field (stress shown) = 'pressure'" in study.error
     assert study.update(maxh=-1.0) is None and "maxh" in study.error
     assert study.update(maxh=MAXH, field="von_mises") is not None and study.error is None
+
+
+def test_out_of_range_values_are_refused_not_clamped_nor_kept():
+    """A value out of its control's range is refused with one line naming the control
+    and the range; the model keeps its previous value (and answer)."""
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
+    good, before = study.solution, dict(study.state)
+    for change, text in [({"nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5"),
+                         ({"E": -1000.0}, "E (Young's modulus) = -1000 refused: allowed from 10 to 1e+05"),
+                         ({"maxh": 0.0}, "maxh (mesh size) = 0 refused: allowed from "),
+                         ({"load": 3.0}, "load (load factor) = 3 refused: allowed from -2 to 2"),
+                         ({"angle": 100.0}, "angle (crack angle) = 100 refused: allowed from -80 to 80"),
+                         ({"nu": "abc"}, "nu (Poisson's ratio) = 'abc': a number from 0 to 0.5"),
+                         ({"load": 0.5, "nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused")]:
+        assert study.update(**change) is None
+        assert study.error.startswith("ValueError: " + text) and "\n" not in study.error, study.error
+        assert study.state == before and study.solution is good
+    # the finest mesh offered stays below the unknowns the widget allows (sizing's estimate)
+    from ngcrack.explorer.controls import MAX_UNKNOWNS
+    from ngcrack.sizing import estimate
+
+    low = study.ranges["maxh"].low
+    assert estimate(study.make_scene(), "bdm", maxh=low).unknowns <= 1.01 * MAX_UNKNOWNS
+    assert estimate(study.make_scene(), "bdm", maxh=0.9 * low).unknowns > MAX_UNKNOWNS
+
+
+@pytest.mark.parametrize("kwargs,text", [
+    ({"maxh": 0}, "maxh (mesh size) = 0 refused: it must be a number > 0"),
+    ({"E": -1000}, "E (Young's modulus) = -1000 refused: it must be a number > 0"),
+    ({"element": "q2"}, "element = 'q2': allowed values are peers, bdm, tdnns, h1p1, h1p2"),
+    ({"nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5"),
+    ({"crack_model": "glued"}, "crack_model (crack model) = 'glued': allowed values are contact, free, bonded"),
+    ({"angle": 90}, "angle (crack angle) = 90 refused: allowed from -80 to 80"),
+])
+def test_construction_refuses_bad_arguments_before_any_widget(kwargs, text):
+    with pytest.raises(ValueError) as info:
+        nc.explore("inclined-crack", **kwargs)
+    assert str(info.value) == text or str(info.value).startswith(text), str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def test_unknown_scene_lists_scene_functions_and_built_in_scenes():
+    with pytest.raises(ValueError) as info:
+        nc.explore("inclined")
+    msg = str(info.value)
+    assert msg.startswith("scene = 'inclined'")
+    for name in list(SCENE_FUNCTIONS) + nc.scenes.names():
+        assert name in msg
 
 
 def test_controls_follow_the_scene_and_the_installed_ngcrack():
@@ -362,3 +410,30 @@ def test_former_names_still_work():
     assert old.Drawing is ex.Drawing and old.scaled_loads is ex.scaled_loads and old.explore is nc.explore
     pytest.importorskip("ipywidgets")
     assert old.Explorer is ex.ExplorerWidget
+
+
+@pytest.mark.parametrize("element,crack_model", [("peers", "contact"), ("bdm", "contact"), ("tdnns", "bonded"),
+                                                 ("h1p1", "contact"), ("h1p2", "free")])
+def test_estimate_sums_in_numpy_as_ngsolve_integrates(monkeypatch, element, crack_model):
+    """The estimate's element integrals are sums over NGSolve's own quadrature points in
+    numpy, with the fields evaluated in their own element (no point search): the same
+    numbers to 1e-12 as NGSolve's element-wise Integrate over the same integrands with
+    the point search (the path kept for curved meshes). paper-1: a body force, a clamped
+    edge, a crack partly in contact."""
+    from ngcrack import estimate as est
+
+    model = nc.Explorer("paper-1", element, maxh=0.2, crack_model=crack_model)
+    sol, loads = model.solution, model._disc[2].loads
+    fast = est.estimate(sol, loads, crack_model)
+    again = est.estimate(sol, loads, crack_model)  # the mesh's topology and quadrature kept
+    monkeypatch.setattr(est, "_quadrature", lambda cmesh, top: None)
+    monkeypatch.setattr(est, "_element_mesh_points", lambda cmesh, top, lam: None)
+    monkeypatch.setattr(est, "_topology", est._Topology.build)
+    slow = est.estimate(sol, loads, crack_model)
+    assert np.max(np.abs(fast.eta - slow.eta)) <= 1e-12 * np.max(slow.eta)
+    assert np.array_equal(fast.eta, again.eta)
+    assert abs(fast.energy - slow.energy) <= 1e-12 * slow.energy
+    assert abs(fast.relative - slow.relative) <= 1e-12 * slow.relative
+    for k, v in slow.terms.items():
+        assert abs(fast.terms[k] - v) <= 1e-12 * max(abs(v), slow.energy ** 2)
+    assert fast.notes == slow.notes and fast.min_jump == pytest.approx(slow.min_jump, rel=1e-12, abs=1e-300)
