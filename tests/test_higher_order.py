@@ -20,7 +20,7 @@ import math
 import ngsolve as ngs
 import pytest
 
-import ngcrack.scenes as scenes
+from ngcrack import scenes
 from ngcrack.elements import Loads
 from ngcrack.scene import BoundaryCondition, Material, Scene
 from ngcrack.solve import solve
@@ -45,7 +45,7 @@ def _l2(cf, mesh):
     return math.sqrt(ngs.Integrate(ngs.InnerProduct(cf, cf), mesh, order=10))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def manufactured(order: int, nu: float, maxh: float):
     u, sigma, f = _mms_fields(nu)
     scene = Scene(name="mms", polygon=((0, 0), (1, 0), (1, 1), (0, 1)), labels=("b", "r", "t", "l"),
@@ -88,7 +88,7 @@ def test_uniform_stress_is_exact(order):
     assert err <= 1e-10
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def scene_solve(name: str, order: int):
     return solve(scenes.load(name), element="bdm", order=order)
 
