@@ -48,7 +48,7 @@ import numpy as np
 
 from .adapt import refine
 from .geometry import CrackMesh, make_mesh
-from .tips import crack_tips
+from .tips import _clearance, crack_tips, tip_labels
 
 #: the ratio of consecutive layer radii, r_{j+1} = HP_SIGMA r_j
 HP_SIGMA = 0.2
@@ -96,33 +96,43 @@ def singular_points(scene, crack_mesh: CrackMesh, points=()) -> list[tuple[np.nd
     """
     out = [(np.array([t.x, t.y]), float(t.clearance)) for t in crack_tips(scene, crack_mesh)]
     default = min((c for _, c in out), default=crack_mesh.diameter / 20.0)
-    for p in points:
-        p = np.asarray(p, dtype=float)
-        if p.shape != (2,) or not np.all(np.isfinite(p)):
-            raise ValueError(f"hp_points: {p!r} is not a point (x, y)")
-        out.append((p, default))
+    check_hp_options(0, points=points)
+    out += [(np.asarray(p, dtype=float), default) for p in points]
     return out
 
 
-def check_hp_options(layers, sigma, r0) -> None:
-    """Refuse a bad layer count, ratio or start radius, naming the field."""
+def check_hp_options(layers, sigma=HP_SIGMA, r0=None, points=()) -> None:
+    """Refuse a bad layer count, ratio, start radius or point, naming the field."""
     if isinstance(layers, bool) or not isinstance(layers, (int, np.integer)) or not 0 <= layers <= MAX_LAYERS:
         raise ValueError(f"hp = {layers!r}: the number of layers must be an integer in 0..{MAX_LAYERS}")
     if isinstance(sigma, bool) or not isinstance(sigma, (int, float)) or not 0.05 <= sigma <= 0.7:
         raise ValueError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [0.05, 0.7]")
     if r0 is not None and (isinstance(r0, bool) or not isinstance(r0, (int, float)) or not (math.isfinite(r0) and 0 < r0 < 1)):
         raise ValueError(f"hp_r0 = {r0!r}: the first radius, as a fraction of the tip clearance, must lie in (0, 1)")
+    for p in points:
+        q = np.asarray(p, dtype=float) if np.ndim(p) == 1 else None
+        if q is None or q.shape != (2,) or not np.all(np.isfinite(q)):
+            raise ValueError(f"hp_points: {p!r} is not a point (x, y)")
+
+
+def tip_clearances(scene) -> list[float]:
+    """The clearance of every crack end inside the body, from the scene alone (tips.py)."""
+    out = []
+    for label in tip_labels(scene):
+        k, end = label.split(",")
+        pts = np.asarray(scene.cracks[int(k)].points, dtype=float)
+        out.append(_clearance(scene, int(k), end, pts[0] if end == "first" else pts[-1]))
+    return out
 
 
 def base_mesh(scene, tip_h: float | None = None, crack_h: float | None = None, **mesh) -> CrackMesh:
     """The coarse mesh the hp layers start from: the scene's maxh and grading, the
     crack and tip sizes BASE_CRACK_H and BASE_TIP_H times the smallest tip clearance
     (or given). Without an interior tip: the scene's own mesh."""
-    cmesh = make_mesh(scene, **mesh)
-    pts = singular_points(scene, cmesh)
-    if not pts:
-        return cmesh
-    c = min(cl for _, cl in pts)
+    clearances = tip_clearances(scene)
+    if not clearances:
+        return make_mesh(scene, tip_h=tip_h, crack_h=crack_h, **mesh)
+    c = min(clearances)
     return make_mesh(scene, tip_h=BASE_TIP_H * c if tip_h is None else tip_h,
                      crack_h=BASE_CRACK_H * c if crack_h is None else crack_h, **mesh)
 
@@ -134,7 +144,7 @@ def refine_towards_tips(crack_mesh: CrackMesh, scene, layers: int, sigma: float 
     r0 is a fraction of each tip's clearance (default HP_R0). Returns a new CrackMesh
     (the input is unchanged); layers = 0 returns the input.
     """
-    check_hp_options(layers, sigma, r0)
+    check_hp_options(layers, sigma, r0, points)
     frac = HP_R0 if r0 is None else float(r0)
     centres = singular_points(scene, crack_mesh, points)
     if layers == 0 or not centres:
@@ -160,7 +170,7 @@ def hp_mesh(scene, layers: int, sigma: float = HP_SIGMA, r0: float | None = None
             crack_mesh: CrackMesh | None = None, **mesh) -> CrackMesh:
     """The geometric mesh of `scene`: `crack_mesh` (default `base_mesh(scene, **mesh)`)
     refined by `refine_towards_tips`."""
-    check_hp_options(layers, sigma, r0)
+    check_hp_options(layers, sigma, r0, points)
     cmesh = crack_mesh if crack_mesh is not None else base_mesh(scene, **mesh)
     return refine_towards_tips(cmesh, scene, layers, sigma=sigma, r0=r0, points=points)
 
