@@ -22,14 +22,14 @@ FAMILIES = {
 MIXED = ("peers", "bdm", "tdnns")
 ELEMENTS = tuple(FAMILIES)
 #: families that take an `order`
-ORDERED = ("tdnns",)
+ORDERED = ("bdm", "tdnns")
 
 
 def build(name: str, crack_mesh, material, loads: Loads, order: int | None = None) -> Discretization:
     """Build the discretization of element family `name` (one of ELEMENTS).
 
-    `order` selects the polynomial order where a family has several (tdnns); the
-    families of fixed order (peers, bdm) accept only None.
+    `order` selects the polynomial order where a family has several (bdm, tdnns); the
+    families of fixed order (peers) accept only None.
     """
     try:
         family = FAMILIES[name]

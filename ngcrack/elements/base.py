@@ -1,8 +1,8 @@
 """The hybridized Hellinger-Reissner form with weakly imposed symmetry (PEERS and BDM).
 
 Unknowns on each triangle T (all element-local, removed by static condensation):
-stress rows sigma_1, sigma_2 (broken H(div)), displacement u (P0^2) and, for BDM, the
-rotation r (P0). Global unknowns: the facet displacement trace u_hat (one vector
+stress rows sigma_1, sigma_2 (broken H(div)), displacement u (P0^2; P_{k-1}^2 for BDM_k)
+and, for BDM, the rotation r (P0; P_{k-1} for BDM_k). Global unknowns: the facet displacement trace u_hat (one vector
 polynomial per edge), the PEERS rotation (continuous P1) and, on crack edges, the jump
 j = jn nu + jt t. The crack's minus side (the element whose outward normal is nu) sees
 the trace u_hat - j, so that j = u+ - u- = [u].
@@ -226,6 +226,7 @@ def weakly_symmetric_hybrid(
     facet_order: int,
     built: list[str],
     trace_rows: Callable[[tuple], tuple] | None = None,
+    displacement_order: int = 0,
 ) -> Discretization:
     """Assemble the hybrid form above for the given stress and rotation spaces.
 
@@ -234,7 +235,8 @@ def weakly_symmetric_hybrid(
     symbols to the scalar rotation r. `trace_rows(symbols)`, where given, maps them to
     two rows with the same normal traces on every element boundary as the stress rows
     (the parts with zero normal trace left out; PEERS: the curls of the bubbles), used in
-    the element-boundary terms.
+    the element-boundary terms. `displacement_order` is the degree of the discontinuous
+    displacement u (0 for PEERS and BDM_1; k - 1 for BDM_k).
 
     Incompressible limit (plane strain, nu -> 1/2): A annihilates the spherical stress
     c I, and c I with c constant on a triangle is divergence free and symmetric, so the
@@ -247,8 +249,9 @@ def weakly_symmetric_hybrid(
     """
     mesh = crack_mesh.mesh
     uhat_space = ngs.FacetFESpace(mesh, order=facet_order, dirichlet=boundary_regex(loads.dirichlet_labels))
-    spaces = list(stress_spaces) + [ngs.VectorL2(mesh, order=0)] + list(rotation_spaces) + [uhat_space, uhat_space]
-    built += ["u: P0^2", f"u_hat: P{facet_order} per edge, 2 components"]
+    spaces = list(stress_spaces) + [ngs.VectorL2(mesh, order=displacement_order)] + list(rotation_spaces) \
+        + [uhat_space, uhat_space]
+    built += [f"u: P{displacement_order}^2", f"u_hat: P{facet_order} per edge, 2 components"]
     has_crack = bool(crack_mesh.cracks)
     if has_crack:
         jump = crack_facet_space(crack_mesh, facet_order)
