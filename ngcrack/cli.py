@@ -10,10 +10,15 @@
                         [--jobs N] [--dask ADDRESS] [--max-dof N]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
 
-SCENE is a built-in scene name or a TOML file. Bad input exits with code 2 and a
-one-line message before any meshing; output files are written only after a successful
-solve, atomically (a temporary file renamed into place), so none is left half-written.
-`sweep` writes its CSV one complete line per finished run and resumes (ngcrack.study);
+SCENE is a built-in scene name or a TOML file. No command shows a traceback: bad input
+exits with code 2 and one line on stderr naming the field, before any meshing; a system
+that cannot be solved (singular, a failed crack QP, out of memory) exits with code 3
+and one line naming the cause; anything unexpected exits with code 1, one line and
+the advice to run again with --debug (which prints the traceback). Warnings are one
+line each. Output files are written only after a successful solve, atomically (a
+temporary file renamed into place), so none is left half-written and an existing one
+is untouched on failure; an output that cannot be written is refused before the solve.
+`sweep` writes its CSV one complete line per finished run and resumes (ngcrack.sweeps);
 `paper` runs the paper's study (ngcrack.paper).
 """
 
@@ -25,41 +30,113 @@ import math
 import os
 import sys
 import tempfile
+import traceback
+import warnings
 from pathlib import Path
+
+#: exit codes: bad input, a system that cannot be solved, something unexpected
+EXIT_INPUT, EXIT_SOLVE, EXIT_UNEXPECTED = 2, 3, 1
+#: a size option (maxh, tip_h, crack_h) must lie within these multiples of the body's diameter
+SIZE_RANGE = (1e-100, 1e100)
 
 
 class UsageError(ValueError):
     """Bad command-line input (exit code 2)."""
 
 
-def _atomic_write(path: Path, write) -> None:
-    """Write through a temporary file in the same directory, then rename into place."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-    os.close(fd)
-    try:
+class _Staged:
+    """Output files written to temporary files beside their targets, renamed into place together.
+
+    Used as a context manager: on leaving it normally every staged file replaces its
+    target (os.replace, atomic per file); on an error the temporary files are removed
+    and every target is left as it was.
+    """
+
+    def __init__(self) -> None:
+        self.files: list[tuple[str, Path]] = []
+
+    def write(self, path: Path, write) -> None:
+        path = Path(path)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
+        os.close(fd)
+        self.files.append((tmp, path))
         write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+
+    def __enter__(self) -> _Staged:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                for tmp, path in self.files:
+                    os.replace(tmp, path)
+        finally:
+            for tmp, _ in self.files:
+                if os.path.exists(tmp):
+                    os.unlink(tmp)
+
+
+def _writable_folder(folder: Path, field: str, path) -> None:
+    """Refuse a folder this process cannot create files in (tried, not guessed from the mode bits)."""
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".ngcrack-probe-")
+    except OSError as exc:
+        raise UsageError(f"{field} = {str(path)!r}: cannot write in the directory {str(folder)!r} "
+                         f"({exc.strerror or exc}); choose a writable place") from None
+    os.close(fd)
+    os.unlink(tmp)
 
 
 def _check_output(path: str | None, field: str, suffix: str | None = None) -> Path | None:
+    """A file to write: its directory exists and is writable, it is not a directory, it has `suffix`."""
     if path is None:
         return None
     p = Path(path)
-    if not p.parent.exists():
-        raise UsageError(f"{field} = {path!r}: the directory {str(p.parent)!r} does not exist")
+    if not p.parent.is_dir():
+        raise UsageError(f"{field} = {str(path)!r}: the directory {str(p.parent)!r} does not exist")
+    if p.is_dir():
+        raise UsageError(f"{field} = {str(path)!r}: is a directory; give a file name")
     if suffix and p.suffix.lower() != suffix:
-        raise UsageError(f"{field} = {path!r}: must end in {suffix}")
+        raise UsageError(f"{field} = {str(path)!r}: must end in {suffix}")
+    _writable_folder(p.parent, field, path)
+    if p.exists() and not os.access(p, os.W_OK):
+        raise UsageError(f"{field} = {str(path)!r}: the file is read-only; choose another or make it writable")
     return p
+
+
+def _check_output_folder(path: str, field: str) -> Path:
+    """A folder to write into: its parent exists, it is a directory if it exists, it is writable."""
+    out = Path(path)
+    if not out.parent.is_dir():
+        raise UsageError(f"{field} = {str(path)!r}: the directory {str(out.parent)!r} does not exist")
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"{field} = {str(path)!r}: exists and is not a directory")
+    _writable_folder(out if out.exists() else out.parent, field, path)
+    return out
+
+
+def _check_sizes(scene, sizes: dict) -> None:
+    """Mesh sizes within SIZE_RANGE of the body's diameter (beyond it, no arithmetic on them is safe)."""
+    d = scene.diameter
+    lo, hi = SIZE_RANGE
+    if scene.maxh is not None:
+        sizes = {f"the scene's mesh.maxh ({scene.name!r})": scene.maxh, **sizes}
+    for flag, values in sizes.items():
+        for v in values if isinstance(values, list) else [values]:
+            if v is not None and not lo * d <= v <= hi * d:
+                raise UsageError(f"{flag} = {v:g}: must lie between {lo:g} and {hi:g} times the body's "
+                                 f"diameter ({d:g}); a mesh size is a length in the scene's units")
+
+
+class NotSolvedError(RuntimeError):
+    """The solve finished but its answer cannot be used (exit code 3)."""
 
 
 def _finite_json(obj) -> None:
     """Refuse NaN or infinity anywhere in the result (json would write invalid tokens)."""
     if isinstance(obj, float) and not math.isfinite(obj):
-        raise RuntimeError("the result contains a non-finite number; nothing was written")
+        raise NotSolvedError("the result contains a non-finite number (are the loads and the material of a sane "
+                             "size?); nothing was written")
     if isinstance(obj, dict):
         for v in obj.values():
             _finite_json(v)
@@ -95,6 +172,7 @@ def cmd_solve(args) -> int:
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
+    _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
     from .solve import solve
 
     options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order),
@@ -103,15 +181,16 @@ def cmd_solve(args) -> int:
                 crack_model=args.crack_model, max_dof=args.max_dof, **options)
     result = sol.to_json_dict()
     _finite_json(result)
-    if json_path is not None:
-        def write_json(tmp):
-            with open(tmp, "w") as fh:
-                json.dump(result, fh, indent=1)
-        _atomic_write(json_path, write_json)
-    if plot_path is not None:
-        from .plots import plot_solution
+    with _Staged() as staged:  # both files or neither; existing ones untouched on failure
+        if json_path is not None:
+            def write_json(tmp):
+                with open(tmp, "w") as fh:
+                    json.dump(result, fh, indent=1)
+            staged.write(json_path, write_json)
+        if plot_path is not None:
+            from .plots import plot_solution
 
-        _atomic_write(plot_path, lambda tmp: plot_solution(sol, tmp))
+            staged.write(plot_path, lambda tmp: plot_solution(sol, tmp))
     k, t, n = result["kkt"], result["time_s"], result["ndof"]
     print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
@@ -183,6 +262,8 @@ def cmd_sweep(args) -> int:
         raise UsageError(f"--qp-solver = {args.qp_solver!r}: allowed values are {', '.join(qp_solvers())}")
     if args.grading is not None and not 0 < args.grading <= 1:
         raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
+    _check_sizes(scene, {"--maxh": args.maxh, "--reference-maxh": args.reference_maxh, "--tip-h": args.tip_h,
+                         "--crack-h": args.crack_h})
     from .sweeps import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
@@ -218,11 +299,7 @@ def cmd_sweep(args) -> int:
 
 def cmd_paper(args) -> int:
     opts = _sweep_options(args)
-    out = Path(args.out)
-    if not out.parent.exists():
-        raise UsageError(f"--out = {args.out!r}: the directory {str(out.parent)!r} does not exist")
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--out = {args.out!r}: exists and is not a directory")
+    out = _check_output_folder(args.out, "--out")
     from .paper import run
 
     res = run(out, quick=args.quick, elements=args.element, maxh=args.maxh, reference_maxh=args.reference_maxh,
@@ -237,11 +314,7 @@ def cmd_paper(args) -> int:
 
 
 def cmd_stability(args) -> int:
-    out = Path(args.out)
-    if not out.parent.exists():
-        raise UsageError(f"--out = {args.out!r}: the directory {str(out.parent)!r} does not exist")
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--out = {args.out!r}: exists and is not a directory")
+    out = _check_output_folder(args.out, "--out")
     from .stability import run
 
     for what, path in run(quick=args.quick, out=out).items():
@@ -268,14 +341,23 @@ def _positive(text: str) -> float:
 
 
 def _count(text: str) -> int:
-    """A number of unknowns: an integer, also written like 2e6."""
+    """A number of unknowns: a whole number, also written like 2e6."""
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
     if not (math.isfinite(value) and value >= 1):
         raise argparse.ArgumentTypeError(f"{text!r}: must be a number of unknowns >= 1")
+    if value != math.floor(value):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a whole number of unknowns")
     return int(value)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line (the usage is one `--help` away)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {_one_line(message)} (see {self.prog} --help)\n")
 
 
 MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
@@ -284,7 +366,9 @@ MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimate
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="ngcrack", description="Cracked elastic bodies with unilateral crack contact (NGSolve).")
+    parser = _Parser(prog="ngcrack", description="Cracked elastic bodies with unilateral crack contact (NGSolve).")
+    parser.add_argument("--debug", action="store_true",
+                        help="on an error, print the traceback too (also accepted after the command)")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("scenes", help="list the built-in scenes and the scene functions with their parameters")
     p.set_defaults(func=cmd_scenes)
@@ -355,26 +439,74 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line(text) -> str:
+    return " ".join(str(text).split())
+
+
+def _causes(exc: BaseException):
+    """`exc` and the exceptions it was raised from (a SweepError wraps the run's own)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        yield exc
+        exc = exc.__cause__ or exc.__context__
+
+
+def classify(exc: BaseException) -> tuple[int, str]:
+    """(exit code, one-line message) of an error that reached the command line."""
+    from .contact import ContactSolverError
+    from .schur import LinearSolverError
+    from .solve import SolveError
+
+    text = _one_line(exc)
+    for cause in _causes(exc):
+        netgen = type(cause).__name__ == "NgException"
+        if isinstance(cause, MemoryError) or (netgen and "allocate" in str(cause)):
+            return EXIT_SOLVE, (f"out of memory ({text or type(cause).__name__}); use a larger maxh or a smaller "
+                                f"--max-dof")
+        if isinstance(cause, (SolveError, ContactSolverError, LinearSolverError, NotSolvedError)):
+            return EXIT_SOLVE, text
+        if netgen and "singular" in str(cause):
+            return EXIT_SOLVE, (f"the system is singular (netgen: {text.split('in Assemble')[0].strip()}); is every part of the body held, and are the "
+                                f"material values and loads finite and of a sane size?")
+        if isinstance(cause, ValueError):  # SceneError, UsageError, every option the package refuses
+            return EXIT_INPUT, text
+        if isinstance(cause, ArithmeticError):
+            return EXIT_INPUT, (f"a value beyond what double precision holds ({type(cause).__name__}: {text}); "
+                                f"check the mesh sizes, the loads and the material values")
+        if isinstance(cause, OSError) and cause.filename is not None:
+            return EXIT_INPUT, f"cannot use {cause.filename!r}: {cause.strerror or cause}"
+    return EXIT_UNEXPECTED, (f"unexpected {type(exc).__name__}: {text} (run with --debug for the traceback)")
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"ngcrack: warning: {_one_line(message)}", file=sys.stderr if file is None else file)
+
+
 def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    argv = [str(a) for a in argv]
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
     parser = build_parser()
     args = parser.parse_args(argv)
+    shown = warnings.showwarning
+    warnings.showwarning = _one_line_warning
     try:
         return args.func(args)
-    except ValueError as exc:  # SceneError, UsageError and option errors are ValueErrors
-        print(f"ngcrack: error: {exc}", file=sys.stderr)
-        return 2
     except KeyboardInterrupt:
         if args.command in ("sweep", "paper"):
             print("ngcrack: interrupted; finished runs are saved, run the same command again to resume",
                   file=sys.stderr)
         return 130
-    except RuntimeError as exc:
-        from .sweeps import SweepError
-
-        if not isinstance(exc, SweepError):
-            raise
-        print(f"ngcrack: error: {exc}", file=sys.stderr)
-        return 1
+    except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
+        code, message = classify(exc)
+        if debug:
+            traceback.print_exc()
+        print(f"ngcrack: error: {message}", file=sys.stderr)
+        return code
+    finally:
+        warnings.showwarning = shown
 
 
 if __name__ == "__main__":

@@ -24,6 +24,27 @@ class SweepError(RuntimeError):
     """A run of a sweep failed; the message names the case."""
 
 
+def check_sweep(scene, elements=("bdm",), maxh=(0.2, 0.1, 0.05), nu=None, *, friction=None, reference_maxh=None,
+                reference_element=None, jobs: int = 1, solve_options: dict | None = None, max_dof=None, adapt=None,
+                adapt_maxh=None) -> _Grid:
+    """Check a sweep's request as `sweep` does before any run (options, the size guard of every run);
+    a bad one raises ValueError naming the field. Returns the checked grid."""
+    from ..scenes import resolve
+
+    if isinstance(scene, (str, Path)):
+        scene = resolve(scene)
+    if max_dof is not None:
+        from ..sizing import check_max_dof
+
+        check_max_dof(max_dof)
+        solve_options = {**(solve_options or {}), "max_dof": int(max_dof)}
+    grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
+                         jobs, solve_options, friction,
+                         adapt_maxh=(adapt_maxh or scene.maxh or 0.0) if adapt is not None else None)
+    grid.check_sizes()
+    return grid
+
+
 def sweep(
     scene,
     elements: Iterable[str] | str = ("bdm",),
@@ -68,19 +89,10 @@ def sweep(
     """
     import pandas as pd
 
-    from ..scenes import resolve
-
-    if isinstance(scene, (str, Path)):
-        scene = resolve(scene)
-    if max_dof is not None:
-        from ..sizing import check_max_dof
-
-        check_max_dof(max_dof)
-        solve_options = {**(solve_options or {}), "max_dof": int(max_dof)}
-    grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
-                         jobs, solve_options, friction,
-                         adapt_maxh=(adapt_maxh or scene.maxh or 0.0) if adapt is not None else None)
-    grid.check_sizes()
+    grid = check_sweep(scene, elements, maxh, nu, friction=friction, reference_maxh=reference_maxh,
+                       reference_element=reference_element, jobs=jobs, solve_options=solve_options,
+                       max_dof=max_dof, adapt=adapt, adapt_maxh=adapt_maxh)
+    scene = grid.scene
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
     bar = None
