@@ -12,15 +12,20 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 """
 
 from . import scenes
+from .contact import ContactSolverError
 from .elements import ELEMENTS, Loads
 from .interactive import Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
+from .schur import LinearSolverError
+from .sizing import CoarseMeshWarning
 from .solve import CRACK_MODELS, Solution, SolveError, solve
-from .study import fitted_rates, sweep
+from .study import SweepError, fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
     "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
+    # the errors and warnings a script may catch
+    "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
 ]
