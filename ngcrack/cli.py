@@ -168,6 +168,10 @@ def cmd_solve(args) -> int:
         raise UsageError(f"--element = {args.element!r}: allowed values are {', '.join(ELEMENTS)}")
     json_path = _check_output(args.json, "--json")
     plot_path = _check_output(args.plot, "--plot", ".png")
+    if args.vtk is not None:
+        from .vtk import vtk_stem
+
+        vtk_stem(args.vtk)
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
@@ -191,6 +195,10 @@ def cmd_solve(args) -> int:
             from .plots import plot_solution
 
             staged.write(plot_path, lambda tmp: plot_solution(sol, tmp))
+    if args.vtk is not None:  # ParaView: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
+        from .vtk import save_vtk
+
+        vtk_paths = save_vtk(sol, args.vtk)
     k, t, n = result["kkt"], result["time_s"], result["ndof"]
     print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
@@ -215,7 +223,7 @@ def cmd_solve(args) -> int:
         steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
         reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"
         print(f"adapt to {args.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
-    for path in (json_path, plot_path):
+    for path in (json_path, plot_path, *(vtk_paths if args.vtk is not None else ())):
         if path is not None:
             print(f"wrote {path}")
     return 0
@@ -392,6 +400,7 @@ def build_parser() -> argparse.ArgumentParser:
                                   "kkt, kkt_sampled, tips, error_estimate, adapt (with --adapt) and one crack "
                                   "profile per crack (README: \"Command line\")")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
+    p.add_argument("--vtk", metavar="OUT", help="write ParaView files: OUT.vtu (mesh and fields), OUT_cracks.vtu (crack faces)")
     p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP)
     p.set_defaults(func=cmd_solve)
 
