@@ -44,6 +44,7 @@ class GrowthResult:
     rows: list = field(default_factory=list)
     scenes: list = field(default_factory=list)
     frames: list = field(default_factory=list)
+    profiles: list = field(default_factory=list)
     events: list = field(default_factory=list)
     frozen: dict = field(default_factory=dict)
     stopped: str = ""
@@ -56,7 +57,7 @@ class GrowthResult:
         est = None if sol.error_estimate is None else float(sol.error_estimate.relative)
         tips = []
         for v in values:
-            kink = math.degrees(v.get("kink", v["theta"]))
+            kink = math.degrees(v.get("kink", v["theta"])) + 0.0  # no -0.0
             did = v["label"] in grew
             length = float(scene.cracks[v["crack"]].length)
             self.rows.append({"step": n, "crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"],
@@ -69,6 +70,7 @@ class GrowthResult:
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
                            "kkt": kkt, "error_estimate": est, "tips": tips})
         self.scenes.append(scene)
+        self.profiles.append(list(sol.profiles))
         if frames:
             self.frames.append(_frame(sol))
 
