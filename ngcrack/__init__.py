@@ -13,16 +13,16 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 
 from . import scenes
 from .elements import ELEMENTS, Loads
+from .explorer import Explorer, Study, explore
 from .growth import GrowthResult, grow
-from .interactive import Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
 from .solve import CRACK_MODELS, Solution, SolveError, solve
-from .study import fitted_rates, sweep
+from .sweeps import fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
+    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "Loads", "Material", "Scene",
     "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
     "GrowthResult", "grow",
 ]

@@ -568,7 +568,7 @@ def energy_error(sol, sigma_exact) -> float:
 
 def energy_error_against(sol, reference, order: int = INTORDER) -> float:
     """||sigma_ref - sigma_h||_A at the quadrature points of the reference (finer) mesh."""
-    from .study import quadrature_points
+    from .quadrature import quadrature_points
 
     mat = sol.scene.material
     A = compliance(mat.E, mat.nu, mat.plane)

@@ -251,7 +251,7 @@ def tip_labels(scene) -> list[str]:
     from .geometry import ON_EDGE_RTOL
 
     poly = np.asarray(scene.polygon, dtype=float)
-    diameter = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
+    diameter = scene.diameter
     out = []
     for k, crack in enumerate(scene.cracks):
         pts = np.asarray(crack.points, dtype=float)
