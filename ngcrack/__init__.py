@@ -12,34 +12,25 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 """
 
 from . import scenes
-from .contact import ContactSolverError
+from .constraints import ContactSolverError
 from .elements import ELEMENTS, Loads
 from .explorer import Explorer, Study, explore
-from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
-<<<<<<< HEAD
+from .growth import GrowthResult, grow
 from .options import CRACK_MODELS, SolveOptions
 from .pipeline import Pipeline
-from .solution import Solution
-from .solve import SolveError, solve
-from .sweeps import fitted_rates, sweep
-=======
+from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
 from .schur import LinearSolverError
 from .sizing import CoarseMeshWarning
-from .solve import CRACK_MODELS, Solution, SolveError, solve
-from .study import SweepError, fitted_rates, sweep
->>>>>>> docs
+from .solution import Solution
+from .solve import SolveError, solve
+from .sweeps import SweepError, fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
-<<<<<<< HEAD
-    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "Loads", "Material", "Pipeline", "Scene",
-    "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "fitted_rates", "scenes", "solve",
-    "sweep",
-=======
-    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
+    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
+    "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "fitted_rates",
+    "grow", "scenes", "solve", "sweep",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
->>>>>>> docs
 ]

@@ -9,6 +9,8 @@
                         [--friction MU ...] --out results.csv [--reference-maxh H] [--reference-element E]
                         [--jobs N] [--dask ADDRESS] [--max-dof N]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
+    ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts] [solve options] --json OUT
+                       [--csv OUT] [--gif OUT] [--png OUT]
 
 SCENE is a built-in scene name or a TOML file. No command shows a traceback: bad input
 exits with code 2 and one line on stderr naming the field, before any meshing; a system
@@ -445,6 +447,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="the small study (about a minute and a half on 2 cores)")
     p.add_argument("--out", default="stability-results", help="output folder (default stability-results)")
     p.set_defaults(func=cmd_stability)
+
+    from .growth.cli import add_parser as add_grow_parser
+
+    add_grow_parser(sub, _positive, _count)
     return parser
 
 
