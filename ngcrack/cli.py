@@ -29,92 +29,16 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
-import tempfile
 import traceback
 import warnings
-from pathlib import Path
+
+from .outputs import NotSolvedError, StagedWrites, UsageError, check_finite, check_output, check_output_folder
 
 #: exit codes: bad input, a system that cannot be solved, something unexpected
 EXIT_INPUT, EXIT_SOLVE, EXIT_UNEXPECTED = 2, 3, 1
 #: a size option (maxh, tip_h, crack_h) must lie within these multiples of the body's diameter
 SIZE_RANGE = (1e-100, 1e100)
-
-
-class UsageError(ValueError):
-    """Bad command-line input (exit code 2)."""
-
-
-class _Staged:
-    """Output files written to temporary files beside their targets, renamed into place together.
-
-    Used as a context manager: on leaving it normally every staged file replaces its
-    target (os.replace, atomic per file); on an error the temporary files are removed
-    and every target is left as it was.
-    """
-
-    def __init__(self) -> None:
-        self.files: list[tuple[str, Path]] = []
-
-    def write(self, path: Path, write) -> None:
-        path = Path(path)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-        os.close(fd)
-        self.files.append((tmp, path))
-        write(tmp)
-
-    def __enter__(self) -> _Staged:
-        return self
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        try:
-            if exc_type is None:
-                for tmp, path in self.files:
-                    os.replace(tmp, path)
-        finally:
-            for tmp, _ in self.files:
-                if os.path.exists(tmp):
-                    os.unlink(tmp)
-
-
-def _writable_folder(folder: Path, field: str, path) -> None:
-    """Refuse a folder this process cannot create files in (tried, not guessed from the mode bits)."""
-    try:
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".ngcrack-probe-")
-    except OSError as exc:
-        raise UsageError(f"{field} = {str(path)!r}: cannot write in the directory {str(folder)!r} "
-                         f"({exc.strerror or exc}); choose a writable place") from None
-    os.close(fd)
-    os.unlink(tmp)
-
-
-def _check_output(path: str | None, field: str, suffix: str | None = None) -> Path | None:
-    """A file to write: its directory exists and is writable, it is not a directory, it has `suffix`."""
-    if path is None:
-        return None
-    p = Path(path)
-    if not p.parent.is_dir():
-        raise UsageError(f"{field} = {str(path)!r}: the directory {str(p.parent)!r} does not exist")
-    if p.is_dir():
-        raise UsageError(f"{field} = {str(path)!r}: is a directory; give a file name")
-    if suffix and p.suffix.lower() != suffix:
-        raise UsageError(f"{field} = {str(path)!r}: must end in {suffix}")
-    _writable_folder(p.parent, field, path)
-    if p.exists() and not os.access(p, os.W_OK):
-        raise UsageError(f"{field} = {str(path)!r}: the file is read-only; choose another or make it writable")
-    return p
-
-
-def _check_output_folder(path: str, field: str) -> Path:
-    """A folder to write into: its parent exists, it is a directory if it exists, it is writable."""
-    out = Path(path)
-    if not out.parent.is_dir():
-        raise UsageError(f"{field} = {str(path)!r}: the directory {str(out.parent)!r} does not exist")
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"{field} = {str(path)!r}: exists and is not a directory")
-    _writable_folder(out if out.exists() else out.parent, field, path)
-    return out
 
 
 def _check_sizes(scene, sizes: dict) -> None:
@@ -128,23 +52,6 @@ def _check_sizes(scene, sizes: dict) -> None:
             if v is not None and not lo * d <= v <= hi * d:
                 raise UsageError(f"{flag} = {v:g}: must lie between {lo:g} and {hi:g} times the body's "
                                  f"diameter ({d:g}); a mesh size is a length in the scene's units")
-
-
-class NotSolvedError(RuntimeError):
-    """The solve finished but its answer cannot be used (exit code 3)."""
-
-
-def _finite_json(obj) -> None:
-    """Refuse NaN or infinity anywhere in the result (json would write invalid tokens)."""
-    if isinstance(obj, float) and not math.isfinite(obj):
-        raise NotSolvedError("the result contains a non-finite number (are the loads and the material of a sane "
-                             "size?); nothing was written")
-    if isinstance(obj, dict):
-        for v in obj.values():
-            _finite_json(v)
-    elif isinstance(obj, list):
-        for v in obj:
-            _finite_json(v)
 
 
 def cmd_scenes(args) -> int:
@@ -168,8 +75,8 @@ def cmd_solve(args) -> int:
 
     if args.element not in ELEMENTS:
         raise UsageError(f"--element = {args.element!r}: allowed values are {', '.join(ELEMENTS)}")
-    json_path = _check_output(args.json, "--json")
-    plot_path = _check_output(args.plot, "--plot", ".png")
+    json_path = check_output(args.json, "--json")
+    plot_path = check_output(args.plot, "--plot", ".png")
     if args.vtk is not None:
         from .vtk import vtk_stem
 
@@ -186,8 +93,8 @@ def cmd_solve(args) -> int:
     sol = solve(scene, element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
                 crack_model=args.crack_model, max_dof=args.max_dof, **options)
     result = sol.to_json_dict()
-    _finite_json(result)
-    with _Staged() as staged:  # both files or neither; existing ones untouched on failure
+    check_finite(result)
+    with StagedWrites() as staged:  # both files or neither; existing ones untouched on failure
         if json_path is not None:
             def write_json(tmp):
                 with open(tmp, "w") as fh:
@@ -253,7 +160,7 @@ def cmd_sweep(args) -> int:
     from . import scenes
 
     opts = _sweep_options(args)
-    out = _check_output(args.out, "--out", ".csv")
+    out = check_output(args.out, "--out", ".csv")
     scene = scenes.resolve(args.scene)
     for v in args.nu or []:
         scene.with_(nu=v)  # a bad nu is refused here, before any meshing
@@ -309,7 +216,7 @@ def cmd_sweep(args) -> int:
 
 def cmd_paper(args) -> int:
     opts = _sweep_options(args)
-    out = _check_output_folder(args.out, "--out")
+    out = check_output_folder(args.out, "--out")
     from .paper import run
 
     res = run(out, quick=args.quick, elements=args.element, maxh=args.maxh, reference_maxh=args.reference_maxh,
@@ -324,7 +231,7 @@ def cmd_paper(args) -> int:
 
 
 def cmd_stability(args) -> int:
-    out = _check_output_folder(args.out, "--out")
+    out = check_output_folder(args.out, "--out")
     from .stability import run
 
     for what, path in run(quick=args.quick, out=out).items():

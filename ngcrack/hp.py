@@ -46,8 +46,7 @@ import math
 
 import numpy as np
 
-from .adapt import refine
-from .geometry import CrackMesh, make_mesh
+from .geometry import CrackMesh, make_mesh, refine_crack_mesh
 from .tips import _clearance, crack_tips, tip_labels
 
 #: the ratio of consecutive layer radii, r_{j+1} = HP_SIGMA r_j
@@ -160,7 +159,7 @@ def refine_towards_tips(crack_mesh: CrackMesh, scene, layers: int, sigma: float 
                 marked |= (_point_triangle_distance(p, P) < r) & (h > r)
             if not marked.any():
                 break
-            cmesh = refine(cmesh, scene, marked)
+            cmesh = refine_crack_mesh(cmesh, scene, marked)
         else:
             raise RuntimeError(f"hp layer {j}: the bisection did not reach the layer's size in {MAX_ROUNDS} rounds")
     return cmesh

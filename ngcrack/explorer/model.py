@@ -40,7 +40,8 @@ from typing import Any
 
 import numpy as np
 
-from ..options import SolveOptions
+from ..elements import ELEMENTS
+from ..options import CRACK_MODELS, SolveOptions
 from ..pipeline import Pipeline
 from ..scene import Crack, Scene
 from ..scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
@@ -148,7 +149,7 @@ class Explorer:
         if friction_supported():
             self.state.setdefault("friction", float(getattr(ref.cracks[0], "friction", 0.0) or 0.0) if ref.cracks else 0.0)
         # every value checked before anything is built: ValueError naming the control and what it allows
-        check_choice("element", element, _elements.ELEMENTS)
+        check_choice("element", element, ELEMENTS)
         self.ranges: dict[str, Range] = dict(FIXED)
         self.ranges["E"] = e_range(self.state["E"])
         self.ranges["maxh"], self.start_maxh = mesh_size_range(ref, element, maxh, self.solve_options)
@@ -182,9 +183,9 @@ class Explorer:
         if name in self.ranges:
             return self.ranges[name].check(name, value)
         if name == "element":
-            return check_choice(name, value, _elements.ELEMENTS)
+            return check_choice(name, value, ELEMENTS)
         if name == "crack_model":
-            return check_choice(name, value, importlib.import_module(_SOLVE_MODULE).CRACK_MODELS)
+            return check_choice(name, value, CRACK_MODELS)
         if name == "field":
             return check_choice(name, value, FIELDS)
         if name == "scales":

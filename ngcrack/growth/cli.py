@@ -40,14 +40,14 @@ def add_parser(subparsers, positive, count):
 
 def run(args) -> int:
     from ngcrack import scenes
-    from ngcrack.cli import _atomic_write, _check_output, _finite_json
+    from ngcrack.outputs import StagedWrites, check_finite, check_output
 
     from .loop import check_growth_options, grow
 
-    json_path = _check_output(args.json, "--json")
-    csv_path = _check_output(args.csv, "--csv", ".csv")
-    gif_path = _check_output(args.gif, "--gif", ".gif")
-    png_path = _check_output(args.png, "--png", ".png")
+    json_path = check_output(args.json, "--json")
+    csv_path = check_output(args.csv, "--csv", ".csv")
+    gif_path = check_output(args.gif, "--gif", ".gif")
+    png_path = check_output(args.png, "--png", ".png")
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
@@ -66,23 +66,24 @@ def run(args) -> int:
     result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion,
                   frames=gif_path is not None, progress=progress, **options)
     data = result.to_json_dict()
-    _finite_json(data)
+    check_finite(data)
 
     def write_json(tmp):
         with open(tmp, "w") as fh:
             json.dump(data, fh, indent=1)
 
-    _atomic_write(json_path, write_json)
     written = [json_path]
-    if csv_path is not None:
-        _atomic_write(csv_path, lambda tmp: result.table.to_csv(tmp, index=False))
-        written.append(csv_path)
-    if png_path is not None:
-        _atomic_write(png_path, lambda tmp: result.plot(tmp))
-        written.append(png_path)
-    if gif_path is not None:
-        _atomic_write(gif_path, lambda tmp: result.animate(tmp))
-        written.append(gif_path)
+    with StagedWrites() as staged:  # every output or none; existing files untouched on failure
+        staged.write(json_path, write_json)
+        if csv_path is not None:
+            staged.write(csv_path, lambda tmp: result.table.to_csv(tmp, index=False))
+            written.append(csv_path)
+        if png_path is not None:
+            staged.write(png_path, lambda tmp: result.plot(tmp))
+            written.append(png_path)
+        if gif_path is not None:
+            staged.write(gif_path, lambda tmp: result.animate(tmp))
+            written.append(gif_path)
     print(f"{scene.name}: {len(result.steps)} steps, stopped: {result.stopped}")
     for path in written:
         print(f"wrote {path}")
