@@ -86,12 +86,14 @@ def cmd_solve(args) -> int:
     if changes:
         scene = scene.with_(**changes)
     _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
+    from .options import SolveOptions
     from .solve import solve
 
-    options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order),
-                                 ("adapt", args.adapt)) if v is not None}
-    sol = solve(scene, element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
-                crack_model=args.crack_model, max_dof=args.max_dof, **options)
+    given = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order), ("adapt", args.adapt),
+                               ("hp", args.hp)) if v is not None}
+    options = SolveOptions.of(element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
+                              crack_model=args.crack_model, max_dof=args.max_dof, **given)  # checked once, here
+    sol = solve(scene, options=options)
     result = sol.to_json_dict()
     check_finite(result)
     with StagedWrites() as staged:  # both files or neither; existing ones untouched on failure
@@ -293,10 +295,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="built-in scene name or TOML file")
     p.add_argument("--element", default="bdm",
                    help="bdm (default), peers, tdnns, h1p1 or h1p2 (README: \"Which element when\")")
-    p.add_argument("--order", type=int, help="polynomial order of elements that have one (tdnns: stress degree 1, 2 or 3)")
+    p.add_argument("--order", type=int, help="polynomial order of elements that have one (bdm, tdnns: 1, 2 or 3)")
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
+    p.add_argument("--hp", type=int, metavar="L",
+                   help="L layers of geometric refinement (ratio 0.2) towards every crack tip; with --order 2 or 3")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--friction", type=_positive, metavar="MU",

@@ -103,6 +103,8 @@ class SolveOptions:
     condition: bool = False
     max_dof: int | None = None
     adapt: float | None = None
+    hp: int | None = None
+    hp_sigma: float | None = None
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -136,6 +138,12 @@ class SolveOptions:
         if not isinstance(self.condition, bool):
             raise ValueError(f"condition = {self.condition!r}: must be True or False")
         set_(self, "max_dof", whole_number("max_dof", self.max_dof))
+        if self.hp is not None or self.hp_sigma is not None:
+            from .hp import HP_SIGMA, check_hp_options
+
+            set_(self, "hp", whole_number("hp", self.hp, minimum=0) if self.hp is not None else 0)
+            set_(self, "hp_sigma", positive_size("hp_sigma", self.hp_sigma) if self.hp_sigma is not None else HP_SIGMA)
+            check_hp_options(self.hp, self.hp_sigma)
         if self.adapt is not None:
             a = self.adapt
             if not is_number(a) or not (math.isfinite(float(a)) and 0 < float(a) < 1):
@@ -167,7 +175,7 @@ class SolveOptions:
     @property
     def mesh_key(self) -> tuple:
         """The mesh options (besides the scene's geometry and [mesh] values)."""
-        return (self.maxh, self.tip_h, self.crack_h, self.grading)
+        return (self.maxh, self.tip_h, self.crack_h, self.grading, self.hp or 0, self.hp_sigma)
 
     @property
     def element_key(self) -> tuple:

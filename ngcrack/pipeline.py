@@ -42,6 +42,7 @@ from .elements import Discretization, Loads
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
 from .geometry import CrackMesh, make_mesh
+from .hp import refine_towards_tips
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .materials import compliance
 from .options import SolveOptions
@@ -245,11 +246,15 @@ class Pipeline:
 
     # -------------------------------------------------------------- stages
     def mesh(self, scene: Scene, options: SolveOptions) -> CrackMesh:
-        """The scene's mesh with cracks as interior edges (geometry.make_mesh), cached."""
+        """The scene's mesh with cracks as interior edges (geometry.make_mesh), with options.hp
+        geometric layers towards the tips (hp.refine_towards_tips), cached."""
         key = (geometry_key(scene), options.mesh_key)
         if self._mesh is None or self._mesh[0] != key:
             o = options
-            self._mesh = (key, make_mesh(scene, maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading))
+            cmesh = make_mesh(scene, maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
+            if o.hp:
+                cmesh = refine_towards_tips(cmesh, scene, o.hp, sigma=o.hp_sigma)
+            self._mesh = (key, cmesh)
             self.counts["mesh"] += 1
             self.redone.append("mesh")
         return self._mesh[1]
@@ -423,7 +428,7 @@ class Pipeline:
             options={"qp_solver": o.qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
                      "largest_dense": red.largest_dense, "tip_h": o.tip_h, "crack_model": o.crack_model,
                      "order": o.order, "friction": [float(f) for f in mu], "friction_method": o.friction_method,
-                     "tangential": tangential},
+                     "tangential": tangential, "hp": o.hp or 0},
             conditioning=conditioning, kkt_sampled=kkt_sampled, forces=forces,
         )
         self.post_process(sol, loads)

@@ -174,6 +174,28 @@ def roller_edges(mesh: ngs.Mesh, roller):
             yield el, np.array([t[1], -t[0]])
 
 
+
+def load_vector(fes: ngs.FESpace, mesh: ngs.Mesh, loads: Loads, built: list[str],
+                body: Callable, traction: Callable) -> ngs.LinearForm:
+    """The assembled load vector of an element: int body(f) dx + sum over loaded edges of int traction(g) ds.
+
+    `body(f)` and `traction(g)` give the integrands of the element's test functions for
+    the body force f and an edge's traction g (signs and traces are the element's);
+    what is loaded is recorded in `built`.
+    """
+    f = ngs.LinearForm(fes)
+    if loads.body_force is not None:
+        f += body(loads.body_force) * ngs.dx
+        built.append("body force")
+    for label, g in sorted(loads.traction.items()):
+        f += traction(g) * ngs.ds(definedon=boundary_region(mesh, [label]))
+    if loads.traction:
+        built.append("traction load on " + ", ".join(sorted(loads.traction)))
+    with task_manager():
+        f.Assemble()
+    return f
+
+
 def displacement_data(mesh: ngs.Mesh, displacement: dict) -> tuple[ngs.CoefficientFunction, ngs.Region]:
     """One CoefficientFunction holding every prescribed displacement, and its region.
 
@@ -309,16 +331,7 @@ def weakly_symmetric_hybrid(
         a += ((tau * n) * (chi * (jn * nu + jt * t)) + (sig * n) * (chi * (kn * nu + kt * t))) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    f = ngs.LinearForm(fes)
-    if loads.body_force is not None:
-        f += -(loads.body_force * v) * ngs.dx
-        built.append("body force")
-    for label, g in sorted(loads.traction.items()):
-        f += -(g * muh) * ngs.ds(definedon=boundary_region(mesh, [label]))
-    if loads.traction:
-        built.append("traction load on " + ", ".join(sorted(loads.traction)))
-    with task_manager():
-        f.Assemble()
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=lambda g: -(g * muh))
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
