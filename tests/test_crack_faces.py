@@ -123,6 +123,6 @@ def test_bdm_is_the_default_and_the_most_accurate_here():
     """The default is the element with the smallest error on both closed forms."""
     import inspect
 
-    assert inspect.signature(nc.solve).parameters["element"].default == "bdm"
+    assert nc.SolveOptions().element == "bdm"
     assert inspect.signature(nc.sweep).parameters["elements"].default == ("bdm",)
     assert min(GRIFFITH_BANDS, key=lambda e: GRIFFITH_BANDS[e][1]) == "bdm"
