@@ -28,8 +28,10 @@ import argparse
 import json
 import math
 import os
+import signal
 import sys
 import tempfile
+import threading
 import traceback
 import warnings
 from pathlib import Path
@@ -277,7 +279,7 @@ def cmd_sweep(args) -> int:
     df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, friction=args.friction,
                reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
                solve_options=solve_options, max_dof=args.max_dof, **opts, **adaptive)
-    after = len(open(out).read().splitlines()) - 1
+    after = len(open(out).read().splitlines()) - 1 if out.exists() else 0
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["estimate", "time_total"]
     if args.friction is not None:
         cols[3:3] = ["friction", "n_stick", "kkt_friction"]
@@ -483,6 +485,14 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     print(f"ngcrack: warning: {_one_line(message)}", file=sys.stderr if file is None else file)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     argv = [str(a) for a in argv]
@@ -492,13 +502,19 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     shown = warnings.showwarning
     warnings.showwarning = _one_line_warning
+    on_term = None
+    if threading.current_thread() is threading.main_thread():
+        on_term = signal.signal(signal.SIGTERM, _terminate)
     try:
         return args.func(args)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        what = "terminated" if isinstance(exc, Terminated) else "interrupted"
         if args.command in ("sweep", "paper"):
-            print("ngcrack: interrupted; finished runs are saved, run the same command again to resume",
+            print(f"ngcrack: {what}; finished runs are saved, run the same command again to resume",
                   file=sys.stderr)
-        return 130
+        else:
+            print(f"ngcrack: {what}" + ("; nothing was written" if args.command == "solve" else ""), file=sys.stderr)
+        return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
     except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
         code, message = classify(exc)
         if debug:
@@ -507,6 +523,8 @@ def main(argv=None) -> int:
         return code
     finally:
         warnings.showwarning = shown
+        if on_term is not None:
+            signal.signal(signal.SIGTERM, on_term)
 
 
 if __name__ == "__main__":

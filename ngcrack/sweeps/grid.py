@@ -18,7 +18,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from .cases import MESH_OPTIONS, Case
-from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, scene_friction
+from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, file_name_part, scene_friction
 
 
 def _solve_defaults() -> dict:
@@ -177,7 +177,8 @@ class _Grid:
     def ref_file(self, ref_dir: Path, element: str, variant: tuple) -> Path:
         nu, f = variant
         mu = "" if f is None else f"-mu{float(f):.{KEY_DIGITS}g}"
-        return ref_dir / f"{self.scene.name}-{element}-nu{nu:.{KEY_DIGITS}g}{mu}-h{self.ref_h:.{KEY_DIGITS}g}.npz"
+        name = f"{file_name_part(self.scene.name)}-{element}-nu{nu:.{KEY_DIGITS}g}{mu}-h{self.ref_h:.{KEY_DIGITS}g}.npz"
+        return ref_dir / name  # a plain name: inside ref_dir, whatever the scene is called
 
     def case(self, element: str, h: float, variant: tuple, **kw) -> Case:
         nu, f = variant
