@@ -130,6 +130,15 @@ def _check_sizes(scene, sizes: dict) -> None:
                                  f"diameter ({d:g}); a mesh size is a length in the scene's units")
 
 
+def _check_friction(scene, args) -> None:
+    """--friction only with --crack-model contact; a scene's own friction under free or bonded: a warning."""
+    from .sweeps import check_friction_applies, warn_friction_not_applied
+
+    check_friction_applies(args.friction, args.crack_model, "--friction")
+    if args.friction is None and args.command == "solve":  # (a sweep warns itself)
+        warn_friction_not_applied(scene, args.crack_model)
+
+
 class NotSolvedError(RuntimeError):
     """The solve finished but its answer cannot be used (exit code 3)."""
 
@@ -175,6 +184,7 @@ def cmd_solve(args) -> int:
     if changes:
         scene = scene.with_(**changes)
     _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
+    _check_friction(scene, args)
     from .solve import solve
 
     options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order),
@@ -266,6 +276,7 @@ def cmd_sweep(args) -> int:
         raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
     _check_sizes(scene, {"--maxh": args.maxh, "--reference-maxh": args.reference_maxh, "--tip-h": args.tip_h,
                          "--crack-h": args.crack_h})
+    _check_friction(scene, args)
     from .sweeps import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0

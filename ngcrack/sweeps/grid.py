@@ -29,6 +29,24 @@ def _solve_defaults() -> dict:
     return {k: p.default for k, p in inspect.signature(solve).parameters.items()}
 
 
+def check_friction_applies(friction, crack_model: str | None, field: str = "friction") -> None:
+    """Refuse a friction coefficient asked for with a crack model that has none (free, bonded)."""
+    values = [friction] if isinstance(friction, (int, float, np.floating, np.integer)) else list(friction or [])
+    given = [float(f) for f in values if isinstance(f, (int, float, np.floating, np.integer)) and f != 0]
+    if given and (crack_model or "contact") != "contact":
+        raise ValueError(f"{field} = {given[0]:g}: friction acts only with crack_model = 'contact' (free and "
+                         f"bonded cracks have no contact, so no friction); drop {field} or use crack_model "
+                         f"'contact'")
+
+
+def warn_friction_not_applied(scene, crack_model: str | None) -> None:
+    """Warn that a scene's own friction plays no part under crack_model free or bonded."""
+    mu = scene_friction(scene)
+    if mu and (crack_model or "contact") != "contact":
+        warnings.warn(f"scene {scene.name!r}: its cracks' friction ({mu:g}) is not applied with crack_model = "
+                      f"{crack_model!r}; the rows record friction 0", UserWarning, stacklevel=3)
+
+
 def _as_list(values, name: str) -> list:
     if values is None:
         return []
@@ -151,6 +169,9 @@ class _Grid:
         return [(el, h, (v, f)) for el, v, f, h in itertools.product(self.elements, self.nus, self.frictions, self.sizes)]
 
     def friction_value(self, f: float | None) -> float:
+        """The friction a run applies (its row's `friction`): 0 for free and bonded cracks."""
+        if self.solve_options.get("crack_model", "contact") != "contact":
+            return 0.0
         return scene_friction(self.scene) if f is None else float(f)
 
     def keys(self) -> list[tuple]:

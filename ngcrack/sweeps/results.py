@@ -34,7 +34,7 @@ ROW_SCHEMA: dict[str, type] = {
     "element": str,
     "maxh": float,                # requested global mesh size
     "nu": float,                  # Poisson's ratio
-    "friction": float,            # Coulomb coefficient of the cracks (the largest, if they differ)
+    "friction": float,            # Coulomb coefficient applied (the cracks' largest; 0 for free and bonded cracks)
     "E": float,
     "h": float,                   # the mesh's largest edge length
     "n_elements": int,
