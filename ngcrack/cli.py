@@ -29,7 +29,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import signal
 import sys
+import threading
 import traceback
 import warnings
 
@@ -52,6 +54,15 @@ def _check_sizes(scene, sizes: dict) -> None:
             if v is not None and not lo * d <= v <= hi * d:
                 raise UsageError(f"{flag} = {v:g}: must lie between {lo:g} and {hi:g} times the body's "
                                  f"diameter ({d:g}); a mesh size is a length in the scene's units")
+
+
+def _check_friction(scene, args) -> None:
+    """--friction only with --crack-model contact; a scene's own friction under free or bonded: a warning."""
+    from .sweeps import check_friction_applies, warn_friction_not_applied
+
+    check_friction_applies(args.friction, args.crack_model, "--friction")
+    if args.friction is None and args.command == "solve":  # (a sweep warns itself)
+        warn_friction_not_applied(scene, args.crack_model)
 
 
 def cmd_scenes(args) -> int:
@@ -86,6 +97,7 @@ def cmd_solve(args) -> int:
     if changes:
         scene = scene.with_(**changes)
     _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
+    _check_friction(scene, args)
     from .options import SolveOptions
     from .solve import solve
 
@@ -183,6 +195,7 @@ def cmd_sweep(args) -> int:
         raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
     _check_sizes(scene, {"--maxh": args.maxh, "--reference-maxh": args.reference_maxh, "--tip-h": args.tip_h,
                          "--crack-h": args.crack_h})
+    _check_friction(scene, args)
     from .sweeps import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
@@ -196,7 +209,7 @@ def cmd_sweep(args) -> int:
     df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, friction=args.friction,
                reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
                solve_options=solve_options, max_dof=args.max_dof, **opts, **adaptive)
-    after = len(open(out).read().splitlines()) - 1
+    after = len(open(out).read().splitlines()) - 1 if out.exists() else 0
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["estimate", "time_total"]
     if args.friction is not None:
         cols[3:3] = ["friction", "n_stick", "kkt_friction"]
@@ -409,6 +422,14 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     print(f"ngcrack: warning: {_one_line(message)}", file=sys.stderr if file is None else file)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     argv = [str(a) for a in argv]
@@ -418,13 +439,19 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     shown = warnings.showwarning
     warnings.showwarning = _one_line_warning
+    on_term = None
+    if threading.current_thread() is threading.main_thread():
+        on_term = signal.signal(signal.SIGTERM, _terminate)
     try:
         return args.func(args)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        what = "terminated" if isinstance(exc, Terminated) else "interrupted"
         if args.command in ("sweep", "paper"):
-            print("ngcrack: interrupted; finished runs are saved, run the same command again to resume",
+            print(f"ngcrack: {what}; finished runs are saved, run the same command again to resume",
                   file=sys.stderr)
-        return 130
+        else:
+            print(f"ngcrack: {what}" + ("; nothing was written" if args.command == "solve" else ""), file=sys.stderr)
+        return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
     except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
         code, message = classify(exc)
         if debug:
@@ -433,6 +460,8 @@ def main(argv=None) -> int:
         return code
     finally:
         warnings.showwarning = shown
+        if on_term is not None:
+            signal.signal(signal.SIGTERM, on_term)
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ from typing import Iterable
 
 from .cases import Case, run_case
 from .executors import _Dask, _executor
-from .grid import _Grid, _key, _same
+from .grid import _Grid, _key, _same, check_friction_applies, warn_friction_not_applied
 from .quantities import Reference, tip_columns
 from .rates import with_rates
 from .results import ROW_COLUMNS, ResultsFile, typed
@@ -33,6 +33,10 @@ def check_sweep(scene, elements=("bdm",), maxh=(0.2, 0.1, 0.05), nu=None, *, fri
 
     if isinstance(scene, (str, Path)):
         scene = resolve(scene)
+    crack_model = (solve_options or {}).get("crack_model")
+    check_friction_applies(friction, crack_model)
+    if friction is None:
+        warn_friction_not_applied(scene, crack_model)
     if max_dof is not None:
         from ..sizing import check_max_dof
 
