@@ -39,7 +39,7 @@ import ngcrack as nc
 from ngcrack.growth import mts_angle
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
-MESH = dict(maxh=2.0, tip_h=0.02) if SMOKE else dict(maxh=1.0)
+MESH = {"maxh": 2.0, "tip_h": 0.02} if SMOKE else {"maxh": 1.0}
 STEPS = 2 if SMOKE else 10
 DA = 0.1
 
