@@ -299,3 +299,20 @@ def test_pls_against_mts_on_the_same_cases():
     for r in runs.values():
         assert np.all(np.diff(r.load_factors()) > 0)
     assert runs["mts"].load_factors()[-1] < runs["pls"].load_factors()[-1]
+
+
+def test_figures_and_animation(tension_mts, tmp_path):
+    """The figure of the paths and load factors, and one GIF frame per step."""
+    from PIL import Image
+
+    tension_mts.plot(tmp_path / "paths.png")
+    assert Image.open(tmp_path / "paths.png").size[0] > 1000
+    tension_mts.animate(tmp_path / "growth.gif")
+    gif = Image.open(tmp_path / "growth.gif")
+    assert gif.n_frames == len(tension_mts.steps) == 2
+    frame = tension_mts.frames[1]
+    assert frame["corners"].shape == frame["disp"].shape and frame["corners"].dtype == np.float32
+    # the crack in tension is open: its two faces apart at every open sample
+    face = frame["faces"][0]
+    assert np.mean(face["open"]) > 0.9
+    assert np.all(np.linalg.norm(face["plus"] - face["minus"], axis=1)[face["open"]] > 0)

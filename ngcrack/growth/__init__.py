@@ -9,5 +9,13 @@ from .criteria import CRITERIA, mts_angle, mts_keq
 from .loop import GROW_TOGETHER_RTOL, MAX_DA_FRACTION, MAX_STEPS, grow
 from .result import GrowthResult
 
-__all__ = ["CRITERIA", "GROW_TOGETHER_RTOL", "GrowthResult", "MAX_DA_FRACTION", "MAX_STEPS", "grow", "mts_angle",
-           "mts_keq"]
+__all__ = [
+           "CRITERIA",
+           "GROW_TOGETHER_RTOL",
+           "MAX_DA_FRACTION",
+           "MAX_STEPS",
+           "GrowthResult",
+           "grow",
+           "mts_angle",
+           "mts_keq",
+]

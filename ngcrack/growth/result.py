@@ -226,11 +226,13 @@ def animate_growth(result: GrowthResult, path, fps: int = 4):
     from matplotlib.animation import FuncAnimation, PillowWriter
     from matplotlib.collections import PolyCollection
 
-    poly = np.asarray(result.scene.polygon)
     diam = result.scene.diameter
     umax = max(float(np.max(np.linalg.norm(f["disp"], axis=2))) for f in result.frames)
     scale = 0.04 * diam / umax if umax > 0 else 0.0
-    xy = np.concatenate([np.asarray(c.points) for c in result.final_scene.cracks])
+    # the view: the deformed crack faces of every frame, padded
+    xy = np.concatenate([face["mid"] + scale * u for f in result.frames for face in f["faces"]
+                         for u in (face["plus"], face["minus"])] +
+                        [np.asarray(c.points) for c in result.final_scene.cracks])
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     pad = 0.3 * max(hi - lo) + 2 * result.da
     fig, ax = plt.subplots(figsize=(6, 6), constrained_layout=True)
@@ -246,8 +248,8 @@ def animate_growth(result: GrowthResult, path, fps: int = 4):
                 p = face["mid"] + scale * u
                 ax.plot(np.where(is_open, p[:, 0], np.nan), np.where(is_open, p[:, 1], np.nan), "r-", lw=1.2)
                 ax.plot(np.where(~is_open, p[:, 0], np.nan), np.where(~is_open, p[:, 1], np.nan), "b-", lw=1.2)
-        ax.set_xlim(max(lo[0] - pad, poly[:, 0].min()), min(hi[0] + pad, poly[:, 0].max()))
-        ax.set_ylim(max(lo[1] - pad, poly[:, 1].min()), min(hi[1] + pad, poly[:, 1].max()))
+        ax.set_xlim(lo[0] - pad, hi[0] + pad)
+        ax.set_ylim(lo[1] - pad, hi[1] + pad)
         ax.set_aspect("equal")
         lam = result.steps[n]["load_factor"]
         ax.set_title(f"step {n}: load factor {lam:.3g}" if lam is not None else f"step {n}", fontsize=10)
