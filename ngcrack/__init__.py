@@ -11,7 +11,7 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 "Locking-free finite elements for unilateral crack problems in elasticity".
 """
 
-from . import scenes
+from . import references, scenes
 from .elements import ELEMENTS, Loads
 from .interactive import Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
@@ -22,5 +22,5 @@ __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
+    "SceneError", "Solution", "references", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
 ]
