@@ -11,7 +11,7 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 "Locking-free finite elements for unilateral crack problems in elasticity".
 """
 
-from . import scenes
+from . import references, scenes
 from .constraints import ContactSolverError
 from .elements import ELEMENTS, Loads
 from .explorer import Explorer, Study, explore
@@ -30,7 +30,7 @@ __version__ = "0.1.0"
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
     "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "fitted_rates",
-    "grow", "scenes", "solve", "sweep",
+    "grow", "references", "scenes", "solve", "sweep",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
 ]
