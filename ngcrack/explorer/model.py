@@ -269,7 +269,8 @@ class Explorer:
         t = sol.timings
         return {
             "unknowns": dict(sol.ndof),
-            "time_s": {k: float(t.get(k, 0.0)) for k in ("mesh", "assemble", "linear", "contact", "total")},
+            "time_s": {k: float(t.get(k, 0.0)) for k in ("mesh", "assemble", "linear", "contact", "tips", "estimate",
+                                                        "total")},
             "latency_s": self.latency,
             "redone": list(self.redone),
             "kkt": max((float(v) for v in sol.kkt.values() if isinstance(v, (int, float))), default=0.0),
