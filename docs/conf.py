@@ -9,6 +9,8 @@ into ``docs/notebooks/*.ipynb`` (git-ignored) at the start of every build and ex
 myst-nb. With
 ``NGCRACK_QUICK=1`` in the environment they run on their small meshes (the tests build
 the site that way); without it on the meshes their conclusions are written for.
+``NGCRACK_DOCS_EXECUTE=NAME,NAME`` executes only the notebooks named (the quick test
+build executes one).
 Executed notebooks are cached per mode in ``docs/_build/.jupyter_cache-{quick,full}``.
 """
 
@@ -92,6 +94,14 @@ def _module_pages() -> None:
 _module_pages()
 
 QUICK = os.environ.get("NGCRACK_QUICK") == "1"
+#: NGCRACK_DOCS_EXECUTE="05-contact-teaching,10-adaptivity" executes only those notebooks
+#: (the others are rendered without outputs); unset or "all": every notebook
+EXECUTE = os.environ.get("NGCRACK_DOCS_EXECUTE", "all").strip()
+_STEMS = [p.stem for p in sorted(NOTEBOOK_SOURCES.glob("[0-9][0-9]-*.py"))]
+EXECUTED = _STEMS if EXECUTE in ("", "all") else [name.strip() for name in EXECUTE.split(",") if name.strip()]
+if set(EXECUTED) - set(_STEMS):
+    raise ValueError(f"NGCRACK_DOCS_EXECUTE = {EXECUTE!r}: unknown notebooks {sorted(set(EXECUTED) - set(_STEMS))}; "
+                     f"allowed: 'all' or names among {', '.join(_STEMS)}")
 
 # -- project -------------------------------------------------------------------------
 project = "ngcrack"
@@ -144,6 +154,7 @@ napoleon_use_rtype = False
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 nb_execution_mode = "cache"
+nb_execution_excludepatterns = [f"notebooks/{stem}.ipynb" for stem in _STEMS if stem not in EXECUTED]
 nb_execution_cache_path = str(DOCS / "_build" / (".jupyter_cache-" + ("quick" if QUICK else "full")))
 nb_execution_in_temp = True
 nb_execution_timeout = 900
@@ -163,5 +174,6 @@ html_theme_options = {
     "footer_start": ["copyright"],
     "footer_end": ["build-mode", "sphinx-version"],
 }
-html_context = {"default_mode": "light", "ngcrack_quick": QUICK}
+html_context = {"default_mode": "light", "ngcrack_quick": QUICK,
+                "ngcrack_not_executed": [stem for stem in _STEMS if stem not in EXECUTED]}
 html_show_sourcelink = False

@@ -59,7 +59,7 @@ class Solution:
     built: list[str]
     options: dict = field(default_factory=dict)
     conditioning: dict = field(default_factory=dict)
-    #: K_I, K_II, G at every crack end inside the body (tips.py)
+    #: K_I, K_II, G at every crack end inside the body (tips.py; the tip frame is in its docstring)
     tips: list = field(default_factory=list)
     kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
     forces: np.ndarray | None = None

@@ -9,7 +9,7 @@
 #
 # **Setting.** `paper-1`: $\Omega = (0,4)\times(0,1)$ cut through by the crack $y = 1/2$,
 # $\nu = 0.29$; `paper-2`: the interior crack $(1,3)\times\{1/2\}$, $\nu = 0.49$; $E = 206900$,
-# plane strain, $f = (0,-1)$ (ngcrack's reading of the paper, see the README). Errors
+# plane strain, $f = (0,-1)$ (ngcrack's reading of the paper: the user guide, "Scenes"). Errors
 # against a finer reference mesh of the same element; rates as least-squares slopes
 # (`ngcrack.study`: `rate_dof` is the paper's convention, $e \sim \mathrm{dof}^{-r}$;
 # `rate_h` has $e \sim h^r$, about twice as large).
