@@ -11,7 +11,7 @@ What is checked, and against what:
 - the KKT conditions of the crack QP and of the crack profiles (paper-1, paper-2);
 - the QP solvers agree with each other and with an independent NNLS solve;
 - bad options are refused up front, scenes without a crack or body force build neither,
-  and the `solve --json` contract of DESIGN.md section 3.
+  and the `solve --json` contract.
 
 Run with `-s` to see the measured numbers (lines starting with "[solver]").
 The mixed elements of the paper (peers, bdm); tdnns and the baselines have test files of their own.
