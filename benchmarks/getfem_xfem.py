@@ -142,7 +142,7 @@ def solve(prob: dict) -> dict:
     X = graded(x0, x1, min(ax, bx) - margin, max(ax, bx) + margin, h, prob.get("offset", [0.5, 0.5])[0] * h + 1e-3 * h)
     Y = graded(y0, y1, min(ay, by) - margin, max(ay, by) + margin, h, prob.get("offset", [0.5, 0.5])[1] * h + 2e-3 * h)
     m = gf.Mesh("regular simplices", X, Y)
-    for reg, (d, val) in {BOTTOM: ([0, -1], y0), RIGHT: ([1, 0], x1), TOP: ([0, 1], y1), LEFT: ([-1, 0], x0)}.items():
+    for reg, (d, _val) in {BOTTOM: ([0, -1], y0), RIGHT: ([1, 0], x1), TOP: ([0, 1], y1), LEFT: ([-1, 0], x0)}.items():
         m.set_region(reg, m.outer_faces_with_direction(d, 0.01))
 
     # the crack: primary level set the signed distance to its line, secondary < 0 on the crack

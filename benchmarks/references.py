@@ -6,7 +6,9 @@ For `griffith` and `inclined-compression`: tdnns at order 3 and 2 on a sequence 
 refined together (level k: maxh = 1 / 2^k, crack_h = 0.05 / 2^k, tip_h = 0.005 / 5^k),
 K at every tip and the profile's amplitude (its L2 projection on the closed form's shape,
 relative to it); the values extrapolated Richardson-style from the last three order-3
-levels (where their differences shrink at least twofold per level; else the finest value, the last change its uncertainty); bdm beside them for comparison. The profile correction (a Legendre series of
+levels (where their differences shrink at least twofold per level; else the finest value, the last
+change its uncertainty); bdm beside them for comparison. The profile correction (a Legendre series
+of
 profile / shape, even for griffith, whose crack centre is on the symmetry line) is fitted
 to the finest level's samples. Prints the tables (Markdown) and the data block of
 ngcrack/references.py. About 2 minutes on one thread; --quick stops a level earlier.

@@ -406,7 +406,8 @@ def classify(exc: BaseException) -> tuple[int, str]:
         if isinstance(cause, (SolveError, ContactSolverError, LinearSolverError, NotSolvedError)):
             return EXIT_SOLVE, text
         if netgen and "singular" in str(cause):
-            return EXIT_SOLVE, (f"the system is singular (netgen: {text.split('in Assemble')[0].strip()}); is every part of the body held, and are the "
+            where = text.split('in Assemble')[0].strip()
+            return EXIT_SOLVE, (f"the system is singular (netgen: {where}); is every part of the body held, and are the "
                                 f"material values and loads finite and of a sane size?")
         if isinstance(cause, ValueError):  # SceneError, UsageError, every option the package refuses
             return EXIT_INPUT, text

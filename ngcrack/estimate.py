@@ -53,12 +53,24 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .geometry import CrackMesh
-from .local_fields import (INTORDER, INWARD, _average, _element_sizes, _facet_dof_table, _facet_values, _integrate,
-                           _Lagrange, _quadrature, _sample_local, _Topology, _topology)
+from .local_fields import (
+    INTORDER,
+    INWARD,
+    _average,
+    _element_sizes,
+    _facet_dof_table,
+    _facet_values,
+    _integrate,
+    _Lagrange,
+    _quadrature,
+    _sample_local,
+    _Topology,
+    _topology,
+)
 from .materials import compliance, lame_parameters
 
 #: the crack models with an estimate (the sign condition on [w].nu differs per model)
@@ -207,7 +219,7 @@ def _apply_boundary(W: np.ndarray, cmesh: CrackMesh, top: _Topology, loads, degr
         if g is not None and at:
             pts = np.concatenate(at)
             data[lab] = iter(np.asarray(g(mesh(pts[:, 0], pts[:, 1]))).reshape(len(pts), -1)[:, :2])
-    for lab, ids, pts, n in rows:
+    for lab, ids, _pts, n in rows:
         if lab in dirichlet:
             values = data.get(lab)
             for i in ids:
@@ -246,7 +258,7 @@ def _admissible_crack(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degree: i
             W[m] -= delta
 
     for _ in range(2):
-        for c, k, pa, pb, pm in _crack_node_pairs(cmesh, top, degree):
+        for c, k, pa, pb, _pm in _crack_node_pairs(cmesh, top, degree):
             nu = c.normal[k]
             push(pa, nu, 0.0)
             push(pb, nu, 0.0)
@@ -331,7 +343,7 @@ def _contact_term(sol, W: np.ndarray, top: _Topology, degree: int) -> tuple[np.n
     sig = np.asarray(sol.sigma(mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
     q, min_jump = 0, 0.0
     edge_elements = top.__dict__.setdefault("_edge_elements", {})  # mesh data: kept with the topology
-    for x, w, j, nu, e, L in rows:
+    for _x, w, j, nu, e, _L in rows:
         sn = np.einsum("i,pij,j->p", nu, sig[q:q + len(w)], nu)
         q += len(w)
         els = edge_elements.get(e)

@@ -14,8 +14,8 @@ from __future__ import annotations
 import weakref
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .geometry import CrackMesh, crack_side
 
@@ -48,7 +48,7 @@ class _Topology:
     n_nodes: int
 
     @classmethod
-    def build(cls, cmesh: CrackMesh) -> "_Topology":
+    def build(cls, cmesh: CrackMesh) -> _Topology:
         mesh = cmesh.mesh
         P, T = cmesh.points, cmesh.triangles
         nv, ned = len(P), mesh.nedge
@@ -314,7 +314,7 @@ class _Quadrature:
         self._gradients: dict[int, np.ndarray] = {}
 
     @classmethod
-    def build(cls, cmesh: CrackMesh, top: _Topology) -> "_Quadrature | None":
+    def build(cls, cmesh: CrackMesh, top: _Topology) -> _Quadrature | None:
         mesh = cmesh.mesh
         if getattr(mesh, "GetCurveOrder", lambda: 1)() > 1:
             return None
@@ -372,7 +372,7 @@ class _Quadrature:
         return np.stack(out, axis=2)
 
 
-def _quadrature(cmesh: CrackMesh, top: _Topology) -> "_Quadrature | None":
+def _quadrature(cmesh: CrackMesh, top: _Topology) -> _Quadrature | None:
     """The `_Quadrature` of a mesh, kept with its topology (read only once built)."""
     q = getattr(top, "_quadrature", False)
     if q is False:

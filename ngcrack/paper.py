@@ -33,11 +33,12 @@ The paper stopped at 937 unknowns; the full study here reaches 3e5 in its rows (
 
 from __future__ import annotations
 
+import functools
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -294,8 +295,8 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
             pts = {q: (paper_triangles(PAPER_TABLES[q][0]), PAPER_TABLES[q][1]) for q in qs} if name == "paper-1" else None
             labels = " and ".join(QUANTITY_LABELS[q] for q in qs)
             title = f"Figure {fig_no} analog: {labels}, {name} (Poisson ratio {nu:g})"
-            _atomic(path, lambda tmp: plots.plot_convergence(sub, qs, tmp, paper_points=pts, guides=guides,
-                                                             x="n_elements", title=title))
+            _atomic(path, functools.partial(plots.plot_convergence, sub, qs, paper_points=pts, guides=guides,
+                                            x="n_elements", title=title))
             files["figures"].append(path)
             fig_no += 1
 
@@ -305,7 +306,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
         sols = [solve(scenes.load(name).with_(nu=nu), element=e, maxh=h_iso) for e in elements]
         path = out / f"fig{fig_no}_{name}_sigma_nu.png"
         title = rf"Figure {fig_no} analog: isolines of $\sigma_\nu$, {name} (Poisson ratio {nu:g})"
-        _atomic(path, lambda tmp: plots.plot_sigma_nu_isolines(sols, tmp, title=title))
+        _atomic(path, functools.partial(plots.plot_sigma_nu_isolines, sols, title=title))
         files["figures"].append(path)
         fig_no += 1
 
@@ -315,7 +316,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
     timed = pd.concat([df, adaptive], ignore_index=True) if adaptive is not None else df
     for q in QUANTITIES:
         path = out / f"time_{q}.png"
-        _atomic(path, lambda tmp: plots.plot_error_vs_time(timed, q, tmp))
+        _atomic(path, functools.partial(plots.plot_error_vs_time, timed, q))
         files["figures"].append(path)
 
     # the paper's Tables 1-4 on a common footing (paper-1)
@@ -331,7 +332,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
 
     log(f"paper study ({'quick' if quick else 'full'}): elements {', '.join(elements)}; maxh "
         f"{', '.join(f'{h:g}' for h in sizes)}; reference maxh {ref_h:g}")
-    for kind, paths in files.items():
+    for paths in files.values():
         for p in paths:
             log(f"wrote {p}")
     return PaperResult(rows=df, rates=rates, files=files)

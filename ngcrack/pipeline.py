@@ -32,8 +32,8 @@ from __future__ import annotations
 import dataclasses
 import time
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from . import elements as _elements
 from .constraints import discrete_contact_forces, kkt_at_constraints
@@ -46,8 +46,17 @@ from .hp import refine_towards_tips
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .materials import compliance
 from .options import SolveOptions
-from .post import (CrackProfile, component_forces, consistent_tractions, crack_profile, endpoint_map, field_scales,
-                   kkt_residuals, lumped_traction, tributary_lengths)
+from .post import (
+    CrackProfile,
+    component_forces,
+    consistent_tractions,
+    crack_profile,
+    endpoint_map,
+    field_scales,
+    kkt_residuals,
+    lumped_traction,
+    tributary_lengths,
+)
 from .scene import BoundaryCondition, Scene
 from .sizing import check_request
 from .solution import Solution

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .constraints import KKT_KEYS
 from .contact import QPResult

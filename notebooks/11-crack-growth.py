@@ -84,7 +84,7 @@ for mu in MUS:
     wings[mu] = (scene, nc.grow(scene, da=DA, steps=STEPS, K_Ic=1.0, **MESH))
 
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
-for (mu, (scene, res)), color in zip(wings.items(), ("tab:blue", "tab:orange")):
+for (mu, (_scene, res)), color in zip(wings.items(), ("tab:blue", "tab:orange")):
     for p in res.paths:
         ax.plot(p[:, 0], p[:, 1], "-", color=color, lw=2, label=f"mu = {mu:g}")
     k_eff = (0.5 - mu * 0.5) * math.sqrt(math.pi)

@@ -10,10 +10,10 @@ import pandas as pd
 import pytest
 
 import ngcrack as nc
+from ngcrack import study
 from ngcrack.adapt import mark, solve_adaptive
 from ngcrack.cli import main
 from ngcrack.geometry import make_mesh, refine_crack_mesh
-from ngcrack import study
 from ngcrack.scenes import inclined_closed_form
 
 

@@ -69,7 +69,7 @@ SLIDE_BANDS = {"h1p2": (0.002, 0.004), "h1p1": (0.026, 0.042)}
 #: the same against the closed form (unweighted mid-point l2, as before); measured h1p2 0.63%, h1p1 3.68%
 SLIDE_CLOSED_FORM_BANDS = {"h1p2": (0.004, 0.009), "h1p1": (0.028, 0.045)}
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def solved(name: str, element: str, refined: bool = False):
     return nc.solve(nc.scenes.load(name), element=element, **(REFINED if refined else {}))
 

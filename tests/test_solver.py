@@ -25,12 +25,11 @@ import json
 import math
 import time
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 import scipy.linalg as sla
 import scipy.optimize as sopt
-from netgen.meshing import NgException
 
 import ngcrack.scenes as scenes
 from ngcrack.contact import solve_qp
@@ -91,7 +90,7 @@ def fmt(v):
     return "[" + ", ".join(f"{x:.3g}" for x in v) + "]"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def cached(name, element, maxh=None, qp_solver="clarabel", crack_model="contact"):
     return solve(scenes.load(name), element=element, maxh=maxh, qp_solver=qp_solver, crack_model=crack_model)
 

@@ -22,8 +22,8 @@ import sys
 import time
 import warnings
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pandas as pd
 import pytest
 

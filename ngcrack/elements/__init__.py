@@ -8,8 +8,8 @@ bilinear form is assembled with static condensation; `hybrid.py` takes it from t
 
 from __future__ import annotations
 
-from .base import Discretization, Loads
 from . import bdm, h1, peers, tdnns
+from .base import Discretization, Loads
 
 FAMILIES = {
     "peers": peers.build,

@@ -21,11 +21,11 @@ crack; the test function of jn, after the sign flip in `hybrid.py`, gives the mu
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
 from ..materials import Compliance
@@ -105,7 +105,7 @@ class Discretization:
     facet_order: int
     fields: Callable[[ngs.GridFunction], dict[str, ngs.CoefficientFunction]]
     built: list[str]
-    boundary_values: Callable[[ngs.GridFunction, "Loads"], None]
+    boundary_values: Callable[[ngs.GridFunction, Loads], None]
     roller_pairs: Callable[[frozenset], list]
     definite: bool = True
     sign: float = -1.0

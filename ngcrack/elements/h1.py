@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
 from ..materials import Compliance

@@ -44,8 +44,8 @@ here. The "plus" bubbles are needed for the same reason at every order.
 
 from __future__ import annotations
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from ..geometry import CrackMesh, boundary_regex, crack_frame_cf
 from ..materials import Compliance

@@ -6,8 +6,8 @@
 - `widget`: `explore()` and `ExplorerWidget`, the ipywidgets view.
 """
 
-from .figure import FIELDS, Drawing, draw, stress_values
 from ..pipeline import ParameterLoads, geometry_key, load_structure
+from .figure import FIELDS, Drawing, draw, stress_values
 from .loads import scaled_loads
 from .model import LEVELS, Explorer, Study, contact_length, friction_supported
 from .widget import SLIDERS, explore

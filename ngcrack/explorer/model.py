@@ -44,7 +44,8 @@ from ..elements import ELEMENTS
 from ..options import CRACK_MODELS, SolveOptions
 from ..pipeline import Pipeline
 from ..scene import Crack, Scene
-from ..scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
+from ..scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
+from ..scenes import load as _load_scene
 from ..scenes import names as _scene_names
 from .controls import FIXED, SCALES, Range, check_choice, e_range, mesh_size_range
 from .figure import FIELDS

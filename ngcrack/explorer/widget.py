@@ -24,9 +24,9 @@ from typing import Any
 import ngsolve as ngs
 
 from .. import elements as _elements
+from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
-from ..options import CRACK_MODELS
 from .controls import CRACK_MODEL_HELP, HELP, HOLD_ON, LABELS, SCALES
 from .figure import FIELDS, Drawing
 from .model import Explorer, _one_line

@@ -46,7 +46,8 @@ from .results import KEY, KEY_DIGITS, ROW_COLUMNS, ROW_SCHEMA, ResultsFile, csv_
 __all__ = [
     "Case", "DASK_CONNECT_TIMEOUT", "KEY", "KEY_DIGITS", "MESH_OPTIONS", "QUADRATURE_ORDER", "QUANTITIES",
     "QUANTITY_LABELS", "RATE_COLUMNS", "RATE_QUANTITIES", "ROW_COLUMNS", "ROW_SCHEMA", "Reference", "ResultsFile",
-    "SweepError", "TIP_QUANTITIES", "check_friction_applies", "check_sweep", "ZERO_FIELD", "comparison_errors", "csv_line", "element_means", "file_name_part", "fitted_rates",
+    "SweepError", "TIP_QUANTITIES", "check_friction_applies", "check_sweep", "ZERO_FIELD", "comparison_errors",
+    "csv_line", "element_means", "file_name_part", "fitted_rates",
     "griffith_opening", "k_error", "markdown_table", "mean_errors", "opening_error", "quadrature_points",
     "quantity_normal", "read_results", "run_case", "sample_quantities", "scene_friction", "sweep", "tip_columns",
     "typed", "warn_friction_not_applied", "with_rates",

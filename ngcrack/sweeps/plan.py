@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import sys
 import warnings
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Iterable
 
 from .cases import Case, run_case
 from .executors import _Dask, _executor
