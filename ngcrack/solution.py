@@ -124,6 +124,10 @@ class Solution:
             "tips": [tip.to_dict() for tip in self.tips],
             "cracks": [p.to_dict() for p in self.profiles],
             **({"error_estimate": self.error_estimate.to_dict()} if self.error_estimate is not None else {}),
-            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate)} for r in self.adapt_history.itertuples()]}
+            # each adaptive step: its unknowns, its relative estimate, and its seconds (solve,
+            # estimate and the refinement that made its mesh); time_s.total is the whole run
+            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate),
+                           "time_s": float(r.time_solve + r.time_estimate + r.time_refine)}
+                          for r in self.adapt_history.itertuples()]}
                if self.adapt_history is not None else {}),
         }
