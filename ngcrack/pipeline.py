@@ -42,7 +42,7 @@ from .elements import Discretization, Loads
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
 from .geometry import CrackMesh, make_mesh
-from .hp import refine_towards_tips
+from .hp import hp_mesh
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .materials import compliance
 from .options import SolveOptions
@@ -255,14 +255,14 @@ class Pipeline:
 
     # -------------------------------------------------------------- stages
     def mesh(self, scene: Scene, options: SolveOptions) -> CrackMesh:
-        """The scene's mesh with cracks as interior edges (geometry.make_mesh), with options.hp
-        geometric layers towards the tips (hp.refine_towards_tips), cached."""
+        """The scene's mesh with cracks as interior edges (geometry.make_mesh), cached; with
+        options.hp, hp.hp_mesh: a base mesh coarse at the tips and hp geometric layers towards them."""
         key = (geometry_key(scene), options.mesh_key)
         if self._mesh is None or self._mesh[0] != key:
             o = options
-            cmesh = make_mesh(scene, maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
-            if o.hp:
-                cmesh = refine_towards_tips(cmesh, scene, o.hp, sigma=o.hp_sigma)
+            sizes = dict(maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
+            # hp: the coarse base mesh of hp.base_mesh (unless sizes are given) and the layers
+            cmesh = hp_mesh(scene, o.hp, sigma=o.hp_sigma, **sizes) if o.hp else make_mesh(scene, **sizes)
             self._mesh = (key, cmesh)
             self.counts["mesh"] += 1
             self.redone.append("mesh")
