@@ -199,3 +199,34 @@ def jump_integrals(sol, crack: int = 0) -> tuple[float, float]:
     opening = ngs.Integrate(comps[disc.jn], cmesh.mesh, ngs.BND, definedon=region)
     sliding = ngs.Integrate(tangential, cmesh.mesh, ngs.BND, definedon=region)
     return float(opening), float(sliding)
+
+
+#: offset (times the edge length) into the + side where a tangential trace is sampled
+TRACE_OFFSET = 1e-6
+
+
+def jump_at(sol, s: float, crack: int = 0) -> tuple[float, float]:
+    """([u].nu, [u].t) at arc length `s` along crack `crack` (from its first point), from
+    the discrete jumps' polynomials on the edge holding s (an edge's end: its first
+    edge's). A facet jump is evaluated from its dofs; the TDNNS tangential jump (the
+    crack edges' H(curl) copy) at TRACE_OFFSET of the edge length inside the + side."""
+    from .post import facet_basis
+
+    disc, cmesh = sol.disc, sol.crack_mesh
+    if disc.jn is None:
+        raise ValueError(f"crack = {crack!r}: this solve has no crack unknowns")
+    c = cmesh.cracks[crack]
+    s0 = c.s_mid - 0.5 * c.length
+    e = int(np.clip(np.searchsorted(s0 + c.length, s), 0, len(c) - 1))
+    t = float(np.clip((s - s0[e]) / c.length[e], 0.0, 1.0))
+    comps = sol.gf.components
+    space = disc.fes.components[disc.jn]
+    dofs, B = facet_basis(space, cmesh, c, [t])
+    jn = float(comps[disc.jn].vec.FV().NumPy()[dofs[e]] @ B[e, :, 0])
+    if disc.jt is not None:
+        jt = float(comps[disc.jt].vec.FV().NumPy()[dofs[e]] @ B[e, :, 0])
+    else:
+        x = c.a[e] + t * (c.b[e] - c.a[e]) + TRACE_OFFSET * c.length[e] * c.normal[e]
+        val = np.asarray(disc.tangential_jump(sol.gf)(cmesh.mesh(x[0], x[1]))).reshape(-1)
+        jt = float(val @ c.tangent[e])
+    return jn, jt
