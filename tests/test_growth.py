@@ -316,3 +316,42 @@ def test_figures_and_animation(tension_mts, tmp_path):
     face = frame["faces"][0]
     assert np.mean(face["open"]) > 0.9
     assert np.all(np.linalg.norm(face["plus"] - face["minus"], axis=1)[face["open"]] > 0)
+
+
+# ---------------------------------------------------------------------- studies
+def test_growth_study_of_friction_resumes(tmp_path, monkeypatch):
+    """One path per friction coefficient; the wings start at lambda = K_Ic / ((2/sqrt 3) K_II,eff(mu)),
+    and a rerun with one more value runs only that one."""
+    from ngcrack.growth import study
+
+    scene = inclined_crack(angle=45.0, load=-1.0, maxh=2.0, tip_h=0.01)
+    out = tmp_path / "study.csv"
+    table = study.grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0, out=out)
+    assert list(table.columns) == ["friction", *study.STUDY_COLUMNS]
+    expected = [1.0 / (2 / math.sqrt(3) * 0.5 * (1 - mu) * math.sqrt(math.pi)) for mu in (0.0, 0.3)]
+    assert np.allclose(table.lambda_first, expected, rtol=0.02)
+    assert np.all(table.lambda_last > table.lambda_first) and np.all(table.steps == 1)
+    calls = []
+    real = study._run_path
+
+    def counting(scene, *args):
+        calls.append(scene.cracks[0].friction)
+        return real(scene, *args)
+
+    monkeypatch.setattr(study, "_run_path", counting)
+    again = study.grow_study(scene, "friction", [0.0, 0.3, 0.5], da=0.1, steps=1, K_Ic=1.0, out=out)
+    assert calls == [0.5]
+    assert np.allclose(again.lambda_first[:2], table.lambda_first) and len(again) == 3
+    assert len(out.read_text().strip().splitlines()) == 4  # header and three paths
+
+
+@pytest.mark.slow
+def test_growth_study_on_worker_processes_gives_the_serial_rows():
+    scene = inclined_crack(angle=45.0, load=-1.0, maxh=2.0, tip_h=0.01)
+    from ngcrack.growth import grow_study
+
+    serial = grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0)
+    parallel = grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0, jobs=2)
+    for col in ("final_length", "lambda_first", "lambda_last"):
+        assert np.allclose(serial[col], parallel[col], rtol=1e-10)
+    assert list(serial.stopped) == list(parallel.stopped)
