@@ -204,6 +204,11 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                 extensions, next_scene, next_sol, tried = step
                 break
         grew = {f"{e.crack},{e.end}": e for e in extensions if e.point is not None}
+        if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
+            for v in values:
+                if v["label"] not in grew:
+                    v["kink"] = pls_predictor(effective_K_I(v["K_I"], v["closed"]), v["K_II_kink"],
+                                              grown_once.get(v["label"]))
         lam_step = min((v["lambda"] for v in values if v["label"] in grew), default=None)
         if lam_step is None:
             lam_step = min((v["lambda"] for v in values if v["label"] not in frozen), default=math.inf)
