@@ -355,3 +355,18 @@ def test_growth_study_on_worker_processes_gives_the_serial_rows():
     for col in ("final_length", "lambda_first", "lambda_last"):
         assert np.allclose(serial[col], parallel[col], rtol=1e-10)
     assert list(serial.stopped) == list(parallel.stopped)
+
+
+def test_a_failing_later_solve_stops_the_run_keeping_its_steps(monkeypatch):
+    real, count = loop.solve_step, []
+
+    def once(scene, previous, options):
+        count.append(1)
+        if len(count) > 1:
+            raise nc.SolveError("the condensed system is singular")
+        return real(scene, previous, options)
+
+    monkeypatch.setattr(loop, "solve_step", once)
+    res = nc.grow(_clamped_strip(1.0), da=0.1, steps=3, maxh=0.5)
+    assert res.stopped.startswith("solve:") and "singular" in res.stopped
+    assert len(res.steps) == 1 and res.final_scene is res.scene
