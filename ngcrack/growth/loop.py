@@ -226,7 +226,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             if e.outcome == "boundary":
                 result.events.append((n, f"{e.crack},{e.end}", e.reason))
         if n == steps:
-            stopped = f"steps: the {steps} steps asked for are done"
+            stopped = f"steps: {steps} of {steps} steps done"
             break
         if failed:
             stopped = failed
