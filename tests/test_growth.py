@@ -316,3 +316,57 @@ def test_figures_and_animation(tension_mts, tmp_path):
     face = frame["faces"][0]
     assert np.mean(face["open"]) > 0.9
     assert np.all(np.linalg.norm(face["plus"] - face["minus"], axis=1)[face["open"]] > 0)
+
+
+# ---------------------------------------------------------------------- studies
+def test_growth_study_of_friction_resumes(tmp_path, monkeypatch):
+    """One path per friction coefficient; the wings start at lambda = K_Ic / ((2/sqrt 3) K_II,eff(mu)),
+    and a rerun with one more value runs only that one."""
+    from ngcrack.growth import study
+
+    scene = inclined_crack(angle=45.0, load=-1.0, maxh=2.0, tip_h=0.01)
+    out = tmp_path / "study.csv"
+    table = study.grow_study(scene, "friction", [0.0], da=0.1, steps=1, K_Ic=1.0, out=out)
+    assert list(table.columns) == ["friction", *study.STUDY_COLUMNS]
+    expected = [1.0 / (2 / math.sqrt(3) * 0.5 * (1 - mu) * math.sqrt(math.pi)) for mu in (0.0, 0.3)]
+    calls = []
+    real = study._run_path
+
+    def counting(scene, *args):
+        calls.append(scene.cracks[0].friction)
+        return real(scene, *args)
+
+    monkeypatch.setattr(study, "_run_path", counting)
+    again = study.grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0, out=out)
+    assert calls == [0.3]
+    assert again.lambda_first[0] == pytest.approx(table.lambda_first[0], rel=1e-12) and len(again) == 2
+    assert np.allclose(again.lambda_first, expected, rtol=0.02)
+    assert np.all(again.lambda_last > again.lambda_first) and np.all(again.steps == 1)
+    assert len(out.read_text().strip().splitlines()) == 3  # header and two paths
+
+
+@pytest.mark.slow
+def test_growth_study_on_worker_processes_gives_the_serial_rows():
+    scene = inclined_crack(angle=45.0, load=-1.0, maxh=2.0, tip_h=0.01)
+    from ngcrack.growth import grow_study
+
+    serial = grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0)
+    parallel = grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0, jobs=2)
+    for col in ("final_length", "lambda_first", "lambda_last"):
+        assert np.allclose(serial[col], parallel[col], rtol=1e-10)
+    assert list(serial.stopped) == list(parallel.stopped)
+
+
+def test_a_failing_later_solve_stops_the_run_keeping_its_steps(monkeypatch):
+    real, count = loop.solve_step, []
+
+    def once(scene, previous, options):
+        count.append(1)
+        if len(count) > 1:
+            raise nc.SolveError("the condensed system is singular")
+        return real(scene, previous, options)
+
+    monkeypatch.setattr(loop, "solve_step", once)
+    res = nc.grow(_clamped_strip(1.0), da=0.1, steps=3, maxh=0.5)
+    assert res.stopped.startswith("solve:") and "singular" in res.stopped
+    assert len(res.steps) == 1 and res.final_scene is res.scene

@@ -45,6 +45,7 @@ import numpy as np
 import shapely
 
 from ngcrack.scene import SceneError
+from ngcrack.solve import SolveError
 
 from .criteria import (
     check_criterion,
@@ -188,6 +189,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         for v in values:
             v["lambda"] = load_factor(K_ref, v["K_eq"]) if K_ref is not None else math.inf
         growing, extensions, next_scene, next_sol, cost, tried = [], [], None, None, 0.0, 0
+        failed = ""
         if n < steps:
             while True:
                 active = [v for v in values if v["label"] not in frozen and math.isfinite(v["lambda"])]
@@ -196,7 +198,12 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                 lam_min = min(v["lambda"] for v in active)
                 growing = [v for v in active if v["lambda"] <= lam_min * (1.0 + together)]
                 t1 = time.perf_counter()
-                step = _advance(scene, sol, region, growing, da, criterion, options, frozen, grown_once)
+                try:
+                    step = _advance(scene, sol, region, growing, da, criterion, options, frozen, grown_once)
+                except (SolveError, ValueError) as exc:  # e.g. the grown mesh above max_dof: keep what was done
+                    failed = f"solve: the solve after step {n} failed ({exc})"
+                    growing = []
+                    break
                 cost = time.perf_counter() - t1
                 if step is None:  # every chosen tip froze: choose again among the others
                     growing = []
@@ -204,6 +211,11 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                 extensions, next_scene, next_sol, tried = step
                 break
         grew = {f"{e.crack},{e.end}": e for e in extensions if e.point is not None}
+        if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
+            for v in values:
+                if v["label"] not in grew:
+                    v["kink"] = pls_predictor(effective_K_I(v["K_I"], v["closed"]), v["K_II_kink"],
+                                              grown_once.get(v["label"]))
         lam_step = min((v["lambda"] for v in values if v["label"] in grew), default=None)
         if lam_step is None:
             lam_step = min((v["lambda"] for v in values if v["label"] not in frozen), default=math.inf)
@@ -214,7 +226,10 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             if e.outcome == "boundary":
                 result.events.append((n, f"{e.crack},{e.end}", e.reason))
         if n == steps:
-            stopped = f"steps: the {steps} steps asked for are done"
+            stopped = f"steps: {steps} of {steps} steps done"
+            break
+        if failed:
+            stopped = failed
             break
         if isinstance(next_scene, str):  # the grown scene was refused
             stopped = next_scene

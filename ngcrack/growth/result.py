@@ -24,8 +24,9 @@ class GrowthResult:
     """What `nc.grow` returns.
 
     `table`: a pandas DataFrame, one row per step and tip inside the body (COLUMNS):
-    K_I, K_II, G and K_eq at the scene's load; kink_deg the kink the tip takes (or, for a
-    tip that does not grow, the MTS kink of its K) relative to its current direction,
+    K_I, K_II, G and K_eq at the scene's load; kink_deg the kink the tip takes (for a tip
+    that does not grow: the MTS kink of its K, or with PLS the first trial's angle,
+    criteria.pls_predictor) relative to its current direction,
     counter-clockwise positive; load_factor the step's (the smallest among the tips that
     grow), tip_load_factor the tip's own K_Ic / K_eq; closed whether the faces at the tip
     touch; grew whether the tip advanced after this step; solves the solves that made the
