@@ -40,12 +40,14 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
 
+from ngcrack.options import SolveOptions
+from ngcrack.pipeline import Pipeline, SolveError
 from ngcrack.scene import SceneError
-from ngcrack.solve import SolveError
 
 from .criteria import (
     check_criterion,
@@ -105,11 +107,21 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
                          f"boundary or on another crack), so no crack can grow")
 
 
-def solve_step(scene, previous, options: dict):
-    """One solve of the loop (the public ngcrack.solve.solve): the only place the loop solves."""
-    from ngcrack.solve import solve
+@dataclass
+class Solver:
+    """The loop's solves: one Pipeline for the whole path and the solve options, checked once.
 
-    return solve(scene, warm_start=previous, **options)
+    Every step (and every PLS trial) is a new geometry, so the pipeline meshes and
+    assembles it afresh; what it keeps is the contact set handed on as a warm start.
+    """
+
+    options: SolveOptions
+    pipeline: Pipeline = field(default_factory=Pipeline)
+
+
+def solve_step(scene, previous, solver: Solver):
+    """One solve of the loop, warm-started from the previous one: the only place the loop solves."""
+    return solver.pipeline.run(scene, solver.options, warm_start=previous)
 
 
 def _closed_at(sol, tip) -> bool:
@@ -170,8 +182,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         raise ValueError(f"together = {together!r}: must be a number in [0, 1)")
     da, steps = float(da), int(steps)
     region = body_region(scene)
-    options = dict(solve_options)
-    result = GrowthResult(scene=scene, element=options.get("element", "bdm"), criterion=criterion, da=da,
+    options = Solver(SolveOptions.of(**solve_options))
+    result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
                           K_Ic=None if K_Ic is None else float(K_Ic))
     t0 = time.perf_counter()
     sol = solve_step(scene, None, options)
