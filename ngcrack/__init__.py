@@ -14,7 +14,7 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 from . import references, scenes
 from .constraints import ContactSolverError
 from .elements import ELEMENTS, Loads
-from .explorer import Explorer, Study, explore
+from .explorer import Explorer, Study, explore, explore_growth
 from .growth import GrowthResult, grow
 from .options import CRACK_MODELS, SolveOptions
 from .pipeline import Pipeline
@@ -29,7 +29,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
-    "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "fitted_rates",
+    "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
     "grow", "references", "scenes", "solve", "sweep",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",

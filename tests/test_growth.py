@@ -11,6 +11,7 @@ K_Ic / ((2/sqrt 3) K_II,eff), MTS 70.53 degrees, PLS 73.0 degrees.
 
 from __future__ import annotations
 
+import io
 import json
 import math
 
@@ -316,6 +317,28 @@ def test_figures_and_animation(tension_mts, tmp_path):
     face = frame["faces"][0]
     assert np.mean(face["open"]) > 0.9
     assert np.all(np.linalg.norm(face["plus"] - face["minus"], axis=1)[face["open"]] > 0)
+
+
+def test_growth_view_shows_each_step_with_its_numbers(tension_mts):
+    """The widget's step view: a picture per step and a readout that quotes the table."""
+    from PIL import Image
+
+    from ngcrack.explorer.growth_view import explore_growth, render_step, step_readout
+
+    for n in range(len(tension_mts.steps)):
+        png = render_step(tension_mts, n)
+        assert Image.open(io.BytesIO(png)).size[0] >= 700
+        text = step_readout(tension_mts, n)
+        row = tension_mts.table[tension_mts.table["step"] == n].iloc[0]
+        assert f"K_I = {row['K_I']:.4g}" in text and f"K_II = {row['K_II']:.4g}" in text
+    pytest.importorskip("ipywidgets")
+    box = explore_growth(tension_mts)
+    slider, image, readout, status = box.children
+    first = image.value
+    slider.value = 1
+    assert image.value != first and "step 1 of 1" in readout.value and status.value == ""
+    with pytest.raises(ValueError, match="result"):
+        explore_growth("not a result")
 
 
 # ---------------------------------------------------------------------- studies

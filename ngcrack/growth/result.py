@@ -218,44 +218,57 @@ def plot_growth(result: GrowthResult, path=None):
     return fig
 
 
-def animate_growth(result: GrowthResult, path, fps: int = 4):
-    """Write a GIF: per step, the magnified deformed body (each triangle moved by its
-    post-processed displacement) and the crack faces (open in red, closed in blue)."""
+def frame_view(result: GrowthResult) -> tuple[float, np.ndarray, np.ndarray]:
+    """(magnification, lower-left, upper-right) shared by every frame of `result`: the
+    largest displacement drawn as 4% of the body's diameter, the view around the crack faces."""
     if not result.frames:
         raise ValueError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
-    plt = _pyplot(path)
-    from matplotlib.animation import FuncAnimation, PillowWriter
-    from matplotlib.collections import PolyCollection
-
     diam = result.scene.diameter
     umax = max(float(np.max(np.linalg.norm(f["disp"], axis=2))) for f in result.frames)
     scale = 0.04 * diam / umax if umax > 0 else 0.0
-    # the view: the deformed crack faces of every frame, padded
     xy = np.concatenate([face["mid"] + scale * u for f in result.frames for face in f["faces"]
                          for u in (face["plus"], face["minus"])] +
                         [np.asarray(c.points) for c in result.final_scene.cracks])
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     pad = 0.3 * max(hi - lo) + 2 * result.da
+    return scale, lo - pad, hi + pad
+
+
+def draw_frame(ax, result: GrowthResult, n: int, view=None) -> None:
+    """Step `n` on `ax`: the magnified deformed body (each triangle moved by its
+    post-processed displacement) and the crack faces (open in red, closed in blue)."""
+    from matplotlib.collections import PolyCollection
+
+    scale, lo, hi = view if view is not None else frame_view(result)
+    f = result.frames[n]
+    ax.add_collection(PolyCollection(f["corners"] + scale * f["disp"], facecolors="0.82", edgecolors="0.6",
+                                     linewidths=0.15))
+    for face in f["faces"]:
+        is_open = face["open"]
+        for u in (face["plus"], face["minus"]):
+            p = face["mid"] + scale * u
+            ax.plot(np.where(is_open, p[:, 0], np.nan), np.where(is_open, p[:, 1], np.nan), "r-", lw=1.2)
+            ax.plot(np.where(~is_open, p[:, 0], np.nan), np.where(~is_open, p[:, 1], np.nan), "b-", lw=1.2)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    lam = result.steps[n]["load_factor"]
+    ax.set_title(f"step {n}: load factor {lam:.3g}" if lam is not None else f"step {n}", fontsize=10)
+    ax.text(0.02, 0.02, f"displacement x {scale:.3g}; faces: red open, blue closed", transform=ax.transAxes,
+            fontsize=8)
+
+
+def animate_growth(result: GrowthResult, path, fps: int = 4):
+    """Write a GIF of `draw_frame` for every step."""
+    view = frame_view(result)
+    plt = _pyplot(path)
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
     fig, ax = plt.subplots(figsize=(6, 6), constrained_layout=True)
 
     def draw(n):
         ax.clear()
-        f = result.frames[n]
-        ax.add_collection(PolyCollection(f["corners"] + scale * f["disp"], facecolors="0.82", edgecolors="0.6",
-                                         linewidths=0.15))
-        for face in f["faces"]:
-            is_open = face["open"]
-            for u in (face["plus"], face["minus"]):
-                p = face["mid"] + scale * u
-                ax.plot(np.where(is_open, p[:, 0], np.nan), np.where(is_open, p[:, 1], np.nan), "r-", lw=1.2)
-                ax.plot(np.where(~is_open, p[:, 0], np.nan), np.where(~is_open, p[:, 1], np.nan), "b-", lw=1.2)
-        ax.set_xlim(lo[0] - pad, hi[0] + pad)
-        ax.set_ylim(lo[1] - pad, hi[1] + pad)
-        ax.set_aspect("equal")
-        lam = result.steps[n]["load_factor"]
-        ax.set_title(f"step {n}: load factor {lam:.3g}" if lam is not None else f"step {n}", fontsize=10)
-        ax.text(0.02, 0.02, f"displacement x {scale:.3g}; faces: red open, blue closed", transform=ax.transAxes,
-                fontsize=8)
+        draw_frame(ax, result, n, view)
         return []
 
     anim = FuncAnimation(fig, draw, frames=len(result.frames), blit=False)
