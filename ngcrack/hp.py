@@ -54,14 +54,15 @@ import math
 import numpy as np
 
 from .geometry import CrackMesh, make_mesh, refine_crack_mesh
+
+# the ratio of consecutive layer radii (r_{j+1} = HP_SIGMA r_j), its range and the most
+# layers are solve options' bounds, checked there too
+from .options import HP_MAX_LAYERS as MAX_LAYERS
+from .options import HP_SIGMA, HP_SIGMA_RANGE
 from .tips import _clearance, crack_tips, tip_labels
 
-#: the ratio of consecutive layer radii, r_{j+1} = HP_SIGMA r_j
-HP_SIGMA = 0.2
 #: the first radius r0 as a fraction of the tip's clearance
 HP_R0 = 0.25
-#: at most this many layers (r_L = r0 sigma^L reaches 1e-13 r0 at 18 layers: round-off)
-MAX_LAYERS = 12
 #: bisection rounds per layer at most (sigma = 0.2 needs about 5; a guard against a loop)
 MAX_ROUNDS = 40
 #: the base mesh of the hp measurements: sizes as fractions of the tip clearance
@@ -111,8 +112,8 @@ def check_hp_options(layers, sigma=HP_SIGMA, r0=None, points=()) -> None:
     """Refuse a bad layer count, ratio, start radius or point, naming the field."""
     if isinstance(layers, bool) or not isinstance(layers, (int, np.integer)) or not 0 <= layers <= MAX_LAYERS:
         raise ValueError(f"hp = {layers!r}: the number of layers must be an integer in 0..{MAX_LAYERS}")
-    if isinstance(sigma, bool) or not isinstance(sigma, (int, float)) or not 0.05 <= sigma <= 0.7:
-        raise ValueError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [0.05, 0.7]")
+    if isinstance(sigma, bool) or not isinstance(sigma, (int, float)) or not HP_SIGMA_RANGE[0] <= sigma <= HP_SIGMA_RANGE[1]:
+        raise ValueError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [{HP_SIGMA_RANGE[0]:g}, {HP_SIGMA_RANGE[1]:g}]")
     if r0 is not None and (isinstance(r0, bool) or not isinstance(r0, (int, float)) or not (math.isfinite(r0) and 0 < r0 < 1)):
         raise ValueError(f"hp_r0 = {r0!r}: the first radius, as a fraction of the tip clearance, must lie in (0, 1)")
     for p in points:

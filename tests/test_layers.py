@@ -18,9 +18,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "references",
-                     "outputs")),
-    ("scene", ("scene", "scenes", "sizing")),
+    ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "outputs")),
+    ("scene", ("scene", "scenes", "references", "sizing")),
     ("mesh", ("geometry",)),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
     ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk")),

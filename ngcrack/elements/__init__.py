@@ -21,8 +21,9 @@ FAMILIES = {
 #: the locking-free mixed elements (the baselines h1p1, h1p2 are displacement elements)
 MIXED = ("peers", "bdm", "tdnns")
 ELEMENTS = tuple(FAMILIES)
-#: families that take an `order`
-ORDERED = ("bdm", "tdnns")
+#: families that take an `order`, and the orders each has
+ORDERS = {"bdm": bdm.ORDERS, "tdnns": tdnns.ORDERS}
+ORDERED = tuple(ORDERS)
 
 
 def build(name: str, crack_mesh, material, loads: Loads, order: int | None = None) -> Discretization:
@@ -42,4 +43,4 @@ def build(name: str, crack_mesh, material, loads: Loads, order: int | None = Non
     return family(crack_mesh, material, loads, order=order)
 
 
-__all__ = ["Discretization", "Loads", "ELEMENTS", "MIXED", "ORDERED", "build"]
+__all__ = ["Discretization", "Loads", "ELEMENTS", "MIXED", "ORDERED", "ORDERS", "build"]
