@@ -14,17 +14,20 @@ order along the crack, with their end points, mid points, arc length and unit no
 from __future__ import annotations
 
 import re
+import threading
 import warnings
 from collections import OrderedDict
 from contextlib import contextmanager
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 from netgen.geom2d import SplineGeometry
+from netgen.libngpy import _meshing
 from netgen.meshing import MeshingParameters
 
 from .scene import Scene
+from .sizing import check_mesh_sizes, estimate_triangles
 
 #: relative distance (times the polygon's diameter) under which a point counts as on an edge
 ON_EDGE_RTOL = 1e-9
@@ -32,6 +35,46 @@ ON_EDGE_RTOL = 1e-9
 DEFAULT_GRADING = 0.3
 #: a triangle of lower quality 4 sqrt(3) area / (sum of squared sides) triggers a warning
 MIN_QUALITY = 0.1
+#: seconds netgen may take on one mesh before it is stopped and the meshing reported as
+#: failed: MESH_TIME_BUDGET plus MESH_SECONDS_PER_TRIANGLE per estimated triangle (netgen
+#: makes about 1e4 triangles a second here; a scene the checks admit meshes in seconds)
+MESH_TIME_BUDGET = 60.0
+MESH_SECONDS_PER_TRIANGLE = 2e-4
+
+
+class MeshingError(ValueError):
+    """Netgen failed, or did not finish within its time budget; the message names the sizes."""
+
+
+_budget_lock = threading.Lock()
+_budget_users = 0
+
+
+@contextmanager
+def _netgen_budget(seconds: float):
+    """Stop netgen (its terminate flag) if meshing inside this block takes longer than
+    ``seconds``; yields a dict whose key "expired" says whether that happened. Netgen's
+    flag is global: a mesh made at the same time in another thread is stopped too."""
+    global _budget_users
+    state = {"expired": False}
+
+    def expire() -> None:
+        state["expired"] = True
+        _meshing._SetTerminate(True)
+
+    timer = threading.Timer(seconds, expire)
+    timer.daemon = True
+    with _budget_lock:
+        _budget_users += 1
+    timer.start()
+    try:
+        yield state
+    finally:
+        timer.cancel()
+        with _budget_lock:
+            _budget_users -= 1
+            if _budget_users == 0:
+                _meshing._SetTerminate(False)
 
 
 def crack_bc(k: int) -> str:
@@ -190,14 +233,18 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
                 if t is not None:
                     inserted[i].append((t, x))
     geo = SplineGeometry()
-    point_ids: list[tuple[np.ndarray, int]] = []
+    # points already given to netgen, hashed on a grid of cells of side tol: a point
+    # within tol of an earlier one is that point (a lookup in the 9 cells around it)
+    point_ids: dict[tuple[int, int], list[tuple[np.ndarray, int]]] = {}
 
     def point(x: np.ndarray, h: float | None = None) -> int:
-        for y, pid in point_ids:
-            if np.linalg.norm(y - x) <= tol:
-                return pid
+        cx, cy = int(np.floor(x[0] / tol)), int(np.floor(x[1] / tol))
+        for key in ((cx + i, cy + j) for i in (-1, 0, 1) for j in (-1, 0, 1)):
+            for y, pid in point_ids.get(key, ()):
+                if np.linalg.norm(y - x) <= tol:
+                    return pid
         pid = geo.AppendPoint(float(x[0]), float(x[1]), maxh=h if h else 1e99)
-        point_ids.append((x, pid))
+        point_ids.setdefault((cx, cy), []).append((x, pid))
         return pid
 
     ends = np.array([x for pts in cracks for x in (pts[0], pts[-1])]).reshape(-1, 2)
@@ -320,6 +367,7 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     tip_h = tip_h if tip_h is not None else scene.tip_h
     crack_h = crack_h if crack_h is not None else scene.crack_h
     grading = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
+    check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     if not _reusing:
         return _make_mesh(scene, maxh, tip_h, crack_h, grading)
     key = _mesh_key(scene, maxh, tip_h, crack_h, grading)
@@ -347,14 +395,21 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
     # a scaled scene gets the same mesh, scaled (up to round-off)
     center, scale = normalizing_frame(scene)
     geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h, frame=(center, scale), maxh=maxh, grading=grading)
-    try:
-        ngmesh = geo.GenerateMesh(mp=MeshingParameters(maxh=maxh / scale, grading=grading))
-    except Exception as exc:  # netgen reports failures as its own exception type
-        raise ValueError(
-            f"mesh: netgen could not mesh scene {scene.name!r} with maxh={maxh:g}, tip_h={tip_h}, "
-            f"crack_h={crack_h}, grading={grading:g} ({exc}); try another maxh, a milder grading "
-            f"(larger, up to 1) or a larger crack_h/tip_h"
-        ) from exc
+    budget = MESH_TIME_BUDGET + MESH_SECONDS_PER_TRIANGLE * estimate_triangles(scene, maxh, tip_h, crack_h, grading)
+    sizes = f"maxh={maxh:g}, tip_h={tip_h}, crack_h={crack_h}, grading={grading:g}"
+    with _netgen_budget(budget) as state:
+        try:
+            ngmesh = geo.GenerateMesh(mp=MeshingParameters(maxh=maxh / scale, grading=grading))
+        except Exception as exc:  # netgen reports failures as its own exception type
+            if state["expired"]:
+                raise MeshingError(
+                    f"mesh: netgen did not finish meshing scene {scene.name!r} with {sizes} within "
+                    f"{budget:.0f} s and was stopped; try a larger maxh, tip_h or crack_h, a milder "
+                    f"grading (larger, up to 1) or fewer polygon vertices and crack points") from exc
+            raise MeshingError(
+                f"mesh: netgen could not mesh scene {scene.name!r} with {sizes} ({exc}); try another "
+                f"maxh, a milder grading (larger, up to 1) or a larger crack_h/tip_h"
+            ) from exc
     coords = ngmesh.Coordinates()
     coords[:] = coords * scale + center
     points = np.array(coords[:, :2], dtype=float)

@@ -3,7 +3,14 @@
 A mistyped mesh size (maxh 1e-7 for 1e-2) would otherwise start netgen on 1e16
 triangles. `check_size` estimates the request in microseconds from the scene's geometry
 and refuses it (a ValueError, exit code 2 on the command line) when the estimated
-unknowns exceed the ceiling `max_dof` or their memory exceeds what the machine has.
+unknowns exceed the ceiling `max_dof` or their memory exceeds what this process may
+still allocate: the least of the machine's available memory, the address-space limit
+(``ulimit -v``, RLIMIT_AS) and the cgroup's memory limit (`memory_limits`). The message
+names the size that owes most of the triangles (maxh, crack_h or tip_h). A size below
+``MIN_SIZE_RTOL`` (1e-6) of the body's diameter is refused even when the count is small
+(`check_mesh_sizes`): netgen fails, hangs or crashes on such sizes (measured on griffith's
+graded tip: 2e-8 of the diameter meshes in a second, 1e-8 fails, 4.5e-9 hangs, below
+that the interpreter dies).
 
 The triangle estimate. Netgen makes triangles of side about the local mesh size h(x),
 so a region of area dA holds about TRIANGLES_PER_AREA dA / h^2 of them (4/sqrt(3) = 2.31
@@ -38,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .scene.measures import polygon_area as _polygon_area
+from .scene.types import MAX_SCALE, MIN_SIZE_RTOL
 
 #: netgen triangles per unit area at mesh size h: TRIANGLES_PER_AREA / h^2 (fitted; 4/sqrt(3) = 2.31 equilateral)
 TRIANGLES_PER_AREA = 2.25
@@ -68,6 +76,8 @@ class SizeEstimate:
     unknowns: float
     memory: float
     maxh: float
+    culprit: str = "maxh"
+    size: float | None = None
 
     def describe(self) -> str:
         return (f"about {self.triangles:.3g} triangles, {self.unknowns:.3g} unknowns and "
@@ -92,24 +102,32 @@ def mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> tupl
     return float(H), tip, ch, float(g)
 
 
-def estimate_triangles(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> float:
-    """The number of triangles netgen will make (the closed form of the module docstring)."""
+def _density_parts(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> dict[str, float]:
+    """The closed form of the module docstring, term by term: the triangles (before the
+    factor TRIANGLES_PER_AREA) owed to maxh (the body), crack_h (the band along the
+    cracks) and tip_h (the graded ends). Safe for sizes down to 1e-300 (no overflow)."""
     H, tip, ch, g = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     A = _polygon_area(np.asarray(scene.polygon, dtype=float))
     L = sum(c.length for c in scene.cracks)
-    density = A / H**2
+    r = math.sqrt(A) / H
+    parts = {"maxh": r * r, "crack_h": 0.0, "tip_h": 0.0}
     hc = min(H, ch) if ch else H
     if L and hc < H:  # the band of refinement along the cracks
         D = min((H - hc) / g, A / (2 * L))
-        density += 2 * L * ((1 / hc - 1 / (hc + g * D)) / g - D / H**2)
+        parts["crack_h"] = 2 * L * ((1 / hc - 1 / (hc + g * D)) / g - D / H * (1 / H))
     if tip and tip < hc:  # the graded refinement at every crack end
         for i in range(len(scene.cracks)):
             for on_boundary in scene.crack_end_on_boundary(i):
                 theta = math.pi if on_boundary else 2 * math.pi
                 R = min((hc - tip) / g, math.sqrt(2 * A / theta))
                 s = tip + g * R
-                density += theta * ((math.log(s / tip) + tip / s - 1) / g**2 - R**2 / (2 * hc**2))
-    return TRIANGLES_PER_AREA * density
+                parts["tip_h"] += theta * ((math.log(s / tip) + tip / s - 1) / g**2 - (R / hc) ** 2 / 2)
+    return parts
+
+
+def estimate_triangles(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> float:
+    """The number of triangles netgen will make (the closed form of the module docstring)."""
+    return TRIANGLES_PER_AREA * sum(_density_parts(scene, maxh, tip_h, crack_h, grading).values())
 
 
 def unknowns_per_triangle(element: str, order: int | None = None) -> float:
@@ -119,61 +137,183 @@ def unknowns_per_triangle(element: str, order: int | None = None) -> float:
 
 def estimate(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading=None,
              order: int | None = None) -> SizeEstimate:
-    """Estimated triangles, unknowns and peak memory of `solve(scene, element, ...)`."""
-    H = mesh_sizes(scene, maxh, tip_h, crack_h, grading)[0]
-    tri = estimate_triangles(scene, maxh, tip_h, crack_h, grading)
+    """Estimated triangles, unknowns and peak memory of `solve(scene, element, ...)`.
+
+    ``culprit`` names the size that owes the most triangles (maxh, crack_h or tip_h) and
+    ``size`` its value, for messages."""
+    H, tip, ch, _ = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
+    parts = _density_parts(scene, maxh, tip_h, crack_h, grading)
+    tri = TRIANGLES_PER_AREA * sum(parts.values())
     dof = tri * unknowns_per_triangle(element, order)
-    return SizeEstimate(triangles=tri, unknowns=dof, memory=dof * BYTES_PER_UNKNOWN[element], maxh=H)
+    culprit = max(parts, key=parts.get)
+    size = {"maxh": H, "crack_h": ch, "tip_h": tip}[culprit]
+    return SizeEstimate(triangles=tri, unknowns=dof, memory=dof * BYTES_PER_UNKNOWN[element], maxh=H,
+                        culprit=culprit, size=size)
 
 
-def available_memory() -> float | None:
-    """The memory the machine can still give (Linux MemAvailable, else free pages), or None."""
+def _read_number(path: str) -> float | None:
+    try:
+        with open(path) as fh:
+            text = fh.read().strip()
+    except OSError:
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        return None  # "max": no limit
+
+
+def _process_status(key: str) -> float | None:
+    """A size in bytes from /proc/self/status (VmSize, VmRSS, ...), or None."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith(key + ":"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return None
+
+
+def memory_limits() -> dict[str, float]:
+    """What this process may still allocate, by every limit that applies (bytes).
+
+    ``machine``: the memory the machine can still give (Linux MemAvailable, else free
+    pages); ``address space``: the soft ``RLIMIT_AS`` (``ulimit -v``) minus the address
+    space already mapped; ``cgroup``: the cgroup's ``memory.max`` minus its
+    ``memory.current`` (cgroup v2; v1's ``memory.limit_in_bytes`` and ``usage_in_bytes``).
+    Limits that are absent or unlimited are left out.
+    """
+    out: dict[str, float] = {}
+    avail = None
     try:
         with open("/proc/meminfo") as fh:
             for line in fh:
                 if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024
+                    avail = float(line.split()[1]) * 1024
+                    break
     except OSError:
         pass
+    if avail is None:
+        try:
+            avail = float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (ValueError, OSError, AttributeError):
+            avail = None
+    if avail is not None:
+        out["machine"] = avail
     try:
-        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):
-        return None
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft not in (resource.RLIM_INFINITY, -1) and soft > 0:
+            used = _process_status("VmSize") or 0.0
+            out["address space"] = max(float(soft) - used, 0.0)
+    except (ImportError, OSError, ValueError):
+        pass
+    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        limit = _read_number(limit_file)
+        if limit is not None and limit < 2**60:  # v1 writes a huge number for "no limit"
+            out["cgroup"] = max(limit - (_read_number(usage_file) or 0.0), 0.0)
+            break
+    return out
+
+
+def available_memory() -> float | None:
+    """The memory this process can still allocate: the least of the machine's available
+    memory, its address-space limit and its cgroup's limit (`memory_limits`), or None."""
+    limits = memory_limits()
+    return min(limits.values()) if limits else None
 
 
 def check_max_dof(max_dof) -> None:
-    """max_dof must be None or a positive integer."""
+    """max_dof must be None or a whole number >= 1 (an integer, or a float like 1e4)."""
     if max_dof is None:
         return
-    if isinstance(max_dof, bool) or not isinstance(max_dof, (int, np.integer, float)) or not max_dof >= 1 \
-            or not math.isfinite(max_dof):
-        raise ValueError(f"max_dof = {max_dof!r}: must be None (the default ceiling, {DEFAULT_MAX_DOF:,}) or a "
-                         f"number of unknowns >= 1".replace(",", " "))
+    ceiling = f"{DEFAULT_MAX_DOF:,}".replace(",", " ")
+    what = f"must be None (the default ceiling, {ceiling}) or a whole number of unknowns >= 1"
+    if isinstance(max_dof, (bool, np.bool_)) or not isinstance(max_dof, (int, float, np.integer, np.floating)):
+        raise ValueError(f"max_dof = {max_dof!r}: {what}")
+    value = float(max_dof)
+    if not math.isfinite(value) or not value >= 1:
+        raise ValueError(f"max_dof = {max_dof!r}: {what}")
+    if value != math.floor(value):
+        raise ValueError(f"max_dof = {max_dof!r}: {what}; it is not a whole number (give "
+                         f"{math.floor(value):.0f} or {math.ceil(value):.0f})")
+
+
+def check_mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> None:
+    """Refuse a mesh size (given or the scene's) netgen cannot mesh: not a finite number
+    > 0 (numpy numbers are numbers), or below MIN_SIZE_RTOL or above MAX_SCALE times the
+    body's diameter. The ValueError names the field (maxh, tip_h, crack_h, grading)."""
+    for name, value in (("maxh", maxh), ("tip_h", tip_h), ("crack_h", crack_h), ("grading", grading)):
+        if value is None:
+            continue
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                or not math.isfinite(float(value)) or not float(value) > 0:
+            raise ValueError(f"{name} = {value!r}: must be a finite number > 0")
+    if grading is not None and float(grading) > 1.0:
+        raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
+    H, tip, ch, _ = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
+    D = scene.diameter
+    for name, value in (("maxh", H), ("crack_h", ch), ("tip_h", tip)):
+        if value is None:
+            continue
+        given = {"maxh": maxh, "crack_h": crack_h, "tip_h": tip_h}[name] is not None
+        fld = name if given else f"{name} (the scene's [mesh] {name})"
+        if value < MIN_SIZE_RTOL * D:
+            raise ValueError(
+                f"{fld} = {float(value):g}: below the smallest mesh size netgen meshes reliably, "
+                f"{MIN_SIZE_RTOL:g} of the body's diameter {D:g} (= {MIN_SIZE_RTOL * D:g}; smaller sizes "
+                f"make netgen fail, hang or crash, measured); give {name} >= {MIN_SIZE_RTOL * D:.3g}")
+        if value > MAX_SCALE * D:
+            raise ValueError(f"{fld} = {float(value):g}: above {MAX_SCALE:g} times the body's diameter "
+                             f"{D:g}; give a size at most the diameter")
 
 
 def check_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading=None, order=None,
                max_dof=None, what: str | None = None) -> SizeEstimate:
-    """Refuse a solve whose estimated unknowns exceed the ceiling or the machine's memory.
+    """Refuse a solve whose estimated unknowns exceed the ceiling or the process's memory,
+    or whose mesh sizes netgen cannot mesh (`check_mesh_sizes`).
 
     max_dof None: the ceiling is DEFAULT_MAX_DOF and the estimated peak memory must fit
-    in MEMORY_FRACTION of the available memory. An explicit max_dof replaces both (the
-    caller takes the memory on). Raises ValueError naming maxh, the estimate and the
+    in MEMORY_FRACTION of the memory this process may still allocate (the least of the
+    machine's, the address-space limit's and the cgroup's: `memory_limits`). An explicit
+    max_dof replaces both (the caller takes the memory on). Raises ValueError naming the
+    size that owes the most triangles (maxh, crack_h or tip_h), the estimate and the
     override; returns the estimate otherwise.
     """
     check_max_dof(max_dof)
+    for name, value in (("maxh", maxh), ("tip_h", tip_h), ("crack_h", crack_h), ("grading", grading)):
+        if value is not None and (isinstance(value, (bool, np.bool_))
+                                  or not isinstance(value, (int, float, np.integer, np.floating))
+                                  or not math.isfinite(float(value)) or not float(value) > 0):
+            raise ValueError(f"{name} = {value!r}: must be a finite number > 0")
     est = estimate(scene, element, maxh, tip_h, crack_h, grading, order)
+    if not math.isfinite(est.unknowns):
+        check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     ceiling = DEFAULT_MAX_DOF if max_dof is None else max_dof
     case = what or f"scene {scene.name!r}, element {element!r}"
-    how = ("use a larger maxh (or tip_h, crack_h), or raise the limit with max_dof=N in Python or "
-           "--max-dof N on the command line")
+    others = ", ".join(k for k in ("maxh", "crack_h", "tip_h") if k != est.culprit)
+    how = (f"use a larger {est.culprit} (it owes most of the triangles; or a larger {others}), or raise "
+           f"the limit with max_dof=N in Python or --max-dof N on the command line")
+    head = f"{est.culprit} = {est.size:g}"
     if est.unknowns > ceiling:
         limit = "the default ceiling" if max_dof is None else "max_dof"
-        raise ValueError(f"maxh = {est.maxh:g}: {case} would need {est.describe()}; that exceeds {limit} of "
+        raise ValueError(f"{head}: {case} would need {est.describe()}; that exceeds {limit} of "
                          f"{int(ceiling)} unknowns; {how}")
-    avail = available_memory() if max_dof is None else None
-    if avail is not None and est.memory > MEMORY_FRACTION * avail:
-        raise ValueError(f"maxh = {est.maxh:g}: {case} would need {est.describe()}; this machine has "
-                         f"{_bytes(avail)} available; {how} (at your own risk)")
+    check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
+    if max_dof is None:
+        avail = available_memory()
+        if avail is not None:
+            kind = next((k for k, v in memory_limits().items() if v == avail), "machine")
+            if est.memory > MEMORY_FRACTION * avail:
+                where = {"machine": "this machine has",
+                         "address space": "this process's address-space limit (ulimit -v) leaves",
+                         "cgroup": "this process's cgroup memory limit leaves"}[kind]
+                raise ValueError(f"{head}: {case} would need {est.describe()}; {where} "
+                                 f"{_bytes(avail)} available; {how} (at your own risk)")
     return est
 
 

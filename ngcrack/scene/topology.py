@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .fields import SceneError, fmt_pt, unique
+from .fields import SceneError, fmt, fmt_pt, unique
 from .measures import (
     Point,
     boundary_distance,
@@ -160,15 +160,15 @@ def check_held(scene) -> None:
     L, tol = scene.diameter, scene.tol
     for part in scene.parts():
         c = part.point
-        rows, rollers = [], []
+        rows: list[list[float]] = []
+        held: dict[tuple[str, str], float] = {}  # (type, label) -> total length
         for lab, p, q in part.pieces:
             cond = scene.boundary.get(lab)
             length = dist(p, q)
             if cond is None or cond.holds == "none" or length <= tol:
                 continue
             n_out = ((q[1] - p[1]) / length, -(q[0] - p[0]) / length)
-            if cond.holds == "normal":
-                rollers.append(lab)
+            held[(cond.type, lab)] = held.get((cond.type, lab), 0.0) + length
             for x in (p, q):
                 X, Y = (x[0] - c[0]) / L, (x[1] - c[1]) / L
                 if cond.holds == "all":
@@ -188,10 +188,24 @@ def check_held(scene) -> None:
             if abs(th) <= HELD_RANK_RTOL * math.hypot(a1, a2):
                 free = f"the translation along {fmt_pt(_direction(a1, a2))}"
             else:
-                free = ("the rotation about "
-                        f"{fmt_pt((c[0] - L * a2 / th, c[1] + L * a1 / th))}")
+                centre = (c[0] - L * a2 / th, c[1] + L * a1 / th)
+                centre = tuple(0.0 if abs(v) <= tol else v for v in centre)
+                free = f"the rotation about {fmt_pt(centre)}"
+            rollers = [lab for (typ, lab) in held if typ == "roller"]
+            pieces = [f"{typ} edge {lab!r} ({fmt(length)} long)"
+                      for (typ, lab), length in held.items() if typ != "roller"]
+            if rollers:
+                pieces.append(f"roller edges ({', '.join(rollers)})")
+            short_fixed = [lab for (typ, lab), length in held.items()
+                           if typ != "roller" and length <= HELD_RANK_RTOL ** 0.5 * L]
+            if short_fixed:
+                advice = (f"a support as short as {', '.join(map(repr, short_fixed))} holds only a "
+                          f"point; make it longer, or add another clamped/displacement edge or a "
+                          f"roller edge elsewhere")
+            else:
+                advice = ("add a clamped/displacement edge or a roller with a non-parallel "
+                          "normal to it")
             raise SceneError(
-                f"{where} is held only by roller edges "
-                f"({', '.join(unique(rollers))}) that leave {free} free, so the answer "
-                f"is not unique; add a clamped/displacement edge or a roller with a "
-                f"non-parallel normal to it")
+                f"{where} is held only by {' and '.join(pieces)} that leave{'s' if len(pieces) == 1 and not rollers else ''} "
+                f"{free} free, so the "
+                f"answer is not unique; {advice}")
