@@ -4,7 +4,8 @@ The body is meshed as one polygon (the smooth-domain formulation of the paper, s
 2.1): a crack is a polyline of segments whose two sides belong to the same domain, so
 the mesher places vertices on it and conforms to it, but the mesh stays connected
 across it. A crack end point on the boundary is inserted as a vertex into the polygon
-edge it lies on. The crack segments carry the boundary names `crack_bc(k)`; the polygon
+edge it lies on. Holes are inner boundaries (a circle meshed as a circle), their edges
+carrying their labels. The crack segments carry the boundary names `crack_bc(k)`; the polygon
 edges carry the scene's labels.
 
 Everything downstream reads the crack through `CrackEdges`: the crack's mesh edges in
@@ -26,6 +27,7 @@ from netgen.geom2d import SplineGeometry
 from netgen.libngpy import _meshing
 from netgen.meshing import MeshingParameters
 
+from .crack_sides import crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
 from .scene import Scene
 from .sizing import check_mesh_sizes, estimate_triangles
 
@@ -40,6 +42,8 @@ MIN_QUALITY = 0.1
 #: makes about 1e4 triangles a second here; a scene the checks admit meshes in seconds)
 MESH_TIME_BUDGET = 60.0
 MESH_SECONDS_PER_TRIANGLE = 2e-4
+#: a circular hole is meshed as arcs of at most this many mesh sizes each
+HOLE_ARC_SEGMENTS = 8
 
 
 class MeshingError(ValueError):
@@ -261,6 +265,8 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
         chain.append(poly[(i + 1) % n])
         for p, q in zip(chain[:-1], chain[1:]):
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=0, bc=scene.labels[i])
+    for hole in scene.holes:
+        _append_hole(geo, point, hole, center, scale)
     for k, pts in enumerate(cracks):
         if tip_h:
             pts = graded_polyline(pts, tip_h, crack_h or maxh_hint, grading_hint)
@@ -268,6 +274,33 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=1, bc=crack_bc(k),
                        maxh=crack_h if crack_h else 1e99)
     return geo
+
+
+def _append_hole(geo: SplineGeometry, point, hole, center: np.ndarray, scale: float) -> None:
+    """The hole's boundary, clockwise so that the body lies on its left (as on the outer
+    polygon, counter-clockwise): the boundary elements' outward normal is then their
+    tangent turned by -90 degrees everywhere. A circle is a ring of rational quadratic
+    splines (netgen's spline3: exact arcs), one per HOLE_ARC_SEGMENTS mesh sizes of its
+    perimeter; their points carry the hole's mesh size, so that netgen refines inside the
+    body next to the hole too, not only along its edges."""
+    h = hole.edge_h / scale
+    if hole.is_circle:
+        c = (np.asarray(hole.center, dtype=float) - center) / scale
+        r = hole.radius / scale
+        n = 4 * max(1, int(np.ceil(2 * np.pi * r / (HOLE_ARC_SEGMENTS * h) / 4)))
+        phi = -2 * np.pi / n  # clockwise
+        ends = [point(c + r * np.array([np.cos(k * phi), np.sin(k * phi)]), h) for k in range(n)]
+        rc = r / np.cos(phi / 2)  # the control point: where the end tangents meet
+        ctrl = [point(c + rc * np.array([np.cos((k + 0.5) * phi), np.sin((k + 0.5) * phi)]), h) for k in range(n)]
+        for k in range(n):
+            geo.Append(["spline3", ends[k], ctrl[k], ends[(k + 1) % n]], leftdomain=1, rightdomain=0,
+                       bc=hole.labels[0], maxh=h)
+        return
+    pts = (np.asarray(hole.polygon, dtype=float) - center) / scale
+    n = len(pts)
+    for i in range(n):  # edge i (vertex i to i+1) traversed backwards
+        geo.Append(["line", point(pts[(i + 1) % n], h), point(pts[i], h)], leftdomain=1, rightdomain=0,
+                   bc=hole.labels[i], maxh=h)
 
 
 def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int, verts: np.ndarray | None = None) -> CrackEdges:
@@ -350,7 +383,7 @@ def reuse_meshes():
 def _mesh_key(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> tuple:
     return (tuple(map(tuple, np.asarray(scene.polygon, float).tolist())), tuple(scene.labels),
             tuple(tuple(map(tuple, np.asarray(c.points, float).tolist())) for c in scene.cracks),
-            float(maxh), tip_h, crack_h, float(grading))
+            scene.holes, float(maxh), tip_h, crack_h, float(grading))
 
 
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
@@ -434,67 +467,6 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
         tip_h=tip_h,
         quality=quality,
     )
-
-
-def crack_frame_cf(crack_mesh: CrackMesh):
-    """CoefficientFunctions (nu, t) equal to the crack normal and tangent on crack edges.
-
-    Both are piecewise constant along each crack segment and zero away from the cracks;
-    a point belongs to a segment when it lies within ON_EDGE_RTOL * diameter of it. Used
-    on element boundaries to tell the crack's minus side (where n = nu) from its plus side.
-    """
-    tol = ON_EDGE_RTOL * crack_mesh.diameter * 10
-    x, y = ngs.x, ngs.y
-    nu = ngs.CF((0.0, 0.0))
-    t = ngs.CF((0.0, 0.0))
-    for pts in crack_mesh.polylines:
-        for p, q in zip(pts[:-1], pts[1:]):
-            L = float(np.linalg.norm(q - p))
-            tx, ty = (q - p) / L
-            along = (x - p[0]) * tx + (y - p[1]) * ty
-            across = -(x - p[0]) * ty + (y - p[1]) * tx
-            inside = ngs.IfPos(along + tol, 1.0, 0.0) * ngs.IfPos(L + tol - along, 1.0, 0.0)
-            on = inside * ngs.IfPos(tol - ngs.sqrt(across * across), 1.0, 0.0)
-            nu = nu + on * ngs.CF((-ty, tx))
-            t = t + on * ngs.CF((tx, ty))
-    return nu, t
-
-
-
-def crack_side(crack_mesh: CrackMesh) -> np.ndarray:
-    """+1 for triangles on the + side (nu points into them) of the crack at a crack
-    vertex they touch, -1 on the - side, 0 for triangles touching no crack vertex.
-
-    Decided by the angle of the triangle's centroid around that vertex, measured from
-    the crack's forward direction, so kinks are classified exactly.
-    """
-    verts, tris = crack_mesh.points, crack_mesh.triangles
-    around: dict[int, list] = {}  # vertex -> [forward direction, backward direction]
-    for c in crack_mesh.cracks:
-        for k in range(len(c)):
-            d = c.b[k] - c.a[k]
-            around.setdefault(int(c.va[k]), [None, None])[0] = d
-            around.setdefault(int(c.vb[k]), [None, None])[1] = -d
-    side = np.zeros(len(tris))
-    touching = np.flatnonzero(np.isin(tris, list(around)).any(axis=1))
-    for el in touching:
-        nrs = list(tris[el])
-        for v in nrs:
-            if v not in around:
-                continue
-            fwd, bwd = around[v]
-            x = verts[nrs].mean(axis=0) - verts[v]
-            if fwd is None or bwd is None:  # a crack end point: one crack edge there
-                d = fwd if fwd is not None else -bwd
-                s = 1.0 if d[0] * x[1] - d[1] * x[0] > 0 else -1.0
-            else:  # the + side (left of the crack) spans the angles from fwd to bwd, ccw
-                a_f = np.arctan2(fwd[1], fwd[0])
-                span = (np.arctan2(bwd[1], bwd[0]) - a_f) % (2 * np.pi)
-                s = 1.0 if (np.arctan2(x[1], x[0]) - a_f) % (2 * np.pi) < span else -1.0
-            if side[el] not in (0.0, s):
-                raise ValueError("maxh: a triangle lies on both sides of the cracks; refine the mesh near the cracks")
-            side[el] = s
-    return side
 
 
 # ------------------------------------------------------------ refined meshes (adaptivity)

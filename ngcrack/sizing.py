@@ -44,7 +44,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .scene.measures import polygon_area as _polygon_area
 from .scene.types import MAX_SCALE, MIN_SIZE_RTOL
 
 #: netgen triangles per unit area at mesh size h: TRIANGLES_PER_AREA / h^2 (fitted; 4/sqrt(3) = 2.31 equilateral)
@@ -107,10 +106,16 @@ def _density_parts(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> 
     factor TRIANGLES_PER_AREA) owed to maxh (the body), crack_h (the band along the
     cracks) and tip_h (the graded ends). Safe for sizes down to 1e-300 (no overflow)."""
     H, tip, ch, g = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
-    A = _polygon_area(np.asarray(scene.polygon, dtype=float))
+    A = scene.area
     L = sum(c.length for c in scene.cracks)
     r = math.sqrt(A) / H
     parts = {"maxh": r * r, "crack_h": 0.0, "tip_h": 0.0}
+    for k, hole in enumerate(getattr(scene, "holes", ())):
+        hh = min(hole.edge_h, H)
+        if hh < H:  # the band of refinement inside the body along the hole's edges (one side)
+            P = math.pi * hole.size
+            D = min((H - hh) / g, A / P)
+            parts[f"hole[{k}].maxh"] = P * ((1 / hh - 1 / (hh + g * D)) / g - D / H * (1 / H))
     hc = min(H, ch) if ch else H
     if L and hc < H:  # the band of refinement along the cracks
         D = min((H - hc) / g, A / (2 * L))
@@ -146,7 +151,9 @@ def estimate(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading=N
     tri = TRIANGLES_PER_AREA * sum(parts.values())
     dof = tri * unknowns_per_triangle(element, order)
     culprit = max(parts, key=parts.get)
-    size = {"maxh": H, "crack_h": ch, "tip_h": tip}[culprit]
+    size = {"maxh": H, "crack_h": ch, "tip_h": tip}.get(culprit)
+    if size is None:  # a hole's edges
+        size = scene.holes[int(culprit[5:culprit.index("]")])].edge_h
     return SizeEstimate(triangles=tri, unknowns=dof, memory=dof * BYTES_PER_UNKNOWN[element], maxh=H,
                         culprit=culprit, size=size)
 
@@ -334,6 +341,8 @@ SAMPLES_PER_PIECE = 9
 MIDDLE = (0.25, 0.75)
 #: quadrature points along a ray for the number of mesh sizes across
 RAY_POINTS = 8
+#: pieces of a circular hole sampled for the thinnest part
+HOLE_PIECES = 16
 
 
 class CoarseMeshWarning(UserWarning):
@@ -359,6 +368,10 @@ def local_size(scene, points: np.ndarray, maxh=None, tip_h=None, crack_h=None, g
     H, tip, ch, g = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     h = np.full(len(points), H)
     pts = shapely.points(points)
+    for hole in getattr(scene, "holes", ()):
+        if hole.edge_h < H:
+            ring = shapely.LinearRing(hole.loop(HOLE_PIECES))
+            h = np.minimum(h, hole.edge_h + g * shapely.distance(pts, ring))
     for crack in scene.cracks:
         if ch and ch < H:
             h = np.minimum(h, ch + g * shapely.distance(pts, shapely.LineString(crack.points)))
@@ -380,11 +393,14 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
     """
     import shapely
 
+    holes = getattr(scene, "holes", ())
     lines = [shapely.LineString(list(scene.polygon) + [scene.polygon[0]])]
+    lines += [shapely.LineString(list(h.loop(HOLE_PIECES)) + [h.loop(HOLE_PIECES)[0]]) for h in holes]
     lines += [shapely.LineString(c.points) for c in scene.cracks]
     walls = shapely.MultiLineString(lines)
     starts = []  # (point, inward normal)
-    for _, p, q in scene.edge_pieces():
+    pieces = list(scene.edge_pieces()) + (scene.hole_pieces(HOLE_PIECES) if holes else [])
+    for _, p, q in pieces:
         d = np.subtract(q, p)
         starts.append((np.asarray(p, float), d, np.array([-d[1], d[0]]) / np.linalg.norm(d)))
     for crack in scene.cracks:

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import shapely
 
 from . import toml as _toml
 from .fields import (
@@ -32,6 +33,7 @@ from .fields import (
     short,
     unique,
 )
+from .holes import Hole, check_holes
 from .measures import (
     Point,
     diameter,
@@ -42,6 +44,7 @@ from .measures import (
     sub,
 )
 from .planar import (
+    MIN_GAP_RTOL,
     Walls,
     check_crack_in_domain,
     check_cracks_disjoint,
@@ -59,23 +62,13 @@ from .types import (
     Crack,
     Material,
     check_exact,
+    check_load,
     crack_points,
     friction_coefficient,
 )
 
 __all__ = ["MAX_POLYGON_VERTICES", "Scene"]
 
-
-def _check_load(value: Sequence[float], to_strain: float, fld: str, what: str) -> None:
-    """Refuse a load whose nonzero components, as strains (``value * to_strain``), or
-    whose own size leave the range 1/MAX_SCALE .. MAX_SCALE."""
-    for c in value:
-        if c != 0.0 and not (1.0 / MAX_SCALE <= abs(c) * to_strain <= MAX_SCALE
-                             and 1.0 / MAX_SCALE <= abs(c) <= MAX_SCALE):
-            raise SceneError(
-                f"{fld} = [{fmt(value[0])}, {fmt(value[1])}]: out of range ({what} is "
-                f"{abs(c) * to_strain:.3g}); each component must be 0 or, in size and as {what}, "
-                f"lie between {1.0 / MAX_SCALE:g} and {MAX_SCALE:g} (change the units)")
 
 #: The most vertices a polygon may have: validation is near-linear, netgen meshes a
 #: circle of 1500 vertices in 1.6 s and one of 4000 in 7.4 s (measured).
@@ -91,6 +84,7 @@ class Scene:
 
     ``name``; ``polygon`` the vertices, counter-clockwise; ``labels`` one per edge
     (edge i runs from vertex i to vertex i+1; default ``e0, e1, ...``); ``cracks``;
+    ``holes`` (:class:`Hole`: polygons or circles inside the body, their edges labelled);
     ``material``; ``body_force`` f = (fx, fy) or None; ``boundary`` label -> condition
     (unnamed edges are traction-free); ``maxh`` global mesh size, ``crack_h`` size along
     the cracks, ``grading`` how fast sizes grow (netgen, 0.3 default) and ``tip_h`` local
@@ -103,6 +97,7 @@ class Scene:
     material: Material
     labels: tuple[str, ...] = ()
     cracks: tuple[Crack, ...] = ()
+    holes: tuple[Hole, ...] = ()
     body_force: tuple[float, float] | None = None
     boundary: Mapping[str, BoundaryCondition] = field(default_factory=FrozenMap)
     maxh: float | None = None
@@ -180,7 +175,7 @@ class Scene:
             raise SceneError(f"material.E = {fmt(E)}: must lie between {1.0 / MAX_SCALE:g} and "
                              f"{MAX_SCALE:g} (change the units)")
         if self.body_force is not None:
-            _check_load(self.body_force, diam / E, "load.body_force", "a body force times the "
+            check_load(self.body_force, diam / E, "load.body_force", "a body force times the "
                         "diameter over E")
         for key in ("maxh", "tip_h", "crack_h"):
             if getattr(self, key) is not None:
@@ -204,7 +199,11 @@ class Scene:
             raise SceneError(f"crack = {short(raw)}: must be a list of cracks "
                              f"([[crack]] tables with points = [[x, y], ...] and "
                              f"optionally friction = mu)")
-        walls = Walls([(poly, self.labels, "domain.polygon")])
+        outer = Walls([(poly, self.labels, "domain.polygon")])
+        holes = check_holes(self.holes, outer, diam, tol)
+        set_("holes", holes)
+        walls = Walls([(poly, self.labels, "domain.polygon")]
+                      + [(h.loop(), h.edge_labels(), f"hole[{k}]") for k, h in enumerate(holes)])
         self.__dict__["_walls"] = walls
         cracks = []
         for i, c in enumerate(raw):
@@ -220,8 +219,17 @@ class Scene:
                 pts_raw = pts_raw["points"]
             pts = crack_points(pts_raw, fld, tol)
             check_crack_in_domain(walls, pts, fld, tol)
+            if holes:
+                ends = np.array([pts[0], pts[-1]])
+                for k, d, e in zip((0, len(pts) - 1), walls.distance(ends), walls.nearest_edge(ends)):
+                    if d <= tol and walls.owner[e][0] > 0:
+                        raise SceneError(
+                            f"{fld}.points[{k}] = {fmt_pt(pts[k])} lies on hole[{walls.owner[e][0] - 1}]; "
+                            f"a crack may not touch a hole (end it inside the body, at least "
+                            f"{fmt(MIN_GAP_RTOL * diam)} away)")
             cracks.append(c if isinstance(c, Crack) else Crack(pts, mu))
-        total = len(poly) + 2 * sum(len(c.points) for c in cracks)
+        total = (len(poly) + sum(len(h.polygon) for h in holes if not h.is_circle)
+                 + 2 * sum(len(c.points) for c in cracks))
         if total > MAX_BOUNDARY_POINTS:
             raise SceneError(f"crack: {total} boundary points (polygon vertices plus twice the crack "
                              f"points); at most {MAX_BOUNDARY_POINTS} are allowed (a documented "
@@ -235,7 +243,7 @@ class Scene:
         if not isinstance(bnd, Mapping):
             raise SceneError(f"boundary = {short(bnd)}: must be a table of "
                              f"[boundary.<label>] tables")
-        allowed = unique(self.labels)
+        allowed = self.boundary_labels
         conds = {}
         for lab, cond in bnd.items():
             if lab not in allowed:
@@ -243,9 +251,9 @@ class Scene:
                                  f"{', '.join(allowed)}")
             bc = conds[lab] = BoundaryCondition.from_dict(cond, f"boundary.{lab}")
             if bc.type == "traction":
-                _check_load(bc.value, 1.0 / E, f"boundary.{lab}.value", "a traction over E")
+                check_load(bc.value, 1.0 / E, f"boundary.{lab}.value", "a traction over E")
             elif bc.type == "displacement":
-                _check_load(bc.value, 1.0 / diam, f"boundary.{lab}.value",
+                check_load(bc.value, 1.0 / diam, f"boundary.{lab}.value",
                             "a displacement over the diameter")
         set_("boundary", FrozenMap(conds))
 
@@ -256,6 +264,32 @@ class Scene:
         self.check_held()
 
     # ---------------------------------------------------------------- geometry
+    @property
+    def boundary_labels(self) -> list[str]:
+        """The distinct labels of the domain's edges and of the holes' edges, in order."""
+        return unique(list(self.labels) + [lab for h in self.holes for lab in h.labels])
+
+    def region(self) -> shapely.Polygon:
+        """The body as a shapely Polygon: the domain with the holes cut out (a circle as
+        its inscribed polygon of CIRCLE_SEGMENTS sides). Cracks are not part of it."""
+        return shapely.Polygon(self.polygon, [h.loop() for h in self.holes])
+
+    @property
+    def area(self) -> float:
+        """The body's area: the polygon's less the holes' (a circle's exactly)."""
+        return signed_area(self.polygon) - sum(h.area for h in self.holes)
+
+    def hole_pieces(self, circle_segments: int | None = None) -> list[tuple[str, Point, Point]]:
+        """The holes' edges ``(label, p, q)`` oriented with the body on their left (so
+        clockwise around each hole); a circle as its inscribed polygon of
+        ``circle_segments`` sides (default CIRCLE_SEGMENTS)."""
+        out = []
+        for h in self.holes:
+            loop, labels = h.loop(circle_segments), h.edge_labels(circle_segments)
+            n = len(loop)
+            out += [(labels[i], loop[(i + 1) % n], loop[i]) for i in range(n)]
+        return out
+
     @functools.cached_property
     def diameter(self) -> float:
         """Largest distance between two polygon vertices (computed once)."""
@@ -360,7 +394,7 @@ class Scene:
     def with_(self, **changes: Any) -> Scene:
         """A new, validated scene with some fields replaced.
 
-        Accepts any field (``name``, ``polygon``, ``labels``, ``cracks``, ``material``,
+        Accepts any field (``name``, ``polygon``, ``labels``, ``cracks``, ``holes``, ``material``,
         ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``)
         and the material's ``E``, ``nu``, ``plane``. ``boundary`` replaces the whole
         mapping (label -> BoundaryCondition or {"type": ..., "value": ...}).
@@ -407,6 +441,7 @@ class Scene:
             E=self.material.E * E,
             polygon=tuple((x * size, y * size) for x, y in self.polygon),
             cracks=tuple(c.scaled(size) for c in self.cracks),
+            holes=tuple(h.scaled(size) for h in self.holes),
             body_force=bf, boundary=boundary,
             **{k: getattr(self, k) * size for k in ("maxh", "tip_h", "crack_h") if getattr(self, k)},
         )

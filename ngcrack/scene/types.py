@@ -18,6 +18,7 @@ from .fields import (
     SceneError,
     check_keys,
     finite,
+    fmt,
     is_number,
     pair,
     points,
@@ -320,3 +321,15 @@ def check_exact(ex: Any) -> FrozenMap:
                                  f"[s_xx, s_yy, s_xy]")
             out[k] = tuple(float(c) for c in v)
     return FrozenMap(out)
+
+
+def check_load(value: Sequence[float], to_strain: float, fld: str, what: str) -> None:
+    """Refuse a load whose nonzero components, as strains (``value * to_strain``), or
+    whose own size leave the range 1/MAX_SCALE .. MAX_SCALE."""
+    for c in value:
+        if c != 0.0 and not (1.0 / MAX_SCALE <= abs(c) * to_strain <= MAX_SCALE
+                             and 1.0 / MAX_SCALE <= abs(c) <= MAX_SCALE):
+            raise SceneError(
+                f"{fld} = [{fmt(value[0])}, {fmt(value[1])}]: out of range ({what} is "
+                f"{abs(c) * to_strain:.3g}); each component must be 0 or, in size and as {what}, "
+                f"lie between {1.0 / MAX_SCALE:g} and {MAX_SCALE:g} (change the units)")
