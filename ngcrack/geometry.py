@@ -29,7 +29,7 @@ from netgen.meshing import MeshingParameters
 
 from .crack_sides import crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
 from .scene import Scene
-from .sizing import check_mesh_sizes, estimate_triangles
+from .sizing import check_mesh_sizes, estimate_triangles, mesh_sizes
 
 #: relative distance (times the polygon's diameter) under which a point counts as on an edge
 ON_EDGE_RTOL = 1e-9
@@ -148,6 +148,8 @@ class CrackMesh:
     maxh: float
     tip_h: float | None
     quality: float
+    crack_h: float | None = None
+    grading: float | None = None
 
     @property
     def centroids(self) -> np.ndarray:
@@ -388,19 +390,16 @@ def _mesh_key(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> tupl
 
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
               crack_h: float | None = None, grading: float | None = None) -> CrackMesh:
-    """Mesh the scene with netgen; the arguments override the scene's [mesh] values.
+    """Mesh the scene with netgen; the arguments override the scene's [mesh] values, and
+    where neither gives a size the defaults of `sizing.default_mesh_sizes` apply (maxh a
+    tenth of the diameter; crack_h and tip_h from the shortest crack, graded).
 
     Warns if netgen produced a triangle of quality below MIN_QUALITY (a strong grading
     can do that); such a triangle spoils the accuracy nearby. Inside `reuse_meshes()`
     the mesh of an earlier call with the same geometry and sizes is returned.
     """
-    maxh = maxh if maxh is not None else scene.maxh
-    if maxh is None:
-        maxh = 0.1 * scene.diameter
-    tip_h = tip_h if tip_h is not None else scene.tip_h
-    crack_h = crack_h if crack_h is not None else scene.crack_h
-    grading = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
     check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
+    maxh, tip_h, crack_h, grading = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     if not _reusing:
         return _make_mesh(scene, maxh, tip_h, crack_h, grading)
     key = _mesh_key(scene, maxh, tip_h, crack_h, grading)
@@ -466,6 +465,8 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
         maxh=float(maxh),
         tip_h=tip_h,
         quality=quality,
+        crack_h=crack_h,
+        grading=float(grading),
     )
 
 

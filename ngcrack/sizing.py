@@ -65,6 +65,14 @@ DEFAULT_MAX_DOF = 5_000_000
 MEMORY_FRACTION = 0.8
 #: netgen's default growth rate of the mesh size (geometry.DEFAULT_GRADING)
 DEFAULT_GRADING = 0.3
+#: default sizes of a scene that gives none (`default_mesh_sizes`): maxh a tenth of the
+#: diameter; crack_h and tip_h the shortest crack's length over these
+DEFAULT_MAXH_FRACTION = 0.1
+DEFAULT_CRACK_DIVISOR = 40
+DEFAULT_TIP_DIVISOR = 400
+#: the grading of those default sizes (milder than netgen's 0.3: the lowest-order PEERS
+#: stress needs the crack's perturbation resolved about a crack length around it)
+DEFAULT_CRACK_GRADING = 0.2
 
 
 @dataclass(frozen=True)
@@ -92,13 +100,60 @@ def _bytes(n: float) -> str:
     return f"{n / 1e3:.3g} kB"
 
 
+def default_mesh_sizes(scene) -> dict:
+    """The mesh sizes a scene gets when neither it ([mesh]) nor the caller gives any size.
+
+    maxh = DEFAULT_MAXH_FRACTION (1/10) of the body's diameter. With cracks, from the
+    length L of the shortest crack: crack_h = L / DEFAULT_CRACK_DIVISOR (40) along every
+    crack and tip_h = L / DEFAULT_TIP_DIVISOR (400) at every crack end, graded by netgen at
+    the scene's grading (DEFAULT_CRACK_GRADING, 0.2, if it gives none); each crack then has
+    at least 40 edges. Neither size goes below 10 MIN_SIZE_RTOL (1e-5) of the diameter.
+    Returns {"maxh", "crack_h", "tip_h", "grading", "rule"} (crack_h, tip_h None without
+    cracks; "rule" says in words where the sizes come from).
+    """
+    D = scene.diameter
+    out = {"maxh": DEFAULT_MAXH_FRACTION * D, "crack_h": None, "tip_h": None,
+           "grading": float(scene.grading or DEFAULT_GRADING),
+           "rule": f"maxh = diameter / {1 / DEFAULT_MAXH_FRACTION:g}"}
+    if scene.cracks and scene.grading is None:
+        out["grading"] = DEFAULT_CRACK_GRADING
+    if scene.cracks:
+        L = min(c.length for c in scene.cracks)
+        floor = 10 * MIN_SIZE_RTOL * D  # a crack far shorter than the body: netgen's limit
+        out["tip_h"] = max(L / DEFAULT_TIP_DIVISOR, floor)
+        out["crack_h"] = max(L / DEFAULT_CRACK_DIVISOR, out["tip_h"])
+        out["rule"] += (f"; crack_h = L / {DEFAULT_CRACK_DIVISOR:g} and tip_h = L / {DEFAULT_TIP_DIVISOR:g}, "
+                        f"L = {L:g} the shortest crack's length")
+    return out
+
+
+def sizes_given(scene, maxh=None, tip_h=None, crack_h=None) -> bool:
+    """Whether the caller or the scene's [mesh] gives any of maxh, tip_h, crack_h."""
+    return any(v is not None for v in (maxh, tip_h, crack_h, scene.maxh, scene.tip_h, scene.crack_h))
+
+
 def mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> tuple[float, float | None, float | None, float]:
-    """(maxh, tip_h, crack_h, grading) as `geometry.make_mesh` resolves them (arguments over the scene's)."""
-    H = maxh if maxh is not None else (scene.maxh if scene.maxh is not None else 0.1 * scene.diameter)
+    """(maxh, tip_h, crack_h, grading) as `geometry.make_mesh` resolves them: the arguments
+    over the scene's [mesh]; where neither gives any size, `default_mesh_sizes`."""
+    if not sizes_given(scene, maxh, tip_h, crack_h):
+        d = default_mesh_sizes(scene)
+        g = grading if grading is not None else d["grading"]
+        return float(d["maxh"]), d["tip_h"], d["crack_h"], float(g)
+    g = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
+    H = maxh if maxh is not None else (scene.maxh if scene.maxh is not None else DEFAULT_MAXH_FRACTION * scene.diameter)
     tip = tip_h if tip_h is not None else scene.tip_h
     ch = crack_h if crack_h is not None else scene.crack_h
-    g = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
     return float(H), tip, ch, float(g)
+
+
+def describe_mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> str:
+    """One line: the sizes a solve will mesh with and where they come from (for the CLI)."""
+    H, tip, ch, g = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
+    parts = [f"maxh {H:.4g}"] + [f"{k} {v:.4g}" for k, v in (("crack_h", ch), ("tip_h", tip)) if v is not None]
+    parts.append(f"grading {g:g}")
+    where = ("the scene has no [mesh] sizes: " + default_mesh_sizes(scene)["rule"]
+             if not sizes_given(scene, maxh, tip_h, crack_h) else "given")
+    return f"mesh sizes: {', '.join(parts)} ({where})"
 
 
 def _density_parts(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> dict[str, float]:
@@ -267,8 +322,12 @@ def check_mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -
     for name, value in (("maxh", H), ("crack_h", ch), ("tip_h", tip)):
         if value is None:
             continue
-        given = {"maxh": maxh, "crack_h": crack_h, "tip_h": tip_h}[name] is not None
-        fld = name if given else f"{name} (the scene's [mesh] {name})"
+        if {"maxh": maxh, "crack_h": crack_h, "tip_h": tip_h}[name] is not None:
+            fld = name
+        elif getattr(scene, name) is not None:
+            fld = f"{name} (the scene's [mesh] {name})"
+        else:
+            fld = f"{name} (the default: {default_mesh_sizes(scene)['rule']})"
         if value < MIN_SIZE_RTOL * D:
             raise ValueError(
                 f"{fld} = {float(value):g}: below the smallest mesh size netgen meshes reliably, "
