@@ -173,3 +173,16 @@ def test_hole_crack_scene_the_hole_raises_the_inner_tip():
     assert plain[0].K_I == pytest.approx(1.98, rel=0.03)
     assert near.radius < 0.5  # the hole's edge is 0.5 from the tip
     assert near.G == pytest.approx(near.K_I**2 * (1 - 0.3**2) / 1000.0, rel=0.01)
+
+
+def test_a_pickled_scene_carries_its_fields_only():
+    """Sent to a sweep's worker, a scene leaves its caches (indexed walls, parts) behind and
+    rebuilds them: equal, same hash, same parts."""
+    import pickle
+
+    s = scenes.load("hole-crack")
+    s.parts()
+    data = pickle.dumps(s)
+    t = pickle.loads(data)
+    assert t == s and hash(t) == hash(s) and len(data) < 4000
+    assert [p.holes for p in t.parts()] == [(0,)] and t.crack_tips() == s.crack_tips()

@@ -204,7 +204,7 @@ class Scene:
         set_("holes", holes)
         walls = Walls([(poly, self.labels, "domain.polygon")]
                       + [(h.loop(), h.edge_labels(), f"hole[{k}]") for k, h in enumerate(holes)])
-        self.__dict__["_walls"] = walls
+        self.__dict__["_walls"] = outer  # the cache of the outer boundary (on_boundary)
         cracks = []
         for i, c in enumerate(raw):
             fld = f"crack[{i}]"
@@ -263,6 +263,11 @@ class Scene:
 
         self.check_held()
 
+    def __getstate__(self) -> dict[str, Any]:
+        """The fields only: the caches (diameter, walls, parts) are rebuilt on demand, so a
+        pickled scene (sent to a sweep's worker) stays small."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
     # ---------------------------------------------------------------- geometry
     @property
     def boundary_labels(self) -> list[str]:
@@ -308,10 +313,12 @@ class Scene:
 
     @functools.cached_property
     def _walls(self) -> Walls:
+        """The outer polygon's edges, indexed (holes are not in it)."""
         return Walls([(self.polygon, self.labels, "domain.polygon")])
 
     def on_boundary(self, x: Sequence[float]) -> bool:
-        """True if ``x`` lies on the polygon's boundary (within :attr:`tol`)."""
+        """True if ``x`` lies on the outer polygon's boundary (within :attr:`tol`); a hole's
+        edges do not count (no crack may touch a hole)."""
         return bool(self._walls.distance(np.array([[float(x[0]), float(x[1])]]))[0] <= self.tol)
 
     def crack_end_on_boundary(self, i: int) -> tuple[bool, bool]:
