@@ -31,6 +31,10 @@ Measured against netgen on 47 meshes of 9 scenes from 40 to 1.2e5 triangles (gra
 uniform; `benchmarks/size_estimate.py`, BENCHMARKS.md): estimate / netgen is 0.81-1.14
 (median 0.98) from 1000 triangles up, and up to 1.41 on meshes of 40-200 triangles.
 
+A hole adds the band along its edges like a crack's, on the body's side only, with
+h_c its edge size (`Hole.edge_h`) and 2 L replaced by its perimeter. A scene that gives
+no size at all gets `default_mesh_sizes` (from its shortest crack).
+
 Unknowns per triangle (all unknowns, `ndof["total"]`, measured on paper-2 and griffith)
 and peak memory per unknown (BENCHMARKS.md, section 1: 1.0-1.4 kB for the mixed elements
 and 3.7-4.0 kB for the displacement baselines at 1e6 unknowns) are element constants.
@@ -402,6 +406,9 @@ MIDDLE = (0.25, 0.75)
 RAY_POINTS = 8
 #: pieces of a circular hole sampled for the thinnest part
 HOLE_PIECES = 16
+#: at most this many pieces (boundary pieces and crack faces) cast rays: of more, every
+#: k-th (a polygon of 4000 short edges is measured in seconds, not minutes)
+MAX_RAY_PIECES = 600
 
 
 class CoarseMeshWarning(UserWarning):
@@ -449,15 +456,18 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
     counts by the median over its samples in the middle half of its length (so the wedge
     at an acute corner is not a thin part); the least over the pieces is returned. A
     one-layer strip is about 1.15 across (a layer of triangles of side h is 0.87 h high).
+    The rays are cast together through an STRtree of the walls; of more than
+    MAX_RAY_PIECES pieces, every k-th casts rays.
     """
     import shapely
 
     holes = getattr(scene, "holes", ())
-    lines = [shapely.LineString(list(scene.polygon) + [scene.polygon[0]])]
-    lines += [shapely.LineString(list(h.loop(HOLE_PIECES)) + [h.loop(HOLE_PIECES)[0]]) for h in holes]
-    lines += [shapely.LineString(c.points) for c in scene.cracks]
-    walls = shapely.MultiLineString(lines)
-    starts = []  # (point, inward normal)
+    chains = [list(scene.polygon) + [scene.polygon[0]]]
+    chains += [list(h.loop(HOLE_PIECES)) + [h.loop(HOLE_PIECES)[0]] for h in holes]
+    chains += [list(c.points) for c in scene.cracks]
+    A = np.concatenate([np.asarray(c[:-1], float) for c in chains])  # wall segments a-b
+    B = np.concatenate([np.asarray(c[1:], float) for c in chains])
+    starts = []  # (point, direction along the piece, inward normal)
     pieces = list(scene.edge_pieces()) + (scene.hole_pieces(HOLE_PIECES) if holes else [])
     for _, p, q in pieces:
         d = np.subtract(q, p)
@@ -466,27 +476,50 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
         for (p, q), nu in zip(crack.segments, crack.normals()):
             for sign in (1.0, -1.0):
                 starts.append((np.asarray(p, float), np.subtract(q, p), sign * np.asarray(nu)))
+    if not starts:
+        return None
+    stride = -(-len(starts) // MAX_RAY_PIECES)  # many short pieces: every stride-th of them
+    starts = starts[::stride]
     reach = 2.0 * scene.diameter
-    best = None
     ts = np.linspace(*MIDDLE, SAMPLES_PER_PIECE)
-    for p, d, n in starts:
-        samples = []
-        for t in ts:
-            x = p + t * d
-            ray = shapely.LineString([x + 1e-9 * reach * n, x + reach * n])
-            hit = ray.intersection(walls)
-            if hit.is_empty:
-                continue
-            width = shapely.Point(x).distance(hit)
-            s = (np.arange(RAY_POINTS) + 0.5) / RAY_POINTS * width
-            h = local_size(scene, x + s[:, None] * n, maxh, tip_h, crack_h, grading)
-            samples.append((float(np.sum(width / RAY_POINTS / h)), float(width), x))
-        if not samples:
+    P0 = np.array([p for p, _, _ in starts])
+    D = np.array([d for _, d, _ in starts])
+    Nn = np.array([n for _, _, n in starts])
+    # every ray, piece by piece: from x = p + t d along the inward normal, to the first wall hit
+    X = (P0[:, None, :] + ts[None, :, None] * D[:, None, :]).reshape(-1, 2)
+    N = np.repeat(Nn, len(ts), axis=0)
+    rays = shapely.linestrings(np.stack([X + 1e-9 * reach * N, X + reach * N], axis=1))
+    ray_i, seg_j = shapely.STRtree(shapely.linestrings(np.stack([A, B], axis=1))).query(rays, predicate="intersects")
+    width = np.full(len(X), np.inf)
+    if len(ray_i):
+        e = B[seg_j] - A[seg_j]
+        denom = N[ray_i, 0] * e[:, 1] - N[ray_i, 1] * e[:, 0]
+        rel = A[seg_j] - X[ray_i]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dist_hit = np.where(np.abs(denom) > 0, (rel[:, 0] * e[:, 1] - rel[:, 1] * e[:, 0]) / denom, np.inf)
+        # a wall along the ray (parallel): the nearer of its end points ahead
+        along = np.minimum(*(np.where(v > 0, v, np.inf) for v in
+                             (np.einsum("ij,ij->i", A[seg_j] - X[ray_i], N[ray_i]),
+                              np.einsum("ij,ij->i", B[seg_j] - X[ray_i], N[ray_i]))))
+        dist_hit = np.where(np.abs(denom) > 0, dist_hit, along)
+        np.minimum.at(width, ray_i, np.where(dist_hit > 0, dist_hit, np.inf))
+    hit = np.isfinite(width)
+    s = (np.arange(RAY_POINTS) + 0.5) / RAY_POINTS
+    w = np.where(hit, width, 0.0)
+    pts = (X[:, None, :] + (s[None, :, None] * w[:, None, None]) * N[:, None, :]).reshape(-1, 2)
+    h = local_size(scene, pts, maxh, tip_h, crack_h, grading).reshape(len(X), RAY_POINTS)
+    across = np.sum(w[:, None] / RAY_POINTS / h, axis=1)
+    best = None
+    for k in range(len(starts)):
+        rows = [r for r in range(k * len(ts), (k + 1) * len(ts)) if hit[r]]
+        if not rows:
             continue
         # the piece's median: a part is thin along a stretch, not at a corner's wedge
-        across, width, x = sorted(samples, key=lambda a: a[0])[(len(samples) - 1) // 2]
-        if best is None or across < best.across:
-            best = ThinPart(across, width, (float(x[0]), float(x[1])), (float(n[0]), float(n[1])))
+        r = sorted(rows, key=lambda r: across[r])[(len(rows) - 1) // 2]
+        if best is None or across[r] < best.across:
+            n = N[r]
+            best = ThinPart(float(across[r]), float(width[r]), (float(X[r, 0]), float(X[r, 1])),
+                            (float(n[0]), float(n[1])))
     return best
 
 
