@@ -13,14 +13,18 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 
 from . import scenes
 from .elements import ELEMENTS, Loads
-from .interactive import Study, explore
+from .explorer import Explorer, Study, explore
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
-from .solve import CRACK_MODELS, Solution, SolveError, solve
-from .study import fitted_rates, sweep
+from .options import CRACK_MODELS, SolveOptions
+from .pipeline import Pipeline
+from .solution import Solution
+from .solve import SolveError, solve
+from .sweeps import fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
+    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "Loads", "Material", "Pipeline", "Scene",
+    "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "fitted_rates", "scenes", "solve",
+    "sweep",
 ]
