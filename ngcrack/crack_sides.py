@@ -3,32 +3,28 @@
 The elements need, on the mesh edges of a crack, its normal ``nu`` and tangent ``t``
 (to tell the crack's minus side, where the element's outward normal is ``nu``, from its
 plus side), and some estimators need, per triangle, the side of the crack it touches.
-Both are read from a :class:`~ngcrack.geometry.CrackMesh`.
+Both are read from a :class:`~ngcrack.geometry.CrackMesh`. This module sits below
+``geometry`` (which re-exports its functions) and imports nothing of it at run time.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import ngsolve as ngs
 import numpy as np
 
-if TYPE_CHECKING:
-    from .geometry import CrackMesh
-
+#: relative distance (times the polygon's diameter) under which a point counts as on an edge
+ON_EDGE_RTOL = 1e-9
 #: a point within this many times ON_EDGE_RTOL * diameter of a crack segment lies on it
 ON_CRACK_FACTOR = 10
 
 
-def crack_frame_cf(crack_mesh: CrackMesh):
+def crack_frame_cf(crack_mesh):
     """CoefficientFunctions (nu, t) equal to the crack normal and tangent on crack edges.
 
     Both are piecewise constant along each crack segment and zero away from the cracks;
     a point belongs to a segment when it lies within ON_EDGE_RTOL * diameter of it. Used
     on element boundaries to tell the crack's minus side (where n = nu) from its plus side.
     """
-    from .geometry import ON_EDGE_RTOL
-
     tol = ON_EDGE_RTOL * crack_mesh.diameter * ON_CRACK_FACTOR
     x, y = ngs.x, ngs.y
     nu = ngs.CF((0.0, 0.0))
@@ -47,7 +43,7 @@ def crack_frame_cf(crack_mesh: CrackMesh):
 
 
 
-def crack_side(crack_mesh: CrackMesh) -> np.ndarray:
+def crack_side(crack_mesh) -> np.ndarray:
     """+1 for triangles on the + side (nu points into them) of the crack at a crack
     vertex they touch, -1 on the - side, 0 for triangles touching no crack vertex.
 

@@ -27,12 +27,10 @@ from netgen.geom2d import SplineGeometry
 from netgen.libngpy import _meshing
 from netgen.meshing import MeshingParameters
 
-from .crack_sides import crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
+from .crack_sides import ON_EDGE_RTOL, crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
 from .scene import Scene
 from .sizing import check_mesh_sizes, estimate_triangles, mesh_sizes
 
-#: relative distance (times the polygon's diameter) under which a point counts as on an edge
-ON_EDGE_RTOL = 1e-9
 #: netgen's default growth rate of the mesh size
 DEFAULT_GRADING = 0.3
 #: a triangle of lower quality 4 sqrt(3) area / (sum of squared sides) triggers a warning

@@ -20,7 +20,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "references")),
     ("scene", ("scene", "scenes", "sizing")),
-    ("mesh", ("geometry", "hp")),
+    ("mesh", ("crack_sides", "geometry", "hp")),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
     ("post-processing", ("post", "tips", "estimate", "vtk")),
     ("options and solution", ("options", "solution")),
