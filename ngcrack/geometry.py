@@ -4,7 +4,8 @@ The body is meshed as one polygon (the smooth-domain formulation of the paper, s
 2.1): a crack is a polyline of segments whose two sides belong to the same domain, so
 the mesher places vertices on it and conforms to it, but the mesh stays connected
 across it. A crack end point on the boundary is inserted as a vertex into the polygon
-edge it lies on. The crack segments carry the boundary names `crack_bc(k)`; the polygon
+edge it lies on. Holes are inner boundaries (a circle meshed as a circle), their edges
+carrying their labels. The crack segments carry the boundary names `crack_bc(k)`; the polygon
 edges carry the scene's labels.
 
 Everything downstream reads the crack through `CrackEdges`: the crack's mesh edges in
@@ -14,6 +15,7 @@ order along the crack, with their end points, mid points, arc length and unit no
 from __future__ import annotations
 
 import re
+import threading
 import warnings
 from collections import OrderedDict
 from contextlib import contextmanager
@@ -22,16 +24,59 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 from netgen.geom2d import SplineGeometry
+from netgen.libngpy import _meshing
 from netgen.meshing import MeshingParameters
 
+from .crack_sides import ON_EDGE_RTOL, crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
 from .scene import Scene
+from .sizing import check_mesh_sizes, estimate_triangles, mesh_sizes
 
-#: relative distance (times the polygon's diameter) under which a point counts as on an edge
-ON_EDGE_RTOL = 1e-9
 #: netgen's default growth rate of the mesh size
 DEFAULT_GRADING = 0.3
 #: a triangle of lower quality 4 sqrt(3) area / (sum of squared sides) triggers a warning
 MIN_QUALITY = 0.1
+#: seconds netgen may take on one mesh before it is stopped and the meshing reported as
+#: failed: MESH_TIME_BUDGET plus MESH_SECONDS_PER_TRIANGLE per estimated triangle (netgen
+#: makes about 1e4 triangles a second here; a scene the checks admit meshes in seconds)
+MESH_TIME_BUDGET = 60.0
+MESH_SECONDS_PER_TRIANGLE = 2e-4
+#: a circular hole is meshed as arcs of at most this many mesh sizes each
+HOLE_ARC_SEGMENTS = 8
+
+
+class MeshingError(ValueError):
+    """Netgen failed, or did not finish within its time budget; the message names the sizes."""
+
+
+_budget_lock = threading.Lock()
+_budget_users = 0
+
+
+@contextmanager
+def _netgen_budget(seconds: float):
+    """Stop netgen (its terminate flag) if meshing inside this block takes longer than
+    ``seconds``; yields a dict whose key "expired" says whether that happened. Netgen's
+    flag is global: a mesh made at the same time in another thread is stopped too."""
+    global _budget_users
+    state = {"expired": False}
+
+    def expire() -> None:
+        state["expired"] = True
+        _meshing._SetTerminate(True)
+
+    timer = threading.Timer(seconds, expire)
+    timer.daemon = True
+    with _budget_lock:
+        _budget_users += 1
+    timer.start()
+    try:
+        yield state
+    finally:
+        timer.cancel()
+        with _budget_lock:
+            _budget_users -= 1
+            if _budget_users == 0:
+                _meshing._SetTerminate(False)
 
 
 def crack_bc(k: int) -> str:
@@ -101,6 +146,8 @@ class CrackMesh:
     maxh: float
     tip_h: float | None
     quality: float
+    crack_h: float | None = None
+    grading: float | None = None
 
     @property
     def centroids(self) -> np.ndarray:
@@ -190,14 +237,18 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
                 if t is not None:
                     inserted[i].append((t, x))
     geo = SplineGeometry()
-    point_ids: list[tuple[np.ndarray, int]] = []
+    # points already given to netgen, hashed on a grid of cells of side tol: a point
+    # within tol of an earlier one is that point (a lookup in the 9 cells around it)
+    point_ids: dict[tuple[int, int], list[tuple[np.ndarray, int]]] = {}
 
     def point(x: np.ndarray, h: float | None = None) -> int:
-        for y, pid in point_ids:
-            if np.linalg.norm(y - x) <= tol:
-                return pid
+        cx, cy = int(np.floor(x[0] / tol)), int(np.floor(x[1] / tol))
+        for key in ((cx + i, cy + j) for i in (-1, 0, 1) for j in (-1, 0, 1)):
+            for y, pid in point_ids.get(key, ()):
+                if np.linalg.norm(y - x) <= tol:
+                    return pid
         pid = geo.AppendPoint(float(x[0]), float(x[1]), maxh=h if h else 1e99)
-        point_ids.append((x, pid))
+        point_ids.setdefault((cx, cy), []).append((x, pid))
         return pid
 
     ends = np.array([x for pts in cracks for x in (pts[0], pts[-1])]).reshape(-1, 2)
@@ -214,6 +265,8 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
         chain.append(poly[(i + 1) % n])
         for p, q in zip(chain[:-1], chain[1:]):
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=0, bc=scene.labels[i])
+    for hole in scene.holes:
+        _append_hole(geo, point, hole, center, scale)
     for k, pts in enumerate(cracks):
         if tip_h:
             pts = graded_polyline(pts, tip_h, crack_h or maxh_hint, grading_hint)
@@ -221,6 +274,33 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=1, bc=crack_bc(k),
                        maxh=crack_h if crack_h else 1e99)
     return geo
+
+
+def _append_hole(geo: SplineGeometry, point, hole, center: np.ndarray, scale: float) -> None:
+    """The hole's boundary, clockwise so that the body lies on its left (as on the outer
+    polygon, counter-clockwise): the boundary elements' outward normal is then their
+    tangent turned by -90 degrees everywhere. A circle is a ring of rational quadratic
+    splines (netgen's spline3: exact arcs), one per HOLE_ARC_SEGMENTS mesh sizes of its
+    perimeter; their points carry the hole's mesh size, so that netgen refines inside the
+    body next to the hole too, not only along its edges."""
+    h = hole.edge_h / scale
+    if hole.is_circle:
+        c = (np.asarray(hole.center, dtype=float) - center) / scale
+        r = hole.radius / scale
+        n = 4 * max(1, int(np.ceil(2 * np.pi * r / (HOLE_ARC_SEGMENTS * h) / 4)))
+        phi = -2 * np.pi / n  # clockwise
+        ends = [point(c + r * np.array([np.cos(k * phi), np.sin(k * phi)]), h) for k in range(n)]
+        rc = r / np.cos(phi / 2)  # the control point: where the end tangents meet
+        ctrl = [point(c + rc * np.array([np.cos((k + 0.5) * phi), np.sin((k + 0.5) * phi)]), h) for k in range(n)]
+        for k in range(n):
+            geo.Append(["spline3", ends[k], ctrl[k], ends[(k + 1) % n]], leftdomain=1, rightdomain=0,
+                       bc=hole.labels[0], maxh=h)
+        return
+    pts = (np.asarray(hole.polygon, dtype=float) - center) / scale
+    n = len(pts)
+    for i in range(n):  # edge i (vertex i to i+1) traversed backwards
+        geo.Append(["line", point(pts[(i + 1) % n], h), point(pts[i], h)], leftdomain=1, rightdomain=0,
+                   bc=hole.labels[i], maxh=h)
 
 
 def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int, verts: np.ndarray | None = None) -> CrackEdges:
@@ -303,23 +383,21 @@ def reuse_meshes():
 def _mesh_key(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> tuple:
     return (tuple(map(tuple, np.asarray(scene.polygon, float).tolist())), tuple(scene.labels),
             tuple(tuple(map(tuple, np.asarray(c.points, float).tolist())) for c in scene.cracks),
-            float(maxh), tip_h, crack_h, float(grading))
+            scene.holes, float(maxh), tip_h, crack_h, float(grading))
 
 
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
               crack_h: float | None = None, grading: float | None = None) -> CrackMesh:
-    """Mesh the scene with netgen; the arguments override the scene's [mesh] values.
+    """Mesh the scene with netgen; the arguments override the scene's [mesh] values, and
+    where neither gives a size the defaults of `sizing.default_mesh_sizes` apply (maxh a
+    tenth of the diameter; crack_h and tip_h from the shortest crack, graded).
 
     Warns if netgen produced a triangle of quality below MIN_QUALITY (a strong grading
     can do that); such a triangle spoils the accuracy nearby. Inside `reuse_meshes()`
     the mesh of an earlier call with the same geometry and sizes is returned.
     """
-    maxh = maxh if maxh is not None else scene.maxh
-    if maxh is None:
-        maxh = 0.1 * scene.diameter
-    tip_h = tip_h if tip_h is not None else scene.tip_h
-    crack_h = crack_h if crack_h is not None else scene.crack_h
-    grading = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
+    check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
+    maxh, tip_h, crack_h, grading = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     if not _reusing:
         return _make_mesh(scene, maxh, tip_h, crack_h, grading)
     key = _mesh_key(scene, maxh, tip_h, crack_h, grading)
@@ -347,14 +425,21 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
     # a scaled scene gets the same mesh, scaled (up to round-off)
     center, scale = normalizing_frame(scene)
     geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h, frame=(center, scale), maxh=maxh, grading=grading)
-    try:
-        ngmesh = geo.GenerateMesh(mp=MeshingParameters(maxh=maxh / scale, grading=grading))
-    except Exception as exc:  # netgen reports failures as its own exception type
-        raise ValueError(
-            f"mesh: netgen could not mesh scene {scene.name!r} with maxh={maxh:g}, tip_h={tip_h}, "
-            f"crack_h={crack_h}, grading={grading:g} ({exc}); try another maxh, a milder grading "
-            f"(larger, up to 1) or a larger crack_h/tip_h"
-        ) from exc
+    budget = MESH_TIME_BUDGET + MESH_SECONDS_PER_TRIANGLE * estimate_triangles(scene, maxh, tip_h, crack_h, grading)
+    sizes = f"maxh={maxh:g}, tip_h={tip_h}, crack_h={crack_h}, grading={grading:g}"
+    with _netgen_budget(budget) as state:
+        try:
+            ngmesh = geo.GenerateMesh(mp=MeshingParameters(maxh=maxh / scale, grading=grading))
+        except Exception as exc:  # netgen reports failures as its own exception type
+            if state["expired"]:
+                raise MeshingError(
+                    f"mesh: netgen did not finish meshing scene {scene.name!r} with {sizes} within "
+                    f"{budget:.0f} s and was stopped; try a larger maxh, tip_h or crack_h, a milder "
+                    f"grading (larger, up to 1) or fewer polygon vertices and crack points") from exc
+            raise MeshingError(
+                f"mesh: netgen could not mesh scene {scene.name!r} with {sizes} ({exc}); try another "
+                f"maxh, a milder grading (larger, up to 1) or a larger crack_h/tip_h"
+            ) from exc
     coords = ngmesh.Coordinates()
     coords[:] = coords * scale + center
     points = np.array(coords[:, :2], dtype=float)
@@ -378,68 +463,9 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
         maxh=float(maxh),
         tip_h=tip_h,
         quality=quality,
+        crack_h=crack_h,
+        grading=float(grading),
     )
-
-
-def crack_frame_cf(crack_mesh: CrackMesh):
-    """CoefficientFunctions (nu, t) equal to the crack normal and tangent on crack edges.
-
-    Both are piecewise constant along each crack segment and zero away from the cracks;
-    a point belongs to a segment when it lies within ON_EDGE_RTOL * diameter of it. Used
-    on element boundaries to tell the crack's minus side (where n = nu) from its plus side.
-    """
-    tol = ON_EDGE_RTOL * crack_mesh.diameter * 10
-    x, y = ngs.x, ngs.y
-    nu = ngs.CF((0.0, 0.0))
-    t = ngs.CF((0.0, 0.0))
-    for pts in crack_mesh.polylines:
-        for p, q in zip(pts[:-1], pts[1:]):
-            L = float(np.linalg.norm(q - p))
-            tx, ty = (q - p) / L
-            along = (x - p[0]) * tx + (y - p[1]) * ty
-            across = -(x - p[0]) * ty + (y - p[1]) * tx
-            inside = ngs.IfPos(along + tol, 1.0, 0.0) * ngs.IfPos(L + tol - along, 1.0, 0.0)
-            on = inside * ngs.IfPos(tol - ngs.sqrt(across * across), 1.0, 0.0)
-            nu = nu + on * ngs.CF((-ty, tx))
-            t = t + on * ngs.CF((tx, ty))
-    return nu, t
-
-
-
-def crack_side(crack_mesh: CrackMesh) -> np.ndarray:
-    """+1 for triangles on the + side (nu points into them) of the crack at a crack
-    vertex they touch, -1 on the - side, 0 for triangles touching no crack vertex.
-
-    Decided by the angle of the triangle's centroid around that vertex, measured from
-    the crack's forward direction, so kinks are classified exactly.
-    """
-    verts, tris = crack_mesh.points, crack_mesh.triangles
-    around: dict[int, list] = {}  # vertex -> [forward direction, backward direction]
-    for c in crack_mesh.cracks:
-        for k in range(len(c)):
-            d = c.b[k] - c.a[k]
-            around.setdefault(int(c.va[k]), [None, None])[0] = d
-            around.setdefault(int(c.vb[k]), [None, None])[1] = -d
-    side = np.zeros(len(tris))
-    touching = np.flatnonzero(np.isin(tris, list(around)).any(axis=1))
-    for el in touching:
-        nrs = list(tris[el])
-        for v in nrs:
-            if v not in around:
-                continue
-            fwd, bwd = around[v]
-            x = verts[nrs].mean(axis=0) - verts[v]
-            if fwd is None or bwd is None:  # a crack end point: one crack edge there
-                d = fwd if fwd is not None else -bwd
-                s = 1.0 if d[0] * x[1] - d[1] * x[0] > 0 else -1.0
-            else:  # the + side (left of the crack) spans the angles from fwd to bwd, ccw
-                a_f = np.arctan2(fwd[1], fwd[0])
-                span = (np.arctan2(bwd[1], bwd[0]) - a_f) % (2 * np.pi)
-                s = 1.0 if (np.arctan2(x[1], x[0]) - a_f) % (2 * np.pi) < span else -1.0
-            if side[el] not in (0.0, s):
-                raise ValueError("maxh: a triangle lies on both sides of the cracks; refine the mesh near the cracks")
-            side[el] = s
-    return side
 
 
 # ------------------------------------------------------------ refined meshes (adaptivity)

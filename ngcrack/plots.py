@@ -79,7 +79,7 @@ def plot_solution(sol, path=None, levels: int = 20):
     ax.set_title(rf"$\sigma_\nu$, $\nu$ = ({nu[0] + 0.0:.2f}, {nu[1] + 0.0:.2f}) — {sol.scene.name}, {sol.element}")
     ax = axes[1]
     corners, disp = element_displacements(sol)
-    diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
+    diam = sol.scene.diameter
     umax = float(np.max(np.linalg.norm(disp, axis=2)))
     scale = DEFORMED_FRACTION * diam / umax if umax > 0 else 0.0
     ax.add_collection(PolyCollection(corners, facecolors="none", edgecolors="0.85", linewidths=0.3))

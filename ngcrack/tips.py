@@ -214,6 +214,7 @@ def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
     tip segment and the far end of the tip segment (a kink or the crack's other end)."""
     poly = np.asarray(scene.polygon, dtype=float)
     segs = [(poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly))]
+    segs += [(np.asarray(a, float), np.asarray(b, float)) for _, a, b in scene.hole_pieces()]  # holes too
     for j, crack in enumerate(scene.cracks):
         pts = np.asarray(crack.points, dtype=float)
         pairs = list(zip(pts[:-1], pts[1:]))

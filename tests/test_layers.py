@@ -20,7 +20,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "outputs")),
     ("scene", ("scene", "scenes", "references", "sizing")),
-    ("mesh", ("geometry",)),
+    ("mesh", ("crack_sides", "geometry")),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
     ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk")),
     ("options and solution", ("options", "solution")),

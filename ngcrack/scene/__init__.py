@@ -1,7 +1,8 @@
 """Scenes: the geometry, material, loads and supports of one cracked 2D body.
 
-Domain: a simple polygon Omega (vertices listed counter-clockwise) holding zero or more
-cracks Gamma_c, each a polyline inside Omega whose end points may lie on the boundary.
+Domain: a simple polygon (vertices listed counter-clockwise), less zero or more holes
+(polygons or circles inside it), holding zero or more cracks Gamma_c, each a polyline
+inside the body whose end points may lie on the outer boundary.
 PDE (solved elsewhere): 2D linear elasticity, -div sigma = f, with unilateral
 contact on every crack, frictionless or with Coulomb friction (README, the introduction).
 
@@ -17,6 +18,7 @@ Modules, lowest first (each imports only those above it):
 ``fields``    SceneError and the coercions that name a bad field
 ``planar``    simple polylines, cracks inside the polygon and apart from each other
 ``types``     Material, BoundaryCondition, Crack and the allowed values
+``holes``     Hole: polygons and circles inside the body
 ``topology``  the parts the through cracks cut, the rigid-motion (held) check
 ``toml``      reading and writing scene files
 ``body``      the Scene itself
@@ -40,13 +42,17 @@ Geometric comparisons use the absolute tolerance ``GEOMETRY_RTOL * diameter`` wh
 
 from .body import MAX_POLYGON_VERTICES, Scene
 from .fields import FrozenMap, SceneError
+from .holes import CIRCLE_SEGMENTS, MAX_HOLES, Hole
 from .measures import Point, diameter, polygon_area
 from .topology import HELD_RANK_RTOL, Part
 from .types import (
     BOUNDARY_TYPES,
     EXACT_KINDS,
     GEOMETRY_RTOL,
+    MAX_BOUNDARY_POINTS,
     MAX_CRACK_POINTS,
+    MAX_SCALE,
+    MIN_SIZE_RTOL,
     PLANE_TYPES,
     BoundaryCondition,
     Crack,
@@ -55,15 +61,21 @@ from .types import (
 
 __all__ = [
     "BOUNDARY_TYPES",
+    "CIRCLE_SEGMENTS",
     "EXACT_KINDS",
     "GEOMETRY_RTOL",
     "HELD_RANK_RTOL",
+    "MAX_BOUNDARY_POINTS",
     "MAX_CRACK_POINTS",
+    "MAX_HOLES",
     "MAX_POLYGON_VERTICES",
+    "MAX_SCALE",
+    "MIN_SIZE_RTOL",
     "PLANE_TYPES",
     "BoundaryCondition",
     "Crack",
     "FrozenMap",
+    "Hole",
     "Material",
     "Part",
     "Point",

@@ -17,21 +17,25 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+import shapely
+
 from . import toml as _toml
 from .fields import (
     FrozenMap,
     SceneError,
     check_keys,
     fmt,
+    fmt_pt,
     pair,
     points,
     positive,
     short,
     unique,
 )
+from .holes import Hole, check_holes
 from .measures import (
     Point,
-    boundary_distance,
     diameter,
     dist,
     dot,
@@ -39,22 +43,36 @@ from .measures import (
     signed_area,
     sub,
 )
-from .planar import check_crack_in_domain, check_cracks_disjoint, check_polyline_simple
+from .planar import (
+    MIN_GAP_RTOL,
+    Walls,
+    check_crack_in_domain,
+    check_cracks_disjoint,
+    check_gaps,
+    check_polyline_simple,
+)
 from .topology import Part, check_held, parts
 from .types import (
     GEOMETRY_RTOL,
+    MAX_BOUNDARY_POINTS,
+    MAX_SCALE,
+    MIN_SIZE_RTOL,
+    RESERVED_LABEL_PREFIX,
     BoundaryCondition,
     Crack,
     Material,
     check_exact,
+    check_load,
     crack_points,
     friction_coefficient,
 )
 
 __all__ = ["MAX_POLYGON_VERTICES", "Scene"]
 
-#: The most vertices a polygon may have (validation and meshing stay fast below it).
-MAX_POLYGON_VERTICES = 2000
+
+#: The most vertices a polygon may have: validation is near-linear, netgen meshes a
+#: circle of 1500 vertices in 1.6 s and one of 4000 in 7.4 s (measured).
+MAX_POLYGON_VERTICES = 4000
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -66,6 +84,7 @@ class Scene:
 
     ``name``; ``polygon`` the vertices, counter-clockwise; ``labels`` one per edge
     (edge i runs from vertex i to vertex i+1; default ``e0, e1, ...``); ``cracks``;
+    ``holes`` (:class:`Hole`: polygons or circles inside the body, their edges labelled);
     ``material``; ``body_force`` f = (fx, fy) or None; ``boundary`` label -> condition
     (unnamed edges are traction-free); ``maxh`` global mesh size, ``crack_h`` size along
     the cracks, ``grading`` how fast sizes grow (netgen, 0.3 default) and ``tip_h`` local
@@ -78,6 +97,7 @@ class Scene:
     material: Material
     labels: tuple[str, ...] = ()
     cracks: tuple[Crack, ...] = ()
+    holes: tuple[Hole, ...] = ()
     body_force: tuple[float, float] | None = None
     boundary: Mapping[str, BoundaryCondition] = field(default_factory=FrozenMap)
     maxh: float | None = None
@@ -101,10 +121,17 @@ class Scene:
                       "a list of 3 or more vertices [[x0, y0], [x1, y1], ...], "
                       "counter-clockwise", MAX_POLYGON_VERTICES)
         set_("polygon", poly)
+        for i, p in enumerate(poly):
+            if max(abs(p[0]), abs(p[1])) > MAX_SCALE:
+                raise SceneError(f"domain.polygon[{i}] = {fmt_pt(p)}: coordinates must lie "
+                                 f"within +-{MAX_SCALE:g}")
         diam = diameter(poly)
         if diam == 0.0:
             raise SceneError("domain.polygon: all vertices coincide; give 3 or more "
                              "distinct vertices, counter-clockwise")
+        if diam < 1.0 / MAX_SCALE:
+            raise SceneError(f"domain.polygon: the body is {fmt(diam)} across; its diameter "
+                             f"must be at least {1.0 / MAX_SCALE:g}")
         self.__dict__["diameter"] = diam  # the cached property, computed once
         tol = GEOMETRY_RTOL * diam
         check_polyline_simple(poly, "domain.polygon", tol, closed=True, what="edge")
@@ -132,6 +159,10 @@ class Scene:
             if not isinstance(lab, str) or not lab:
                 raise SceneError(f"domain.labels[{i}] = {lab!r}: must be a non-empty "
                                  f"string")
+            if lab.startswith(RESERVED_LABEL_PREFIX):
+                raise SceneError(f"domain.labels[{i}] = {lab!r}: labels starting with "
+                                 f"{RESERVED_LABEL_PREFIX!r} are reserved (the mesher names the "
+                                 f"crack faces so); choose another label")
         set_("labels", tuple(labels))
 
         # material, load, mesh
@@ -139,9 +170,22 @@ class Scene:
         if self.body_force is not None:
             set_("body_force", pair(self.body_force, "load.body_force",
                                     "a list of 2 finite numbers [fx, fy]"))
+        E = self.material.E
+        if not 1.0 / MAX_SCALE <= E <= MAX_SCALE:
+            raise SceneError(f"material.E = {fmt(E)}: must lie between {1.0 / MAX_SCALE:g} and "
+                             f"{MAX_SCALE:g} (change the units)")
+        if self.body_force is not None:
+            check_load(self.body_force, diam / E, "load.body_force", "a body force times the "
+                        "diameter over E")
         for key in ("maxh", "tip_h", "crack_h"):
             if getattr(self, key) is not None:
-                set_(key, positive(getattr(self, key), f"mesh.{key}"))
+                h = positive(getattr(self, key), f"mesh.{key}")
+                if not MIN_SIZE_RTOL * diam <= h <= MAX_SCALE * diam:
+                    raise SceneError(
+                        f"mesh.{key} = {fmt(h)}: must lie between {MIN_SIZE_RTOL:g} and "
+                        f"{MAX_SCALE:g} times the body's diameter {fmt(diam)} (netgen fails, hangs "
+                        f"or crashes on smaller sizes, measured)")
+                set_(key, h)
         if self.grading is not None:
             g = positive(self.grading, "mesh.grading")
             if g > 1.0:
@@ -155,6 +199,12 @@ class Scene:
             raise SceneError(f"crack = {short(raw)}: must be a list of cracks "
                              f"([[crack]] tables with points = [[x, y], ...] and "
                              f"optionally friction = mu)")
+        outer = Walls([(poly, self.labels, "domain.polygon")])
+        holes = check_holes(self.holes, outer, diam, tol)
+        set_("holes", holes)
+        walls = Walls([(poly, self.labels, "domain.polygon")]
+                      + [(h.loop(), h.edge_labels(), f"hole[{k}]") for k, h in enumerate(holes)])
+        self.__dict__["_walls"] = outer  # the cache of the outer boundary (on_boundary)
         cracks = []
         for i, c in enumerate(raw):
             fld = f"crack[{i}]"
@@ -168,10 +218,24 @@ class Scene:
                 mu = friction_coefficient(pts_raw.get("friction", 0.0), f"{fld}.friction")
                 pts_raw = pts_raw["points"]
             pts = crack_points(pts_raw, fld, tol)
-            check_crack_in_domain(poly, self.labels, pts, fld, tol)
-            for j, other in enumerate(cracks):
-                check_cracks_disjoint(pts, other.points, i, j, tol)
+            check_crack_in_domain(walls, pts, fld, tol)
+            if holes:
+                ends = np.array([pts[0], pts[-1]])
+                for k, d, e in zip((0, len(pts) - 1), walls.distance(ends), walls.nearest_edge(ends)):
+                    if d <= tol and walls.owner[e][0] > 0:
+                        raise SceneError(
+                            f"{fld}.points[{k}] = {fmt_pt(pts[k])} lies on hole[{walls.owner[e][0] - 1}]; "
+                            f"a crack may not touch a hole (end it inside the body, at least "
+                            f"{fmt(MIN_GAP_RTOL * diam)} away)")
             cracks.append(c if isinstance(c, Crack) else Crack(pts, mu))
+        total = (len(poly) + sum(len(h.polygon) for h in holes if not h.is_circle)
+                 + 2 * sum(len(c.points) for c in cracks))
+        if total > MAX_BOUNDARY_POINTS:
+            raise SceneError(f"crack: {total} boundary points (polygon vertices plus twice the crack "
+                             f"points); at most {MAX_BOUNDARY_POINTS} are allowed (a documented "
+                             f"ceiling that keeps meshing within seconds); simplify the polylines")
+        check_cracks_disjoint([c.points for c in cracks], tol)
+        check_gaps(walls, [c.points for c in cracks], diam, tol)
         set_("cracks", tuple(cracks))
 
         # boundary
@@ -179,13 +243,18 @@ class Scene:
         if not isinstance(bnd, Mapping):
             raise SceneError(f"boundary = {short(bnd)}: must be a table of "
                              f"[boundary.<label>] tables")
-        allowed = unique(self.labels)
+        allowed = self.boundary_labels
         conds = {}
         for lab, cond in bnd.items():
             if lab not in allowed:
                 raise SceneError(f"boundary.{lab}: unknown edge label; allowed labels: "
                                  f"{', '.join(allowed)}")
-            conds[lab] = BoundaryCondition.from_dict(cond, f"boundary.{lab}")
+            bc = conds[lab] = BoundaryCondition.from_dict(cond, f"boundary.{lab}")
+            if bc.type == "traction":
+                check_load(bc.value, 1.0 / E, f"boundary.{lab}.value", "a traction over E")
+            elif bc.type == "displacement":
+                check_load(bc.value, 1.0 / diam, f"boundary.{lab}.value",
+                            "a displacement over the diameter")
         set_("boundary", FrozenMap(conds))
 
         # exact
@@ -194,7 +263,38 @@ class Scene:
 
         self.check_held()
 
+    def __getstate__(self) -> dict[str, Any]:
+        """The fields only: the caches (diameter, walls, parts) are rebuilt on demand, so a
+        pickled scene (sent to a sweep's worker) stays small."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
     # ---------------------------------------------------------------- geometry
+    @property
+    def boundary_labels(self) -> list[str]:
+        """The distinct labels of the domain's edges and of the holes' edges, in order."""
+        return unique(list(self.labels) + [lab for h in self.holes for lab in h.labels])
+
+    def region(self) -> shapely.Polygon:
+        """The body as a shapely Polygon: the domain with the holes cut out (a circle as
+        its inscribed polygon of CIRCLE_SEGMENTS sides). Cracks are not part of it."""
+        return shapely.Polygon(self.polygon, [h.loop() for h in self.holes])
+
+    @property
+    def area(self) -> float:
+        """The body's area: the polygon's less the holes' (a circle's exactly)."""
+        return signed_area(self.polygon) - sum(h.area for h in self.holes)
+
+    def hole_pieces(self, circle_segments: int | None = None) -> list[tuple[str, Point, Point]]:
+        """The holes' edges ``(label, p, q)`` oriented with the body on their left (so
+        clockwise around each hole); a circle as its inscribed polygon of
+        ``circle_segments`` sides (default CIRCLE_SEGMENTS)."""
+        out = []
+        for h in self.holes:
+            loop, labels = h.loop(circle_segments), h.edge_labels(circle_segments)
+            n = len(loop)
+            out += [(labels[i], loop[(i + 1) % n], loop[i]) for i in range(n)]
+        return out
+
     @functools.cached_property
     def diameter(self) -> float:
         """Largest distance between two polygon vertices (computed once)."""
@@ -211,9 +311,15 @@ class Scene:
         return [(self.labels[i], self.polygon[i], self.polygon[(i + 1) % n])
                 for i in range(n)]
 
+    @functools.cached_property
+    def _walls(self) -> Walls:
+        """The outer polygon's edges, indexed (holes are not in it)."""
+        return Walls([(self.polygon, self.labels, "domain.polygon")])
+
     def on_boundary(self, x: Sequence[float]) -> bool:
-        """True if ``x`` lies on the polygon's boundary (within :attr:`tol`)."""
-        return boundary_distance((float(x[0]), float(x[1])), self.polygon) <= self.tol
+        """True if ``x`` lies on the outer polygon's boundary (within :attr:`tol`); a hole's
+        edges do not count (no crack may touch a hole)."""
+        return bool(self._walls.distance(np.array([[float(x[0]), float(x[1])]]))[0] <= self.tol)
 
     def crack_end_on_boundary(self, i: int) -> tuple[bool, bool]:
         """Whether the first and the last point of crack ``i`` lie on the boundary."""
@@ -295,7 +401,7 @@ class Scene:
     def with_(self, **changes: Any) -> Scene:
         """A new, validated scene with some fields replaced.
 
-        Accepts any field (``name``, ``polygon``, ``labels``, ``cracks``, ``material``,
+        Accepts any field (``name``, ``polygon``, ``labels``, ``cracks``, ``holes``, ``material``,
         ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``)
         and the material's ``E``, ``nu``, ``plane``. ``boundary`` replaces the whole
         mapping (label -> BoundaryCondition or {"type": ..., "value": ...}).
@@ -342,6 +448,7 @@ class Scene:
             E=self.material.E * E,
             polygon=tuple((x * size, y * size) for x, y in self.polygon),
             cracks=tuple(c.scaled(size) for c in self.cracks),
+            holes=tuple(h.scaled(size) for h in self.holes),
             body_force=bf, boundary=boundary,
             **{k: getattr(self, k) * size for k in ("maxh", "tip_h", "crack_h") if getattr(self, k)},
         )

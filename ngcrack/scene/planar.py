@@ -1,26 +1,58 @@
 """Planar checks of a scene's polylines: simple, inside the body, apart from each other.
 
-A polygon must be simple, a crack must not touch itself, lie inside the polygon (its end
-points may lie on the boundary) and keep clear of every other crack. Each check refuses
-with a :class:`SceneError` naming the field, the segments and the points involved. The
-predicates and distances are shapely's, with the absolute tolerance ``tol`` the caller
-derives from the polygon's diameter (``GEOMETRY_RTOL * diameter``).
+A polygon must be simple, a crack must not touch itself, lie inside the body (its end
+points may lie on the boundary) and keep clear of every other crack; no part of the body
+may be thinner than the mesher can resolve. Each check refuses with a :class:`SceneError`
+naming the field, the segments and the points involved. The predicates and distances
+are shapely's; every search goes through a spatial index (shapely's STRtree), so the
+checks cost about O(n log n) in the number of vertices, not O(n^2).
+
+Tolerances: ``tol`` (``GEOMETRY_RTOL * diameter``) decides "the same point", "on the
+boundary", "touches"; the gap check uses the coarser ``MIN_GAP_RTOL * diameter``.
 """
 
 from __future__ import annotations
 
+import heapq
+import itertools
 from collections.abc import Sequence
 
-from .fields import SceneError, fmt_pt
-from .measures import (
-    Point,
-    boundary_distance,
-    dist,
-    inside,
-    mid,
-    point_segment_distance,
-    segment_distance,
-)
+import numpy as np
+import shapely
+
+from .fields import SceneError, fmt, fmt_pt
+from .measures import Point, dist
+
+#: Narrowest gap of the body, relative to its diameter, that is accepted: two boundary
+#: or crack pieces closer than ``MIN_GAP_RTOL * diameter`` (a needle spike, a crack
+#: hugging an edge, two cracks nearly touching) are refused. Measured with netgen on
+#: the default mesh sizes: a spike 5e-4 wide meshes, one 2e-4 wide fails and one 1e-5
+#: wide hangs; a crack 1e-5 above an edge fails, 1e-6 hangs; two collinear cracks 1e-4
+#: apart fail, 1e-7 apart are merged into one (two tips vanish).
+MIN_GAP_RTOL = 1e-3
+#: A gap counts as thin only where the way round along the walls between its two sides
+#: is longer than ``GAP_PATH_FACTOR`` times its width: so a short edge, or a corner
+#: sharper than ``asin(1 / GAP_PATH_FACTOR)`` (5.7 degrees) only near its vertex, is not one.
+GAP_PATH_FACTOR = 10.0
+
+
+def _segments(pts: Sequence[Point], closed: bool) -> tuple[np.ndarray, np.ndarray]:
+    P = np.asarray(pts, dtype=float).reshape(-1, 2)
+    m = len(P) if closed else len(P) - 1
+    return P[:m], P[(np.arange(m) + 1) % len(P)]
+
+
+def _lines(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    return shapely.linestrings(np.stack([A, B], axis=1))
+
+
+def _pairs_within(tree: shapely.STRtree, geoms, distance: float) -> np.ndarray:
+    """(k, 2) index pairs (input, tree) of geometries within ``distance``, sorted."""
+    hits = tree.query(geoms, predicate="dwithin", distance=distance)
+    if hits.size == 0:
+        return np.zeros((0, 2), dtype=int)
+    hits = hits.T
+    return hits[np.lexsort((hits[:, 1], hits[:, 0]))]
 
 
 def check_polyline_simple(pts: Sequence[Point], fld: str, tol: float, closed: bool,
@@ -28,93 +60,313 @@ def check_polyline_simple(pts: Sequence[Point], fld: str, tol: float, closed: bo
     """Refuse zero-length segments, back-tracking adjacent segments and any contact
     between non-adjacent segments."""
     n = len(pts)
-    m = n if closed else n - 1
-    segs = [(pts[i], pts[(i + 1) % n]) for i in range(m)]
-    for i, (p, q) in enumerate(segs):
-        if dist(p, q) <= tol:
-            j = (i + 1) % n
+    A, B = _segments(pts, closed)
+    m = len(A)
+    lengths = np.hypot(*(B - A).T)
+    short = np.flatnonzero(lengths <= tol)
+    if short.size:
+        i = int(short[0])
+        j = (i + 1) % n
+        raise SceneError(
+            f"{fld}: {what} {i} from point {i} {fmt_pt(pts[i])} to point {j} {fmt_pt(pts[j])} "
+            f"has zero length; consecutive points must differ"
+            + ("; do not repeat the first vertex at the end (the polygon closes "
+               "itself)" if closed and j == 0 else ""))
+    lines = _lines(A, B)
+    for i, j in _pairs_within(shapely.STRtree(lines), lines, tol):
+        if j <= i:
+            continue
+        adjacent = j == i + 1 or (closed and i == 0 and j == m - 1)
+        if adjacent:
+            # shared point: p2 == q1 (or q2 == p1 when closing the loop); the two
+            # segments may only meet there, so neither far end may touch the other
+            far_a, far_b = (A[i], B[j]) if j == i + 1 else (B[i], A[j])
+            bad = (shapely.distance(shapely.Point(far_a), lines[j]) <= tol
+                   or shapely.distance(shapely.Point(far_b), lines[i]) <= tol)
+        else:
+            bad = True
+        if bad:
+            rule = ("the polygon must be simple" if closed
+                    else "a crack must not cross or touch itself")
             raise SceneError(
-                f"{fld}: {what} {i} from point {i} {fmt_pt(p)} to point {j} {fmt_pt(q)} "
-                f"has zero length; consecutive points must differ"
-                + ("; do not repeat the first vertex at the end (the polygon closes "
-                   "itself)" if closed and j == 0 else ""))
-    for i in range(m):
-        for j in range(i + 1, m):
-            adjacent = j == i + 1 or (closed and i == 0 and j == m - 1)
-            (p1, p2), (q1, q2) = segs[i], segs[j]
-            if adjacent:
-                # shared point: p2 == q1 (or q2 == p1 when closing the loop); the two
-                # segments may only meet there, so neither far end may touch the other
-                if j == i + 1:
-                    far_a, far_b = p1, q2
-                else:
-                    far_a, far_b = p2, q1
-                bad = (point_segment_distance(far_a, q1, q2) <= tol
-                       or point_segment_distance(far_b, p1, p2) <= tol)
-            else:
-                bad = segment_distance(p1, p2, q1, q2) <= tol
-            if bad:
-                rule = ("the polygon must be simple" if closed
-                        else "a crack must not cross or touch itself")
-                raise SceneError(
-                    f"{fld}: {what}s {i} {fmt_pt(p1)}-{fmt_pt(p2)} and {j} "
-                    f"{fmt_pt(q1)}-{fmt_pt(q2)} cross, touch or overlap; {rule}")
+                f"{fld}: {what}s {i} {fmt_pt(A[i])}-{fmt_pt(B[i])} and {j} "
+                f"{fmt_pt(A[j])}-{fmt_pt(B[j])} cross, touch or overlap; {rule}")
 
 
-def check_crack_in_domain(poly: Sequence[Point], labels: Sequence[str], pts: Sequence[Point],
-                          fld: str, tol: float) -> None:
-    """Refuse a crack that leaves the polygon, runs along or crosses an edge, or touches
+class Walls:
+    """The body's boundary loops, indexed: the outer polygon and any holes.
+
+    ``loops`` is a list of ``(points, labels, field)``, the first the outer polygon
+    (counter-clockwise), the others holes; ``field`` names the loop in messages
+    (``domain.polygon``, ``hole[0]``). Holds every edge in an STRtree and the region
+    (the outer polygon minus the holes) prepared for point-in-region tests.
+    """
+
+    def __init__(self, loops: Sequence[tuple[Sequence[Point], Sequence[str], str]]) -> None:
+        self.loops = [(tuple(map(tuple, p)), tuple(lab), f) for p, lab, f in loops]
+        A, B, owner = [], [], []
+        for li, (pts, _, _) in enumerate(self.loops):
+            a, b = _segments(pts, closed=True)
+            A.append(a)
+            B.append(b)
+            owner += [(li, e) for e in range(len(a))]
+        self.A, self.B = np.concatenate(A), np.concatenate(B)
+        self.owner = owner
+        self.lines = _lines(self.A, self.B)
+        self.tree = shapely.STRtree(self.lines)
+        outer, *holes = [pts for pts, _, _ in self.loops]
+        self.region = shapely.Polygon(outer, holes)
+        shapely.prepare(self.region)
+
+    def edge_name(self, k: int) -> str:
+        li, e = self.owner[k]
+        _, labels, fld = self.loops[li]
+        return f"edge {e} {labels[e]!r} of {fld}"
+
+    def distance(self, P: np.ndarray) -> np.ndarray:
+        """Distance of each point (k, 2) to the nearest boundary edge."""
+        P = np.asarray(P, dtype=float).reshape(-1, 2)
+        _, d = self.tree.query_nearest(shapely.points(P), return_distance=True, all_matches=False)
+        return d
+
+    def nearest_edge(self, P: np.ndarray) -> np.ndarray:
+        """Index (into the edges) of the boundary edge nearest to each point."""
+        idx = self.tree.query_nearest(shapely.points(np.asarray(P, float).reshape(-1, 2)),
+                                      all_matches=False)
+        return idx[1]
+
+    def inside(self, P: np.ndarray) -> np.ndarray:
+        """True where a point lies strictly inside the region (not on its boundary)."""
+        P = np.asarray(P, dtype=float).reshape(-1, 2)
+        return shapely.contains_xy(self.region, P[:, 0], P[:, 1])
+
+
+def check_crack_in_domain(walls: Walls, pts: Sequence[Point], fld: str, tol: float) -> None:
+    """Refuse a crack that leaves the body, runs along or crosses an edge, or touches
     the boundary anywhere but at its first or last point."""
-    n = len(poly)
-    last = len(pts) - 1
-    for k, p in enumerate(pts):
-        d = boundary_distance(p, poly)
-        on = d <= tol
-        if not on and not inside(p, poly):
+    P = np.asarray(pts, dtype=float)
+    last = len(P) - 1
+    d = walls.distance(P)
+    on = d <= tol
+    ins = walls.inside(P)
+    where_body = walls.loops[0][2] if len(walls.loops) == 1 else "the body"
+    body = "the polygon" if len(walls.loops) == 1 else "the body (outside every hole)"
+    for k in np.flatnonzero((~on & ~ins) | (on & (np.arange(len(P)) > 0) & (np.arange(len(P)) < last))):
+        p = pts[k]
+        if not on[k]:
             raise SceneError(
-                f"{fld}.points[{k}] = {fmt_pt(p)} lies outside domain.polygon; every "
-                f"crack point must lie inside the polygon (end points may lie on its "
+                f"{fld}.points[{k}] = {fmt_pt(p)} lies outside {where_body}; every "
+                f"crack point must lie inside {body} (end points may lie on its "
                 f"boundary)")
-        if on and 0 < k < last:
-            raise SceneError(
-                f"{fld}.points[{k}] = {fmt_pt(p)} lies on the boundary of "
-                f"domain.polygon; only a crack's first and last points may lie on the "
-                f"boundary, interior points must lie strictly inside")
-    ends_on = {k: boundary_distance(pts[k], poly) <= tol for k in (0, last)}
-    for s in range(last):
-        a, b = pts[s], pts[s + 1]
+        raise SceneError(
+            f"{fld}.points[{k}] = {fmt_pt(p)} lies on the boundary of {where_body}; "
+            f"only a crack's first and last points may lie on the boundary, interior "
+            f"points must lie strictly inside")
+    ends_on = [P[k] for k in (0, last) if on[k]]
+    A, B = _segments(pts, closed=False)
+    lines = _lines(A, B)
+    M = 0.5 * (A + B)
+    bad_mid = (walls.distance(M) <= tol) | ~walls.inside(M)
+    pairs = _pairs_within(walls.tree, lines, tol)
+    rule = (f"a crack must lie inside {body} and may touch its boundary only at its "
+            "first or last point")
+    for s in sorted(set(pairs[:, 0].tolist()) | set(np.flatnonzero(bad_mid).tolist())):
+        a, b = A[s], B[s]
         where = f"{fld}.points: segment {s} from {fmt_pt(a)} to {fmt_pt(b)}"
-        rule = ("a crack must lie inside the polygon and may touch its boundary only "
-                "at its first or last point")
-        for e in range(n):
-            c, d = poly[e], poly[(e + 1) % n]
-            if segment_distance(a, b, c, d) > tol:
-                continue
-            edge = f"edge {e} {labels[e]!r} of domain.polygon"
-            contacts = [x for x in (a, b) if point_segment_distance(x, c, d) <= tol]
-            contacts += [x for x in (c, d) if point_segment_distance(x, a, b) <= tol]
+        for e in pairs[pairs[:, 0] == s, 1]:
+            c, dd = walls.A[e], walls.B[e]
+            edge = walls.edge_name(e)
+            contacts = [x for x in (a, b) if shapely.distance(shapely.Point(x), walls.lines[e]) <= tol]
+            contacts += [x for x in (c, dd) if shapely.distance(shapely.Point(x), lines[s]) <= tol]
             if not contacts:
                 raise SceneError(f"{where} crosses {edge}; {rule}")
             if max(dist(x, y) for x in contacts for y in contacts) > tol:
                 raise SceneError(f"{where} runs along {edge}; {rule}")
             x = contacts[0]
-            allowed = [pts[k] for k in (0, last) if ends_on[k]]
-            if not any(dist(x, y) <= tol for y in allowed):
+            if not any(dist(x, y) <= tol for y in ends_on):
                 raise SceneError(f"{where} touches {edge} at {fmt_pt(x)}; {rule}")
-        m = mid(a, b)
-        if boundary_distance(m, poly) <= tol or not inside(m, poly):
+        if bad_mid[s]:
             raise SceneError(f"{where} leaves the domain (its midpoint "
-                             f"{fmt_pt(m)} is not inside domain.polygon); {rule}")
+                             f"{fmt_pt(M[s])} is not inside {where_body}); {rule}")
 
 
-def check_cracks_disjoint(pts: Sequence[Point], other: Sequence[Point], i: int, j: int,
-                          tol: float) -> None:
-    """Refuse crack ``i`` (points ``pts``) touching crack ``j`` (points ``other``)."""
-    for s in range(len(pts) - 1):
-        for r in range(len(other) - 1):
-            if segment_distance(pts[s], pts[s + 1], other[r], other[r + 1]) <= tol:
-                raise SceneError(
-                    f"crack[{i}].points: segment {s} {fmt_pt(pts[s])}-"
-                    f"{fmt_pt(pts[s + 1])} crosses or touches crack[{j}] (segment "
-                    f"{r}); cracks must be disjoint (join them into one polyline "
-                    f"or move them apart)")
+def check_cracks_disjoint(cracks: Sequence[Sequence[Point]], tol: float) -> None:
+    """Refuse two cracks that cross or touch (the later one is named)."""
+    if len(cracks) < 2:
+        return
+    segs = [_segments(c, closed=False) for c in cracks]
+    owner = np.concatenate([np.full(len(a), i) for i, (a, _) in enumerate(segs)])
+    local = np.concatenate([np.arange(len(a)) for a, _ in segs])
+    A = np.concatenate([a for a, _ in segs])
+    B = np.concatenate([b for _, b in segs])
+    lines = _lines(A, B)
+    pairs = _pairs_within(shapely.STRtree(lines), lines, tol)
+    pairs = pairs[owner[pairs[:, 0]] > owner[pairs[:, 1]]]
+    if not len(pairs):
+        return
+    key = np.lexsort((local[pairs[:, 1]], local[pairs[:, 0]], owner[pairs[:, 1]], owner[pairs[:, 0]]))
+    u, v = pairs[key[0]]
+    i, s, j, r = owner[u], local[u], owner[v], local[v]
+    raise SceneError(
+        f"crack[{i}].points: segment {s} {fmt_pt(A[u])}-{fmt_pt(B[u])} crosses or touches "
+        f"crack[{j}] (segment {r}); cracks must be disjoint (join them into one polyline "
+        f"or move them apart)")
+
+
+# --------------------------------------------------------------------------------------
+# gaps thinner than the mesher resolves
+# --------------------------------------------------------------------------------------
+
+
+def check_gaps(walls: Walls, cracks: Sequence[Sequence[Point]], diameter: float, tol: float) -> None:
+    """Refuse a part of the body narrower than ``MIN_GAP_RTOL * diameter``.
+
+    The walls are the boundary loops and the cracks, joined where a crack end lies on
+    the boundary. The narrowest gap between two walls is attained at a vertex of one of
+    them, so every vertex is measured against every wall segment near it (an STRtree
+    query); a short distance counts as a gap when the way round along the walls from the
+    vertex to the nearest point is more than ``GAP_PATH_FACTOR`` times longer.
+    """
+    g = MIN_GAP_RTOL * diameter
+    # the graph of walls: nodes (points), edges (segments) with an owner for messages
+    nodes: list[Point] = []
+    names: list[str] = []
+    node_field: list[str] = []
+    loop_nodes: list[list[int]] = []
+    for pts, _, fld in walls.loops:
+        loop_nodes.append(list(range(len(nodes), len(nodes) + len(pts))))
+        nodes += [tuple(map(float, p)) for p in pts]
+        names += [f"vertex {k} {fmt_pt(p)} of {fld}" for k, p in enumerate(pts)]
+        node_field += [fld] * len(pts)
+    crack_nodes: list[list[int]] = []
+    inserted: dict[int, list[tuple[float, int]]] = {}  # wall edge -> (parameter, node)
+    for i, pts in enumerate(cracks):
+        ids = []
+        for k, p in enumerate(pts):
+            p = tuple(map(float, p))
+            nid = None
+            if k in (0, len(pts) - 1) and walls.distance(np.array([p]))[0] <= tol:
+                e = int(walls.nearest_edge(np.array([p]))[0])
+                li, ei = walls.owner[e]
+                ln = loop_nodes[li]
+                for q in (ln[ei], ln[(ei + 1) % len(ln)]):
+                    if dist(p, nodes[q]) <= tol:
+                        nid = q
+                if nid is None:
+                    nid = len(nodes)
+                    a, b = walls.A[e], walls.B[e]
+                    t = float(np.dot(np.subtract(p, a), b - a) / np.dot(b - a, b - a))
+                    inserted.setdefault(e, []).append((t, nid))
+            if nid is None:
+                nid = len(nodes)
+            if nid == len(nodes):
+                nodes.append(p)
+                names.append(f"crack[{i}].points[{k}] {fmt_pt(p)}")
+                node_field.append(f"crack[{i}]")
+            ids.append(nid)
+        crack_nodes.append(ids)
+    segs: list[tuple[int, int, str, str]] = []  # (node, node, name, field)
+    chains: list[tuple[list[int], bool]] = []  # node sequences along each wall, closed or not
+    seg_chain: list[int] = []
+    for li in range(len(walls.loops)):
+        seq: list[int] = []
+        for e in (e for e, (lj, _) in enumerate(walls.owner) if lj == li):
+            ei = walls.owner[e][1]
+            ln = loop_nodes[li]
+            chain = [ln[ei]] + [nid for _, nid in sorted(inserted.get(e, []))] + [ln[(ei + 1) % len(ln)]]
+            segs += [(a, b, walls.edge_name(e), walls.loops[li][2]) for a, b in itertools.pairwise(chain)]
+            seq += chain[:-1]
+        seg_chain += [len(chains)] * len(seq)
+        chains.append((seq, True))
+    for i, ids in enumerate(crack_nodes):
+        segs += [(a, b, f"segment {s} of crack[{i}]", f"crack[{i}]")
+                 for s, (a, b) in enumerate(itertools.pairwise(ids))]
+        seg_chain += [len(chains)] * (len(ids) - 1)
+        chains.append((ids, False))
+    X = np.asarray(nodes, dtype=float)
+    SA, SB = np.array([s[0] for s in segs]), np.array([s[1] for s in segs])
+    seg_len = np.hypot(*(X[SB] - X[SA]).T)
+    # arc length of every node along each chain it belongs to, and each chain's length
+    pos: dict[tuple[int, int], float] = {}
+    seg_s0 = np.zeros(len(segs))
+    perimeter = []
+    k = 0
+    for c, (seq, closed) in enumerate(chains):
+        m = len(seq) if closed else len(seq) - 1
+        s_nodes = np.concatenate([[0.0], np.cumsum(seg_len[k:k + m])])
+        for j, nid in enumerate(seq):
+            pos.setdefault((nid, c), float(s_nodes[j]))
+        seg_s0[k:k + m] = s_nodes[:m]
+        perimeter.append(float(s_nodes[-1]) if closed else np.inf)
+        k += m
+    adjacency: list[list[tuple[int, float]]] = [[] for _ in nodes]
+    for (a, b, _, _), L in zip(segs, seg_len):
+        adjacency[a].append((b, float(L)))
+        adjacency[b].append((a, float(L)))
+    lines = _lines(X[SA], X[SB])
+    pts = shapely.points(X)
+    hits = _pairs_within(shapely.STRtree(lines), pts, g)
+    hits = hits[(SA[hits[:, 1]] != hits[:, 0]) & (SB[hits[:, 1]] != hits[:, 0])]
+    if not len(hits):
+        return
+    d = shapely.distance(pts[hits[:, 0]], lines[hits[:, 1]])
+    loc = shapely.line_locate_point(lines[hits[:, 1]], pts[hits[:, 0]])
+    # the way round along the one wall both sides belong to, where they do: short enough
+    # there, the pair is a corner or a short edge, not a gap
+    near = np.zeros(len(hits), dtype=bool)
+    for k, (v, s) in enumerate(hits):
+        c = seg_chain[s]
+        sv = pos.get((int(v), c))
+        if sv is not None:
+            delta = abs(sv - (seg_s0[s] + loc[k]))
+            delta = min(delta, perimeter[c] - delta)
+            near[k] = delta <= GAP_PATH_FACTOR * max(d[k], tol)
+    hits, d = hits[~near], d[~near]
+    worst = None
+    for k in np.argsort(d, kind="stable"):
+        v, s = (int(x) for x in hits[k])
+        width = float(d[k])
+        if width >= g:
+            break
+        x = shapely.line_interpolate_point(lines[s], shapely.line_locate_point(lines[s], pts[v]))
+        xp = (x.x, x.y)
+        limit = GAP_PATH_FACTOR * max(width, tol)
+        around = _path_length(adjacency, nodes, v, int(SA[s]), int(SB[s]), xp, limit)
+        if around > limit:
+            worst = (width, v, s, xp)
+            break
+    if worst is None:
+        return
+    width, v, s, xp = worst
+    where = fmt_pt(((nodes[v][0] + xp[0]) / 2, (nodes[v][1] + xp[1]) / 2))
+    f_node, f_seg = node_field[v], segs[s][3]
+    cracks_only = f_node.startswith("crack[") and f_seg.startswith("crack[") and f_node != f_seg
+    fld = f_node if f_node.startswith("crack[") else f_seg
+    advice = ("the mesher would merge them (the tips between them would vanish); join them into "
+              f"one polyline or move them at least {fmt(g)} apart" if cracks_only
+              else f"netgen cannot mesh it (measured); widen it to at least {fmt(g)} or remove it")
+    raise SceneError(
+        f"{fld}: the body is only {fmt(width)} wide at {where}, between {names[v]} and {segs[s][2]}; "
+        f"parts narrower than {MIN_GAP_RTOL:g} of the body's diameter ({fmt(g)}) are refused: {advice}")
+
+
+def _path_length(adjacency, nodes, start: int, a: int, b: int, x: Point, limit: float) -> float:
+    """The shortest way along the walls from node ``start`` to the point ``x`` of the
+    segment a-b, searched up to ``limit`` (inf beyond it)."""
+    best = {start: 0.0}
+    heap = [(0.0, start)]
+    out = np.inf
+    while heap:
+        du, u = heapq.heappop(heap)
+        if du > limit or du > out:
+            break
+        if du > best.get(u, np.inf):
+            continue
+        if u in (a, b):
+            out = min(out, du + dist(nodes[u], x))
+        for w, L in adjacency[u]:
+            dw = du + L
+            if dw < best.get(w, np.inf) and dw <= limit:
+                best[w] = dw
+                heapq.heappush(heap, (dw, w))
+    return out

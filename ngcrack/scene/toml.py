@@ -25,7 +25,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib  # type: ignore[no-redef]
 
 #: the top-level keys of a scene file
-TOP_KEYS = ("name", "description", "domain", "crack", "material", "load", "boundary",
+TOP_KEYS = ("name", "description", "domain", "crack", "hole", "material", "load", "boundary",
             "mesh", "exact")
 #: the keys of its [mesh] table
 MESH_KEYS = ("maxh", "tip_h", "crack_h", "grading")
@@ -53,6 +53,10 @@ def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
         if not isinstance(c, Mapping):
             raise SceneError(f"crack[{i}] = {short(c)}: must be a table with key "
                              f"points ([[crack]] in TOML)")
+    holes = d.get("hole", [])
+    if isinstance(holes, (Mapping, str, bytes)) or not isinstance(holes, Sequence):
+        raise SceneError(f"hole = {short(holes)}: must be an array of tables ([[hole]] with "
+                         f"polygon = [[x, y], ...] or center = [x, y] and radius = r)")
     if "material" not in d:
         raise SceneError("material: missing; give a [material] table with E, nu and "
                          "optionally plane")
@@ -67,6 +71,7 @@ def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
         polygon=domain["polygon"],
         labels=domain.get("labels", ()),
         cracks=tuple(cracks),
+        holes=tuple(holes),
         material=d["material"],
         body_force=load.get("body_force"),
         boundary=boundary,
@@ -101,6 +106,8 @@ def scene_to_dict(scene) -> dict[str, Any]:
     d["domain"] = {"polygon": [list(p) for p in scene.polygon], "labels": list(scene.labels)}
     if scene.cracks:
         d["crack"] = [c.to_dict() for c in scene.cracks]
+    if scene.holes:
+        d["hole"] = [h.to_dict() for h in scene.holes]
     d["material"] = scene.material.to_dict()
     if scene.body_force is not None:
         d["load"] = {"body_force": list(scene.body_force)}

@@ -16,8 +16,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import shapely
 
-from .fields import SceneError, fmt_pt, unique
+from .fields import SceneError, fmt, fmt_pt, unique
 from .measures import (
     Point,
     boundary_distance,
@@ -48,7 +49,9 @@ class Part:
     ``pieces``: its pieces of the outer boundary, ``(label, p, q)``, counter-clockwise.
     ``crack_faces``: ``(crack index, p, q)`` for each crack segment on its boundary, in
     the loop's direction. ``cracks``: indices of the cracks inside or bounding it.
-    ``point``: a point strictly inside it (used to name it in messages).
+    ``point``: a point strictly inside it (used to name it in messages). ``holes``: the
+    indices of the holes inside it; a polygonal hole's edges are among ``pieces``, oriented
+    with the part on their left (clockwise around the hole).
     """
 
     loop: tuple[Point, ...]
@@ -56,6 +59,8 @@ class Part:
     crack_faces: tuple[tuple[int, Point, Point], ...]
     cracks: tuple[int, ...]
     point: Point
+    hole_loops: tuple[tuple[Point, ...], ...] = ()
+    holes: tuple[int, ...] = ()
 
     @property
     def labels(self) -> tuple[str, ...]:
@@ -70,7 +75,8 @@ class Part:
         """True if ``x`` lies strictly inside (points on the loop are not inside)."""
         p = (float(x[0]), float(x[1]))
         tol = GEOMETRY_RTOL * diameter(self.loop)
-        return boundary_distance(p, self.loop) > tol and inside(p, self.loop)
+        return (boundary_distance(p, self.loop) > tol and inside(p, self.loop)
+                and not any(boundary_distance(p, h) <= tol or inside(p, h) for h in self.hole_loops))
 
 
 def _insert_on_loop(V: list[Point], T: list[Any], x: Point, tol: float) -> int:
@@ -134,8 +140,19 @@ def parts(scene) -> tuple[Part, ...]:
         for i, crack in enumerate(scene.cracks):
             if i not in through and inside(mid(crack.points[0], crack.points[1]), V):
                 ids.append(i)
+        holes = [k for k, h in enumerate(scene.holes) if inside(h.loop()[0], V)]
+        hole_loops = tuple(scene.holes[k].loop() for k in holes)
+        for k in holes:  # a polygonal hole's edges; circles are held by their own rows
+            if not scene.holes[k].is_circle:
+                loop, labels = scene.holes[k].loop(), scene.holes[k].edge_labels()
+                pieces += [(labels[i], loop[(i + 1) % len(loop)], loop[i]) for i in range(len(loop))]
+        point = interior_point(V)
+        if hole_loops:
+            region = shapely.Polygon(V, hole_loops).representative_point()
+            point = (region.x, region.y)
         out.append(Part(loop=tuple(V), pieces=tuple(pieces), crack_faces=tuple(faces),
-                        cracks=tuple(sorted(set(ids))), point=interior_point(V)))
+                        cracks=tuple(sorted(set(ids))), point=point, hole_loops=hole_loops,
+                        holes=tuple(holes)))
     return tuple(out)
 
 
@@ -160,20 +177,33 @@ def check_held(scene) -> None:
     L, tol = scene.diameter, scene.tol
     for part in scene.parts():
         c = part.point
-        rows, rollers = [], []
+        rows: list[list[float]] = []
+        held: dict[tuple[str, str], float] = {}  # (type, label) -> total length
         for lab, p, q in part.pieces:
             cond = scene.boundary.get(lab)
             length = dist(p, q)
             if cond is None or cond.holds == "none" or length <= tol:
                 continue
             n_out = ((q[1] - p[1]) / length, -(q[0] - p[0]) / length)
-            if cond.holds == "normal":
-                rollers.append(lab)
+            held[(cond.type, lab)] = held.get((cond.type, lab), 0.0) + length
             for x in (p, q):
                 X, Y = (x[0] - c[0]) / L, (x[1] - c[1]) / L
                 if cond.holds == "all":
                     rows += [[1.0, 0.0, -Y], [0.0, 1.0, X]]
                 else:
+                    rows.append([n_out[0], n_out[1], -n_out[0] * Y + n_out[1] * X])
+        for k in part.holes:  # a circle: its own points and normals (not a polygon's)
+            hole = scene.holes[k]
+            cond = scene.boundary.get(hole.labels[0])
+            if not hole.is_circle or cond is None or cond.holds == "none":
+                continue
+            held[(cond.type, hole.labels[0])] = math.pi * hole.size
+            for x in hole.loop(8):
+                X, Y = (x[0] - c[0]) / L, (x[1] - c[1]) / L
+                if cond.holds == "all":
+                    rows += [[1.0, 0.0, -Y], [0.0, 1.0, X]]
+                else:  # out of the body: towards the centre
+                    n_out = ((hole.center[0] - x[0]) / hole.radius, (hole.center[1] - x[1]) / hole.radius)
                     rows.append([n_out[0], n_out[1], -n_out[0] * Y + n_out[1] * X])
         where = f"boundary: the part of the body containing point {fmt_pt(c)}"
         if not rows:
@@ -188,10 +218,24 @@ def check_held(scene) -> None:
             if abs(th) <= HELD_RANK_RTOL * math.hypot(a1, a2):
                 free = f"the translation along {fmt_pt(_direction(a1, a2))}"
             else:
-                free = ("the rotation about "
-                        f"{fmt_pt((c[0] - L * a2 / th, c[1] + L * a1 / th))}")
+                centre = (c[0] - L * a2 / th, c[1] + L * a1 / th)
+                centre = tuple(0.0 if abs(v) <= tol else v for v in centre)
+                free = f"the rotation about {fmt_pt(centre)}"
+            rollers = [lab for (typ, lab) in held if typ == "roller"]
+            pieces = [f"{typ} edge {lab!r} ({fmt(length)} long)"
+                      for (typ, lab), length in held.items() if typ != "roller"]
+            if rollers:
+                pieces.append(f"roller edges ({', '.join(rollers)})")
+            short_fixed = [lab for (typ, lab), length in held.items()
+                           if typ != "roller" and length <= HELD_RANK_RTOL ** 0.5 * L]
+            if short_fixed:
+                advice = (f"a support as short as {', '.join(map(repr, short_fixed))} holds only a "
+                          f"point; make it longer, or add another clamped/displacement edge or a "
+                          f"roller edge elsewhere")
+            else:
+                advice = ("add a clamped/displacement edge or a roller with a non-parallel "
+                          "normal to it")
             raise SceneError(
-                f"{where} is held only by roller edges "
-                f"({', '.join(unique(rollers))}) that leave {free} free, so the answer "
-                f"is not unique; add a clamped/displacement edge or a roller with a "
-                f"non-parallel normal to it")
+                f"{where} is held only by {' and '.join(pieces)} that leave{'s' if len(pieces) == 1 and not rollers else ''} "
+                f"{free} free, so the "
+                f"answer is not unique; {advice}")

@@ -1,8 +1,9 @@
 """Built-in scenes: the TOML files in this package, loaded by name.
 
 ``paper-1`` and ``paper-2`` are the two examples of Belhachmi et al. as ngcrack reads
-them (README, "The paper's scenes"); ``griffith`` has a closed-form crack opening; the others are
-small checks (a crack that stays closed, one that never closes, no crack, a polyline
+them (README, "The paper's scenes"); ``griffith`` has a closed-form crack opening; ``kirsch`` is
+a plate with a circular hole (stress concentration 3) and ``hole-crack`` a crack beside a hole;
+the others are small checks (a crack that stays closed, one that never closes, no crack, a polyline
 crack, two cracks). Each file starts with comments that say what it models and why its
 supports are what they are. The scene functions of ``SCENE_FUNCTIONS`` (parametric.py)
 build teaching scenes from a few parameters; ``nc.explore`` turns them into sliders.
