@@ -236,9 +236,12 @@ def cmd_solve(args) -> int:
 def _sweep_options(args) -> dict:
     from .elements import ELEMENTS
 
-    for el in list(args.element or []) + ([args.reference_element] if getattr(args, "reference_element", None) else []):
+    named = [("--element", el) for el in args.element or []]
+    if getattr(args, "reference_element", None):
+        named.append(("--reference-element", args.reference_element))
+    for flag, el in named:
         if el not in ELEMENTS:
-            raise UsageError(f"--element = {el!r}: allowed values are {', '.join(ELEMENTS)}")
+            raise UsageError(f"{flag} = {el!r}: allowed values are {', '.join(ELEMENTS)}")
     for name in ("maxh", "reference_maxh"):
         vals = getattr(args, name, None)
         for v in (vals if isinstance(vals, list) else [vals] if vals is not None else []):

@@ -8,14 +8,13 @@ shear_stress = (sigma nu).t; compression is negative.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import ngsolve as ngs
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .friction import sample_states
 from .geometry import CrackEdges, CrackMesh
 
 
@@ -93,11 +92,39 @@ def endpoint_map(space: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.nd
     return G
 
 
+#: a sample is "open" where [u].nu exceeds this fraction of the crack's largest jump and
+#: sigma_n is not below -STATE_RTOL times the body's stress scale (compressed beyond round-off)
+STATE_RTOL = 1e-8
+
+
+def profile_states(normal_jump, tangential_jump, normal_stress, friction: float = 0.0,
+                   stress_scale: float = 0.0) -> np.ndarray:
+    """open / stick / slip per sample, from that sample's own jump and stress.
+
+    A sample is open where its faces separate, [u].nu > STATE_RTOL W (W the crack's
+    largest |[u]|), and carry no compression, sigma_n >= -STATE_RTOL S (S the body's
+    stress scale): a sample with a small positive jump that is pressed together (the
+    edge next to a tip, partly in contact) is closed. Closed samples stick where the
+    crack carries friction and |[u].t| <= STATE_RTOL W, else slip (a frictionless closed
+    crack slides: "slip").
+    """
+    jn = np.asarray(normal_jump, dtype=float)
+    jt = np.asarray(tangential_jump, dtype=float)
+    sn = np.asarray(normal_stress, dtype=float)
+    W = float(np.max(np.hypot(jn, jt), initial=0.0))
+    tol = STATE_RTOL * W
+    closed = np.where((friction > 0) & (np.abs(jt) <= tol), "stick", "slip")
+    return np.where((jn > tol) & (sn >= -STATE_RTOL * stress_scale), "open", closed)
+
+
 @dataclass(frozen=True)
 class CrackProfile:
     """Samples at the mid point of every crack edge, ordered along the crack.
 
-    `state` is "open", "stick" or "slip" per sample (`friction.sample_states`).
+    `state` is "open", "stick" or "slip" per sample (`profile_states`), always computed
+    from the profile's own normal_jump, tangential_jump and normal_stress (a profile
+    whose tractions are replaced gets the states of the new ones); `friction` is the
+    crack's Coulomb coefficient and `stress_scale` the body's stress scale it uses.
     """
 
     s: np.ndarray
@@ -107,12 +134,33 @@ class CrackProfile:
     tangential_jump: np.ndarray
     normal_stress: np.ndarray
     shear_stress: np.ndarray
-    state: np.ndarray = None
+    friction: float = 0.0
+    stress_scale: float = 0.0
+    state: np.ndarray = field(init=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "state", profile_states(self.normal_jump, self.tangential_jump, self.normal_stress,
+                                                         self.friction, self.stress_scale))
+
+    #: the per-sample arrays (what to_dict writes besides the state)
+    SAMPLES = ("s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress")
 
     def to_dict(self) -> dict:
-        out = {k: [float(v) for v in getattr(self, k)] for k in self.__dataclass_fields__ if k != "state"}
-        out["state"] = [str(v) for v in (self.state if self.state is not None else [])]
+        out = {k: [float(v) for v in getattr(self, k)] for k in self.SAMPLES}
+        out["state"] = [str(v) for v in self.state]
         return out
+
+
+def stress_scale(crack_mesh: CrackMesh, sigma) -> float:
+    """max |sigma| (Frobenius) over the triangles' centroids: the body's stress scale."""
+    mesh = crack_mesh.mesh
+    ss = np.asarray(sigma(_centroids(mesh))).reshape(mesh.ne, -1)
+    return float(np.max(np.linalg.norm(ss, axis=1), initial=0.0))
+
+
+def _centroids(mesh):
+    """Every triangle's centroid, mapped from the reference triangle at once (no point search)."""
+    return mesh.MapToAllElements({ngs.ET.TRIG: ngs.IntegrationRule([(1 / 3, 1 / 3, 0)], [0.5])}, ngs.VOL)
 
 
 #: offset (times the edge length) of the two sides' stress samples for two-sided tractions:
@@ -130,7 +178,8 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
     field at the mid point: a field whose tangential trace on a crack edge is
     single-valued and equal to [u].t (TDNNS: the crack edges' HCurl copy u_e).
     `two_sided`: average the traction of both sides (post-computed stresses).
-    `friction`: the crack's Coulomb coefficient, for the samples' open / stick / slip state.
+    `friction`: the crack's Coulomb coefficient, for the samples' open / stick / slip state
+    (`profile_states`, with the body's stress scale from `sigma`).
     """
     mesh = crack_mesh.mesh
     nu = crack.normal
@@ -162,7 +211,8 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
         tangential_jump=jt,
         normal_stress=np.einsum("ei,ei->e", traction, nu),
         shear_stress=shear,
-        state=sample_states(jn, jt, friction),
+        friction=float(friction),
+        stress_scale=stress_scale(crack_mesh, sigma),
     )
 
 
@@ -204,8 +254,7 @@ def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scal
 def field_scales(crack_mesh: CrackMesh, u, sigma) -> tuple[float, float]:
     """max |u| and max |sigma| (Frobenius) over the triangles' centroids."""
     mesh = crack_mesh.mesh
-    # every centroid mapped from the reference triangle at once (no point search)
-    mp = mesh.MapToAllElements({ngs.ET.TRIG: ngs.IntegrationRule([(1 / 3, 1 / 3, 0)], [0.5])}, ngs.VOL)
+    mp = _centroids(mesh)
     uu = np.asarray(u(mp)).reshape(mesh.ne, -1)
     ss = np.asarray(sigma(mp)).reshape(mesh.ne, -1)
     return float(np.max(np.linalg.norm(uu, axis=1))), float(np.max(np.linalg.norm(ss, axis=1)))
