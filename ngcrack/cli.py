@@ -30,7 +30,6 @@ import math
 import os
 import signal
 import sys
-import tempfile
 import threading
 import traceback
 import warnings
@@ -46,47 +45,14 @@ class UsageError(ValueError):
     """Bad command-line input (exit code 2)."""
 
 
-class _Staged:
-    """Output files written to temporary files beside their targets, renamed into place together.
-
-    Used as a context manager: on leaving it normally every staged file replaces its
-    target (os.replace, atomic per file); on an error the temporary files are removed
-    and every target is left as it was.
-    """
-
-    def __init__(self) -> None:
-        self.files: list[tuple[str, Path]] = []
-
-    def write(self, path: Path, write) -> None:
-        path = Path(path)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-        os.close(fd)
-        self.files.append((tmp, path))
-        write(tmp)
-
-    def __enter__(self) -> _Staged:
-        return self
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        try:
-            if exc_type is None:
-                for tmp, path in self.files:
-                    os.replace(tmp, path)
-        finally:
-            for tmp, _ in self.files:
-                if os.path.exists(tmp):
-                    os.unlink(tmp)
-
-
 def _writable_folder(folder: Path, field: str, path) -> None:
-    """Refuse a folder this process cannot create files in (tried, not guessed from the mode bits)."""
-    try:
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".ngcrack-probe-")
-    except OSError as exc:
-        raise UsageError(f"{field} = {str(path)!r}: cannot write in the directory {str(folder)!r} "
-                         f"({exc.strerror or exc}); choose a writable place") from None
-    os.close(fd)
-    os.unlink(tmp)
+    """Refuse a folder this process cannot create files in."""
+    from .files import unwritable
+
+    why = unwritable(folder)
+    if why is not None:
+        raise UsageError(f"{field} = {str(path)!r}: cannot write in the directory {str(folder)!r} ({why}); "
+                         f"choose a writable place")
 
 
 def _check_output(path: str | None, field: str, suffix: str | None = None) -> Path | None:
@@ -193,7 +159,9 @@ def cmd_solve(args) -> int:
                 crack_model=args.crack_model, max_dof=args.max_dof, **options)
     result = sol.to_json_dict()
     _finite_json(result)
-    with _Staged() as staged:  # both files or neither; existing ones untouched on failure
+    from .files import Staged
+
+    with Staged() as staged:  # both files or neither; existing ones untouched on failure
         if json_path is not None:
             def write_json(tmp):
                 with open(tmp, "w") as fh:

@@ -256,3 +256,16 @@ def test_a_failing_plot_leaves_no_json_and_the_old_one_untouched(place, capsys, 
     assert json.loads((place / "old.json").read_text())["scene"] == "paper-2"
     assert (place / "r.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert _files(place) == before | {"r.png"}
+
+
+def test_the_installed_command_prints_one_line_too(tmp_path):
+    """The real entry point, in its own process: the same one line, nothing on stdout but netgen's own."""
+    import sys
+
+    for argv, code, fragment in [(["solve", "paper-2", "--maxh", "1e-300"], 2, "--maxh = 1e-300"),
+                                 (["sweep", "paper-2", "--maxh", "0.4", "--out", "adir"], 2, "must end in .csv")]:
+        proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", *argv], cwd=tmp_path, capture_output=True,
+                              text=True, timeout=120)
+        err = proc.stderr.splitlines()
+        assert proc.returncode == code and len(err) == 1 and fragment in err[0], proc.stderr
+        assert list(tmp_path.iterdir()) == []

@@ -18,7 +18,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from .cases import MESH_OPTIONS, Case
-from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, file_name_part, scene_friction
+from ..files import file_name_part
+from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, scene_friction
 
 
 def _solve_defaults() -> dict:
