@@ -93,7 +93,7 @@ def endpoint_map(space: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.nd
 
 
 #: a sample is "open" where [u].nu exceeds this fraction of the crack's largest jump and
-#: sigma_n is not below -STATE_RTOL times the body's stress scale (compressed beyond round-off)
+#: sigma_n is not below -STATE_RTOL times the stress scale (compressed beyond round-off)
 STATE_RTOL = 1e-8
 
 
@@ -102,11 +102,11 @@ def profile_states(normal_jump, tangential_jump, normal_stress, friction: float 
     """open / stick / slip per sample, from that sample's own jump and stress.
 
     A sample is open where its faces separate, [u].nu > STATE_RTOL W (W the crack's
-    largest |[u]|), and carry no compression, sigma_n >= -STATE_RTOL S (S the body's
-    stress scale): a sample with a small positive jump that is pressed together (the
-    edge next to a tip, partly in contact) is closed. Closed samples stick where the
-    crack carries friction and |[u].t| <= STATE_RTOL W, else slip (a frictionless closed
-    crack slides: "slip").
+    largest |[u]|), and carry no compression, sigma_n >= -STATE_RTOL S (S the stress
+    scale: in `crack_profile` the largest |sigma|, Frobenius, at the crack's samples): a
+    sample with a small positive jump that is pressed together (the edge next to a tip,
+    partly in contact) is closed. Closed samples stick where the crack carries friction
+    and |[u].t| <= STATE_RTOL W, else slip (a frictionless closed crack slides: "slip").
     """
     jn = np.asarray(normal_jump, dtype=float)
     jt = np.asarray(tangential_jump, dtype=float)
@@ -124,7 +124,8 @@ class CrackProfile:
     `state` is "open", "stick" or "slip" per sample (`profile_states`), always computed
     from the profile's own normal_jump, tangential_jump and normal_stress (a profile
     whose tractions are replaced gets the states of the new ones); `friction` is the
-    crack's Coulomb coefficient and `stress_scale` the body's stress scale it uses.
+    crack's Coulomb coefficient and `stress_scale` the stress scale it uses (the largest
+    |sigma| at the samples).
     """
 
     s: np.ndarray
@@ -151,18 +152,6 @@ class CrackProfile:
         return out
 
 
-def stress_scale(crack_mesh: CrackMesh, sigma) -> float:
-    """max |sigma| (Frobenius) over the triangles' centroids: the body's stress scale."""
-    mesh = crack_mesh.mesh
-    ss = np.asarray(sigma(_centroids(mesh))).reshape(mesh.ne, -1)
-    return float(np.max(np.linalg.norm(ss, axis=1), initial=0.0))
-
-
-def _centroids(mesh):
-    """Every triangle's centroid, mapped from the reference triangle at once (no point search)."""
-    return mesh.MapToAllElements({ngs.ET.TRIG: ngs.IntegrationRule([(1 / 3, 1 / 3, 0)], [0.5])}, ngs.VOL)
-
-
 #: offset (times the edge length) of the two sides' stress samples for two-sided tractions:
 #: large enough for the point search to land on the intended side at any scale
 SIDE_OFFSET = 1e-3
@@ -179,7 +168,7 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
     single-valued and equal to [u].t (TDNNS: the crack edges' HCurl copy u_e).
     `two_sided`: average the traction of both sides (post-computed stresses).
     `friction`: the crack's Coulomb coefficient, for the samples' open / stick / slip state
-    (`profile_states`, with the body's stress scale from `sigma`).
+    (`profile_states`, with the largest |sigma| at the samples as the stress scale).
     """
     mesh = crack_mesh.mesh
     nu = crack.normal
@@ -212,7 +201,9 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
         normal_stress=np.einsum("ei,ei->e", traction, nu),
         shear_stress=shear,
         friction=float(friction),
-        stress_scale=stress_scale(crack_mesh, sigma),
+        # the whole stress tensor at the samples (sigma_tt and the tips' field included),
+        # already evaluated: the scale that the normal stress's round-off is measured by
+        stress_scale=float(np.max(np.linalg.norm(sig.reshape(len(sig), -1), axis=1), initial=0.0)),
     )
 
 
@@ -254,7 +245,8 @@ def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scal
 def field_scales(crack_mesh: CrackMesh, u, sigma) -> tuple[float, float]:
     """max |u| and max |sigma| (Frobenius) over the triangles' centroids."""
     mesh = crack_mesh.mesh
-    mp = _centroids(mesh)
+    # every centroid mapped from the reference triangle at once (no point search)
+    mp = mesh.MapToAllElements({ngs.ET.TRIG: ngs.IntegrationRule([(1 / 3, 1 / 3, 0)], [0.5])}, ngs.VOL)
     uu = np.asarray(u(mp)).reshape(mesh.ne, -1)
     ss = np.asarray(sigma(mp)).reshape(mesh.ne, -1)
     return float(np.max(np.linalg.norm(uu, axis=1))), float(np.max(np.linalg.norm(ss, axis=1)))

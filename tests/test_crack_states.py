@@ -2,7 +2,7 @@
 
 A sample is open only where its normal jump is positive beyond round-off (STATE_RTOL
 of the crack's largest jump) and its normal stress is zero within round-off (STATE_RTOL
-of the body's stress scale), for every element:
+of the largest |sigma| at the crack's samples), for every element:
 - a closed shear-compression case (a 40 x 40 m plate, E = 25 GPa, a crack of half-length
   2 m at 60 degrees under 100 MPa of compression): tdnns used to call the sample next to
   a tip open while it reported -12.3 MPa of normal stress; every sample is closed now;
