@@ -35,8 +35,8 @@ import traceback
 import warnings
 from pathlib import Path
 
-#: exit codes: bad input, a system that cannot be solved, something unexpected
-EXIT_INPUT, EXIT_SOLVE, EXIT_UNEXPECTED = 2, 3, 1
+from .cli_errors import EXIT_INPUT, NotSolvedError, Terminated, classify, one_line, one_line_warning
+
 #: a size option (maxh, tip_h, crack_h) must lie within these multiples of the body's diameter
 SIZE_RANGE = (1e-100, 1e100)
 
@@ -103,10 +103,6 @@ def _check_friction(scene, args) -> None:
     check_friction_applies(args.friction, args.crack_model, "--friction")
     if args.friction is None and args.command == "solve":  # (a sweep warns itself)
         warn_friction_not_applied(scene, args.crack_model)
-
-
-class NotSolvedError(RuntimeError):
-    """The solve finished but its answer cannot be used (exit code 3)."""
 
 
 def _finite_json(obj) -> None:
@@ -341,7 +337,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse with its errors on one line (the usage is one `--help` away)."""
 
     def error(self, message: str):
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {_one_line(message)} (see {self.prog} --help)\n")
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {one_line(message)} (see {self.prog} --help)\n")
 
 
 MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
@@ -423,54 +419,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _one_line(text) -> str:
-    return " ".join(str(text).split())
-
-
-def _causes(exc: BaseException):
-    """`exc` and the exceptions it was raised from (a SweepError wraps the run's own)."""
-    seen = set()
-    while exc is not None and id(exc) not in seen:
-        seen.add(id(exc))
-        yield exc
-        exc = exc.__cause__ or exc.__context__
-
-
-def classify(exc: BaseException) -> tuple[int, str]:
-    """(exit code, one-line message) of an error that reached the command line."""
-    from .contact import ContactSolverError
-    from .schur import LinearSolverError
-    from .solve import SolveError
-
-    text = _one_line(exc)
-    for cause in _causes(exc):
-        netgen = type(cause).__name__ == "NgException"
-        if isinstance(cause, MemoryError) or (netgen and "allocate" in str(cause)):
-            return EXIT_SOLVE, (f"out of memory ({text or type(cause).__name__}); use a larger maxh or a smaller "
-                                f"--max-dof")
-        if isinstance(cause, (SolveError, ContactSolverError, LinearSolverError, NotSolvedError)):
-            return EXIT_SOLVE, text
-        if netgen and "singular" in str(cause):
-            return EXIT_SOLVE, (f"the system is singular (netgen: {text.split('in Assemble')[0].strip()}); is every part of the body held, and are the "
-                                f"material values and loads finite and of a sane size?")
-        if isinstance(cause, ValueError):  # SceneError, UsageError, every option the package refuses
-            return EXIT_INPUT, text
-        if isinstance(cause, ArithmeticError):
-            return EXIT_INPUT, (f"a value beyond what double precision holds ({type(cause).__name__}: {text}); "
-                                f"check the mesh sizes, the loads and the material values")
-        if isinstance(cause, OSError) and cause.filename is not None:
-            return EXIT_INPUT, f"cannot use {cause.filename!r}: {cause.strerror or cause}"
-    return EXIT_UNEXPECTED, (f"unexpected {type(exc).__name__}: {text} (run with --debug for the traceback)")
-
-
-def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    print(f"ngcrack: warning: {_one_line(message)}", file=sys.stderr if file is None else file)
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
-
-
 def _terminate(signum, frame):
     raise Terminated()
 
@@ -483,7 +431,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     shown = warnings.showwarning
-    warnings.showwarning = _one_line_warning
+    warnings.showwarning = one_line_warning
     on_term = None
     if threading.current_thread() is threading.main_thread():
         on_term = signal.signal(signal.SIGTERM, _terminate)
