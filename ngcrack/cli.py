@@ -87,7 +87,7 @@ def _check_sizes(scene, sizes: dict) -> None:
     """Mesh sizes within SIZE_RANGE of the body's diameter (beyond it, no arithmetic on them is safe)."""
     d = scene.diameter
     lo, hi = SIZE_RANGE
-    if scene.maxh is not None:
+    if scene.maxh is not None and not sizes.get("--maxh"):  # the scene's own, unless --maxh replaces it
         sizes = {f"the scene's mesh.maxh ({scene.name!r})": scene.maxh, **sizes}
     for flag, values in sizes.items():
         for v in values if isinstance(values, list) else [values]:
@@ -436,7 +436,9 @@ def main(argv=None) -> int:
     if threading.current_thread() is threading.main_thread():
         on_term = signal.signal(signal.SIGTERM, _terminate)
     try:
-        return args.func(args)
+        code = args.func(args)
+        sys.stdout.flush()  # a closed pipe shows here, inside the handling below
+        return code
     except KeyboardInterrupt as exc:
         what = "terminated" if isinstance(exc, Terminated) else "interrupted"
         if args.command in ("sweep", "paper"):
@@ -445,6 +447,12 @@ def main(argv=None) -> int:
         else:
             print(f"ngcrack: {what}" + ("; nothing was written" if args.command == "solve" else ""), file=sys.stderr)
         return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+    except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 128 + signal.SIGPIPE
     except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
         code, message = classify(exc)
         if debug:

@@ -117,6 +117,8 @@ CASES = [
     (["solve", "typo.toml"], 2, "Young"),
     (["solve", "maxh-tiny.toml"], 2, "maxh"),
     (["solve", "maxh-huge.toml"], 2, "maxh"),
+    (["solve", "maxh-tiny.toml", "--maxh", "0.5", "--json", "r.json", "--plot", "missing/r.png"], 2,
+     "--plot = 'missing/r.png': the directory 'missing' does not exist"),
     pytest.param(["solve", "paper-2", "--E", "1e300", "--json", "r.json"] + MAXH, 2, "E",
                  marks=pytest.mark.xfail(not _refused(E=1e300), reason="the scene does not refuse E = 1e300 yet")),
     # ------------------------------------------------------------------ sweep
@@ -269,3 +271,14 @@ def test_the_installed_command_prints_one_line_too(tmp_path):
         err = proc.stderr.splitlines()
         assert proc.returncode == code and len(err) == 1 and fragment in err[0], proc.stderr
         assert list(tmp_path.iterdir()) == []
+
+
+def test_a_closed_pipe_ends_quietly(tmp_path):
+    """`ngcrack scenes | head -1`: the reader goes away; no traceback, the shell's code for SIGPIPE."""
+    import sys
+
+    proc = subprocess.Popen([sys.executable, "-m", "ngcrack.cli", "scenes"], cwd=tmp_path, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    proc.stdout.close()
+    assert proc.wait(timeout=120) == 141
+    assert proc.stderr.read() == b""

@@ -45,7 +45,7 @@ def warn_friction_not_applied(scene, crack_model: str | None) -> None:
     mu = scene_friction(scene)
     if mu and (crack_model or "contact") != "contact":
         warnings.warn(f"scene {scene.name!r}: its cracks' friction ({mu:g}) is not applied with crack_model = "
-                      f"{crack_model!r}; the rows record friction 0", UserWarning, stacklevel=3)
+                      f"{crack_model!r} (a sweep's rows record friction 0)", UserWarning, stacklevel=3)
 
 
 def _as_list(values, name: str) -> list:
