@@ -4,7 +4,7 @@
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--friction MU] [--tip-h H]
                         [--crack-h H] [--qp-solver S] [--crack-model M] [--adapt TOL] [--max-dof N]
-                        [--json OUT] [--plot OUT.png]
+                        [--hp L] [--json OUT] [--plot OUT.png] [--vtk OUT]
     ngcrack sweep SCENE [--element E ...] (--maxh H [H ...] | --adapt TOL [TOL ...]) [--nu NU ...]
                         [--friction MU ...] --out results.csv [--reference-maxh H] [--reference-element E]
                         [--jobs N] [--dask ADDRESS] [--max-dof N]
@@ -29,25 +29,29 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import signal
 import sys
 import threading
 import traceback
 import warnings
 
-from .outputs import NotSolvedError, StagedWrites, UsageError, check_finite, check_output, check_output_folder
+from .cli_errors import EXIT_INPUT, Terminated, check_finite, classify, one_line, one_line_warning
+from .files import check_output, check_output_folder
 
-#: exit codes: bad input, a system that cannot be solved, something unexpected
-EXIT_INPUT, EXIT_SOLVE, EXIT_UNEXPECTED = 2, 3, 1
 #: a size option (maxh, tip_h, crack_h) must lie within these multiples of the body's diameter
 SIZE_RANGE = (1e-100, 1e100)
+
+
+class UsageError(ValueError):
+    """Bad command-line input (exit code 2)."""
 
 
 def _check_sizes(scene, sizes: dict) -> None:
     """Mesh sizes within SIZE_RANGE of the body's diameter (beyond it, no arithmetic on them is safe)."""
     d = scene.diameter
     lo, hi = SIZE_RANGE
-    if scene.maxh is not None:
+    if scene.maxh is not None and not sizes.get("--maxh"):  # the scene's own, unless --maxh replaces it
         sizes = {f"the scene's mesh.maxh ({scene.name!r})": scene.maxh, **sizes}
     for flag, values in sizes.items():
         for v in values if isinstance(values, list) else [values]:
@@ -108,7 +112,9 @@ def cmd_solve(args) -> int:
     sol = solve(scene, options=options)
     result = sol.to_json_dict()
     check_finite(result)
-    with StagedWrites() as staged:  # both files or neither; existing ones untouched on failure
+    from .files import Staged
+
+    with Staged() as staged:  # both files or neither; existing ones untouched on failure
         if json_path is not None:
             def write_json(tmp):
                 with open(tmp, "w") as fh:
@@ -118,6 +124,7 @@ def cmd_solve(args) -> int:
             from .plots import plot_solution
 
             staged.write(plot_path, lambda tmp: plot_solution(sol, tmp))
+    vtk_paths = []
     if args.vtk is not None:  # ParaView: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
         from .vtk import save_vtk
 
@@ -146,7 +153,7 @@ def cmd_solve(args) -> int:
         steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
         reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"
         print(f"adapt to {args.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
-    for path in (json_path, plot_path, *(vtk_paths if args.vtk is not None else ())):
+    for path in (json_path, plot_path, *vtk_paths):
         if path is not None:
             print(f"wrote {path}")
     return 0
@@ -155,9 +162,12 @@ def cmd_solve(args) -> int:
 def _sweep_options(args) -> dict:
     from .elements import ELEMENTS
 
-    for el in list(args.element or []) + ([args.reference_element] if getattr(args, "reference_element", None) else []):
+    named = [("--element", el) for el in args.element or []]
+    if getattr(args, "reference_element", None):
+        named.append(("--reference-element", args.reference_element))
+    for flag, el in named:
         if el not in ELEMENTS:
-            raise UsageError(f"--element = {el!r}: allowed values are {', '.join(ELEMENTS)}")
+            raise UsageError(f"{flag} = {el!r}: allowed values are {', '.join(ELEMENTS)}")
     for name in ("maxh", "reference_maxh"):
         vals = getattr(args, name, None)
         for v in (vals if isinstance(vals, list) else [vals] if vals is not None else []):
@@ -289,7 +299,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse with its errors on one line (the usage is one `--help` away)."""
 
     def error(self, message: str):
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {_one_line(message)} (see {self.prog} --help)\n")
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {one_line(message)} (see {self.prog} --help)\n")
 
 
 MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
@@ -378,55 +388,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _one_line(text) -> str:
-    return " ".join(str(text).split())
-
-
-def _causes(exc: BaseException):
-    """`exc` and the exceptions it was raised from (a SweepError wraps the run's own)."""
-    seen = set()
-    while exc is not None and id(exc) not in seen:
-        seen.add(id(exc))
-        yield exc
-        exc = exc.__cause__ or exc.__context__
-
-
-def classify(exc: BaseException) -> tuple[int, str]:
-    """(exit code, one-line message) of an error that reached the command line."""
-    from .contact import ContactSolverError
-    from .schur import LinearSolverError
-    from .solve import SolveError
-
-    text = _one_line(exc)
-    for cause in _causes(exc):
-        netgen = type(cause).__name__ == "NgException"
-        if isinstance(cause, MemoryError) or (netgen and "allocate" in str(cause)):
-            return EXIT_SOLVE, (f"out of memory ({text or type(cause).__name__}); use a larger maxh or a smaller "
-                                f"--max-dof")
-        if isinstance(cause, (SolveError, ContactSolverError, LinearSolverError, NotSolvedError)):
-            return EXIT_SOLVE, text
-        if netgen and "singular" in str(cause):
-            where = text.split('in Assemble')[0].strip()
-            return EXIT_SOLVE, (f"the system is singular (netgen: {where}); is every part of the body held, and are the "
-                                f"material values and loads finite and of a sane size?")
-        if isinstance(cause, ValueError):  # SceneError, UsageError, every option the package refuses
-            return EXIT_INPUT, text
-        if isinstance(cause, ArithmeticError):
-            return EXIT_INPUT, (f"a value beyond what double precision holds ({type(cause).__name__}: {text}); "
-                                f"check the mesh sizes, the loads and the material values")
-        if isinstance(cause, OSError) and cause.filename is not None:
-            return EXIT_INPUT, f"cannot use {cause.filename!r}: {cause.strerror or cause}"
-    return EXIT_UNEXPECTED, (f"unexpected {type(exc).__name__}: {text} (run with --debug for the traceback)")
-
-
-def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    print(f"ngcrack: warning: {_one_line(message)}", file=sys.stderr if file is None else file)
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
-
-
 def _terminate(signum, frame):
     raise Terminated()
 
@@ -439,12 +400,14 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     shown = warnings.showwarning
-    warnings.showwarning = _one_line_warning
+    warnings.showwarning = one_line_warning
     on_term = None
     if threading.current_thread() is threading.main_thread():
         on_term = signal.signal(signal.SIGTERM, _terminate)
     try:
-        return args.func(args)
+        code = args.func(args)
+        sys.stdout.flush()  # a closed pipe shows here, inside the handling below
+        return code
     except KeyboardInterrupt as exc:
         what = "terminated" if isinstance(exc, Terminated) else "interrupted"
         if args.command in ("sweep", "paper"):
@@ -453,6 +416,12 @@ def main(argv=None) -> int:
         else:
             print(f"ngcrack: {what}" + ("; nothing was written" if args.command == "solve" else ""), file=sys.stderr)
         return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+    except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 128 + signal.SIGPIPE
     except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
         code, message = classify(exc)
         if debug:

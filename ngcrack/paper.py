@@ -35,13 +35,13 @@ from __future__ import annotations
 
 import functools
 import math
-import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .files import atomic_write
 from .sweeps import QUANTITIES, QUANTITY_LABELS, check_sweep, fitted_rates, markdown_table, sweep
 
 #: (scene, Poisson ratio) of the paper's two examples
@@ -148,22 +148,9 @@ def _table(df, q: str):
     return df[list(cols)].rename(columns=cols).reset_index(drop=True)
 
 
-def _atomic(path: Path, write: Callable[[Path], object]) -> Path:
-    """Write `path` through a temporary file beside it renamed into place: never half-written."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
-
-
 def _write_table(t, stem: Path, heading: str, note: str) -> list[Path]:
-    csv = _atomic(stem.with_suffix(".csv"), lambda tmp: t.to_csv(tmp, index=False, float_format="%.6g"))
-    md = _atomic(stem.with_suffix(".md"), lambda tmp: tmp.write_text(f"## {heading}\n\n{note}\n\n" + markdown_table(t)))
+    csv = atomic_write(stem.with_suffix(".csv"), lambda tmp: t.to_csv(tmp, index=False, float_format="%.6g"))
+    md = atomic_write(stem.with_suffix(".md"), lambda tmp: Path(tmp).write_text(f"## {heading}\n\n{note}\n\n" + markdown_table(t)))
     return [csv, md]
 
 
@@ -295,8 +282,8 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
             pts = {q: (paper_triangles(PAPER_TABLES[q][0]), PAPER_TABLES[q][1]) for q in qs} if name == "paper-1" else None
             labels = " and ".join(QUANTITY_LABELS[q] for q in qs)
             title = f"Figure {fig_no} analog: {labels}, {name} (Poisson ratio {nu:g})"
-            _atomic(path, functools.partial(plots.plot_convergence, sub, qs, paper_points=pts, guides=guides,
-                                            x="n_elements", title=title))
+            atomic_write(path, functools.partial(plots.plot_convergence, sub, qs, paper_points=pts, guides=guides,
+                                                 x="n_elements", title=title))
             files["figures"].append(path)
             fig_no += 1
 
@@ -306,7 +293,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
         sols = [solve(scenes.load(name).with_(nu=nu), element=e, maxh=h_iso) for e in elements]
         path = out / f"fig{fig_no}_{name}_sigma_nu.png"
         title = rf"Figure {fig_no} analog: isolines of $\sigma_\nu$, {name} (Poisson ratio {nu:g})"
-        _atomic(path, functools.partial(plots.plot_sigma_nu_isolines, sols, title=title))
+        atomic_write(path, functools.partial(plots.plot_sigma_nu_isolines, sols, title=title))
         files["figures"].append(path)
         fig_no += 1
 
@@ -316,7 +303,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
     timed = pd.concat([df, adaptive], ignore_index=True) if adaptive is not None else df
     for q in QUANTITIES:
         path = out / f"time_{q}.png"
-        _atomic(path, functools.partial(plots.plot_error_vs_time, timed, q))
+        atomic_write(path, functools.partial(plots.plot_error_vs_time, timed, q))
         files["figures"].append(path)
 
     # the paper's Tables 1-4 on a common footing (paper-1)
@@ -326,7 +313,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
     comp = comparison_table(elements, comp_sizes, comp_ref)
     files["tables"] += _write_table(comp, out / "comparison", "paper-1 against the paper's Tables 1-4", COMPARISON_NOTE)
     path = out / "fig9_comparison.png"
-    _atomic(path, lambda tmp: plots.plot_paper_comparison(
+    atomic_write(path, lambda tmp: plots.plot_paper_comparison(
         comp, {q: (paper_triangles(d), e) for q, (d, e) in PAPER_TABLES.items()}, tmp))
     files["figures"].append(path)
 

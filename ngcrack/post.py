@@ -8,14 +8,13 @@ shear_stress = (sigma nu).t; compression is negative.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .friction import sample_states
 from .geometry import CrackEdges, CrackMesh
 
 
@@ -92,11 +91,40 @@ def endpoint_map(space: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.nd
     return G
 
 
+#: a sample is "open" where [u].nu exceeds this fraction of the crack's largest jump and
+#: sigma_n is not below -STATE_RTOL times the stress scale (compressed beyond round-off)
+STATE_RTOL = 1e-8
+
+
+def profile_states(normal_jump, tangential_jump, normal_stress, friction: float = 0.0,
+                   stress_scale: float = 0.0) -> np.ndarray:
+    """open / stick / slip per sample, from that sample's own jump and stress.
+
+    A sample is open where its faces separate, [u].nu > STATE_RTOL W (W the crack's
+    largest |[u]|), and carry no compression, sigma_n >= -STATE_RTOL S (S the stress
+    scale: in `crack_profile` the largest |sigma|, Frobenius, at the crack's samples): a
+    sample with a small positive jump that is pressed together (the edge next to a tip,
+    partly in contact) is closed. Closed samples stick where the crack carries friction
+    and |[u].t| <= STATE_RTOL W, else slip (a frictionless closed crack slides: "slip").
+    """
+    jn = np.asarray(normal_jump, dtype=float)
+    jt = np.asarray(tangential_jump, dtype=float)
+    sn = np.asarray(normal_stress, dtype=float)
+    W = float(np.max(np.hypot(jn, jt), initial=0.0))
+    tol = STATE_RTOL * W
+    closed = np.where((friction > 0) & (np.abs(jt) <= tol), "stick", "slip")
+    return np.where((jn > tol) & (sn >= -STATE_RTOL * stress_scale), "open", closed)
+
+
 @dataclass(frozen=True)
 class CrackProfile:
     """Samples at the mid point of every crack edge, ordered along the crack.
 
-    `state` is "open", "stick" or "slip" per sample (`friction.sample_states`).
+    `state` is "open", "stick" or "slip" per sample (`profile_states`), always computed
+    from the profile's own normal_jump, tangential_jump and normal_stress (a profile
+    whose tractions are replaced gets the states of the new ones); `friction` is the
+    crack's Coulomb coefficient and `stress_scale` the stress scale it uses (the largest
+    |sigma| at the samples).
     """
 
     s: np.ndarray
@@ -106,11 +134,20 @@ class CrackProfile:
     tangential_jump: np.ndarray
     normal_stress: np.ndarray
     shear_stress: np.ndarray
-    state: np.ndarray = None
+    friction: float = 0.0
+    stress_scale: float = 0.0
+    state: np.ndarray = field(init=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "state", profile_states(self.normal_jump, self.tangential_jump, self.normal_stress,
+                                                         self.friction, self.stress_scale))
+
+    #: the per-sample arrays (what to_dict writes besides the state)
+    SAMPLES = ("s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress")
 
     def to_dict(self) -> dict:
-        out = {k: [float(v) for v in getattr(self, k)] for k in self.__dataclass_fields__ if k != "state"}
-        out["state"] = [str(v) for v in (self.state if self.state is not None else [])]
+        out = {k: [float(v) for v in getattr(self, k)] for k in self.SAMPLES}
+        out["state"] = [str(v) for v in self.state]
         return out
 
 
@@ -129,7 +166,8 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
     field at the mid point: a field whose tangential trace on a crack edge is
     single-valued and equal to [u].t (TDNNS: the crack edges' HCurl copy u_e).
     `two_sided`: average the traction of both sides (post-computed stresses).
-    `friction`: the crack's Coulomb coefficient, for the samples' open / stick / slip state.
+    `friction`: the crack's Coulomb coefficient, for the samples' open / stick / slip state
+    (`profile_states`, with the largest |sigma| at the samples as the stress scale).
     """
     mesh = crack_mesh.mesh
     nu = crack.normal
@@ -161,7 +199,10 @@ def crack_profile(crack_mesh: CrackMesh, crack: CrackEdges, jump_space, jn_vals,
         tangential_jump=jt,
         normal_stress=np.einsum("ei,ei->e", traction, nu),
         shear_stress=shear,
-        state=sample_states(jn, jt, friction),
+        friction=float(friction),
+        # the whole stress tensor at the samples (sigma_tt and the tips' field included),
+        # already evaluated: the scale that the normal stress's round-off is measured by
+        stress_scale=float(np.max(np.linalg.norm(sig.reshape(len(sig), -1), axis=1), initial=0.0)),
     )
 
 

@@ -70,6 +70,7 @@ def place(tmp_path, monkeypatch):
     (tmp_path / "adir").mkdir()
     (tmp_path / "adir.csv").mkdir()
     (tmp_path / "old.json").write_text('{"kept": true}')
+    (tmp_path / "other.csv").write_text("a,b\n1,2\n")
     _readonly(tmp_path / "ro")
     yield tmp_path
     _writable(tmp_path / "ro")
@@ -108,9 +109,16 @@ CASES = [
     (["solve", "paper-2", "--plot", "r.pdf"], 2, "must end in .png"),
     (["solve", "paper-2", "--friction", "0.5", "--crack-model", "free"], 2, "--friction = 0.5: friction acts only"),
     (["solve", "paper-2", "--friction", "0.5", "--crack-model", "bonded"], 2, "crack_model 'contact'"),
+    (["solve", "paper-2", "--element", "tdnns", "--order", "9"], 2, "order = 9"),
+    (["solve", "paper-2", "--order", "2"], 2, "fixed order"),
+    (["solve", "paper-2", "--E", "-5"], 2, "material.E = -5"),
+    (["solve", "paper-2", "--nu", "nan"], 2, "material.nu = nan"),
+    (["solve", "paper-2", "--json", "r.json", "--plot", "adir"], 2, "--plot = 'adir': is a directory"),
     (["solve", "typo.toml"], 2, "Young"),
     (["solve", "maxh-tiny.toml"], 2, "maxh"),
     (["solve", "maxh-huge.toml"], 2, "maxh"),
+    (["solve", "maxh-tiny.toml", "--maxh", "0.5", "--json", "r.json", "--plot", "missing/r.png"], 2,
+     "--plot = 'missing/r.png': the directory 'missing' does not exist"),
     pytest.param(["solve", "paper-2", "--E", "1e300", "--json", "r.json"] + MAXH, 2, "E",
                  marks=pytest.mark.xfail(not _refused(E=1e300), reason="the scene does not refuse E = 1e300 yet")),
     # ------------------------------------------------------------------ sweep
@@ -131,6 +139,10 @@ CASES = [
      "--friction = 0.5: friction acts only"),
     (["sweep", "paper-2", "--adapt", "0.5", "--maxh", "0.4", "0.2"] + SWEEP, 2, "--maxh"),
     (["sweep", "paper-2"] + SWEEP, 2, "--maxh"),
+    (["sweep", "nosuch", "--maxh", "0.4"] + SWEEP, 2, "scene = 'nosuch'"),
+    (["sweep", "paper-2", "--adapt", "2"] + SWEEP, 2, "adapt = 2"),
+    (["sweep", "paper-2", "--maxh", "0.4", "--reference-element", "foo"] + SWEEP, 2, "--reference-element = 'foo'"),
+    (["sweep", "paper-2", "--maxh", "0.4", "--out", "other.csv", "--no-progress"], 2, "columns are not those"),
     (["sweep", "maxh-tiny.toml", "--adapt", "0.5"] + SWEEP, 2, "maxh"),
     # ------------------------------------------------------------------ paper
     (["paper", "--element", "foo", "--out", "p"], 2, "element = 'foo'"),
@@ -140,9 +152,12 @@ CASES = [
     (["paper", "--quick", "--out", "ro/p"], 2, "cannot write"),
     (["paper", "--quick", "--out", "old.json"], 2, "not a directory"),
     (["paper", "--quick", "--jobs", "0", "--out", "p"], 2, "--jobs"),
+    (["paper", "--out", "missing/p"], 2, "does not exist"),
+    (["paper", "--quick", "--maxh", "abc"], 2, "'abc' is not a number"),
     # -------------------------------------------------------------- stability
     (["stability", "--quick", "--out", "ro/s"], 2, "cannot write"),
     (["stability", "--quick", "--out", "old.json"], 2, "not a directory"),
+    (["stability", "--out", "missing/s"], 2, "does not exist"),
     # ------------------------------------------------------------ the parser
     ([], 2, "required"),
     (["nosuch"], 2, "invalid choice"),
@@ -243,3 +258,27 @@ def test_a_failing_plot_leaves_no_json_and_the_old_one_untouched(place, capsys, 
     assert json.loads((place / "old.json").read_text())["scene"] == "paper-2"
     assert (place / "r.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert _files(place) == before | {"r.png"}
+
+
+def test_the_installed_command_prints_one_line_too(tmp_path):
+    """The real entry point, in its own process: the same one line, nothing on stdout but netgen's own."""
+    import sys
+
+    for argv, code, fragment in [(["solve", "paper-2", "--maxh", "1e-300"], 2, "--maxh = 1e-300"),
+                                 (["sweep", "paper-2", "--maxh", "0.4", "--out", "adir"], 2, "must end in .csv")]:
+        proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", *argv], cwd=tmp_path, capture_output=True,
+                              text=True, timeout=120)
+        err = proc.stderr.splitlines()
+        assert proc.returncode == code and len(err) == 1 and fragment in err[0], proc.stderr
+        assert list(tmp_path.iterdir()) == []
+
+
+def test_a_closed_pipe_ends_quietly(tmp_path):
+    """`ngcrack scenes | head -1`: the reader goes away; no traceback, the shell's code for SIGPIPE."""
+    import sys
+
+    proc = subprocess.Popen([sys.executable, "-m", "ngcrack.cli", "scenes"], cwd=tmp_path, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    proc.stdout.close()
+    assert proc.wait(timeout=120) == 141
+    assert proc.stderr.read() == b""

@@ -40,7 +40,8 @@ def add_parser(subparsers, positive, count):
 
 def run(args) -> int:
     from ngcrack import scenes
-    from ngcrack.outputs import StagedWrites, check_finite, check_output
+    from ngcrack.cli_errors import check_finite
+    from ngcrack.files import Staged, check_output
 
     from .loop import check_growth_options, grow
 
@@ -73,7 +74,7 @@ def run(args) -> int:
             json.dump(data, fh, indent=1)
 
     written = [json_path]
-    with StagedWrites() as staged:  # every output or none; existing files untouched on failure
+    with Staged() as staged:  # every output or none; existing files untouched on failure
         staged.write(json_path, write_json)
         if csv_path is not None:
             staged.write(csv_path, lambda tmp: result.table.to_csv(tmp, index=False))

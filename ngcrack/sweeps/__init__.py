@@ -20,6 +20,7 @@ The modules, each one idea, lower ones first:
 (`ngcrack.study`, the former name, still imports everything here.)
 """
 
+from ..files import file_name_part
 from ..quadrature import QUADRATURE_ORDER, quadrature_points
 from .cases import MESH_OPTIONS, Case, run_case
 from .executors import DASK_CONNECT_TIMEOUT
@@ -41,7 +42,7 @@ from .quantities import (
     tip_columns,
 )
 from .rates import RATE_COLUMNS, fitted_rates, markdown_table, with_rates
-from .results import KEY, KEY_DIGITS, ROW_COLUMNS, ROW_SCHEMA, ResultsFile, csv_line, file_name_part, read_results, scene_friction, typed
+from .results import KEY, KEY_DIGITS, ROW_COLUMNS, ROW_SCHEMA, ResultsFile, csv_line, read_results, scene_friction, typed
 
 __all__ = [
     "Case", "DASK_CONNECT_TIMEOUT", "KEY", "KEY_DIGITS", "MESH_OPTIONS", "QUADRATURE_ORDER", "QUANTITIES",

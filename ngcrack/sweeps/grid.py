@@ -18,9 +18,10 @@ from typing import Any
 
 import numpy as np
 
+from ..files import file_name_part
 from ..options import SolveOptions
 from .cases import MESH_OPTIONS, Case
-from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, file_name_part, scene_friction
+from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, scene_friction
 
 
 def check_friction_applies(friction, crack_model: str | None, field: str = "friction") -> None:
@@ -38,7 +39,7 @@ def warn_friction_not_applied(scene, crack_model: str | None) -> None:
     mu = scene_friction(scene)
     if mu and (crack_model or "contact") != "contact":
         warnings.warn(f"scene {scene.name!r}: its cracks' friction ({mu:g}) is not applied with crack_model = "
-                      f"{crack_model!r}; the rows record friction 0", UserWarning, stacklevel=3)
+                      f"{crack_model!r} (a sweep's rows record friction 0)", UserWarning, stacklevel=3)
 
 
 def _as_list(values, name: str) -> list:

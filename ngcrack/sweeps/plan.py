@@ -41,6 +41,8 @@ def check_sweep(scene, elements=("bdm",), maxh=(0.2, 0.1, 0.05), nu=None, *, fri
         from ..sizing import check_max_dof
 
         check_max_dof(max_dof)
+        if max_dof != int(max_dof):  # never truncated silently
+            raise ValueError(f"max_dof = {max_dof!r}: must be a whole number of unknowns")
         solve_options = {**(solve_options or {}), "max_dof": int(max_dof)}
     grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
                          jobs, solve_options, friction,

@@ -40,12 +40,12 @@ largest |K_I - K_I exact| / (|p| sqrt(pi a)) over the tips (`k_error`).
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from ..files import atomic_write
 from ..quadrature import QUADRATURE_ORDER, quadrature_points
 
 #: the paper's error quantities, in the order of its Tables 1-4
@@ -141,11 +141,9 @@ class Reference:
 
     def save(self, path: Path) -> None:
         """Write to an npz file atomically (a temporary file renamed into place)."""
-        path = Path(path)
-        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.npz")
-        np.savez(tmp, scene=self.scene, element=self.element, maxh=self.maxh, nu=self.nu, ndof=self.ndof,
-                 normal=self.normal, points=self.points, weights=self.weights, values=self.values)
-        os.replace(tmp, path)
+        atomic_write(path, lambda tmp: np.savez(
+            tmp, scene=self.scene, element=self.element, maxh=self.maxh, nu=self.nu, ndof=self.ndof,
+            normal=self.normal, points=self.points, weights=self.weights, values=self.values))
 
     @classmethod
     def load(cls, path: Path) -> Reference:

@@ -14,7 +14,6 @@ import csv
 import io
 import math
 import os
-import re
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -88,23 +87,6 @@ def _key(scene: str, element: str, maxh: float, nu: float, friction: float = 0.0
 def scene_friction(scene) -> float:
     """The scene's Coulomb coefficient for the `friction` column: its cracks' largest (0 without a crack)."""
     return max((float(c.friction) for c in scene.cracks), default=0.0)
-
-
-#: the longest part of a file name taken from a scene's name
-NAME_PART_MAX = 64
-
-
-def file_name_part(text: str) -> str:
-    """`text` as a safe part of a file name: letters, digits, '.', '_' and '-' only, no
-    leading dot, at most NAME_PART_MAX characters; a name that had to change gets a
-    short hash of the original, so that two different names stay two different files."""
-    import hashlib
-
-    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", str(text)).lstrip(".") or "_"
-    if safe == text and len(safe) <= NAME_PART_MAX:
-        return safe
-    digest = hashlib.sha1(str(text).encode()).hexdigest()[:8]
-    return f"{safe[:NAME_PART_MAX]}-{digest}"
 
 
 def _format(value) -> str:

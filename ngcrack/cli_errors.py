@@ -1,0 +1,84 @@
+"""How the command line reports what went wrong: one line, and an exit code that says whose problem it is.
+
+    2  bad input (a ValueError of the package: SceneError, option errors, the size guard;
+       a number beyond double precision; a path that cannot be used), named in the line
+    3  a system that cannot be solved (singular, a failed crack QP, out of memory)
+    1  anything unexpected: the line ends with the advice to run again with --debug
+
+`classify` follows an exception's causes (a sweep's SweepError wraps the run's own).
+Warnings are shown on one line each too.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+#: exit codes: bad input, a system that cannot be solved, something unexpected
+EXIT_INPUT, EXIT_SOLVE, EXIT_UNEXPECTED = 2, 3, 1
+
+
+class NotSolvedError(RuntimeError):
+    """The solve finished but its answer cannot be used (exit code 3)."""
+
+
+def one_line(text) -> str:
+    return " ".join(str(text).split())
+
+
+def _causes(exc: BaseException):
+    """`exc` and the exceptions it was raised from (a SweepError wraps the run's own)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        yield exc
+        exc = exc.__cause__ or exc.__context__
+
+
+def classify(exc: BaseException) -> tuple[int, str]:
+    """(exit code, one-line message) of an error that reached the command line."""
+    from .contact import ContactSolverError
+    from .schur import LinearSolverError
+    from .solve import SolveError
+
+    text = one_line(exc)
+    for cause in _causes(exc):
+        netgen = type(cause).__name__ == "NgException"
+        if isinstance(cause, MemoryError) or (netgen and "allocate" in str(cause)):
+            return EXIT_SOLVE, (f"out of memory ({text or type(cause).__name__}); use a larger maxh or a smaller "
+                                f"--max-dof")
+        if isinstance(cause, (SolveError, ContactSolverError, LinearSolverError, NotSolvedError)):
+            return EXIT_SOLVE, text
+        if netgen and "singular" in str(cause):
+            where = text.split('in Assemble')[0].strip()
+            return EXIT_SOLVE, (f"the system is singular (netgen: {where}); is every part of the body held, and are the "
+                                f"material values and loads finite and of a sane size?")
+        if isinstance(cause, ValueError):  # SceneError, UsageError, every option the package refuses
+            return EXIT_INPUT, text
+        if isinstance(cause, ArithmeticError):
+            return EXIT_INPUT, (f"a value beyond what double precision holds ({type(cause).__name__}: {text}); "
+                                f"check the mesh sizes, the loads and the material values")
+        if isinstance(cause, OSError) and cause.filename is not None:
+            return EXIT_INPUT, f"cannot use {cause.filename!r}: {cause.strerror or cause}"
+    return EXIT_UNEXPECTED, (f"unexpected {type(exc).__name__}: {text} (run with --debug for the traceback)")
+
+
+def one_line_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"ngcrack: warning: {one_line(message)}", file=sys.stderr if file is None else file)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
+
+
+def check_finite(obj) -> None:
+    """Refuse NaN or infinity anywhere in the result (json would write invalid tokens)."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise NotSolvedError("the result contains a non-finite number (are the loads and the material of a sane "
+                             "size?); nothing was written")
+    if isinstance(obj, dict):
+        for v in obj.values():
+            check_finite(v)
+    elif isinstance(obj, list):
+        for v in obj:
+            check_finite(v)

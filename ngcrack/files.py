@@ -1,0 +1,123 @@
+"""Files written whole or not at all, folders tried before the work, names that stay where they are put.
+
+Every output of ngcrack (JSON, figures, tables, reference caches) goes through a
+temporary file beside its target, renamed into place when complete (os.replace: atomic
+on one file system), so an interruption or an error never leaves a half-written file
+and an existing file is untouched until its replacement is whole. `Staged` does that
+for several files at once: all are replaced, or none. A low-level module: it imports
+nothing of ngcrack.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+#: the longest part of a file name taken from a user's text (a scene's name)
+NAME_PART_MAX = 64
+
+
+class Staged:
+    """Output files written to temporary files beside their targets, renamed into place together.
+
+    Used as a context manager: on leaving it normally every staged file replaces its
+    target; on an error the temporary files are removed and every target is left as it was.
+    """
+
+    def __init__(self) -> None:
+        self.files: list[tuple[str, Path]] = []
+
+    def write(self, path, write: Callable[[str], object]) -> Path:
+        """Stage `path`: `write(tmp)` writes the content to the temporary file `tmp` (same suffix)."""
+        path = Path(path)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
+        os.close(fd)
+        self.files.append((tmp, path))
+        write(tmp)
+        return path
+
+    def __enter__(self) -> Staged:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                for tmp, path in self.files:
+                    os.replace(tmp, path)
+        finally:
+            for tmp, _ in self.files:
+                if os.path.exists(tmp):
+                    os.unlink(tmp)
+
+
+def atomic_write(path, write: Callable[[str], object]) -> Path:
+    """Write `path` whole or not at all: `write(tmp)` fills a temporary file renamed into place."""
+    with Staged() as staged:
+        return staged.write(path, write)
+
+
+def unwritable(folder) -> str | None:
+    """Why this process cannot create a file in `folder` (tried, not guessed from the mode
+    bits, which the superuser ignores), or None if it can."""
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".ngcrack-probe-")
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    os.close(fd)
+    os.unlink(tmp)
+    return None
+
+
+def file_name_part(text: str) -> str:
+    """`text` as a safe part of a file name: letters, digits, '.', '_' and '-' only, no
+    leading dot, at most NAME_PART_MAX characters; a name that had to change gets a
+    short hash of the original, so that two different names stay two different files."""
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", str(text)).lstrip(".") or "_"
+    if safe == text and len(safe) <= NAME_PART_MAX:
+        return safe
+    digest = hashlib.sha1(str(text).encode()).hexdigest()[:8]
+    return f"{safe[:NAME_PART_MAX]}-{digest}"
+
+
+class PathError(ValueError):
+    """An output path that cannot be written (refused before any work; exit code 2)."""
+
+
+def writable_folder(folder: Path, field: str, path) -> None:
+    """Refuse a folder this process cannot create files in."""
+    why = unwritable(folder)
+    if why is not None:
+        raise PathError(f"{field} = {str(path)!r}: cannot write in the directory {str(folder)!r} ({why}); "
+                         f"choose a writable place")
+
+
+def check_output(path: str | None, field: str, suffix: str | None = None) -> Path | None:
+    """A file to write: its directory exists and is writable, it is not a directory, it has `suffix`."""
+    if path is None:
+        return None
+    p = Path(path)
+    if not p.parent.is_dir():
+        raise PathError(f"{field} = {str(path)!r}: the directory {str(p.parent)!r} does not exist")
+    if p.is_dir():
+        raise PathError(f"{field} = {str(path)!r}: is a directory; give a file name")
+    if suffix and p.suffix.lower() != suffix:
+        raise PathError(f"{field} = {str(path)!r}: must end in {suffix}")
+    writable_folder(p.parent, field, path)
+    if p.exists() and not os.access(p, os.W_OK):
+        raise PathError(f"{field} = {str(path)!r}: the file is read-only; choose another or make it writable")
+    return p
+
+
+def check_output_folder(path: str, field: str) -> Path:
+    """A folder to write into: its parent exists, it is a directory if it exists, it is writable."""
+    out = Path(path)
+    if not out.parent.is_dir():
+        raise PathError(f"{field} = {str(path)!r}: the directory {str(out.parent)!r} does not exist")
+    if out.exists() and not out.is_dir():
+        raise PathError(f"{field} = {str(path)!r}: exists and is not a directory")
+    writable_folder(out if out.exists() else out.parent, field, path)
+    return out
