@@ -41,7 +41,8 @@ from pathlib import Path
 import numpy as np
 
 import ngcrack as nc
-from ngcrack import references, tips
+from ngcrack import references
+from ngcrack import tips as nctips
 
 HERE = Path(__file__).resolve().parent
 PEER = HERE / "getfem_xfem.py"
@@ -97,7 +98,7 @@ def peer_problem(scene, ref, h: float, faces: str) -> dict:
         raise ValueError(f"scene {scene.name!r}: one straight crack only")
     pts = np.asarray(scene.cracks[0].points, float)
     tips = []
-    for label in tips.tip_labels(scene):
+    for label in nctips.tip_labels(scene):
         end = label.split(",")[1]
         p, prev = (pts[0], pts[1]) if end == "first" else (pts[-1], pts[-2])
         e = (p - prev) / np.linalg.norm(p - prev)
@@ -118,11 +119,12 @@ def run_peer(name: str, h: float) -> dict:
     if out.returncode:
         raise RuntimeError(f"getfem_xfem.py failed on {name}, h = {h}:\n{out.stderr[-2000:]}")
     res = json.loads(out.stdout.strip().splitlines()[-1])
-    labels = tips.tip_labels(scene)
+    labels = nctips.tip_labels(scene)
     err_K = max(abs(t[ref.mode] - ref.K(lab)) / abs(ref.K(lab)) for lab, t in zip(labels, res["tips"]))
     return {"scene": name, "code": "GetFEM P2 XFEM", "options": f"h={h:g}", "unknowns": res["unknowns"],
             "cpu": res["cpu"], "K": err_K, "profile": res["profile_error"],
-            "profile_closed_form": res["profile_error_closed_form"], "note": res.get("penetration")}
+            "profile_closed_form": res["profile_error_closed_form"], "note": res.get("penetration"),
+            "linear_solver": res.get("linear_solver"), "phases": res.get("phases")}
 
 
 def run_ngcrack(name: str, run: dict, mesh) -> dict:
@@ -162,9 +164,12 @@ def main() -> None:
     for i in range(steps):
         for name in SCENES:
             if i < len(peer_h):
-                rows.append(run_peer(name, peer_h[i]))
-                print(f"  {name} GetFEM h={peer_h[i]}: {rows[-1]['unknowns']} unknowns, {rows[-1]['cpu']:.2f} s",
-                      file=sys.stderr)
+                try:
+                    rows.append(run_peer(name, peer_h[i]))
+                    print(f"  {name} GetFEM h={peer_h[i]}: {rows[-1]['unknowns']} unknowns, {rows[-1]['cpu']:.2f} s",
+                          file=sys.stderr)
+                except RuntimeError as exc:
+                    print(f"  (GetFEM failed on {name}, h = {peer_h[i]}: {str(exc)[-300:]})", file=sys.stderr)
             if i < len(meshes):
                 for r in runs:
                     key = (name, json.dumps(r, sort_keys=True))
@@ -179,11 +184,16 @@ def main() -> None:
                     last[key] = rows[-1]["unknowns"]
                     print(f"  {name} {rows[-1]['code']} {rows[-1]['options']}: {rows[-1]['unknowns']} unknowns, "
                           f"{rows[-1]['cpu']:.2f} s", file=sys.stderr)
+        save(rows, out)
     print_table(rows)
     print_targets(rows)
     figure(rows, out)
-    (out.with_suffix(".json")).write_text(json.dumps([{k: v for k, v in r.items() if k != "key"} for r in rows],
-                                                     indent=1))
+
+
+def save(rows, out: Path) -> None:
+    """The rows so far, as JSON beside the figure (a long run's partial results survive)."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.with_suffix(".json").write_text(json.dumps([{k: v for k, v in r.items() if k != "key"} for r in rows], indent=1))
 
 
 def print_table(rows) -> None:
