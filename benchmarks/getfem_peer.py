@@ -19,8 +19,8 @@ the level set). Prints one table and the cheapest run of each code per accuracy 
 writes the figure (error against CPU time). Expect +-30% on CPU times (shared machine).
 
 ngcrack's runs are data (RUNS): add an entry (e.g. {"element": "tdnns", "order": 3,
-"hp": 4}) to put a new option in the table and the figure; keys nc.solve does not accept
-are skipped with a note.
+"hp": 4}) to put a new option in the table and the figure; keys nc.solve does not accept,
+and options it refuses (bdm's higher orders before they exist), are skipped with a note.
 """
 
 from __future__ import annotations
@@ -58,6 +58,8 @@ RUNS = [
     {"element": "tdnns", "order": 1},
     {"element": "tdnns", "order": 2},
     {"element": "tdnns", "order": 3},
+    {"element": "bdm", "order": 2},
+    {"element": "bdm", "order": 3},
     {"element": "tdnns", "order": 3, "hp": 4},
     {"element": "bdm", "order": 3, "hp": 4},
 ]

@@ -166,6 +166,30 @@ _DATA = {
         closed_form={k: (0.0, -math.sin(math.pi / 6) * math.cos(math.pi / 6) * _root_pi()) for k in ("0,first", "0,last")},
         unknowns=1200144,
     ),
+    # nu = 0.4999 (near incompressibility): the stress of these traction-loaded plates hardly depends
+    # on nu, so K and the profile relative to the closed form (which scales with 1 - nu^2) are as at 0.3
+    ("griffith", 0.4999): dict(
+        tips={"0,last": (1.7890471, -0.0008809)},
+        K_uncertainty=4e-06,
+        mode="K_I",
+        amplitude=1.0093910,
+        amplitude_uncertainty=2e-05,
+        coefficients=(1.0093864, 0.0, -2.33e-05, 0.0, 1e-06, 0.0, 9e-07, 0.0, 5e-07),
+        profile_uncertainty=3e-06,
+        closed_form={"0,last": (_root_pi(), 0.0)},
+        unknowns=2080000,
+    ),
+    ("inclined-compression", 0.4999): dict(
+        tips={"0,first": (0.0, -0.7694182), "0,last": (0.0, -0.7698125)},
+        K_uncertainty=7e-06,
+        mode="K_II",
+        amplitude=1.0027640,
+        amplitude_uncertainty=2e-05,
+        coefficients=(1.0027552, 0.0002411, -4.36e-05, -2.26e-05, -3.76e-05, -1.84e-05, -3.06e-05, -1.09e-05, -1.76e-05),
+        profile_uncertainty=5e-05,
+        closed_form={k: (0.0, -math.sin(math.pi / 6) * math.cos(math.pi / 6) * _root_pi()) for k in ("0,first", "0,last")},
+        unknowns=1200144,
+    ),
 }
 
 _METHOD = ("tdnns order 3 (and 2) on the scene with maxh, crack_h halved and tip_h / 5 per level, four levels "

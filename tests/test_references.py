@@ -69,6 +69,21 @@ def test_closed_form_error_is_the_existing_opening_error():
     assert references.profile_error(sol, closed_form=True) == pytest.approx(opening_error(sol), rel=1e-12)
 
 
+def test_poisson_ratios():
+    """References at nu = 0.3 (the scenes' own) and 0.4999; another nu is refused, naming the allowed ones."""
+    for name in references.names():
+        assert references.poisson_ratios(name) == [0.3, 0.4999]
+        near = references.reference(name, 0.4999)
+        assert near.nu == 0.4999 and near.shape_factor == pytest.approx(
+            references.reference(name).shape_factor * (1 - 0.4999**2) / (1 - 0.3**2))
+        # traction-loaded plates: K and the profile relative to the closed form hardly depend on nu
+        assert near.amplitude == pytest.approx(references.reference(name).amplitude, abs=1e-5)
+    with pytest.raises(ValueError, match="nu = 0.2: scene 'griffith' has references at nu = 0.3, 0.4999"):
+        references.reference("griffith", 0.2)
+    scene = nc.scenes.load("inclined-compression").with_(nu=0.4999)
+    assert references.reference_for(scene).nu == 0.4999
+
+
 def test_changed_scene_has_no_reference():
     scene = nc.scenes.load("griffith").with_(nu=0.4)
     assert references.reference_for(scene) is None
