@@ -1,55 +1,77 @@
-"""Which element when: accuracy, unknowns and run time of every element on two closed forms.
+"""Which element when: error against CPU time of every element on two scenes with finite-body references.
 
-    python benchmarks/element_choice.py
+    python benchmarks/element_choice.py [--nu 0.3 0.4999] [--levels 2]
 
-At each scene's default mesh: the Griffith crack's opening (relative L2 error against
-4 p (1 - nu^2) / E sqrt(a^2 - s^2), of which about 0.6% is the finite plate's own
-effect) and the closed inclined crack's sliding under compression (relative l2 error
-over the edge mid points against 4 (1 - nu^2) / E tau sqrt(a^2 - s^2)). Each solve runs twice; the faster wall
-time is printed (2 shared cores: expect +-30%). Prints a Markdown table.
+For `griffith` (K_I and the opening) and `inclined-compression` (K_II and the sliding of
+the closed crack under compression), at each Poisson ratio (default 0.3 and 0.4999) and on
+`--levels` meshes (the scene's default mesh, then maxh and crack_h halved and tip_h / 5
+per level) and a strongly graded one (GRADED: maxh 2, crack_h 0.2, tip_h 5e-4, grading
+0.5): every element (tdnns also at orders 2 and 3), its unknowns, the CPU seconds
+of the whole solve on one thread, and its errors against the finite plate's converged
+answer (ngcrack.references: K, max over the tips of |K - K_ref| / |K_ref|; profile,
+relative L2 error over the crack edges' mid points weighted by their lengths), the
+infinite plate's closed-form opening error beside them. Prints Markdown tables.
+Expect +-30% on CPU times (shared machine).
 """
 
 from __future__ import annotations
 
+import os
+
+for _v in ("NGCRACK_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
+    os.environ.setdefault(_v, "1")
+
+import sys
 import time
 
-import numpy as np
-
 import ngcrack as nc
+from ngcrack import references
 from ngcrack.elements import ELEMENTS
-from ngcrack.scenes import inclined_closed_form
-from ngcrack.study import opening_error
+
+RUNS = [(el, None) for el in ELEMENTS] + [("tdnns", 2), ("tdnns", 3)]
+SCENES = ("griffith", "inclined-compression")
 
 
-def sliding_error(sol) -> float:
-    """Relative l2 error of the tangential jump over the crack's edge mid points (as tests/test_inclined.py)."""
-    cf = inclined_closed_form(sol.scene)
-    prof = sol.profiles[0]
-    a, nu, E = sol.scene.exact["a"], sol.scene.material.nu, sol.scene.material.E
-    s = prof.s - a
-    exact = 4 * (1 - nu**2) / E * cf["tau"] * np.sqrt(np.clip(a**2 - s**2, 0, None))
-    return float(np.linalg.norm(prof.tangential_jump - exact) / np.linalg.norm(exact))
+#: a strongly graded mesh: coarse far field, fine tips, fast growth between (benchmarks/getfem_peer.py)
+GRADED = {"maxh": 2.0, "crack_h": 0.2, "tip_h": 5e-4, "grading": 0.5}
 
 
-def measure(name: str, element: str, error) -> dict:
-    scene = nc.scenes.load(name)
-    best = None
-    for _ in range(2):
-        t0 = time.perf_counter()
-        sol = nc.solve(scene, element=element)
-        t = time.perf_counter() - t0
-        best = t if best is None else min(best, t)
-    return {"error": error(sol), "time": best, "ndof": sol.ndof["total"], "global": sol.ndof["global"]}
+def mesh(scene, level) -> dict:
+    if level == "graded":
+        return dict(GRADED)
+    return {"maxh": scene.maxh / 2**level, "crack_h": scene.crack_h / 2**level, "tip_h": scene.tip_h / 5**level}
+
+
+def measure(name: str, element: str, order, nu: float, level: int) -> dict:
+    scene = nc.scenes.load(name).with_(nu=nu)
+    t0 = time.process_time()
+    sol = nc.solve(scene, element=element, order=order, **mesh(nc.scenes.load(name), level))
+    cpu = time.process_time() - t0
+    e = references.errors(sol, references.reference(name, nu))
+    return {"cpu": cpu, "ndof": sol.ndof["total"], **e}
 
 
 def main() -> None:
-    rows = {el: (measure("griffith", el, opening_error), measure("inclined-compression", el, sliding_error))
-            for el in ELEMENTS}
-    print("| element | griffith: opening error | unknowns (global) | time | inclined: sliding error | unknowns (global) | time |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
-    for el, (g, i) in sorted(rows.items(), key=lambda kv: kv[1][0]["error"]):
-        print(f"| {el} | {100 * g['error']:.2f}% | {g['ndof']} ({g['global']}) | {g['time']:.1f} s "
-              f"| {100 * i['error']:.2f}% | {i['ndof']} ({i['global']}) | {i['time']:.1f} s |")
+    nus = [float(v) for v in sys.argv[sys.argv.index("--nu") + 1:] if not v.startswith("--")] if "--nu" in sys.argv \
+        else [0.3, 0.4999]
+    levels = int(sys.argv[sys.argv.index("--levels") + 1]) if "--levels" in sys.argv else 2
+    for nu in nus:
+        print(f"\n### nu = {nu:g}\n")
+        print("| element | mesh | griffith: unknowns | CPU s | K_I error | opening error | opening vs closed form "
+              "| inclined: unknowns | CPU s | K_II error | sliding error | sliding vs closed form |")
+        print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for element, order in RUNS:
+            for level in [*range(levels), "graded"]:
+                try:
+                    g, i = (measure(name, element, order, nu, level) for name in SCENES)
+                except ValueError as exc:  # e.g. an h1 baseline refusing a Poisson ratio
+                    print(f"| {element} | level {level} | refused: {exc} |")
+                    break
+                label = element + (f" order {order}" if order else "")
+                print(f"| {label} | {'default' if level == 0 else level if level == 'graded' else f'level {level}'} | {g['ndof']} | {g['cpu']:.2f} | "
+                      f"{g['K']:.1e} | {g['profile']:.1e} | {100 * g['profile_closed_form']:.2f}% | "
+                      f"{i['ndof']} | {i['cpu']:.2f} | {i['K']:.1e} | {i['profile']:.1e} | "
+                      f"{100 * i['profile_closed_form']:.2f}% |", flush=True)
 
 
 if __name__ == "__main__":

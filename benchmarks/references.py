@@ -1,6 +1,6 @@
 """The finite-body references of ngcrack.references, reproduced with their convergence tables.
 
-    NGCRACK_THREADS=1 python benchmarks/references.py [--quick]
+    NGCRACK_THREADS=1 python benchmarks/references.py [--quick] [--nu NU]
 
 For `griffith` and `inclined-compression`: tdnns at order 3 and 2 on a sequence of meshes
 refined together (level k: maxh = 1 / 2^k, crack_h = 0.05 / 2^k, tip_h = 0.005 / 5^k),
@@ -11,7 +11,8 @@ change its uncertainty); bdm beside them for comparison. The profile correction 
 of
 profile / shape, even for griffith, whose crack centre is on the symmetry line) is fitted
 to the finest level's samples. Prints the tables (Markdown) and the data block of
-ngcrack/references.py. About 2 minutes on one thread; --quick stops a level earlier.
+ngcrack/references.py, at nu = 0.3 (the scenes' own) and 0.4999 (or --nu NU only). About 3
+minutes per Poisson ratio on one thread; --quick stops a level earlier.
 """
 
 from __future__ import annotations
@@ -28,14 +29,16 @@ from ngcrack.references import closed_form_shape
 LEVELS = [(1.0 / 2**k, 0.05 / 2**k, 0.005 / 5**k) for k in range(4)]
 #: levels per scene and element (order 3 reaches the finest)
 DEPTH = {"griffith": 4, "inclined-compression": 3}
+#: Poisson ratios (the scenes' own, and near incompressibility)
+NUS = (0.3, 0.4999)
 #: degree of the Legendre series of profile / shape
 DEGREE = 8
 
 
-def solve_level(name: str, element: str, order, level: int):
+def solve_level(name: str, element: str, order, level: int, nu: float):
     maxh, crack_h, tip_h = LEVELS[level]
     t0 = time.process_time()
-    sol = nc.solve(nc.scenes.load(name), element=element, order=order, maxh=maxh, crack_h=crack_h, tip_h=tip_h)
+    sol = nc.solve(nc.scenes.load(name).with_(nu=nu), element=element, order=order, maxh=maxh, crack_h=crack_h, tip_h=tip_h)
     return sol, time.process_time() - t0
 
 
@@ -99,19 +102,19 @@ def round_up(x: float) -> float:
     return math.ceil(x / 10**e) * 10**e
 
 
-def run(name: str, depth: int) -> dict:
+def run(name: str, depth: int, nu: float) -> dict:
     even = name == "griffith"
     rows, series = [], {}
     for element, order in (("tdnns", 3), ("tdnns", 2), ("bdm", None)):
         levels = range({3: depth, 2: min(depth, 3)}.get(order, depth - 1) if element == "tdnns" else depth - 1)
         for k in levels:
-            sol, cpu = solve_level(name, element, order, k)
+            sol, cpu = solve_level(name, element, order, k, nu)
             tips = {t.label: (t.K_I, t.K_II) for t in sol.tips}
             rec = {"element": element, "order": order or 1, "level": k, "unknowns": sol.ndof["total"], "cpu": cpu,
                    "tips": tips, "amplitude": amplitude(sol), "sol": sol if (order == 3 and k >= depth - 2) else None}
             rows.append(rec)
             series.setdefault((element, order), []).append(rec)
-            print(f"  {name} {element} order {order or 1} level {k}: {rec['unknowns']} unknowns, {cpu:.1f} s", file=sys.stderr)
+            print(f"  {name} nu={nu:g} {element} order {order or 1} level {k}: {rec['unknowns']} unknowns, {cpu:.1f} s", file=sys.stderr)
     mode = "K_I" if name == "griffith" else "K_II"
     labels = list(rows[0]["tips"])
     out = {"rows": rows, "mode": mode}
@@ -145,7 +148,7 @@ def run(name: str, depth: int) -> dict:
     return out
 
 
-def table(name: str, res: dict) -> None:
+def table(name: str, res: dict, nu: float) -> None:
     mode = res["mode"]
     i = 0 if mode == "K_I" else 1
     labels = res["labels"]
@@ -155,7 +158,7 @@ def table(name: str, res: dict) -> None:
         K_cf = ex["p"] * math.sqrt(math.pi * ex["a"])
     else:
         K_cf = nc.scenes.inclined_closed_form(nc.scenes.load(name))["K_II"]
-    print(f"\n### {name}: {mode} / closed form, amplitude of the {cf[4]} profile / closed form\n")
+    print(f"\n### {name}, nu = {nu:g}: {mode} / closed form, amplitude of the {cf[4]} profile / closed form\n")
     head = " | ".join(f"{mode}[{lab}]" for lab in labels)
     print(f"| element | order | level | unknowns | CPU s | {head} | amplitude |")
     print("|---|---:|---:|---:|---:|" + "---:|" * len(labels) + "---:|")
@@ -171,7 +174,7 @@ def table(name: str, res: dict) -> None:
           f"uncertainty of the extrapolated fit {res['fit_uncertainty']:.1e}")
 
 
-def data_block(name: str, res: dict) -> None:
+def data_block(name: str, res: dict, nu: float) -> None:
     est, unc = res["estimate"], res["uncertainty"]
     tips = {lab: (round(float(est[(lab, "K_I")][0]), 7), round(float(est[(lab, "K_II")][0]), 7)) for lab in res["labels"]}
     Ku = round_up(max(unc[(lab, m)] for lab in res["labels"] for m in ("K_I", "K_II")))
@@ -184,20 +187,22 @@ def data_block(name: str, res: dict) -> None:
     coeffs = tuple(round(float(c), 7) for c in res["coefficients"])
     rows = res["rows"]
     finest = max(r["unknowns"] for r in rows if r["order"] == 3)
-    print(f'    "{name}": dict(\n        tips={tips!r},\n        K_uncertainty={Ku:.0e},\n        mode="{res["mode"]}",\n'
+    print(f'    ("{name}", {nu!r}): dict(\n        tips={tips!r},\n        K_uncertainty={Ku:.0e},\n        mode="{res["mode"]}",\n'
           f'        amplitude={est["amplitude"][0]:.7f},\n        amplitude_uncertainty={round_up(unc["amplitude"]):.0e},\n'
           f'        coefficients={coeffs!r},\n        profile_uncertainty={pu:.0e},\n        unknowns={finest},\n    ),')
 
 
 def main() -> None:
     quick = "--quick" in sys.argv
+    nus = [float(sys.argv[sys.argv.index("--nu") + 1])] if "--nu" in sys.argv else list(NUS)
     results = {}
-    for name, depth in DEPTH.items():
-        results[name] = run(name, depth - 1 if quick else depth)
-        table(name, results[name])
+    for nu in nus:
+        for name, depth in DEPTH.items():
+            results[(name, nu)] = run(name, depth - 1 if quick else depth, nu)
+            table(name, results[(name, nu)], nu)
     print("\n# data block for ngcrack/references.py")
-    for name, res in results.items():
-        data_block(name, res)
+    for (name, nu), res in results.items():
+        data_block(name, res, nu)
 
 
 if __name__ == "__main__":

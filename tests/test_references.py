@@ -69,6 +69,21 @@ def test_closed_form_error_is_the_existing_opening_error():
     assert references.profile_error(sol, closed_form=True) == pytest.approx(opening_error(sol), rel=1e-12)
 
 
+def test_poisson_ratios():
+    """References at nu = 0.3 (the scenes' own) and 0.4999; another nu is refused, naming the allowed ones."""
+    for name in references.names():
+        assert references.poisson_ratios(name) == [0.3, 0.4999]
+        near = references.reference(name, 0.4999)
+        assert near.nu == 0.4999 and near.shape_factor == pytest.approx(
+            references.reference(name).shape_factor * (1 - 0.4999**2) / (1 - 0.3**2))
+        # traction-loaded plates: K and the profile relative to the closed form hardly depend on nu
+        assert near.amplitude == pytest.approx(references.reference(name).amplitude, abs=1e-5)
+    with pytest.raises(ValueError, match="nu = 0.2: scene 'griffith' has references at nu = 0.3, 0.4999"):
+        references.reference("griffith", 0.2)
+    scene = nc.scenes.load("inclined-compression").with_(nu=0.4999)
+    assert references.reference_for(scene).nu == 0.4999
+
+
 def test_changed_scene_has_no_reference():
     scene = nc.scenes.load("griffith").with_(nu=0.4)
     assert references.reference_for(scene) is None
@@ -103,3 +118,23 @@ def test_bdm_converges_to_the_reference(name):
     for q in ("profile", "K"):
         assert errs[1][q] < 0.9 * errs[0][q] and errs[2][q] < 0.9 * errs[1][q]
         assert errs[2][q] < 0.7 * errs[0][q]
+
+
+#: the efficient path measured by benchmarks/getfem_peer.py: tdnns order 3, strong grading towards
+#: the tips (a coarse far field, a fine tip, the mesh growing fast between)
+GRADED = {"maxh": 2.0, "crack_h": 0.2, "tip_h": 5e-4, "grading": 0.5}
+
+
+@pytest.mark.parametrize("name", references.names())
+def test_strongly_graded_order_3_is_accurate_with_few_unknowns(name):
+    """Measured: griffith K_I 1.8e-6, opening 3.8e-5 at 3.8e4 unknowns; inclined-compression K_II 3.9e-6,
+    sliding 9.0e-5 at 5.4e4 (the scenes' own meshes at order 3: 1.2e-5 / 2.5e-4 and 3.1e-5 / 4.7e-4 with
+    2.4 and 3.1 times the unknowns)."""
+    sol = solved(name, "tdnns", 3, **GRADED)
+    e = references.errors(sol)
+    print(f"[references] {name} tdnns order 3, graded: K {e['K']:.1e}, profile {e['profile']:.1e}, "
+          f"{sol.ndof['total']} unknowns")
+    assert e["K"] < 1e-5 and e["profile"] < 1.5e-4
+    assert sol.ndof["total"] < 6e4
+    default = references.errors(solved(name, "tdnns", 3))
+    assert e["K"] < 0.3 * default["K"] and e["profile"] < 0.3 * default["profile"]
