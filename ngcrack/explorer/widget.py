@@ -52,8 +52,19 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     (an ipywidgets VBox; `.model` is the model). Bad arguments raise one ValueError
     naming the argument and what it allows, before any widget is made.
     """
-    model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
+    try:
+        model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
+    except ValueError as exc:
+        raise ArgumentError(str(exc)) from None
     return _widget_class()(model, webgui=webgui)
+
+
+class ArgumentError(ValueError):
+    """A bad argument of `explore`: a ValueError that a notebook shows as its one line
+    (IPython renders `_render_traceback_` instead of the frames of the checks)."""
+
+    def _render_traceback_(self) -> list[str]:
+        return [f"ValueError: {self}"]
 
 
 @functools.lru_cache(maxsize=1)
@@ -280,11 +291,7 @@ class _ExplorerView:
             return
         with self.webgui:
             try:
-                from ngsolve.webgui import Draw
-
-                sol = self.model.solution
-                cf, name = webgui_field(sol, self.model.state["field"])
-                Draw(cf, sol.mesh, name)
+                show_webgui(*webgui_field(self.model.solution, self.model.state["field"]), self.model.solution.mesh)
             except Exception as exc:  # noqa: BLE001
                 print(_one_line(exc))
 
@@ -305,3 +312,22 @@ def webgui_field(sol, field: str) -> tuple[Any, str]:
     szz = mat.nu * (sxx + syy) if mat.plane == "strain" else 0.0 * sxx
     vm = ngs.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
     return vm, f"von Mises (plane {mat.plane})"
+
+
+def show_webgui(cf, name: str, mesh) -> None:
+    """NGSolve's webgui view of `cf` on `mesh`, displayed: through webgui_jupyter_widgets
+    where it is installed (its JavaScript ships with it, so the view works offline), else
+    through ngsolve.webgui's own widget (anywidget; it loads its JavaScript from a CDN)."""
+    from IPython.display import display
+    from ngsolve.webgui import Draw
+
+    scene = Draw(cf, mesh, name, show=False)
+    try:
+        import ipywidgets
+        from webgui_jupyter_widgets import WebGuiWidget
+    except ImportError:
+        scene.Draw()
+        return
+    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height="420px"))
+    widget.value = scene.GetData()
+    display(widget)
