@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import ngsolve as ngs
 
-from .geometry import CrackMesh, crack_side
+from .geometry import CrackMesh, crack_side, element_points
 from .materials import compliance, lame_parameters
 
 #: the crack models with an estimate (the sign condition on [w].nu differs per model)
@@ -368,27 +368,9 @@ def _node_barycentric(degree: int) -> np.ndarray:
 
 def _element_mesh_points(cmesh: CrackMesh, top: _Topology, lam: np.ndarray) -> np.ndarray | None:
     """NGSolve mesh points at barycentric coordinates `lam` (nk, 3) in every element, in
-    element order (no point search: the reference coordinates of a triangle are its
-    barycentric coordinates of vertices 0 and 1, in the vertex order of
-    `CrackMesh.triangles`). The layout is checked against the point search on a few
-    elements; None where it differs (another NGSolve)."""
-    ne, nk = len(top.T), len(lam)
-    X = top.P[top.T]
-    probe = np.unique(np.r_[0, ne - 1, np.linspace(0, ne - 1, 7).astype(int)])
-    pts = np.einsum("kv,evd->ekd", lam, X[probe]).reshape(-1, 2)
-    found = cmesh.mesh(pts[:, 0], pts[:, 1])
-    mips = np.zeros(ne * nk, dtype=found.dtype)
-    mips["x"] = np.tile(lam[:, 0], ne)
-    mips["y"] = np.tile(lam[:, 1], ne)
-    mips["meshptr"] = found["meshptr"][0]
-    mips["VorB"] = found["VorB"][0]
-    mips["nr"] = np.repeat(np.arange(ne, dtype=np.int32), nk)
-    mips["facetnr"] = found["facetnr"][0]
-    mine = mips[(probe[:, None] * nk + np.arange(nk)[None, :]).ravel()]
-    if not (np.array_equal(mine["nr"], found["nr"]) and np.allclose(mine["x"], found["x"], atol=1e-9)
-            and np.allclose(mine["y"], found["y"], atol=1e-9)):
-        return None
-    return mips
+    element order (no point search: `geometry.element_points`); None where they cannot
+    be built that way."""
+    return element_points(cmesh, lam)
 
 
 def _local_mesh_points(cmesh: CrackMesh, top: _Topology, degree: int) -> np.ndarray:

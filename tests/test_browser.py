@@ -4,8 +4,8 @@ The teaching notebook (notebooks/09-explore.py, converted to .ipynb, with two ce
 added at its end: a widget with the webgui view, and a construction with a bad element)
 is opened in JupyterLab and run; then, as a student would:
 
-1. the "load factor" slider is moved with the keyboard to tension: the figure changes,
-   the slider, its typed box and the model agree, no error output appears;
+1. the "load factor" slider is moved with the keyboard to tension: the figure is greyed
+   while the kernel solves and changes, the slider, its typed box and the model agree;
 2. 0.7 is typed into Poisson's ratio: the refusal shows (one line naming nu and its
    range), the box and the slider go back to 0.3, the model keeps 0.3;
 3. under tension the crack faces drawn show a gap and no overlap;
@@ -275,6 +275,9 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             handle = page.locator(".ngcrack-slider-load .noUi-handle").first
             handle.focus()
             changed = "(src) => { const i = document.querySelector('img.ngcrack-figure'); return i && i.src !== src; }"
+            page.evaluate("() => { window._ngcrackBusy = false; const i = document.querySelector('img.ngcrack-figure');"
+                          " new MutationObserver(() => { if (i.classList.contains('ngcrack-busy'))"
+                          " window._ngcrackBusy = true; }).observe(i, {attributes: true}); }")
             t_key = time.monotonic()
             page.keyboard.press("ArrowLeft")  # one step: the browser's slider-to-figure latency
             page.wait_for_function(changed, arg=before_src, timeout=MOVE_TIMEOUT * 1000)
@@ -286,6 +289,8 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             _wait_settled(page, MOVE_TIMEOUT)
             settle = time.monotonic() - t_last
             seen["slider"] = _data(page)
+            seen["busy_seen"] = page.evaluate("() => window._ngcrackBusy")
+            seen["busy_now"] = page.locator("img.ngcrack-figure.ngcrack-busy").count()
             seen["slider_status"] = page.locator(".ngcrack-status").first.inner_text()
             seen["load_box"] = page.locator(".ngcrack-typed-load input").first.input_value()
             after_png = figure.screenshot(path=str(shots / "figure-after.png"))
@@ -342,6 +347,7 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
     assert d["state"]["load"] < 0.0, f"the slider did not move to tension: load factor = {d['state']['load']}"
     assert d["state"]["load"] == d["controls"]["load"] == d["typed"]["load"] == float(seen["load_box"])
     assert before_png != after_png, "the figure did not change"
+    assert seen["busy_seen"] and seen["busy_now"] == 0, "the figure was not greyed while solving, or stays greyed"
     # 2. refusal
     d = seen["refused"]
     assert "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5" in seen["refused_status"]

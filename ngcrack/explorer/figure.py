@@ -79,13 +79,15 @@ def units(scene) -> tuple[str, str]:
     return (u.get("stress") or "E units", u.get("length") or "length units")
 
 
-def stress_values(sol, field: str) -> np.ndarray:
+def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarray:
     """Per triangle (at its centroid): sigma_nu = (sigma nu).nu with nu the first crack's
     normal ((0, 1) without a crack), or the von Mises stress of the symmetric part (with
-    sigma_zz = nu (sigma_xx + sigma_yy) in plane strain, 0 in plane stress)."""
+    sigma_zz = nu (sigma_xx + sigma_yy) in plane strain, 0 in plane stress). `sigma`:
+    the stress at the centroids (plots.centroid_stress), if the caller has it."""
+    from ..plots import centroid_stress
+
     cm = sol.crack_mesh
-    cent = cm.centroids
-    sig = np.asarray(sol.sigma(sol.mesh(cent[:, 0], cent[:, 1]))).reshape(-1, 2, 2)
+    sig = centroid_stress(sol) if sigma is None else sigma
     sig = 0.5 * (sig + np.transpose(sig, (0, 2, 1)))
     if field == "sigma_nu":
         nu = cm.cracks[0].normal[0] if cm.cracks else np.array([0.0, 1.0])
@@ -221,7 +223,7 @@ class Drawing:
         them; a new field or layout sets them again). ``magnification`` > 0: displacements
         drawn times this factor (0: automatic, or the held one). ``load_factor``: shown in
         the title, with its sign's meaning."""
-        from ..plots import element_displacements
+        from ..plots import centroid_stress, element_displacements
 
         poly = np.asarray(sol.scene.polygon, float)
         w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
@@ -235,10 +237,11 @@ class Drawing:
         ax, axz, axp, axt = self.ax, self.axz, self.axp, self.axt
         stress_unit, length_unit = units(sol.scene)
         model = (getattr(sol, "options", None) or {}).get("crack_model")
-        corners, disp = element_displacements(sol)
+        sigma = centroid_stress(sol)
+        corners, disp = element_displacements(sol, sigma)
         diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
         umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
-        vals = stress_values(sol, field)
+        vals = stress_values(sol, field, sigma)
         profiles = sol.crack_profiles()
         jmax = max([float(np.max(np.abs(np.r_[p.normal_jump, p.tangential_jump]), initial=0.0)) for p in profiles]
                    + [0.0])

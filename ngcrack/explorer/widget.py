@@ -38,6 +38,9 @@ STYLE = """<style>
 .ngcrack-help { font-size: 12px; color: #444; }
 </style>"""
 
+#: the load factor's meaning, under the controls
+LOAD_HELP = "multiplies every load of the scene: +1 as the scene gives it, -1 reversed, 0 unloaded"
+
 #: the slider ranges of older imports (the model's `ranges` are what counts)
 SLIDERS = {"load": (-2.0, 2.0, 0.1), "load_angle": (-180.0, 180.0, 5.0), "nu": (0.0, 0.5, 0.01),
            "friction": (0.0, 1.0, 0.05)}
@@ -241,9 +244,11 @@ class _ExplorerView:
         kept = "the figure shows the last good answer" if m.solution is not None else "no answer yet"
         self.status.value = ("" if m.error is None else
                              f"<span>&#9888; {_escape(m.error)} ({kept})</span>")
-        self.help.value = _escape(CRACK_MODEL_HELP.get(m.state["crack_model"], "")) + \
-            " &nbsp;|&nbsp; " + _escape("load factor: " + HELP["load"])
-        self._readout(draw_s)
+        self.help.value = (f"<div style='line-height:1.35'><b>crack model</b> "
+                           f"{_escape(CRACK_MODEL_HELP.get(m.state['crack_model'], ''))}<br><b>load factor</b> "
+                           f"{_escape(LOAD_HELP)}</div>")
+        if m.error is None:  # (after a failure the readout stays that of the figure shown)
+            self._readout(draw_s)
         self._data()
         if self.webgui is not None and getattr(self, "_webgui_on", False):
             self._draw_webgui(True)
@@ -266,11 +271,12 @@ class _ExplorerView:
         parts = " + ".join(f"{k} {v:.2f}" for k, v in split.items())
         tips = self.drawing.data.get("tips") or []
         self.readout.value = (
+            "<div style='line-height:1.4'>"
             f"<b>unknowns</b> {nd['total']} (global {nd['global']}, contact {nd['contact']}) &nbsp; "
             f"<b>time</b> {total:.2f} s = {parts} s ({_escape(', '.join(r['redone']) or '-')})"
             f"<br><b>KKT residual</b> {r['kkt']:.1e} &nbsp; <b>contact length</b> {r['contact_length']:.3g} "
             f"of {r['crack_length']:.3g}"
-            + (f"<br>{_escape(';  '.join(tips))}" if tips else ""))
+            + (f"<br>{_escape(';  '.join(tips))}" if tips else "") + "</div>")
 
     def _data(self) -> None:
         m = self.model
