@@ -12,7 +12,8 @@ and then changed, alternately between two values, `repeat` times per kind:
 - geometry: the crack angle (remeshes);
 - fresh: `nc.solve` of the same scene from nothing.
 
-Median wall times of `Explorer.update` (no figure). Then the slider-to-figure latency on the
+Median wall times of `Explorer.update` (no figure), the error estimate's part of a load
+change, and one redraw of the figure (`Drawing.render`, held scales). Then the slider-to-figure latency on the
 default teaching mesh: an `ExplorerWidget` (the ipywidgets view, no browser) has a control set
 and the time until its image holds the new PNG is measured (`ExplorerWidget.latency`:
 update, drawing and the widget's value). No number here is a test threshold.
@@ -33,8 +34,9 @@ CHANGES = {"load": ("load", (0.8, 1.0)), "material": ("nu", (0.35, 0.3)), "geome
 
 
 def _median_update(study, name, values, repeat):
-    """Median wall and CPU (process) time of `repeat` updates of one control."""
-    times, cpu, redone = [], [], None
+    """Median wall and CPU (process) time of `repeat` updates of one control, and the
+    median time of the error estimate in them."""
+    times, cpu, est, redone = [], [], [], None
     for k in range(repeat):
         c0 = time.process_time()
         study.update(**{name: values[k % 2]})
@@ -42,8 +44,9 @@ def _median_update(study, name, values, repeat):
         if study.error:
             raise RuntimeError(study.error)
         times.append(study.latency)
+        est.append(float(study.solution.timings.get("estimate", 0.0)))
         redone = study.redone
-    return statistics.median(times), statistics.median(cpu), redone
+    return statistics.median(times), statistics.median(cpu), statistics.median(est), redone
 
 
 def bench_mesh(label, maxh, tip_h, repeat, element="bdm"):
@@ -56,7 +59,16 @@ def bench_mesh(label, maxh, tip_h, repeat, element="bdm"):
     row = {"mesh": label, "unknowns": study.solution.ndof["total"], "global": study.solution.ndof["global"],
            "contact": study.solution.ndof["contact"], "first": first}
     for kind, (name, values) in CHANGES.items():
-        row[kind], row[kind + "_cpu"], row[kind + "_redone"] = _median_update(study, name, values, repeat)
+        row[kind], row[kind + "_cpu"], row[kind + "_estimate"], row[kind + "_redone"] = \
+            _median_update(study, name, values, repeat)
+    from ngcrack.explorer import Drawing
+
+    drawing = Drawing()
+    drawing.render(study.solution)  # (the first render builds the figure)
+    t0 = time.perf_counter()
+    for _ in range(repeat):
+        drawing.render(study.solution, hold=True)
+    row["drawing"] = (time.perf_counter() - t0) / repeat
     fresh, fresh_cpu = [], []
     for _ in range(repeat):
         t0, c0 = time.perf_counter(), time.process_time()
@@ -73,17 +85,19 @@ def bench_widget(repeat, element="bdm"):
     rows = []
     changes = list(CHANGES.items()) + [("stress field (redraw only)", ("field", ("von_mises", "sigma_nu")))]
     for kind, (name, values) in changes:
-        times, cpu = [], []
+        times, cpu, splits = [], [], []
         for k in range(repeat):
             png = w.image.value
             c0 = time.process_time()
             w.controls[name].value = values[k % 2]
             cpu.append(time.process_time() - c0)
-            if w.study.error or w.image.value == png:
-                raise RuntimeError(f"{kind}: the figure did not change ({w.study.error})")
+            if w.model.error or w.image.value == png:
+                raise RuntimeError(f"{kind}: the figure did not change ({w.model.error})")
             times.append(w.latency)
-        rows.append((kind, statistics.median(times), statistics.median(cpu)))
-    return w.study.solution.ndof["total"], rows
+            splits.append(dict(w.timing))
+        split = {key: statistics.median(s[key] for s in splits) for key in splits[0]}
+        rows.append((kind, statistics.median(times), statistics.median(cpu), split))
+    return w.model.solution.ndof["total"], rows
 
 
 def main(argv=None) -> int:
@@ -94,19 +108,22 @@ def main(argv=None) -> int:
     wanted = args.meshes.split(",")
     print("wall time s (CPU time s), median of", args.repeat)
     print("| mesh | unknowns (global, contact) | first solve | load change | material change | "
-          "geometry change | fresh solve | fresh / load | fresh / material |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "geometry change | fresh solve | fresh / load | fresh / material | estimate in a load change | "
+          "drawing |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for label, maxh, tip_h in MESHES:
         if label not in wanted:
             continue
         r = bench_mesh(label, maxh, tip_h, args.repeat)
         cells = " | ".join(f"{r[k]:.3f} ({r[k + '_cpu']:.3f})" for k in ("load", "material", "geometry", "fresh"))
         print(f"| {r['mesh']} | {r['unknowns']} ({r['global']}, {r['contact']}) | {r['first']:.2f} | {cells} | "
-              f"{r['fresh'] / r['load']:.1f} | {r['fresh'] / r['material']:.1f} |", flush=True)
+              f"{r['fresh'] / r['load']:.1f} | {r['fresh'] / r['material']:.1f} | "
+              f"{r['load_estimate']:.3f} ({r['load_estimate'] / r['load']:.0%}) | {r['drawing']:.2f} |", flush=True)
     ndof, rows = bench_widget(args.repeat)
     print(f"\nslider-to-figure latency, default teaching mesh ({ndof} unknowns), median of {args.repeat}:")
-    for kind, t, c in rows:
-        print(f"  {kind:<28} {t:.3f} s wall ({c:.3f} s CPU)")
+    for kind, t, c, split in rows:
+        parts = " + ".join(f"{k} {v:.3f}" for k, v in split.items())
+        print(f"  {kind:<28} {t:.3f} s wall ({c:.3f} s CPU); split: {parts}")
     return 0
 
 

@@ -468,6 +468,34 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
     )
 
 
+def element_points(crack_mesh: CrackMesh, lam: np.ndarray) -> np.ndarray | None:
+    """NGSolve mesh points at barycentric coordinates `lam` (k, 3) in every triangle, in
+    element order (k per triangle), without a point search: the reference coordinates
+    of a triangle are its barycentric coordinates of vertices 0 and 1, in the vertex
+    order of `CrackMesh.triangles`. The layout is checked against the point search on a
+    few triangles; None where it differs (then search the points instead)."""
+    lam = np.asarray(lam, float).reshape(-1, 3)
+    P, T = crack_mesh.points, crack_mesh.triangles
+    ne, nk = len(T), len(lam)
+    if ne == 0:
+        return None
+    probe = np.unique(np.r_[0, ne - 1, np.linspace(0, ne - 1, 7).astype(int)])
+    pts = np.einsum("kv,evd->ekd", lam, P[T[probe]]).reshape(-1, 2)
+    found = crack_mesh.mesh(pts[:, 0], pts[:, 1])
+    mips = np.zeros(ne * nk, dtype=found.dtype)
+    mips["x"] = np.tile(lam[:, 0], ne)
+    mips["y"] = np.tile(lam[:, 1], ne)
+    mips["meshptr"] = found["meshptr"][0]
+    mips["VorB"] = found["VorB"][0]
+    mips["nr"] = np.repeat(np.arange(ne, dtype=np.int32), nk)
+    mips["facetnr"] = found["facetnr"][0]
+    mine = mips[(probe[:, None] * nk + np.arange(nk)[None, :]).ravel()]
+    if not (np.array_equal(mine["nr"], found["nr"]) and np.allclose(mine["x"], found["x"], atol=1e-9)
+            and np.allclose(mine["y"], found["y"], atol=1e-9)):
+        return None
+    return mips
+
+
 # ------------------------------------------------------------ refined meshes (adaptivity)
 
 def crack_mesh_of(mesh: ngs.Mesh, scene: Scene, maxh: float, tip_h: float | None) -> CrackMesh:

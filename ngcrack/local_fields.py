@@ -17,13 +17,20 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .geometry import CrackMesh, crack_side
+from .crack_sides import crack_side
+from .geometry import CrackMesh, element_points
 
 #: quadrature order of the element integrals (sigma_h of degree <= 2 against eps(w) of degree <= 1)
 INTORDER = 4
+
 #: points sampled in an element are pulled this fraction of the way to its centroid, so
 #: that the point search returns that element and not a neighbour
 INWARD = 1e-3
+
+#: the topologies of the last meshes estimated on, by id of their CrackMesh (a load change
+#: keeps its mesh: building one takes a third of the estimate at 1e5 unknowns, measured)
+_TOPOLOGIES: dict[int, tuple] = {}
+
 #: dof numbers of the crack edges in the crack unknowns' spaces: (space, edges, dofs) of the last few
 _EDGE_DOFS: list = []
 
@@ -84,11 +91,6 @@ class _Topology:
             return X
         mids = np.stack([0.5 * (X[:, (i + 1) % 3] + X[:, (i + 2) % 3]) for i in range(3)], axis=1)
         return np.concatenate([X, mids], axis=1)
-
-
-#: the topologies of the last meshes estimated on, by id of their CrackMesh (a load change
-#: keeps its mesh: building one takes a third of the estimate at 1e5 unknowns, measured)
-_TOPOLOGIES: dict[int, tuple] = {}
 
 
 _TOPOLOGIES_KEPT = 4
@@ -237,27 +239,9 @@ def _node_barycentric(degree: int) -> np.ndarray:
 
 def _element_mesh_points(cmesh: CrackMesh, top: _Topology, lam: np.ndarray) -> np.ndarray | None:
     """NGSolve mesh points at barycentric coordinates `lam` (nk, 3) in every element, in
-    element order (no point search: the reference coordinates of a triangle are its
-    barycentric coordinates of vertices 0 and 1, in the vertex order of
-    `CrackMesh.triangles`). The layout is checked against the point search on a few
-    elements; None where it differs (another NGSolve)."""
-    ne, nk = len(top.T), len(lam)
-    X = top.P[top.T]
-    probe = np.unique(np.r_[0, ne - 1, np.linspace(0, ne - 1, 7).astype(int)])
-    pts = np.einsum("kv,evd->ekd", lam, X[probe]).reshape(-1, 2)
-    found = cmesh.mesh(pts[:, 0], pts[:, 1])
-    mips = np.zeros(ne * nk, dtype=found.dtype)
-    mips["x"] = np.tile(lam[:, 0], ne)
-    mips["y"] = np.tile(lam[:, 1], ne)
-    mips["meshptr"] = found["meshptr"][0]
-    mips["VorB"] = found["VorB"][0]
-    mips["nr"] = np.repeat(np.arange(ne, dtype=np.int32), nk)
-    mips["facetnr"] = found["facetnr"][0]
-    mine = mips[(probe[:, None] * nk + np.arange(nk)[None, :]).ravel()]
-    if not (np.array_equal(mine["nr"], found["nr"]) and np.allclose(mine["x"], found["x"], atol=1e-9)
-            and np.allclose(mine["y"], found["y"], atol=1e-9)):
-        return None
-    return mips
+    element order (no point search: `geometry.element_points`); None where they cannot
+    be built that way."""
+    return element_points(cmesh, lam)
 
 
 def _local_mesh_points(cmesh: CrackMesh, top: _Topology, degree: int) -> np.ndarray:

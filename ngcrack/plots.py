@@ -35,14 +35,34 @@ def sigma_nu_field(sol):
     return verts, tris, vals / np.maximum(cnt, 1), nu
 
 
-def element_displacements(sol) -> tuple[np.ndarray, np.ndarray]:
-    """(corner points (ne, 3, 2), corner displacements (ne, 3, 2)) of u* per triangle."""
+def centroid_points(sol):
+    """The triangles' centroids as NGSolve mesh points, in element order (built in their
+    own triangles, geometry.element_points; found by the point search where they cannot be)."""
+    from .geometry import element_points
+
+    mp = element_points(sol.crack_mesh, np.full((1, 3), 1.0 / 3.0))
+    if mp is None:
+        cent = sol.crack_mesh.points[sol.crack_mesh.triangles].mean(axis=1)
+        mp = sol.mesh(cent[:, 0], cent[:, 1])
+    return mp
+
+
+def centroid_stress(sol, points=None) -> np.ndarray:
+    """(ne, 2, 2) the stress at the triangles' centroids (the tree compiled first: the
+    same operations, several times faster on 1e5 points, measured)."""
+    mp = centroid_points(sol) if points is None else points
+    return np.asarray(sol.sigma.Compile()(mp)).reshape(-1, 2, 2)
+
+
+def element_displacements(sol, sigma: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(corner points (ne, 3, 2), corner displacements (ne, 3, 2)) of u* per triangle
+    (`sigma`: the stress at the centroids, if the caller has it)."""
     from .materials import compliance
 
     verts, tris, cent = _element_data(sol)
-    mp = sol.mesh(cent[:, 0], cent[:, 1])
+    mp = centroid_points(sol)
     u = np.asarray(sol.u(mp)).reshape(-1, 2)
-    sig = np.asarray(sol.sigma(mp)).reshape(-1, 2, 2)
+    sig = centroid_stress(sol, mp) if sigma is None else sigma
     mat = sol.scene.material
     A = compliance(mat.E, mat.nu, mat.plane)
     grad = A.apply(sig)

@@ -9,13 +9,22 @@
 # $[u]\cdot\nu \ge 0$, $\sigma_\nu \le 0$, $\sigma_\nu\,[u]\cdot\nu = 0$, $\sigma_t = 0$.
 #
 # **The widget.** `nc.explore` solves the scene with the BDM element and redraws when a
-# control moves. It redoes only what a change invalidates: a new load (the *load x*
-# multiplier, the *load angle*) re-uses the mesh, the assembled matrix, its factorization
-# and the Schur complement on the crack — a new right-hand side and a small QP, a tenth of
-# a second; a new material re-assembles on the same mesh; moving the crack remeshes.
-# The left panel shows the deformed plate (displacements magnified: gaps and offsets on
-# the crack are its opening and sliding) coloured by $\sigma_\nu = (\sigma\nu)\cdot\nu$
-# or von Mises; the right panel the crack profiles along the crack.
+# control moves. It redoes only what a change invalidates: a new load (the *load factor*,
+# which multiplies every load of the scene: +1 as given, here compression; −1 reversed,
+# tension; and the *load angle*) re-uses the mesh, the assembled matrix, its
+# factorization and the Schur complement on the crack — a new right-hand side and a small
+# QP, a tenth of a second; a new material re-assembles on the same mesh; moving the crack
+# remeshes. Every slider has a box for a typed value; a value out of range is refused
+# (one red line names the control and its range) and the slider keeps the model's value.
+#
+# The figure: the deformed plate (displacements magnified by the factor in the title),
+# coloured by $\sigma_{\nu\nu} = (\sigma\nu)\cdot\nu$ or von Mises, with the two crack
+# faces drawn as two curves (blue: the + face, into which $\nu$ points; orange: the −
+# face), each moved by its own side's displacement — an opening is a gap between them,
+# an interpenetration an overlap shaded red —, the load arrows, the supports (circles:
+# rollers), $\nu$ and $t$ on the crack; a zoom on the crack; the crack profiles along the
+# crack; the tips' $K_I$, $K_{II}$ by name. While only the load changes the scales are
+# held (*scales*: hold, or fit every frame), so that two loads compare on one scale.
 #
 # `NGCRACK_QUICK=1` uses a coarser mesh.
 
@@ -36,40 +45,43 @@ w
 # %% [markdown]
 # ## Prompts for a student
 #
-# 1. **Compression.** With *load x* = 1 the top edge pushes. Is the crack open? Read the
+# 1. **Compression.** With *load factor* = 1 the top edge pushes. Is the crack open? Read the
 #    *contact length* under the figure. Which way do the faces slide, and why does the
 #    sliding look like half an ellipse?
-# 2. **Reverse the load.** Drag *load x* to −1 (the top edge pulls). What happens to the
+# 2. **Reverse the load.** Drag *load factor* to −1 (the top edge pulls). What happens to the
 #    opening, to $\sigma_n$ on the faces, to the contact length? Is the answer for −1 the
 #    negative of the answer for +1?
 # 3. **Turn the load.** Move *load angle*: the traction on the top edge turns. At which
 #    angle does the crack start to open? Where along the crack does it open first, and why
 #    there?
 # 4. **The crack model.** Switch *crack model* to `free` under compression: the faces pass
-#    through each other (look at the deformed plate and the negative opening), and the KKT
-#    residual under the figure says the contact conditions are violated. `bonded`?
+#    through each other (the zoom shows the two faces overlapping, the opening is
+#    negative), and the KKT residual under the figure says the contact conditions are
+#    violated. `bonded` glues the faces: why does it look like `contact` under compression
+#    but not under tension?
 # 5. **Poisson's ratio.** Move *nu* to 0.5 with `bdm`, then pick the displacement element
 #    `h1p1`: the widget refuses (one line in red) and keeps the last good figure. Why can a
-#    displacement element not take $\nu = 1/2$?
-# 6. **Geometry.** Change the crack's *angle*: at which angle does the crack slide most
+#    displacement element not take $\nu = 1/2$? Type 0.7 into the box next to *nu*: why
+#    is it refused?
+# 6. **Geometry.** Change the *crack angle*: at which angle does the crack slide most
 #    under compression? (The shear on the crack line is $p\sin\beta\cos\beta$.)
 #
 # The cells below do experiments 2 and 3 with `nc.Explorer`, the model behind the widget
-# (`w.study`) without the widget, so that the numbers are on the page; `update(**changes)`
+# (`w.model`) without the widget, so that the numbers are on the page; `update(**changes)`
 # is what a slider calls.
 
 # %%
-study = nc.Explorer("inclined-crack", maxh=MAXH)
+model = nc.Explorer("inclined-crack", maxh=MAXH)
 loads = np.linspace(-1.0, 1.0, 9)
 rows = []
 for lam in loads:
-    study.update(load=float(lam), load_angle=0.0)
-    p = study.solution.crack_profiles()[0]
-    r = study.readouts()
+    model.update(load=float(lam), load_angle=0.0)
+    p = model.solution.crack_profiles()[0]
+    r = model.readouts()
     rows.append((lam, p.normal_jump.max(), np.abs(p.tangential_jump).max(), p.normal_stress.min(),
-                 r["contact_length"], r["latency_s"], ", ".join(study.redone)))
+                 r["contact_length"], r["latency_s"], ", ".join(model.redone)))
 for lam, op, sl, sn, cl, t, what in rows:
-    print(f"load x {lam:+.2f}: max opening {op:.2e}, max |sliding| {sl:.2e}, min sigma_n {sn:+.3f}, "
+    print(f"load factor {lam:+.2f}: max opening {op:.2e}, max |sliding| {sl:.2e}, min sigma_n {sn:+.3f}, "
           f"contact length {cl:.2f}, {t:.3f} s ({what})")
 
 # %% [markdown]
@@ -79,12 +91,12 @@ for lam, op, sl, sn, cl, t, what in rows:
 angles = np.arange(0.0, 181.0, 15.0)
 contact = []
 for ang in angles:
-    study.update(load=1.0, load_angle=float(ang))
-    contact.append(study.readouts()["contact_length"])
+    model.update(load=1.0, load_angle=float(ang))
+    contact.append(model.readouts()["contact_length"])
 fig, axes = plt.subplots(1, 2, figsize=(11, 3.8), constrained_layout=True)
 axes[0].plot([r[0] for r in rows], [r[1] for r in rows], "o-", label="max opening")
 axes[0].plot([r[0] for r in rows], [r[2] for r in rows], "s--", label="max |sliding|")
-axes[0].set_xlabel("load x (1: compression as given, -1: tension)")
+axes[0].set_xlabel("load factor (1: compression as given, -1: tension)")
 axes[0].set_ylabel("crack jump")
 axes[0].legend()
 axes[0].grid(True, lw=0.3)
@@ -102,15 +114,15 @@ plt.show()
 # switch but not across it: the answer to a reversed load is not the reversed answer.
 
 # %%
-study.update(load=1.0, load_angle=0.0)
-comp = study.solution.crack_profiles()[0]
-closed = study.readouts()["contact_length"]
-study.update(load=-1.0)
-tens = study.solution.crack_profiles()[0]
+model.update(load=1.0, load_angle=0.0)
+comp = model.solution.crack_profiles()[0]
+closed = model.readouts()["contact_length"]
+model.update(load=-1.0)
+tens = model.solution.crack_profiles()[0]
 # a linear (free) crack would answer -p with the reversed answer: opening -> -opening
 reversal = np.abs(tens.tangential_jump + comp.tangential_jump).max() / np.abs(comp.tangential_jump).max()
 print(f"Unilateral contact: closed over {closed:.2f} of 2.00 under compression (max opening "
       f"{comp.normal_jump.max():.1e}), open under tension (max opening {tens.normal_jump.max():.2e}, "
-      f"contact length {study.readouts()['contact_length']:.2f}); reversing the load reverses the sliding "
-      f"(to {reversal:.0%} of its size) but not the opening; {study.counts['factorize']} factorization(s) "
-      f"for {study.counts['load'] + study.counts['factorize']} solves.")
+      f"contact length {model.readouts()['contact_length']:.2f}); reversing the load reverses the sliding "
+      f"(to {reversal:.0%} of its size) but not the opening; {model.counts['factorize']} factorization(s) "
+      f"for {model.counts['load'] + model.counts['factorize']} solves.")

@@ -1,14 +1,26 @@
 """nc.explore in a real browser: JupyterLab started here, driven by Playwright and Chromium.
 
-The teaching notebook (notebooks/09-explore.py, converted to .ipynb) is opened in
-JupyterLab, run, and the widget's "load x" slider is moved with the keyboard; the figure
-image must change and no error output may appear. JupyterLab runs on 127.0.0.1 with a
-free port and a token, in a temporary root folder, with temporary Jupyter config, data,
-runtime and settings folders (nothing of the user's leaks in), and is shut down at the
-end whatever happens. The browser is the operating system's Chromium (Playwright's own
-download is not used); the test skips, saying why, where either is missing. Screenshots
-go to the test's tmp_path. This checks the wiring of the widget, not the mechanics
-(tests/test_explore.py does those without a browser).
+The teaching notebook (notebooks/09-explore.py, converted to .ipynb, with two cells
+added at its end: a widget with the webgui view, and a construction with a bad element)
+is opened in JupyterLab and run; then, as a student would:
+
+1. the "load factor" slider is moved with the keyboard to tension: the figure is greyed
+   while the kernel solves and changes, the slider, its typed box and the model agree;
+2. 0.7 is typed into Poisson's ratio: the refusal shows (one line naming nu and its
+   range), the box and the slider go back to 0.3, the model keeps 0.3;
+3. under tension the crack faces drawn show a gap and no overlap;
+4. load factor 1 typed, crack model `free` chosen: the faces overlap, no gap (checked on
+   the figure's data, which the widget keeps in a hidden element, not on pixels);
+5. the webgui view is switched on: its canvas appears;
+6. the construction error is a single message (one ValueError naming the element and the
+   allowed values; no widget traceback).
+
+JupyterLab runs on 127.0.0.1 with a free port and a token, in a temporary root folder,
+with temporary Jupyter config, data, runtime and settings folders (nothing of the user's
+leaks in), and is shut down at the end whatever happens. The browser is the operating
+system's Chromium (Playwright's own download is not used); the test skips, saying why,
+where either is missing. A screenshot of each step goes to the folder the test prints
+(NGCRACK_SCREENSHOTS, else the test's tmp_path/screenshots).
 """
 
 from __future__ import annotations
@@ -34,8 +46,8 @@ CHROMIUM_CANDIDATES = ("/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/b
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
                  "--no-first-run", "--disable-sync"]
 #: seconds: JupyterLab's start, the notebook's run, one slider move
-SERVER_TIMEOUT, RUN_TIMEOUT, MOVE_TIMEOUT = 90, 420, 120
-#: key presses on the focused slider (step 0.1: load x from 1.0 to -1.0, tension)
+SERVER_TIMEOUT, RUN_TIMEOUT, MOVE_TIMEOUT = 90, 300, 60
+#: key presses on the focused slider (step 0.1: load factor from 1.0 to -1.0, tension)
 PRESSES = 20
 
 
@@ -52,11 +64,19 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
+#: the cells added at the notebook's end: a widget with the webgui view, and a bad construction (last: run-all
+#: stops there)
+EXTRA_CELLS = ['w3 = nc.explore("griffith-plate", maxh=2.0, webgui=True)\nw3',
+               'nc.explore("inclined-crack", element="q2")']
+
+
 def _prepare_root(root: Path) -> str:
-    """The teaching notebook as .ipynb (python3 kernel) in `root`; returns its file name."""
+    """The teaching notebook as .ipynb (python3 kernel) in `root`, with EXTRA_CELLS; returns its file name."""
     import jupytext
+    import nbformat
 
     nb = jupytext.read(NOTEBOOK)
+    nb.cells += [nbformat.v4.new_code_cell(src) for src in EXTRA_CELLS]
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
     name = NOTEBOOK.with_suffix(".ipynb").name
     jupytext.write(nb, root / name)
@@ -64,10 +84,15 @@ def _prepare_root(root: Path) -> str:
 
 
 def _settings(settings: Path) -> None:
-    """JupyterLab user settings: no news, no update check (their notification would cover the page)."""
+    """JupyterLab user settings: no news, no update check (their notification would cover the page),
+    every cell rendered."""
     d = settings / "@jupyterlab" / "apputils-extension"
     d.mkdir(parents=True)
     (d / "notification.jupyterlab-settings").write_text(json.dumps({"fetchNews": "false", "checkForUpdates": False}))
+    # every cell rendered, also those out of view (JupyterLab 4 renders only the visible ones by default)
+    d = settings / "@jupyterlab" / "notebook-extension"
+    d.mkdir(parents=True)
+    (d / "tracker.jupyterlab-settings").write_text(json.dumps({"windowingMode": "none"}))
 
 
 @pytest.fixture
@@ -179,17 +204,51 @@ def _wait_settled(page, timeout_s: float) -> None:
     raise TimeoutError("the figure kept changing")
 
 
+#: an error output as JupyterLab shows it
+ERROR_OUTPUT = "[data-mime-type='application/vnd.jupyter.error'], [data-mime-type='application/vnd.jupyter.stderr']"
+
+#: the first explorer's figure data (JSON in a hidden element), read in the page
+_DATA_JS = "() => JSON.parse(document.querySelector('.ngcrack-data').textContent)"
+
+
+def _data(page) -> dict:
+    return page.evaluate(_DATA_JS)
+
+
+def _wait_data(page, predicate_js: str, timeout_s: float) -> dict:
+    """Wait until the first explorer's data satisfies `predicate_js` (a JS expression in d), then the kernel is idle."""
+    page.wait_for_function(f"() => {{ const e = document.querySelector('.ngcrack-data');"
+                           f" if (!e) return false; const d = JSON.parse(e.textContent); return {predicate_js}; }}",
+                           timeout=timeout_s * 1000)
+    _wait_idle(page, timeout_s)
+    return _data(page)
+
+
+def _type(page, name: str, value: str) -> None:
+    """Type `value` into the box of control `name` of the first explorer and press Enter."""
+    box = page.locator(f".ngcrack-typed-{name} input").first
+    box.click()
+    box.fill(value)
+    box.press("Enter")
+
+
+def _shots_dir(tmp_path: Path) -> Path:
+    shots = Path(os.environ.get("NGCRACK_SCREENSHOTS") or tmp_path / "screenshots")
+    shots.mkdir(parents=True, exist_ok=True)
+    return shots
+
+
 def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
     from playwright import sync_api as playwright
 
     url, token, name = jupyterlab
-    shots = tmp_path / "screenshots"
-    shots.mkdir()
+    shots = _shots_dir(tmp_path)
     t0 = time.monotonic()
+    seen: dict = {}
     with playwright.sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=chromium, headless=True, args=CHROMIUM_ARGS)
         try:
-            page = browser.new_page(viewport={"width": 1500, "height": 1100})
+            page = browser.new_page(viewport={"width": 1280, "height": 800})
             page.goto(f"{url}/lab/tree/{name}?token={token}")
             page.wait_for_selector(".jp-NotebookPanel", timeout=SERVER_TIMEOUT * 1000)
             page.wait_for_function("() => window.jupyterapp !== undefined", timeout=SERVER_TIMEOUT * 1000)
@@ -199,18 +258,26 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             page.evaluate("() => window.jupyterapp.commands.execute('notebook:run-all-cells')")
             page.wait_for_selector("text=Unilateral contact: closed over", timeout=RUN_TIMEOUT * 1000)
             _wait_idle(page, RUN_TIMEOUT)
+            page.screenshot(path=str(shots / "2-run.png"), full_page=True)
+            print("[browser] output types:", page.evaluate(
+                "() => Array.from(document.querySelectorAll('[data-mime-type]')).map(e => e.getAttribute('data-mime-type'))"))
+            page.wait_for_selector(ERROR_OUTPUT, state="attached", timeout=RUN_TIMEOUT * 1000)
             _dismiss_dialogs(page)
             figure = page.locator("img.ngcrack-figure").first
             figure.wait_for(state="visible", timeout=MOVE_TIMEOUT * 1000)
-            figure.scroll_into_view_if_needed()
+            page.locator(".ngcrack-slider-load").first.scroll_into_view_if_needed()
             page.wait_for_timeout(500)
             page.screenshot(path=str(shots / "2-after-run.png"))
+            seen["start"] = _data(page)
+            # 1. the load factor slider, by keyboard, to tension
             before_src = figure.get_attribute("src")
             before_png = figure.screenshot(path=str(shots / "figure-before.png"))
-            slider = page.locator(".widget-slider:has(.widget-label:text-is('load x'))").first
-            handle = slider.locator(".noUi-handle").first
+            handle = page.locator(".ngcrack-slider-load .noUi-handle").first
             handle.focus()
             changed = "(src) => { const i = document.querySelector('img.ngcrack-figure'); return i && i.src !== src; }"
+            page.evaluate("() => { window._ngcrackBusy = false; const i = document.querySelector('img.ngcrack-figure');"
+                          " new MutationObserver(() => { if (i.classList.contains('ngcrack-busy'))"
+                          " window._ngcrackBusy = true; }).observe(i, {attributes: true}); }")
             t_key = time.monotonic()
             page.keyboard.press("ArrowLeft")  # one step: the browser's slider-to-figure latency
             page.wait_for_function(changed, arg=before_src, timeout=MOVE_TIMEOUT * 1000)
@@ -221,18 +288,82 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             t_last = time.monotonic()
             _wait_settled(page, MOVE_TIMEOUT)
             settle = time.monotonic() - t_last
-            readout = slider.locator(".widget-readout").first.inner_text()
+            seen["slider"] = _data(page)
+            seen["busy_seen"] = page.evaluate("() => window._ngcrackBusy")
+            seen["busy_now"] = page.locator("img.ngcrack-figure.ngcrack-busy").count()
+            seen["slider_status"] = page.locator(".ngcrack-status").first.inner_text()
+            seen["load_box"] = page.locator(".ngcrack-typed-load input").first.input_value()
             after_png = figure.screenshot(path=str(shots / "figure-after.png"))
-            page.screenshot(path=str(shots / "3-after-slider.png"))
-            errors = page.locator("[data-mime-type='application/vnd.jupyter.error']").count()
-            broken = page.locator("text=Error displaying widget").count()
-            status = page.locator(".ngcrack-status").first.inner_text()
+            page.screenshot(path=str(shots / "3-after-slider-tension.png"))
+            # 2. a typed value out of range: refused, the box and slider back to the model's value
+            _type(page, "nu", "0.7")
+            page.wait_for_selector(".ngcrack-status:has-text('refused')", timeout=MOVE_TIMEOUT * 1000)
+            _wait_idle(page, MOVE_TIMEOUT)
+            page.wait_for_timeout(300)
+            seen["refused"] = _data(page)
+            seen["refused_status"] = page.locator(".ngcrack-status").first.inner_text()
+            seen["nu_box"] = page.locator(".ngcrack-typed-nu input").first.input_value()
+            seen["nu_handle"] = page.locator(".ngcrack-slider-nu .noUi-handle").first.get_attribute("aria-valuenow")
+            page.screenshot(path=str(shots / "4-typed-nu-refused.png"))
+            # 3. tension: a gap between the faces (the load is -1 after step 1)
+            seen["tension"] = _data(page)
+            figure.screenshot(path=str(shots / "5-tension-gap-figure.png"))
+            # 4. compression with crack model free: the faces overlap
+            _type(page, "load", "1")
+            _wait_data(page, "d.state.load === 1.0 && d.max_gap === 0", MOVE_TIMEOUT)
+            page.locator(".widget-dropdown:has(label:text-is('crack model')) select").first.select_option("free")
+            seen["free"] = _wait_data(page, "d.state.crack_model === 'free' && d.error === null", MOVE_TIMEOUT)
+            page.wait_for_timeout(300)
+            page.screenshot(path=str(shots / "6-free-compression.png"))
+            figure.screenshot(path=str(shots / "6-free-overlap-figure.png"))
+            # 5. the webgui view of the third widget
+            box = page.locator(".widget-checkbox:has-text('NGSolve webgui')").first
+            box.scroll_into_view_if_needed()
+            box.locator("input").click()
+            try:
+                page.wait_for_selector(".jp-OutputArea canvas", timeout=MOVE_TIMEOUT * 1000)
+            finally:
+                page.screenshot(path=str(shots / "7-webgui.png"))
+            _wait_idle(page, MOVE_TIMEOUT)
+            page.wait_for_timeout(1500)
+            seen["canvases"] = page.locator(".jp-OutputArea canvas").count()
+            page.screenshot(path=str(shots / "7-webgui.png"))
+            # 6. the construction error: one message
+            err = page.locator(ERROR_OUTPUT)
+            seen["errors"] = err.count()
+            err.last.scroll_into_view_if_needed()
+            seen["error_text"] = err.last.inner_text()
+            page.screenshot(path=str(shots / "8-construction-error.png"))
+            seen["broken"] = page.locator("text=Error displaying widget").count()
         finally:
             browser.close()
     print(f"[browser] {time.monotonic() - t0:.1f} s; one key press to a new figure {one_step:.2f} s, "
           f"{PRESSES - 1} more presses settled {settle:.1f} s after the last (including 1 s of stillness); "
           f"screenshots in {shots}")
-    assert errors == 0 and broken == 0, f"{errors} error outputs, {broken} widgets not displayed"
-    assert status.strip() == "", status
-    assert float(readout.replace("\u2212", "-")) < 0.0, f"the slider did not move to tension: load x = {readout}"
+    assert seen["broken"] == 0, f"{seen['broken']} widgets not displayed"
+    # 1. slider
+    d = seen["slider"]
+    assert seen["slider_status"].strip() == "", seen["slider_status"]
+    assert d["state"]["load"] < 0.0, f"the slider did not move to tension: load factor = {d['state']['load']}"
+    assert d["state"]["load"] == d["controls"]["load"] == d["typed"]["load"] == float(seen["load_box"])
     assert before_png != after_png, "the figure did not change"
+    assert seen["busy_seen"] and seen["busy_now"] == 0, "the figure was not greyed while solving, or stays greyed"
+    # 2. refusal
+    d = seen["refused"]
+    assert "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5" in seen["refused_status"]
+    assert "\n" not in seen["refused_status"].strip()
+    assert d["state"]["nu"] == d["controls"]["nu"] == d["typed"]["nu"] == 0.3
+    assert float(seen["nu_box"]) == 0.3 and float(seen["nu_handle"]) == pytest.approx(0.3)
+    # 3. tension: a gap, no overlap
+    d = seen["tension"]
+    assert d["state"]["crack_model"] == "contact" and d["max_gap"] > 0 and d["max_overlap"] == 0
+    # 4. free under compression: overlap, no gap
+    d = seen["free"]
+    assert d["max_overlap"] > 0 and d["max_gap"] == 0, d
+    # 5. webgui
+    assert seen["canvases"] >= 1
+    # 6. the construction error
+    text = seen["error_text"]
+    assert seen["errors"] == 1, f"{seen['errors']} error outputs"
+    assert "ValueError: element = 'q2': allowed values are peers, bdm, tdnns, h1p1, h1p2" in text, text
+    assert "TraitError" not in text and text.count("Error") == 1, text

@@ -51,6 +51,8 @@ FIGURE_SIZE = (FIGURE_WIDTH, 5.4)
 FONT_SIZE = 8.5
 #: above this many triangles no edges are drawn and antialiasing is off (no moire)
 EDGE_LIMIT = 3000
+#: triangle edges are drawn (grey) on triangles at least this many pixels across
+EDGE_PIXELS = 7.0
 #: a body this much wider than high is drawn above the panels, not beside them
 WIDE = 2.0
 #: colours of the two crack faces (+ side: the one nu points into)
@@ -79,13 +81,15 @@ def units(scene) -> tuple[str, str]:
     return (u.get("stress") or "E units", u.get("length") or "length units")
 
 
-def stress_values(sol, field: str) -> np.ndarray:
+def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarray:
     """Per triangle (at its centroid): sigma_nu = (sigma nu).nu with nu the first crack's
     normal ((0, 1) without a crack), or the von Mises stress of the symmetric part (with
-    sigma_zz = nu (sigma_xx + sigma_yy) in plane strain, 0 in plane stress)."""
+    sigma_zz = nu (sigma_xx + sigma_yy) in plane strain, 0 in plane stress). `sigma`:
+    the stress at the centroids (plots.centroid_stress), if the caller has it."""
+    from ..plots import centroid_stress
+
     cm = sol.crack_mesh
-    cent = cm.centroids
-    sig = np.asarray(sol.sigma(sol.mesh(cent[:, 0], cent[:, 1]))).reshape(-1, 2, 2)
+    sig = centroid_stress(sol) if sigma is None else sigma
     sig = 0.5 * (sig + np.transpose(sig, (0, 2, 1)))
     if field == "sigma_nu":
         nu = cm.cracks[0].normal[0] if cm.cracks else np.array([0.0, 1.0])
@@ -221,7 +225,7 @@ class Drawing:
         them; a new field or layout sets them again). ``magnification`` > 0: displacements
         drawn times this factor (0: automatic, or the held one). ``load_factor``: shown in
         the title, with its sign's meaning."""
-        from ..plots import element_displacements
+        from ..plots import centroid_stress, element_displacements
 
         poly = np.asarray(sol.scene.polygon, float)
         w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
@@ -235,10 +239,11 @@ class Drawing:
         ax, axz, axp, axt = self.ax, self.axz, self.axp, self.axt
         stress_unit, length_unit = units(sol.scene)
         model = (getattr(sol, "options", None) or {}).get("crack_model")
-        corners, disp = element_displacements(sol)
+        sigma = centroid_stress(sol)
+        corners, disp = element_displacements(sol, sigma)
         diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
         umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
-        vals = stress_values(sol, field)
+        vals = stress_values(sol, field, sigma)
         profiles = sol.crack_profiles()
         jmax = max([float(np.max(np.abs(np.r_[p.normal_jump, p.tangential_jump]), initial=0.0)) for p in profiles]
                    + [0.0])
@@ -258,6 +263,8 @@ class Drawing:
         for k, v in fresh.items():  # a held scale that was zero (an unloaded frame) is taken from this one
             if not held.get(k):
                 held[k] = v
+        for k in ("jump", "traction"):  # the profile axes only grow while held: no curve leaves them
+            held[k] = max(held[k], fresh[k])
         self._held = held
         scale = float(magnification) if magnification and magnification > 0 else held["scale"]
         clim = held["clim"] or 1.0
@@ -271,13 +278,18 @@ class Drawing:
         for coll in (self.body, self.zoom):
             coll.set_cmap(cmap)
             coll.set_clim(lo, clim)
-        if len(corners) > EDGE_LIMIT:
+        if len(corners) > EDGE_LIMIT:  # no edges, no antialiasing: no seams, no moire
             self.body.set_edgecolor("face")
             self.body.set_linewidth(0.0)
             self.body.set_antialiased(False)
-        else:
-            self.body.set_edgecolor((0.0, 0.0, 0.0, 0.18))
-            self.body.set_linewidth(0.25)
+        else:  # edges on the triangles large enough to show them; the small ones edged in their own colour
+            px = _pixels_per_unit(ax, poly)
+            size = np.sqrt(0.5 * np.abs(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])))
+            big = size * px >= EDGE_PIXELS
+            colors = self.body.cmap(self.body.norm(vals))
+            colors[big] = (0.0, 0.0, 0.0, 0.2)
+            self.body.set_edgecolor(colors)
+            self.body.set_linewidth(np.where(big, 0.25, 0.4))
             self.body.set_antialiased(True)
         self.colorbar.set_label(field_label(field, sol.scene), fontsize=FONT_SIZE)
         closed = np.vstack([poly, poly[:1]])
@@ -522,6 +534,13 @@ class Drawing:
         state = (f"faces overlap (up to {_sig(overlap)})" if overlap > 0
                  else f"crack open (gap up to {_sig(gap)})" if gap > 0 else "faces closed")
         axz.set_title(f"zoom{where}: {state}", fontsize=FONT_SIZE)
+
+
+def _pixels_per_unit(ax, poly: np.ndarray) -> float:
+    """About how many pixels one length unit takes in the body panel (equal aspect)."""
+    bbox = ax.get_window_extent()
+    w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
+    return min(bbox.width / (1.25 * w) if w else np.inf, bbox.height / (1.25 * h) if h else np.inf)
 
 
 def _power(limit: float) -> float:

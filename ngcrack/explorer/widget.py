@@ -39,6 +39,9 @@ STYLE = """<style>
 .ngcrack-help { font-size: 12px; color: #444; }
 </style>"""
 
+#: the load factor's meaning, under the controls
+LOAD_HELP = "multiplies every load of the scene: +1 as the scene gives it, -1 reversed, 0 unloaded"
+
 #: the slider ranges of older imports (the model's `ranges` are what counts)
 SLIDERS = {"load": (-2.0, 2.0, 0.1), "load_angle": (-180.0, 180.0, 5.0), "nu": (0.0, 0.5, 0.01),
            "friction": (0.0, 1.0, 0.05)}
@@ -53,8 +56,19 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     (an ipywidgets VBox; `.model` is the model). Bad arguments raise one ValueError
     naming the argument and what it allows, before any widget is made.
     """
-    model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
+    try:
+        model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
+    except ValueError as exc:
+        raise ArgumentError(str(exc)) from None
     return _widget_class()(model, webgui=webgui)
+
+
+class ArgumentError(ValueError):
+    """A bad argument of `explore`: a ValueError that a notebook shows as its one line
+    (IPython renders `_render_traceback_` instead of the frames of the checks)."""
+
+    def _render_traceback_(self) -> list[str]:
+        return [f"ValueError: {self}"]
 
 
 @functools.lru_cache(maxsize=1)
@@ -229,9 +243,11 @@ class _ExplorerView:
         kept = "the figure shows the last good answer" if m.solution is not None else "no answer yet"
         self.status.value = ("" if m.error is None else
                              f"<span>&#9888; {_escape(m.error)} ({kept})</span>")
-        self.help.value = _escape(CRACK_MODEL_HELP.get(m.state["crack_model"], "")) + \
-            " &nbsp;|&nbsp; " + _escape("load factor: " + HELP["load"])
-        self._readout(draw_s)
+        self.help.value = (f"<div style='line-height:1.35'><b>crack model</b> "
+                           f"{_escape(CRACK_MODEL_HELP.get(m.state['crack_model'], ''))}<br><b>load factor</b> "
+                           f"{_escape(LOAD_HELP)}</div>")
+        if m.error is None:  # (after a failure the readout stays that of the figure shown)
+            self._readout(draw_s)
         self._data()
         if self.webgui is not None and getattr(self, "_webgui_on", False):
             self._draw_webgui(True)
@@ -254,11 +270,12 @@ class _ExplorerView:
         parts = " + ".join(f"{k} {v:.2f}" for k, v in split.items())
         tips = self.drawing.data.get("tips") or []
         self.readout.value = (
+            "<div style='line-height:1.4'>"
             f"<b>unknowns</b> {nd['total']} (global {nd['global']}, contact {nd['contact']}) &nbsp; "
             f"<b>time</b> {total:.2f} s = {parts} s ({_escape(', '.join(r['redone']) or '-')})"
             f"<br><b>KKT residual</b> {r['kkt']:.1e} &nbsp; <b>contact length</b> {r['contact_length']:.3g} "
             f"of {r['crack_length']:.3g}"
-            + (f"<br>{_escape(';  '.join(tips))}" if tips else ""))
+            + (f"<br>{_escape(';  '.join(tips))}" if tips else "") + "</div>")
 
     def _data(self) -> None:
         m = self.model
@@ -279,11 +296,7 @@ class _ExplorerView:
             return
         with self.webgui:
             try:
-                from ngsolve.webgui import Draw
-
-                sol = self.model.solution
-                cf, name = webgui_field(sol, self.model.state["field"])
-                Draw(cf, sol.mesh, name)
+                show_webgui(*webgui_field(self.model.solution, self.model.state["field"]), self.model.solution.mesh)
             except Exception as exc:  # noqa: BLE001
                 print(_one_line(exc))
 
@@ -304,3 +317,22 @@ def webgui_field(sol, field: str) -> tuple[Any, str]:
     szz = mat.nu * (sxx + syy) if mat.plane == "strain" else 0.0 * sxx
     vm = ngs.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
     return vm, f"von Mises (plane {mat.plane})"
+
+
+def show_webgui(cf, name: str, mesh) -> None:
+    """NGSolve's webgui view of `cf` on `mesh`, displayed: through webgui_jupyter_widgets
+    where it is installed (its JavaScript ships with it, so the view works offline), else
+    through ngsolve.webgui's own widget (anywidget; it loads its JavaScript from a CDN)."""
+    from IPython.display import display
+    from ngsolve.webgui import Draw
+
+    scene = Draw(cf, mesh, name, show=False)
+    try:
+        import ipywidgets
+        from webgui_jupyter_widgets import WebGuiWidget
+    except ImportError:
+        scene.Draw()
+        return
+    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height="420px"))
+    widget.value = scene.GetData()
+    display(widget)
