@@ -24,7 +24,7 @@ from docutils.utils import Reporter
 
 #: a numpydoc section header: a known title underlined with dashes
 _SECTION = re.compile(r"^\s*(Parameters|Returns|Yields|Raises|Warns|Examples|Notes|See Also|Attributes|"
-                      r"Other Parameters|References)\s*\n\s*-{3,}\s*$", re.M)
+                      r"Other Parameters|References)\s*\n\s*-{3,}\s*$", re.MULTILINE)
 #: spans left alone: ``literal``, :role:`target`, `interpreted`
 _SPAN = re.compile(r"(:[\w:.-]+:`[^`]*`|``[^`]+``|`[^`]*`)")
 _BULLET = re.compile(r"^(\s*)([-*+]|\d+[.)]|\(\w\))\s+")
