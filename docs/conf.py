@@ -120,7 +120,8 @@ extensions = [
 
 exclude_patterns = ["_build", "**/.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
 templates_path = ["_templates"]
-# `x` in a docstring is code, as in the package's docstrings
+# `x` in a docstring is code, as in the package's docstrings (docs/_ext/plain_docstrings.py
+# writes it as ``x`` for autodoc; this covers hand-written reST)
 default_role = "literal"
 
 # -- cross references: every internal reference must resolve ---------------------------
