@@ -4,7 +4,7 @@
     python benchmarks/explore.py --repeat 5
 
 Scene: the teaching inclined crack (`nc.scenes.SCENE_FUNCTIONS["inclined-crack"]`, a = 1
-at 30 degrees in [-5, 5]^2 under compression), BDM. For each mesh, a `Study` is set up
+at 30 degrees in [-5, 5]^2 under compression), BDM. For each mesh, an `Explorer` (the model) is set up
 and then changed, alternately between two values, `repeat` times per kind:
 
 - load: the load multiplier (reuses mesh, matrix, factorization and S: one solve and a QP);
@@ -12,9 +12,9 @@ and then changed, alternately between two values, `repeat` times per kind:
 - geometry: the crack angle (remeshes);
 - fresh: `nc.solve` of the same scene from nothing.
 
-Median wall times of `Study.update` (no figure). Then the slider-to-figure latency on the
-default teaching mesh: an `Explorer` (the ipywidgets view, no browser) has a control set
-and the time until its image holds the new PNG is measured (`Explorer.latency`:
+Median wall times of `Explorer.update` (no figure). Then the slider-to-figure latency on the
+default teaching mesh: an `ExplorerWidget` (the ipywidgets view, no browser) has a control set
+and the time until its image holds the new PNG is measured (`ExplorerWidget.latency`:
 update, drawing and the widget's value). No number here is a test threshold.
 """
 
@@ -49,7 +49,7 @@ def _median_update(study, name, values, repeat):
 def bench_mesh(label, maxh, tip_h, repeat, element="bdm"):
     fn = nc.scenes.SCENE_FUNCTIONS["inclined-crack"]
     t0 = time.perf_counter()
-    study = nc.Study(fn, element, maxh=maxh, solve_options={"tip_h": tip_h})
+    study = nc.Explorer(fn, element, maxh=maxh, solve_options={"tip_h": tip_h})
     first = time.perf_counter() - t0
     if study.error:
         raise RuntimeError(study.error)

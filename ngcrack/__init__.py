@@ -12,20 +12,24 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 """
 
 from . import scenes
-from .contact import ContactSolverError
+from .constraints import ContactSolverError
 from .elements import ELEMENTS, Loads
-from .interactive import Study, explore
+from .explorer import Explorer, Study, explore
+from .options import CRACK_MODELS, SolveOptions
+from .pipeline import Pipeline
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
 from .schur import LinearSolverError
 from .sizing import CoarseMeshWarning
-from .solve import CRACK_MODELS, Solution, SolveError, solve
-from .study import SweepError, fitted_rates, sweep
+from .solution import Solution
+from .solve import SolveError, solve
+from .sweeps import SweepError, fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
+    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "Loads", "Material", "Pipeline", "Scene",
+    "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "fitted_rates", "scenes", "solve",
+    "sweep",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
 ]

@@ -191,7 +191,7 @@ def cmd_sweep(args) -> int:
         raise UsageError(f"--qp-solver = {args.qp_solver!r}: allowed values are {', '.join(qp_solvers())}")
     if args.grading is not None and not 0 < args.grading <= 1:
         raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
-    from .study import QUANTITIES, fitted_rates, sweep
+    from .sweeps import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
     adaptive = {}
@@ -378,7 +378,7 @@ def main(argv=None) -> int:
                   file=sys.stderr)
         return 130
     except RuntimeError as exc:
-        from .study import SweepError
+        from .sweeps import SweepError
 
         if not isinstance(exc, SweepError):
             raise

@@ -568,7 +568,7 @@ def energy_error(sol, sigma_exact) -> float:
 
 def energy_error_against(sol, reference, order: int = INTORDER) -> float:
     """||sigma_ref - sigma_h||_A at the quadrature points of the reference (finer) mesh."""
-    from .study import quadrature_points
+    from .quadrature import quadrature_points
 
     mat = sol.scene.material
     A = compliance(mat.E, mat.nu, mat.plane)
@@ -576,5 +576,5 @@ def energy_error_against(sol, reference, order: int = INTORDER) -> float:
     s_ref = np.asarray(reference.sigma(reference.mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
     s_h = np.asarray(sol.sigma(sol.mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
     d = s_ref - s_h
-    Ad = A.c_dev * d - A.c_tr * np.trace(d, axis1=1, axis2=2)[:, None, None] * np.eye(2)
+    Ad = A.apply(d)
     return math.sqrt(max(float(wts @ np.einsum("pij,pij->p", Ad, d)), 0.0))

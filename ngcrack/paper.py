@@ -40,7 +40,7 @@ from typing import Callable
 
 import numpy as np
 
-from .study import QUANTITIES, QUANTITY_LABELS, fitted_rates, markdown_table, sweep
+from .sweeps import QUANTITIES, QUANTITY_LABELS, fitted_rates, markdown_table, sweep
 
 #: (scene, Poisson ratio) of the paper's two examples
 PAPER_SCENES = (("paper-1", 0.29), ("paper-2", 0.49))
@@ -167,7 +167,7 @@ def comparison_table(elements, sizes, reference_maxh):
     """`study.comparison_errors` of paper-1 (nu = 0.29) for every element, stacked."""
     import pandas as pd
 
-    from .study import comparison_errors
+    from .sweeps import comparison_errors
 
     nu = dict(PAPER_SCENES)["paper-1"]
     frames = [comparison_errors("paper-1", e, sizes, reference_maxh, nu=nu) for e in elements]

@@ -54,12 +54,12 @@ w
 # 6. **Geometry.** Change the crack's *angle*: at which angle does the crack slide most
 #    under compression? (The shear on the crack line is $p\sin\beta\cos\beta$.)
 #
-# The cells below do experiments 2 and 3 with `nc.Study`, the model behind the widget
+# The cells below do experiments 2 and 3 with `nc.Explorer`, the model behind the widget
 # (`w.study`) without the widget, so that the numbers are on the page; `update(**changes)`
 # is what a slider calls.
 
 # %%
-study = nc.Study("inclined-crack", maxh=MAXH)
+study = nc.Explorer("inclined-crack", maxh=MAXH)
 loads = np.linspace(-1.0, 1.0, 9)
 rows = []
 for lam in loads:

@@ -160,7 +160,7 @@ def test_sweep_jobs_and_dask_from_the_command_line(tmp_path, capsys):
 
 def test_sweep_dask_unreachable_scheduler_is_a_usage_error(tmp_path, capsys, monkeypatch):
     pytest.importorskip("distributed")
-    monkeypatch.setattr("ngcrack.study.DASK_CONNECT_TIMEOUT", "2s")
+    monkeypatch.setattr("ngcrack.sweeps.executors.DASK_CONNECT_TIMEOUT", "2s")
     code, _, err = run(["sweep", "paper-2", "--element", "bdm", "--maxh", "0.4", "--out", tmp_path / "r.csv",
                         "--dask", "tcp://127.0.0.1:9", "--no-progress"], capsys)
     assert code == 2 and "cannot connect" in err
@@ -276,7 +276,7 @@ def test_help_texts_stand_alone():
     for name, p in sub.choices.items():
         texts[name] = p.format_help()
     for mod in ("ngcrack", "ngcrack.solve", "ngcrack.contact", "ngcrack.post", "ngcrack.cli", "ngcrack.scene",
-                "ngcrack.scenes", "ngcrack.study"):
+                "ngcrack.scenes", "ngcrack.study", "ngcrack.sweeps"):
         texts[mod] = pydoc.render_doc(__import__(mod, fromlist=["_"]), renderer=pydoc.plaintext)
     texts["solve()"] = ngcrack.solve.__doc__
     for name, text in texts.items():

@@ -1,4 +1,4 @@
-"""The interactive study without a browser: the model's caches against fresh solves, what
+"""The explorer (`nc.Explorer`, `nc.explore`) without a browser: the model's caches against fresh solves, what
 each change redoes (counted calls), failures shown as one line, the widget's wiring.
 
 Cached answers must equal a fresh `nc.solve` of the same scene to round-off: the model
@@ -13,7 +13,7 @@ import pytest
 import ngcrack as nc
 import ngcrack.elements
 import ngcrack.schur
-from ngcrack import interactive as ex
+from ngcrack import explorer as ex
 from ngcrack.scenes import SCENE_FUNCTIONS
 
 #: cached against fresh answers: relative difference of the solution vector and profiles
@@ -68,7 +68,7 @@ def factorizations(monkeypatch):
 
 
 def test_load_change_reuses_factorization_and_matches_fresh_solve(factorizations):
-    study = nc.Study("inclined-crack", maxh=MAXH)
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
     assert study.error is None, study.error
     before = dict(factorizations)
     first = study.solution
@@ -85,7 +85,7 @@ def test_load_change_reuses_factorization_and_matches_fresh_solve(factorizations
 
 
 def test_material_change_reassembles_on_the_same_mesh(factorizations):
-    study = nc.Study("inclined-crack", maxh=MAXH)
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
     mesh = study.solution.crack_mesh
     sol = study.update(nu=0.45, E=2000.0)
     assert study.error is None, study.error
@@ -101,7 +101,7 @@ def test_material_change_reassembles_on_the_same_mesh(factorizations):
 
 
 def test_geometry_and_mesh_changes_remesh():
-    study = nc.Study("cracked-beam", maxh=0.5)
+    study = nc.Explorer("cracked-beam", maxh=0.5)
     sol = study.update(angle=20.0, center_x=1.5)
     assert study.error is None and study.counts["mesh"] == 2 and "mesh" in study.redone
     assert _same_answer(sol, _fresh(study)) < ROUNDOFF
@@ -111,7 +111,7 @@ def test_geometry_and_mesh_changes_remesh():
 
 
 def test_crack_model_change_keeps_the_assembly_and_matches():
-    study = nc.Study("griffith-plate", maxh=MAXH, load=-1.0)  # compression: closed
+    study = nc.Explorer("griffith-plate", maxh=MAXH, load=-1.0)  # compression: closed
     assert ex.contact_length(study.solution) > 0
     sol = study.update(crack_model="free")
     assert study.counts["assemble"] == 1 and study.counts["factorize"] == 2
@@ -127,7 +127,7 @@ def test_crack_model_change_keeps_the_assembly_and_matches():
 def test_griffith_plate_opens_as_the_closed_form():
     """The teaching Griffith plate (a = 1, plate 10 a wide) against the infinite plate:
     the finite width raises the opening by about sqrt(sec(pi a / W)) - 1 = 2.5%."""
-    study = nc.Study("griffith-plate")
+    study = nc.Explorer("griffith-plate")
     p = study.solution.crack_profiles()[0]
     mat = study.scene.material
     s = p.s - 1.0
@@ -142,7 +142,7 @@ def test_griffith_plate_opens_as_the_closed_form():
 
 
 def test_bad_combinations_show_one_line_and_keep_the_last_answer():
-    study = nc.Study("inclined-crack", maxh=MAXH)
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
     good = study.solution
     assert study.update(element="h1p1", nu=0.5) is None
     assert study.error.startswith("ValueError: material.nu = 0.5") and "\n" not in study.error
@@ -158,16 +158,16 @@ def test_bad_combinations_show_one_line_and_keep_the_last_answer():
 
 
 def test_controls_follow_the_scene_and_the_installed_ngcrack():
-    study = nc.Study("inclined-crack", maxh=MAXH)
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
     geo = {p.name for p in SCENE_FUNCTIONS["inclined-crack"].geometry()}
     assert geo == {"angle", "half_length", "center_x", "center_y"} and geo <= set(study.controls())
     assert ("friction" in study.controls()) == ex.friction_supported()
-    fixed = nc.Study(nc.scenes.load("griffith"), solve_now=False)
+    fixed = nc.Explorer(nc.scenes.load("griffith"), solve_now=False)
     assert not geo & set(fixed.controls())
     with pytest.raises(ValueError, match="scene = 3"):
-        nc.Study(3)
+        nc.Explorer(3)
     with pytest.raises(ValueError, match="unknown control"):
-        nc.Study("griffith", size=3, solve_now=False)
+        nc.Explorer("griffith", size=3, solve_now=False)
 
 
 def test_scaled_loads_turn_and_scale_every_load_vector():
@@ -249,7 +249,7 @@ class _WithTipsAndStates:
 
 
 def test_figure_draws_tips_and_stick_slip_states_where_present():
-    study = nc.Study("inclined-crack", maxh=MAXH)
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
     drawing = ex.Drawing()
     plain = drawing.render(study.solution)
     richer = drawing.render(_WithTipsAndStates(study.solution))
@@ -276,7 +276,7 @@ def test_webgui_view_is_optional():
 @pytest.mark.parametrize("element", ["peers", "bdm", "tdnns", "h1p1", "h1p2"])
 def test_load_change_matches_fresh_solve_for_every_element(element):
     """paper-1 (body force, a through crack partly in contact) on a coarse mesh, the load turned."""
-    study = nc.Study("paper-1", element, maxh=0.25)
+    study = nc.Explorer("paper-1", element, maxh=0.25)
     assert study.error is None, study.error
     sol = study.update(load=1.5, load_angle=-30.0)
     assert study.error is None and study.counts["factorize"] == 1 and study.counts["load"] == 1
@@ -289,7 +289,7 @@ def test_prescribed_displacements_follow_the_load():
                      cracks=({"points": [[0.5, 0.5], [1.5, 0.5]]},), material={"E": 100.0, "nu": 0.3},
                      boundary={"left": {"type": "clamped"}, "right": {"type": "displacement", "value": [0.01, 0.0]}},
                      maxh=0.25)
-    study = nc.Study(scene, "bdm")
+    study = nc.Explorer(scene, "bdm")
     sol = study.update(load=-2.0, load_angle=90.0)  # (0.01, 0) -> (0, -0.02)
     assert study.error is None and study.counts["factorize"] == 1
     assert np.allclose(study.scene.boundary["right"].value, (0.0, -0.02), atol=1e-15)
@@ -302,7 +302,7 @@ def test_friction_change_keeps_the_assembly_and_matches(factorizations):
     tau = sin 30 cos 30 = 0.433 and sigma_n = -cos^2 30 = -0.75 of the remote stress, so
     they stick for mu >= tan 30 = 0.577 and slip below, where Coulomb's law leaves the
     driving shear tau - mu |sigma_n|: K_II scales by 1 - mu cot 30 (0.480 at mu = 0.3)."""
-    study = nc.Study("inclined-crack", maxh=MAXH)
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
     K_II = [t.K_II for t in study.solution.tips]
     assert len(K_II) == 2
     build = factorizations["build"]
@@ -337,7 +337,7 @@ def test_friction_change_keeps_the_assembly_and_matches(factorizations):
 def test_a_stage_with_other_arguments_runs_for_real():
     """The caches are keyed by each stage's arguments: another linear solver or Schur
     method is a new factorization, another mesh size a new mesh, never a stale answer."""
-    study = nc.Study("griffith-plate", maxh=MAXH)
+    study = nc.Explorer("griffith-plate", maxh=MAXH)
     study.solve_options["linear_solver"] = "superlu"
     sol = study.update(load=0.5)
     assert study.counts["factorize"] == 2 and study.counts["assemble"] == 1
@@ -350,3 +350,15 @@ def test_a_stage_with_other_arguments_runs_for_real():
     study.solve_options["tip_h"] = 0.2
     study.update()
     assert study.counts["mesh"] == 2 and study.counts["assemble"] == 2
+
+
+def test_former_names_still_work():
+    """`nc.Study` (the model's former name) warns and is an Explorer; `ngcrack.interactive` re-exports."""
+    import ngcrack.interactive as old
+
+    with pytest.warns(DeprecationWarning, match="nc.Explorer"):
+        model = nc.Study("griffith", solve_now=False)
+    assert isinstance(model, nc.Explorer) and old.Study is nc.Study
+    assert old.Drawing is ex.Drawing and old.scaled_loads is ex.scaled_loads and old.explore is nc.explore
+    pytest.importorskip("ipywidgets")
+    assert old.Explorer is ex.ExplorerWidget

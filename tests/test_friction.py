@@ -261,12 +261,11 @@ def test_sweep_over_friction_resumes(tmp_path):
 def test_bad_friction_options_refused_before_meshing(options, field, monkeypatch):
     import importlib
 
-    solve_module = importlib.import_module("ngcrack.solve")  # the module (ngcrack.solve is also the function)
 
     def no_mesh(*args, **kwargs):
         raise AssertionError("meshed before the options were checked")
 
-    monkeypatch.setattr(solve_module, "make_mesh", no_mesh)
+    monkeypatch.setattr(importlib.import_module("ngcrack.pipeline"), "make_mesh", no_mesh)
     with pytest.raises(ValueError, match=field):
         nc.solve(nc.scenes.load("paper-1").with_(friction=0.5), element="bdm", **options)
 

@@ -1,0 +1,25 @@
+"""The interactive explorer: `nc.explore(...)`, a JupyterLab widget, and its model `nc.Explorer`.
+
+- `model`: `Explorer`, the scene, its controls and the pipeline's caches (no widgets);
+- `loads`: the scene's loads scaled by the load factor and turned;
+- `figure`: `Drawing`, the deformed body and the crack profiles (matplotlib, PNG);
+- `widget`: `explore()` and `ExplorerWidget`, the ipywidgets view.
+"""
+
+from .figure import FIELDS, Drawing, draw, stress_values
+from ..pipeline import ParameterLoads, geometry_key, load_structure
+from .loads import scaled_loads
+from .model import LEVELS, Explorer, Study, contact_length, friction_supported
+from .widget import SLIDERS, explore
+
+__all__ = ["Drawing", "Explorer", "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS", "Study",
+           "contact_length", "draw", "explore", "friction_supported", "geometry_key", "load_structure",
+           "scaled_loads", "stress_values"]
+
+
+def __getattr__(name: str):
+    if name == "ExplorerWidget":  # built on first use: ipywidgets is imported only when a widget is made
+        from . import widget
+
+        return widget.ExplorerWidget
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

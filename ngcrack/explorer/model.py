@@ -1,0 +1,271 @@
+"""The explorer's model: a scene, its controls, and the pipeline's caches (no widgets).
+
+`Explorer` holds a scene (or a scene function of `nc.scenes.SCENE_FUNCTIONS` and its
+parameters), the solve options and the caches of the pipeline
+
+    scene -> mesh -> discretization (forms assembled) -> condensed K, F
+          -> factorization of K_rr and Schur complement S -> QP -> recovery -> post-processing
+
+and `update(**changes)` redoes only what a change invalidates:
+
+- a new load (``load`` multiplier, ``load_angle``, ``friction``) keeps the mesh, the
+  assembled matrix, its factorization and S: the load vector is re-assembled (the loads
+  are NGSolve Parameters in the assembled linear form, `pipeline.ParameterLoads`), F is
+  rebuilt (`CondensedSystem.with_load`), one solve gives the new x0 and b
+  (`ContactReduction.with_load`), and a new QP is solved (warm-started from the last
+  contact zone); a friction coefficient turned on from zero (or back) needs the
+  reduction on the normal and tangential jumps, formed once (from the same assembly)
+  and kept next to the frictionless one;
+- a new material (``E``, ``nu``) or element re-assembles on the same mesh;
+- a new geometry (a scene function's parameters, ``maxh``) remeshes;
+- ``field`` (the stress shown) only redraws.
+
+The stages are the library's own: the model keeps one `ngcrack.pipeline.Pipeline`, whose
+stages are cached under exactly what each depends on, and runs it for every update. A
+cached answer is therefore the library's answer to round-off, with everything `solve`
+computes (crack profiles with their open / stick / slip states, KKT residuals, the
+tips' K_I, K_II, the error estimate).
+
+A bad combination (nu = 1/2 with a displacement baseline, a crack moved out of the
+body, ...) never raises out of `update`: the message goes to `error`, the last good
+solution stays. `Study` is the model's former name, kept as a deprecated alias.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+import warnings
+from typing import Any
+
+import numpy as np
+
+from ..options import SolveOptions
+from ..pipeline import Pipeline
+from ..scene import Crack, Scene
+from ..scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
+from .figure import FIELDS
+from .loads import scaled_loads
+
+#: a crack edge counts as closed where its mid-point opening is below this fraction of the
+#: largest jump on the cracks (the QP gives exact zeros up to round-off where it is closed)
+CLOSED_RTOL = 1e-6
+
+#: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
+DEFORMED_FRACTION = 0.08
+
+#: shading of the crack profiles by the faces' state, where the solution reports one
+STATE_COLORS = {"stick": "0.85", "slip": "#fde0b0"}
+
+#: the traction axis spans at least this fraction of the body's stress scale (so that
+#: round-off on a traction-free crack is drawn as the zero it is)
+PROFILE_FLOOR = 0.05
+
+#: figure size in inches and resolution: small enough to draw in ~0.1 s
+FIGURE_SIZE = (10.0, 4.4)
+FIGURE_DPI = 80
+
+#: what each control invalidates, from the cheapest: a redraw, a new load vector, a
+#: re-assembly on the same mesh, a new mesh
+LEVELS = ("view", "load", "assemble", "mesh")
+_CONTROL_LEVEL = {
+    "field": "view",
+    "load": "load", "load_angle": "load", "friction": "load", "crack_model": "load",
+    "E": "assemble", "nu": "assemble", "element": "assemble",
+    "maxh": "mesh",
+}
+
+
+def friction_supported() -> bool:
+    """True where the installed ngcrack's cracks carry a Coulomb ``friction`` coefficient."""
+    return "friction" in {f.name for f in dataclasses.fields(Crack)}
+
+
+def _one_line(exc: BaseException) -> str:
+    """An exception as one line: its type and the first line of its message."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0] if text else 'no message'}"
+
+
+
+class Explorer:
+    """The model behind `explore`: one scene, its solve options, the pipeline's caches.
+
+    ``scene`` is a Scene, the name of a built-in scene, or a scene function (a
+    `SceneFunction`, or the name of one in `nc.scenes.SCENE_FUNCTIONS`) whose geometry
+    parameters then become controls. Controls (all keywords of `update`): ``load`` (a
+    multiplier of every load of the scene, 1 = as given, negative reverses it),
+    ``load_angle`` (degrees, turns every load vector), ``E``, ``nu``, ``friction``
+    (where supported), ``maxh``, ``element``, ``crack_model``, ``field`` (the stress shown,
+    one of FIELDS) and the scene function's parameters. ``solve_options`` go to
+    `ngcrack.solve` unchanged (qp_solver, linear_solver, tip_h, ...).
+
+    After each `update`: ``solution`` the last good `Solution`, ``error`` the one-line
+    message of the last failure (None after a success), ``redone`` what the last update
+    recomputed, ``counts`` how often each stage ran for real (mesh, assemble,
+    factorize) or was reused (load: a load vector only), ``latency`` the wall time
+    of the last update in seconds.
+    """
+
+    def __init__(self, scene: Scene | str | SceneFunction, element: str = "bdm", *, maxh: float | None = None,
+                 crack_model: str = "contact", field: str = "sigma_nu", load: float = 1.0, load_angle: float = 0.0,
+                 solve_options: dict | None = None, solve_now: bool = True, **params: Any):
+        self.function: SceneFunction | None = None
+        self.base: Scene | None = None
+        if isinstance(scene, SceneFunction):
+            self.function = scene
+        elif isinstance(scene, str) and scene in SCENE_FUNCTIONS:
+            self.function = scene_function(scene)
+        elif isinstance(scene, str):
+            self.base = _load_scene(scene)
+        elif isinstance(scene, Scene):
+            self.base = scene
+        else:
+            raise ValueError(f"scene = {scene!r}: a Scene, a built-in scene name or a scene function "
+                             f"({', '.join(SCENE_FUNCTIONS)})")
+        self.solve_options = dict(solve_options or {})
+        self.state: dict[str, Any] = {"element": element, "maxh": maxh, "crack_model": crack_model, "field": field,
+                                      "load": float(load), "load_angle": float(load_angle)}
+        if self.function is not None:
+            self.state.update({p.name: p.default for p in self.function.parameters if p.kind == "geometry"})
+        unknown = [k for k in params if k not in self.state and k not in ("E", "nu", "friction")]
+        if unknown:
+            raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                             f"allowed: {', '.join(self.controls())}")
+        self.state.update(params)
+        # the friction control overrides the scene's per-crack coefficients only once it is set
+        self._friction_set = "friction" in params
+        try:
+            ref = self._base_scene()
+        except ValueError:  # bad geometry parameters: shown by the first update; material from the defaults
+            ref = self.function() if self.function is not None else self.base
+        self.state.setdefault("E", ref.material.E)
+        self.state.setdefault("nu", ref.material.nu)
+        if friction_supported():
+            self.state.setdefault("friction", float(getattr(ref.cracks[0], "friction", 0.0) or 0.0) if ref.cracks else 0.0)
+        self.solution = None
+        self.scene: Scene | None = None
+        self.error: str | None = None
+        self.redone: list[str] = []
+        self.latency = 0.0
+        self.pipeline = Pipeline()
+        if solve_now:
+            self.update()
+
+    # ------------------------------------------------------------------ controls
+    def controls(self) -> tuple[str, ...]:
+        """The names `update` accepts."""
+        names = ["load", "load_angle", "E", "nu"] + (["friction"] if friction_supported() else [])
+        names += ["maxh", "element", "crack_model", "field"]
+        if self.function is not None:
+            names += [p.name for p in self.function.geometry()]
+        return tuple(names)
+
+    def level(self, name: str) -> str:
+        """What a change of control `name` invalidates (one of LEVELS)."""
+        return _CONTROL_LEVEL.get(name, "mesh")
+
+    def _base_scene(self) -> Scene:
+        """The scene before load scaling and material: the base scene or the function's value."""
+        if self.function is None:
+            return self.base
+        geo = {p.name: self.state[p.name] for p in self.function.geometry()}
+        return self.function(**geo)
+
+    def make_scene(self) -> Scene:
+        """The scene the current controls describe (validated; raises on a bad combination)."""
+        st = self.state
+        scene = scaled_loads(self._base_scene(), st["load"], st["load_angle"]).with_(E=st["E"], nu=st["nu"])
+        if friction_supported() and scene.cracks and self._friction_set:
+            scene = scene.with_(friction=st["friction"])
+        return scene
+
+    # ------------------------------------------------------------------ update
+    def update(self, **changes: Any):
+        """Apply `changes` to the controls and redo what they invalidate.
+
+        Returns the new Solution, or None after a failure (then `error` holds its
+        one-line message and `solution` stays the last good one). Never raises for a
+        bad value or combination of values.
+        """
+        t0 = time.perf_counter()
+        self.redone = []
+        try:
+            unknown = [k for k in changes if k not in self.controls()]
+            if unknown:
+                raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                                 f"allowed: {', '.join(self.controls())}")
+            if "field" in changes and changes["field"] not in FIELDS:
+                raise ValueError(f"field = {changes['field']!r}: allowed values are {', '.join(FIELDS)}")
+            self.state.update(changes)
+            self._friction_set = self._friction_set or "friction" in changes
+            if self.solution is not None and changes and all(self.level(k) == "view" for k in changes) \
+                    and self.error is None:
+                self.redone = ["figure"]
+                return self.solution
+            self.solution = self._solve(self.make_scene())
+            self.error = None
+            return self.solution
+        except Exception as exc:  # noqa: BLE001  (the widget shows every failure as one line)
+            self.error = _one_line(exc)
+            return None
+        finally:
+            self.latency = time.perf_counter() - t0
+
+    def _solve(self, scene: Scene):
+        st = self.state
+        options = dict(self.solve_options)
+        warm = options.pop("warm_start", None)
+        if warm is None and self.solution is not None and self.solution.qp is not None:
+            warm = self.solution
+        opts = SolveOptions.of(**options, element=st["element"], maxh=st["maxh"], crack_model=st["crack_model"])
+        sol = self.pipeline.run(scene, opts, warm_start=warm)
+        self.redone.extend(self.pipeline.redone)
+        self.scene = scene
+        return sol
+
+    @property
+    def counts(self) -> dict[str, int]:
+        """How often each stage of the model's pipeline ran for real, or was reused for a load."""
+        return self.pipeline.counts
+
+    # ------------------------------------------------------------------ readouts
+    def readouts(self) -> dict[str, Any]:
+        """The numbers a user quotes: unknowns, run time split, KKT residual, contact length."""
+        sol = self.solution
+        if sol is None:
+            return {}
+        t = sol.timings
+        return {
+            "unknowns": dict(sol.ndof),
+            "time_s": {k: float(t.get(k, 0.0)) for k in ("mesh", "assemble", "linear", "contact", "total")},
+            "latency_s": self.latency,
+            "redone": list(self.redone),
+            "kkt": max((float(v) for v in sol.kkt.values() if isinstance(v, (int, float))), default=0.0),
+            "contact_length": contact_length(sol),
+            "crack_length": float(sum(np.sum(c.length) for c in sol.crack_mesh.cracks)),
+        }
+
+
+
+def contact_length(sol) -> float:
+    """Total length of the crack edges that are closed (mid-point opening below
+    CLOSED_RTOL times the largest jump on the cracks; all of them if nothing moves)."""
+    profiles = sol.crack_profiles()
+    if not profiles:
+        return 0.0
+    J = max(float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0)) for p in profiles)
+    total = 0.0
+    for p, crack in zip(profiles, sol.crack_mesh.cracks):
+        closed = p.normal_jump <= CLOSED_RTOL * J
+        total += float(np.sum(crack.length[closed]))
+    return total
+
+
+class Study(Explorer):
+    """Deprecated name of `Explorer` (the explorer's model; `ngcrack.study` is sweeps)."""
+
+    def __init__(self, *args: Any, **kwargs: Any):
+        warnings.warn("nc.Study is now nc.Explorer (the explorer's model; ngcrack.study holds the sweeps)",
+                      DeprecationWarning, stacklevel=2)
+        super().__init__(*args, **kwargs)

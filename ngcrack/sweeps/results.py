@@ -1,0 +1,188 @@
+"""The results file of a sweep: its row schema, the CSV written one complete line at a time, and read back.
+
+Output. `sweep(..., out="results.csv")` appends one CSV line per finished run (one
+`write` of a complete line, then fsync), so an interruption loses at most the runs in
+progress; running the same sweep again skips the rows already present (keyed by scene,
+element, maxh, nu, friction) and drops a trailing partial line. Reference samples are cached next
+to the CSV (`results.csv.refs/`, npz files) so a resumed sweep need not recompute them;
+a missing or unreadable cache file is recomputed.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import warnings
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from .quantities import _is_tip_column
+
+#: columns that identify a row (resume key)
+KEY = ("scene", "element", "maxh", "nu", "friction")
+#: significant digits used to compare maxh and nu when matching rows
+KEY_DIGITS = 12
+
+#: the row schema: column -> type; the CSV has exactly these columns in this order
+ROW_SCHEMA: dict[str, type] = {
+    "scene": str,
+    "element": str,
+    "maxh": float,                # requested global mesh size
+    "nu": float,                  # Poisson's ratio
+    "friction": float,            # Coulomb coefficient of the cracks (the largest, if they differ)
+    "E": float,
+    "h": float,                   # the mesh's largest edge length
+    "n_elements": int,
+    "ndof_total": int,
+    "ndof_global": int,           # after static condensation
+    "ndof_contact": int,          # crack normal unknowns in the QP
+    "n_active": int,              # QP unknowns in contact (w = 0)
+    "time_mesh": float,           # seconds, wall clock
+    "time_assemble": float,
+    "time_linear": float,         # factorization, solves and local recovery
+    "time_contact": float,        # Schur complement and QP
+    "time_total": float,          # the whole solve, mesh included
+    "time_error": float,          # evaluating the errors (not part of the solve)
+    "time_tips": float,           # the tips' domain integrals (part of time_total)
+    "memory_peak_mb": float,
+    "memory_start_mb": float,
+    "kkt_max_penetration": float,
+    "kkt_max_tension": float,
+    "kkt_complementarity": float,
+    "kkt_friction": float,        # the discrete Coulomb law's residual (0 without friction)
+    "max_opening": float,         # max [u].nu over the crack samples
+    "max_slip": float,            # max |[u].t|
+    "n_stick": int,               # crack samples that stick (friction only)
+    "min_normal_stress": float,   # most compressive sigma_n on the crack
+    "reference": bool,            # this row is the reference of its group
+    "reference_element": str,
+    "reference_maxh": float,
+    "reference_ndof": int,
+    "err_u1": float,
+    "err_u2": float,
+    "err_sigma_t1": float,
+    "err_sigma_nu": float,
+    "err_opening": float,         # against the closed form (griffith); empty elsewhere
+    "err_K_I": float,             # K_I against the closed form (griffith, inclined); empty elsewhere
+    "crack_model": str,
+    "qp_solver": str,
+    "adapt": bool,                # an adaptive run: maxh holds its tolerance (the relative estimate)
+    "estimate": float,            # the solve's relative error estimate (estimate.py), energy norm
+    "estimate_energy": float,     # the same, absolute
+}
+ROW_COLUMNS = tuple(ROW_SCHEMA)
+#: columns that must agree between a CSV's rows and a resumed sweep asking for the same keys
+_SETUP_COLUMNS = ("reference_element", "reference_maxh", "crack_model", "qp_solver", "adapt")
+
+
+def _key(scene: str, element: str, maxh: float, nu: float, friction: float = 0.0) -> tuple:
+    return (str(scene), str(element), float(f"{float(maxh):.{KEY_DIGITS}g}"), float(f"{float(nu):.{KEY_DIGITS}g}"),
+            float(f"{float(friction):.{KEY_DIGITS}g}"))
+
+
+def scene_friction(scene) -> float:
+    """The scene's Coulomb coefficient for the `friction` column: its cracks' largest (0 without a crack)."""
+    return max((float(c.friction) for c in scene.cracks), default=0.0)
+
+
+def _format(value) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "True" if value else "False"
+    if isinstance(value, (float, np.floating)):
+        return "" if not math.isfinite(value) else repr(float(value))
+    return str(value)
+
+
+def csv_line(row: dict, columns: Sequence[str] = ROW_COLUMNS) -> str:
+    """One complete CSV line (with its newline) of a row, in the order of `columns` (missing: empty)."""
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow([_format(row.get(c, math.nan)) for c in columns])
+    return buf.getvalue()
+
+
+def typed(df):
+    """`df` with the ROW_SCHEMA dtypes (str, float, int, bool) on the columns it has."""
+    import pandas as pd
+
+    df = df.copy()
+    schema = dict(ROW_SCHEMA, **{c: float for c in df.columns if _is_tip_column(str(c))})
+    for col, typ in schema.items():
+        if col not in df.columns:
+            continue
+        if typ is float:
+            df[col] = pd.to_numeric(df[col], errors="coerce").astype(float)
+        elif typ is int:
+            df[col] = pd.to_numeric(df[col]).astype("int64")
+        elif typ is bool:
+            df[col] = df[col].map(lambda v: v if isinstance(v, (bool, np.bool_)) else str(v) == "True").astype(bool)
+        else:
+            df[col] = df[col].fillna("").astype(str)
+    return df
+
+
+def read_results(path):
+    """A sweep CSV as a typed pandas DataFrame (ignoring a trailing partial line)."""
+    import pandas as pd
+
+    path = Path(path)
+    text = path.read_text()
+    if text and not text.endswith("\n"):
+        text = text[: text.rfind("\n") + 1]
+    if not text:
+        return typed(pd.DataFrame(columns=list(ROW_COLUMNS)))
+    # floats must read back exactly (resume keys, reproducible tables): pandas >= 3 parses
+    # round-trip by default, older versions need asking
+    exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+    df = pd.read_csv(io.StringIO(text), **exact,
+                     dtype={"scene": str, "element": str, "reference_element": str, "crack_model": str,
+                            "qp_solver": str})
+    n = len(ROW_COLUMNS)
+    if tuple(df.columns[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in df.columns[n:]):
+        raise ValueError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
+                         f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
+    return typed(df)
+
+
+class ResultsFile:
+    """The sweep's CSV: header once, then one complete line per finished run."""
+
+    def __init__(self, path, columns: Sequence[str] = ROW_COLUMNS) -> None:
+        self.path = Path(path)
+        self.columns = tuple(columns)
+        if not self.path.parent.exists():
+            raise ValueError(f"out = {str(self.path)!r}: the directory {str(self.path.parent)!r} does not exist")
+        if self.path.exists() and self.path.stat().st_size:
+            data = self.path.read_bytes()
+            if not data.endswith(b"\n"):  # a line cut by an interruption: drop it
+                keep = data.rfind(b"\n") + 1
+                warnings.warn(f"{self.path}: dropped a partial last line ({len(data) - keep} bytes) left by an "
+                              f"interrupted run", stacklevel=3)
+                with open(self.path, "r+b") as fh:
+                    fh.truncate(keep)
+            self.existing = read_results(self.path)
+            if tuple(self.existing.columns) != self.columns:
+                raise ValueError(f"out = {str(self.path)!r}: its columns are not this sweep's (another scene's "
+                                 f"tips?); write to another file")
+        else:
+            self.existing = None
+            buf = io.StringIO()  # tip columns hold a comma (K_I[0,last]): quoted
+            csv.writer(buf, lineterminator="\n").writerow(self.columns)
+            self._append(buf.getvalue())
+
+    def _append(self, text: str) -> None:
+        fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        try:
+            data = text.encode()
+            written = os.write(fd, data)  # one write of the whole line
+            while written < len(data):  # only on exotic file systems
+                written += os.write(fd, data[written:])
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+    def append(self, row: dict) -> None:
+        self._append(csv_line(row, self.columns))
