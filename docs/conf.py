@@ -114,6 +114,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "plain_docstrings",  # docs/_ext: plain-text docstrings as reST; numpydoc sections via napoleon
+    "public_names",  # docs/_ext: ngcrack.Scene and other re-exported names link to their definitions
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
 ]

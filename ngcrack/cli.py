@@ -4,7 +4,7 @@
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--friction MU] [--tip-h H]
                         [--crack-h H] [--qp-solver S] [--crack-model M] [--adapt TOL] [--max-dof N]
-                        [--json OUT] [--plot OUT.png]
+                        [--json OUT] [--plot OUT.png] [--vtk OUT]
     ngcrack sweep SCENE [--element E ...] (--maxh H [H ...] | --adapt TOL [TOL ...]) [--nu NU ...]
                         [--friction MU ...] --out results.csv [--reference-maxh H] [--reference-element E]
                         [--jobs N] [--dask ADDRESS] [--max-dof N]
