@@ -25,7 +25,7 @@ ROOT = DOCS.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(DOCS / "_ext"))
 
-import ngcrack
+import ngcrack  # noqa: E402  (the checkout first on the path)
 
 # -- the notebooks: ../notebooks/NN-topic.py -> docs/notebooks/ (git-ignored) ----------
 NOTEBOOK_SOURCES = ROOT / "notebooks"

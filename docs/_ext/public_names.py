@@ -38,7 +38,7 @@ def _import(path: str):
 
 def _defined_name(found, objects: dict) -> str | None:
     """Where the object is defined, as a documented dotted name."""
-    obj, owner, attr = found
+    obj, _, attr = found
     target = obj.fget if isinstance(obj, property) else obj
     if inspect.ismodule(target):
         return target.__name__
