@@ -75,7 +75,7 @@ for name in ("fig7_paper-1_sigma_nu", "fig8_paper-2_sigma_nu"):
 
 # %%
 from_tables = paper.paper_rates_from_tables()
-pivot = rates.pivot_table(index=["scene", "element"], columns="quantity", values="rate_dof")[list(nc.study.QUANTITIES)]
+pivot = rates.pivot_table(index=["scene", "element"], columns="quantity", values="rate_dof")[list(nc.sweeps.QUANTITIES)]
 pivot.loc[("paper (text)", "example 1"), :] = [paper.PAPER_RATES[q] for q in pivot.columns]
 pivot.loc[("paper (tables)", "example 1"), :] = [from_tables[q] for q in pivot.columns]
 pivot.round(2)
