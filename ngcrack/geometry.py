@@ -19,8 +19,8 @@ from collections import OrderedDict
 from contextlib import contextmanager
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 from netgen.geom2d import SplineGeometry
 from netgen.meshing import MeshingParameters
 

@@ -65,8 +65,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .materials import compliance as _compliance
 
