@@ -25,7 +25,7 @@ ROOT = DOCS.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(DOCS / "_ext"))
 
-import ngcrack  # noqa: E402
+import ngcrack  # noqa: E402  (the checkout first on the path)
 
 # -- the notebooks: ../notebooks/NN-topic.py -> docs/notebooks/ (git-ignored) ----------
 NOTEBOOK_SOURCES = ROOT / "notebooks"
@@ -114,28 +114,34 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "plain_docstrings",  # docs/_ext: plain-text docstrings as reST; numpydoc sections via napoleon
+    "public_names",  # docs/_ext: ngcrack.Scene and other re-exported names link to their definitions
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
 ]
 
 exclude_patterns = ["_build", "**/.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
 templates_path = ["_templates"]
-# `x` in a docstring is code, as in the package's docstrings
+# `x` in a docstring is code, as in the package's docstrings (docs/_ext/plain_docstrings.py
+# writes it as ``x`` for autodoc; this covers hand-written reST)
 default_role = "literal"
 
 # -- cross references: every internal reference must resolve ---------------------------
 nitpicky = True
 # types of other packages (ngsolve, numpy, pandas, ...) are not documented here
+#: other packages whose names appear in annotations (module prefixes and bare class names)
+_EXTERNAL_MODULES = ("ngs|ngsolve|netgen|np|numpy|pd|pandas|scipy|sp|cvxpy|shapely|matplotlib|plt|ipywidgets|"
+                     "dask|distributed|meshio|tomllib|tomli|pathlib|os|concurrent|collections|typing|"
+                     "dataclasses|enum|threading|multiprocessing")
+_EXTERNAL_NAMES = ("Path|Callable|Iterable|Iterator|Sequence|Mapping|Any|Literal|Optional|Union|"
+                   "ndarray|DataFrame|Series|CoefficientFunction|GridFunction|Mesh|FESpace|"
+                   "BilinearForm|LinearForm|BaseMatrix|BaseVector|Figure|Axes|NDArray|ArrayLike|"
+                   "TextIO|IO|Self|TypeAlias|Future|Executor|Generator|Hashable")
+_BUILTIN_TYPES = ("int|float|str|bool|bytes|dict|list|tuple|set|frozenset|object|type|None|"
+                  "optional|callable|array|array_like|array-like|iterable|sequence|mapping")
 nitpick_ignore_regex = [
-    (r"py:.*", r"(ngs|ngsolve|netgen|np|numpy|pd|pandas|scipy|sp|cvxpy|shapely|matplotlib|plt|ipywidgets|"
-               r"dask|distributed|meshio|tomllib|tomli|pathlib|os|concurrent|collections|typing|"
-               r"dataclasses|enum|threading|multiprocessing)(\..*)?"),
-    (r"py:.*", r"(Path|Callable|Iterable|Iterator|Sequence|Mapping|Any|Literal|Optional|Union|"
-               r"ndarray|DataFrame|Series|CoefficientFunction|GridFunction|Mesh|FESpace|"
-               r"BilinearForm|LinearForm|BaseMatrix|BaseVector|Figure|Axes|NDArray|ArrayLike|"
-               r"TextIO|IO|Self|TypeAlias|Future|Executor|Generator|Hashable)"),
-    (r"py:class", r"(int|float|str|bool|bytes|dict|list|tuple|set|frozenset|object|type|None|"
-                  r"optional|callable|array|array_like|array-like|iterable|sequence|mapping)"),
+    (r"py:.*", rf"({_EXTERNAL_MODULES})(\..*)?"),
+    (r"py:.*", rf"({_EXTERNAL_NAMES})"),
+    (r"py:class", rf"({_BUILTIN_TYPES})"),
 ]
 
 # -- API reference: pages written by _module_pages; autosummary for the top-level table --

@@ -20,8 +20,9 @@
 
 Values are written in double precision (NGSolve's binary appended format for the body,
 meshio's for the cracks). ``write_collection(files, times, "out/run.pvd")`` writes a
-ParaView collection (one entry per time or step, each with one or more parts) for sweeps
-and crack growth. Sign conventions as everywhere in ngcrack: t runs from a crack's first
+ParaView collection (one entry per time or step, each with one or more parts), and
+``save_series(solutions, times, "out/growth")`` writes ``out/growth_0000.vtu``, ... and
+``out/growth.pvd`` in one call, for sweeps and crack growth. Sign conventions as everywhere in ngcrack: t runs from a crack's first
 point to its last, nu is t turned by +90 degrees, [u] = u+ - u- with + the side nu points
 into.
 """
@@ -210,3 +211,21 @@ def write_collection(files: Sequence, times: Sequence[float], path) -> Path:
     tmp.write_text(text, encoding="utf-8")
     os.replace(tmp, out)
     return out
+
+
+def save_series(solutions: Sequence, times: Sequence[float], path, subdivision: int = 0) -> Path:
+    """Write every solution with `save_vtk` (``path_0000``, ``path_0001``, ...) and the
+    collection ``path.pvd`` of them at `times` (load factors, steps, a swept parameter).
+
+    Returns the collection's path. The times are checked before anything is written.
+    """
+    solutions, times = list(solutions), list(times)
+    if len(solutions) != len(times):
+        raise ValueError(f"solutions, times: {len(solutions)} solutions but {len(times)} times; "
+                         "expected one time per solution")
+    for t in times:
+        if isinstance(t, bool) or not isinstance(t, (int, float, np.integer, np.floating)) or not math.isfinite(t):
+            raise ValueError(f"times: {t!r} is not a finite number")
+    base = vtk_stem(path)
+    files = [save_vtk(sol, base.with_name(f"{base.name}_{k:04d}"), subdivision) for k, sol in enumerate(solutions)]
+    return write_collection(files, times, base.with_name(base.name + ".pvd"))

@@ -181,3 +181,22 @@ def test_collection_lists_every_part_relative_to_itself(solutions, tmp_path):
     with pytest.raises(ValueError, match="times"):
         write_collection(parts, [0.0, math.nan], tmp_path / "bad")
     assert not (tmp_path / "bad.pvd").exists()
+
+
+def test_series_writes_one_file_per_step_and_their_collection(solutions, tmp_path):
+    from ngcrack.vtk import save_series
+
+    sols = [solutions["bdm"], solutions["tdnns"]]
+    pvd = save_series(sols, [1, 2.5], tmp_path / "steps" / "run")
+    assert pvd == tmp_path / "steps" / "run.pvd"
+    rows = ET.parse(pvd).getroot().find("Collection").findall("DataSet")
+    assert [r.get("file") for r in rows] == ["run_0000.vtu", "run_0000_cracks.vtu", "run_0001.vtu",
+                                             "run_0001_cracks.vtu"]
+    assert [float(r.get("timestep")) for r in rows] == [1.0, 1.0, 2.5, 2.5]
+    # each step's file holds that step's solution
+    for k, sol in enumerate(sols):
+        grid = meshio.read(tmp_path / "steps" / f"run_{k:04d}_cracks.vtu")
+        assert np.array_equal(grid.cell_data["sliding"][0], sol.crack_profiles()[0].tangential_jump)
+    with pytest.raises(ValueError, match="times"):
+        save_series(sols, [0.0], tmp_path / "bad" / "run")
+    assert not (tmp_path / "bad").exists()

@@ -7,7 +7,8 @@ indented display an error, so each docstring goes through :func:`rest_lines`:
 
 1. a docstring with numpydoc sections (``Parameters`` underlined) goes to napoleon;
 2. otherwise ``|``, ``*`` and a word's trailing ``_`` are escaped outside code spans and
-   roles, and an indented display becomes a literal block;
+   roles, lists get the blank lines around them that reST needs, and an indented display
+   becomes a literal block;
 3. if docutils still reports a problem, the docstring is shown as one literal block.
 
 Attribute comments (``#:``) are one paragraph: napoleon would read ``text: more`` in them
@@ -24,14 +25,19 @@ from docutils.utils import Reporter
 
 #: a numpydoc section header: a known title underlined with dashes
 _SECTION = re.compile(r"^\s*(Parameters|Returns|Yields|Raises|Warns|Examples|Notes|See Also|Attributes|"
-                      r"Other Parameters|References)\s*\n\s*-{3,}\s*$", re.M)
+                      r"Other Parameters|References)\s*\n\s*-{3,}\s*$", re.MULTILINE)
 #: spans left alone: ``literal``, :role:`target`, `interpreted`
 _SPAN = re.compile(r"(:[\w:.-]+:`[^`]*`|``[^`]+``|`[^`]*`)")
+#: `code` in plain text (not a role's target, not a ``literal``, not a `link`_)
+_SINGLE_TICKS = re.compile(r"(?<![:`\w])`([^`\s][^`]*)`(?![`_])")
 _BULLET = re.compile(r"^(\s*)([-*+]|\d+[.)]|\(\w\))\s+")
 
 
 def _escape(text: str) -> str:
-    """Escape |, * and a word's trailing _ outside code spans and roles."""
+    """Escape |, * and a word's trailing _ outside code spans and roles (a bullet's * stays)."""
+    bullet = re.match(r"^\s*\* ", text)
+    if bullet:
+        return bullet.group(0) + _escape(text[bullet.end():])
     parts = _SPAN.split(text)
     for i in range(0, len(parts), 2):  # the even parts are outside spans
         p = parts[i].replace("\\", "\\\\").replace("|", "\\|").replace("*", "\\*")
@@ -43,36 +49,62 @@ def _indent(line: str) -> int:
     return len(line) - len(line.lstrip())
 
 
-def _displays_as_literal(lines: list[str]) -> list[str]:
-    """An indented block right after a line of prose (no blank line, no ``::``) becomes a
-    literal block; bullet continuations stay as they are."""
+def _lists_set_apart(lines: list[tuple[str, bool]]) -> list[tuple[str, bool]]:
+    """A blank line before a (possibly nested) list that follows prose, and after a list
+    that prose follows: reStructuredText needs them, plain text does not. Lines flagged
+    literal (displays) are left alone."""
+    out: list[tuple[str, bool]] = []
+    stack: list[int] = []  # the indents of the open lists
+    for line, lit in lines:
+        if lit or not line.strip():
+            out.append((line, lit))
+            continue
+        ind, m = _indent(line), _BULLET.match(line)
+        while stack and (ind < stack[-1] or (ind == stack[-1] and not m)):
+            stack.pop()
+            if out and out[-1][0].strip():
+                out.append(("", False))
+        if m and (not stack or ind > stack[-1]):
+            if out and out[-1][0].strip():
+                out.append(("", False))
+            stack.append(ind)
+        out.append((line, False))
+    return out
+
+
+def _displays_as_literal(lines: list[str]) -> list[tuple[str, bool]]:
+    """An indented block after a line of prose (right after it, or after a blank line)
+    becomes a literal block, as a display of formulas or code is meant; the continuation
+    of a bullet and a block already announced by ``::`` stay as they are. Returns each
+    line with whether it is inside a literal block (where nothing is escaped)."""
     out: list[str] = []
+    literal: set[int] = set()
     i = 0
     while i < len(lines):
         line = lines[i]
-        prev = next((p for p in reversed(out) if p.strip()), None)
-        starts_block = (line.strip() and out and out[-1].strip() and prev is not None
-                        and _indent(line) > _indent(prev))
+        at = next((k for k in range(len(out) - 1, -1, -1) if out[k].strip()), None)
+        prev = out[at] if at is not None else None
+        starts_block = bool(line.strip()) and prev is not None and _indent(line) > _indent(prev)
         if starts_block:
             m = _BULLET.match(prev)
-            if m and _indent(line) == len(m.group(0)):
-                starts_block = False  # the continuation of a bullet
-            elif out[-1].rstrip().endswith("::"):
+            if (m and _indent(line) == len(m.group(0))) or prev.rstrip().endswith("::"):
                 starts_block = False
         if not starts_block:
             out.append(line)
             i += 1
             continue
         base = _indent(prev)
-        out[-1] = out[-1].rstrip() + (":" if out[-1].rstrip().endswith(":") else " ::")
-        out.append("")
+        out[at] = prev.rstrip() + (":" if prev.rstrip().endswith(":") else " ::")
+        if out[-1].strip():
+            out.append("")
         while i < len(lines) and (not lines[i].strip() or _indent(lines[i]) > base):
+            literal.add(len(out))
             out.append(lines[i])
             i += 1
         while out and not out[-1].strip():
             out.pop()
         out.append("")
-    return out
+    return [(line, k in literal) for k, line in enumerate(out)]
 
 
 def _problems(lines: list[str]) -> int:
@@ -85,11 +117,20 @@ def _problems(lines: list[str]) -> int:
     return len(re.findall(r"\((WARNING/2|ERROR/3|SEVERE/4)\)", stream.getvalue()))
 
 
+def _code(line: str) -> str:
+    """`x` -> ``x``: code, as the docstrings mean it (Sphinx's default_role does not reach
+    autodoc's content under docutils 0.22)."""
+    return _SINGLE_TICKS.sub(r"``\1``", line)
+
+
 def rest_lines(lines: list[str]) -> list[str]:
     """The plain-text docstring `lines` as reStructuredText (steps 2 and 3 above)."""
-    if not lines or _problems(lines) == 0:
+    if not lines:
         return lines
-    fixed = _displays_as_literal([_escape(line) for line in lines])
+    if _problems(lines) == 0:
+        return [_code(line) for line in lines]
+    fixed = [line if lit else _code(_escape(line))
+             for line, lit in _lists_set_apart(_displays_as_literal(lines))]
     if _problems(fixed) == 0:
         return fixed
     return ["::", ""] + ["    " + line for line in lines] + [""]
@@ -102,7 +143,7 @@ def _process(app, what, name, obj, options, lines):
     if what != "attribute" and _SECTION.search(text):
         from sphinx.ext.napoleon import NumpyDocstring
 
-        lines[:] = NumpyDocstring(lines, app.config, app, what, name, obj, options).lines()
+        lines[:] = [_code(line) for line in NumpyDocstring(lines, app.config, app, what, name, obj, options).lines()]
         return
     lines[:] = rest_lines(lines)
 
