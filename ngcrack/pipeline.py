@@ -436,7 +436,8 @@ class Pipeline:
             built=list(disc.built) + [_built_line(qp, m, o, disc)],
             options={"qp_solver": o.qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
                      "largest_dense": red.largest_dense, "tip_h": o.tip_h, "crack_model": o.crack_model,
-                     "order": o.order, "friction": [float(f) for f in mu], "friction_method": o.friction_method,
+                     "order": o.order, "friction": [float(f) if o.crack_model == "contact" else 0.0 for f in mu],
+                     "friction_method": o.friction_method,
                      "tangential": tangential, "hp": o.hp or 0},
             conditioning=conditioning, kkt_sampled=kkt_sampled, forces=forces,
         )

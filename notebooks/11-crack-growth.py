@@ -24,7 +24,8 @@
 #
 # **Experiments.** (a) an inclined crack in tension kinks towards mode I; (b) "wing cracks"
 # from a closed crack under uniaxial compression, with and without friction: the wings open
-# while the main crack stays closed and slides.
+# while the main crack stays closed and slides; (c) a crack beside a hole: the hole's stress
+# concentration draws the crack's near tip towards it and lowers the load at which it grows.
 #
 # `NGCRACK_QUICK=1` uses coarser meshes and fewer steps.
 
@@ -135,3 +136,44 @@ print(f"Wing cracks: start at lambda within {lam_err:.1%} of K_Ic / ((2/sqrt 3) 
       f"PLS kink {start[0.3].kink_deg:.1f} degrees; friction 0.3 raises the starting load by "
       f"{r3.load_factors()[0] / r0.load_factors()[0] - 1:.0%}; lambda rises at every step: "
       f"{all(np.all(np.diff(r.load_factors()) > 0) for r in (r0, r3))}")
+
+# %% [markdown]
+# ## (c) A crack beside a hole
+# The built-in `hole-crack` plate (20 x 20, a circular hole of radius 2 at its centre, tension
+# $p = 1$ along $y$) with its crack moved 1 above the hole's centre line: the tip near the
+# hole sits in the hole's stress concentration ($\sigma_{yy}$ up to $3p$ at its edge, Kirsch). The
+# same plate without the hole is the comparison. A tip that reaches the hole stops there: the
+# crack then cuts into the hole.
+
+# %%
+base = nc.scenes.load("hole-crack")
+beside = base.with_(cracks=[nc.Crack(points=((12.8, 11.0), (15.3, 11.0)))])
+HOLE_MESH = {"maxh": 2.0}
+runs_c = {"with the hole": nc.grow(beside, da=0.3, steps=STEPS, K_Ic=1.0, **HOLE_MESH),
+          "plain plate": nc.grow(beside.with_(holes=()), da=0.3, steps=STEPS, K_Ic=1.0, **HOLE_MESH)}
+
+fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+circle = np.linspace(0, 2 * np.pi, 200)
+ax.plot(10 + 2 * np.cos(circle), 10 + 2 * np.sin(circle), "k-", lw=1, label="hole")
+for (label, res), color in zip(runs_c.items(), ("tab:red", "tab:gray")):
+    for p in res.paths:
+        ax.plot(p[:, 0], p[:, 1], "o-", ms=2, color=color, label=label)
+    near = res.table[res.table.end == "first"]
+    bx.plot(near.crack_length, near.tip_load_factor, "o-", color=color, label=f"{label}: the tip near the hole")
+ax.set_aspect("equal")
+ax.set_xlim(7, 16)
+ax.set_ylim(7.5, 13)
+ax.set_title("paths (tension along y)")
+ax.legend(fontsize=8)
+bx.set_xlabel("crack length")
+bx.set_ylabel(r"load factor $\lambda$ of the tip near the hole")
+bx.legend(fontsize=8)
+plt.show()
+
+hole_first = runs_c["with the hole"].table.query("step == 0 and end == 'first'").iloc[0]
+plain_first = runs_c["plain plate"].table.query("step == 0 and end == 'first'").iloc[0]
+print(f"The hole lowers the load at which the near tip first grows by "
+      f"{1 - hole_first.tip_load_factor / plain_first.tip_load_factor:.0%} "
+      f"(lambda {hole_first.tip_load_factor:.3f} against {plain_first.tip_load_factor:.3f} without it); "
+      f"runs stopped: {runs_c['with the hole'].stopped!r}, {runs_c['plain plate'].stopped!r}")
+
