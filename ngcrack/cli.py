@@ -88,7 +88,7 @@ def cmd_solve(args) -> int:
     from . import scenes
     from .elements import ELEMENTS
 
-    if args.element not in ELEMENTS:
+    if args.element is not None and args.element not in ELEMENTS:
         raise UsageError(f"--element = {args.element!r}: allowed values are {', '.join(ELEMENTS)}")
     json_path = check_output(args.json, "--json")
     plot_path = check_output(args.plot, "--plot", ".png")
@@ -107,7 +107,9 @@ def cmd_solve(args) -> int:
 
     given = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order), ("adapt", args.adapt),
                                ("hp", args.hp)) if v is not None}
-    options = SolveOptions.of(element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
+    if args.element is not None:
+        given["element"] = args.element
+    options = SolveOptions.of(maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
                               crack_model=args.crack_model, max_dof=args.max_dof, **given)  # checked once, here
     sol = solve(scene, options=options)
     result = sol.to_json_dict()
@@ -216,7 +218,9 @@ def cmd_sweep(args) -> int:
         adaptive = {"adapt": args.adapt, "adapt_maxh": args.maxh[0] if args.maxh else None}
     elif args.maxh is None:
         raise UsageError("--maxh: give the mesh sizes (or --adapt with tolerances)")
-    df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, friction=args.friction,
+    from .options import DEFAULT_ELEMENT
+
+    df = sweep(scene, elements=args.element or [DEFAULT_ELEMENT], maxh=args.maxh, nu=args.nu, friction=args.friction,
                reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
                solve_options=solve_options, max_dof=args.max_dof, **opts, **adaptive)
     after = len(open(out).read().splitlines()) - 1 if out.exists() else 0
@@ -316,8 +320,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_scenes)
     p = sub.add_parser("solve", help="solve one scene")
     p.add_argument("scene", help="built-in scene name or TOML file")
-    p.add_argument("--element", default="bdm",
-                   help="bdm (default), peers, tdnns, h1p1 or h1p2 (README: \"Which element when\")")
+    p.add_argument("--element", default=None,
+                   help="tdnns (default), bdm, peers, h1p1 or h1p2 (README: \"Which element when\")")
     p.add_argument("--order", type=int, help="polynomial order of elements that have one (bdm, tdnns: 1, 2 or 3)")
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
@@ -347,7 +351,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sweep", help="solve every (element, maxh, nu); errors, rates, timings; CSV row by row")
     p.add_argument("scene", help="built-in scene name or TOML file")
-    p.add_argument("--element", nargs="+", default=["bdm"], help="element families (default bdm; see `solve --element`)")
+    p.add_argument("--element", nargs="+", default=None,
+                   help="element families (default tdnns; see `solve --element`)")
     p.add_argument("--maxh", nargs="+", type=_positive, help="global mesh sizes (with --adapt: the first mesh's)")
     p.add_argument("--adapt", nargs="+", type=_positive, metavar="TOL",
                    help="adaptive runs to these relative error estimates, in (0, 1), instead of mesh sizes")

@@ -282,15 +282,15 @@ def test_help_texts_stand_alone():
     for name, text in texts.items():
         for other in ("DESIGN" + ".md", "STYLE" + ".md"):
             assert other not in text, f"{name}: help refers to {other}"
-    assert "bdm (default)" in texts["solve"]
+    assert "tdnns (default)" in texts["solve"]
     assert "README" in texts["solve"]
 
 
-def test_solve_and_sweep_default_to_bdm(tmp_path, capsys):
+def test_solve_and_sweep_default_to_tdnns(tmp_path, capsys):
     code, out, err = run(["solve", "paper-2", "--maxh", "0.4", "--json", tmp_path / "r.json"], capsys)
     assert code == 0, err
-    assert json.loads((tmp_path / "r.json").read_text())["element"] == "bdm"
+    assert json.loads((tmp_path / "r.json").read_text())["element"] == "tdnns"
     assert "KKT at the constraint points" in out and "at the edge mid points" in out
     code, out, err = run(["sweep", "paper-2", "--maxh", "0.4", "--out", tmp_path / "s.csv", "--no-progress"], capsys)
     assert code == 0, err
-    assert set(read_results(tmp_path / "s.csv")["element"]) == {"bdm"}
+    assert set(read_results(tmp_path / "s.csv")["element"]) == {"tdnns"}

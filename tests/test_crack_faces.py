@@ -142,13 +142,14 @@ def test_inclined_sliding_band_of_the_baselines(element):
 
 
 def test_default_element_and_the_accuracy_order():
-    """bdm stays the default; against the finite plate at the default mesh the opening errors
-    order tdnns < h1p2 < bdm < peers < h1p1 (against the closed form bdm looked the most
-    accurate: its 0.36% low opening and the plate's 0.94% cancel in part)."""
+    """tdnns is the default, the most accurate element at the default mesh: against the
+    finite plate the opening errors order tdnns < h1p2 < bdm < peers < h1p1 (against the
+    closed form bdm looked the most accurate: its 0.36% low opening and the plate's 0.94%
+    cancel in part)."""
     import inspect
 
-    assert nc.SolveOptions().element == "bdm"
-    assert inspect.signature(nc.sweep).parameters["elements"].default == ("bdm",)
+    assert nc.SolveOptions().element == "tdnns"
+    assert inspect.signature(nc.sweep).parameters["elements"].default == ("tdnns",)
     measured = {el: references.profile_error(solved("griffith", el)) for el in GRIFFITH_BANDS}
     assert sorted(measured, key=measured.get) == ["tdnns", "h1p2", "bdm", "peers", "h1p1"]
     assert min(GRIFFITH_CLOSED_FORM_BANDS, key=lambda e: GRIFFITH_CLOSED_FORM_BANDS[e][1]) == "bdm"

@@ -18,7 +18,7 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--K-Ic", dest="K_Ic", type=positive,
                    help="fracture toughness (default: load factors relative to the first step)")
     p.add_argument("--criterion", default="pls", help=f"kink criterion: {', '.join(CRITERIA)} (default pls)")
-    p.add_argument("--element", default="bdm", help="bdm (default), peers, tdnns, h1p1 or h1p2")
+    p.add_argument("--element", default=None, help="tdnns (default), bdm, peers, h1p1 or h1p2")
     p.add_argument("--order", type=int, help="polynomial order of elements that have one")
     p.add_argument("--maxh", type=positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=positive, help="mesh size at the crack tips")

@@ -12,6 +12,7 @@ import warnings
 from collections.abc import Iterable
 from pathlib import Path
 
+from ..options import DEFAULT_ELEMENT
 from .cases import Case, run_case
 from .executors import _Dask, _executor
 from .grid import _Grid, _key, _same, check_friction_applies, warn_friction_not_applied
@@ -24,7 +25,7 @@ class SweepError(RuntimeError):
     """A run of a sweep failed; the message names the case."""
 
 
-def check_sweep(scene, elements=("bdm",), maxh=(0.2, 0.1, 0.05), nu=None, *, friction=None, reference_maxh=None,
+def check_sweep(scene, elements=(DEFAULT_ELEMENT,), maxh=(0.2, 0.1, 0.05), nu=None, *, friction=None, reference_maxh=None,
                 reference_element=None, jobs: int = 1, solve_options: dict | None = None, max_dof=None, adapt=None,
                 adapt_maxh=None) -> _Grid:
     """Check a sweep's request as `sweep` does before any run (options, the size guard of every run);
@@ -53,7 +54,7 @@ def check_sweep(scene, elements=("bdm",), maxh=(0.2, 0.1, 0.05), nu=None, *, fri
 
 def sweep(
     scene,
-    elements: Iterable[str] | str = ("bdm",),
+    elements: Iterable[str] | str = (DEFAULT_ELEMENT,),
     maxh: Iterable[float] | float = (0.2, 0.1, 0.05),
     nu: Iterable[float] | float | None = None,
     *,
