@@ -234,8 +234,8 @@ def _crack_node_pairs(cmesh: CrackMesh, top: _Topology, degree: int):
     for c in cmesh.cracks:
         for k in range(len(c)):
             va, vb, e = int(c.va[k]), int(c.vb[k]), int(c.edge[k])
-            pa = (va, va) if va in cmesh.tips else (va, va + nv)
-            pb = (vb, vb) if vb in cmesh.tips else (vb, vb + nv)
+            pa = (va, va) if va in cmesh.tip_vertices else (va, va + nv)
+            pb = (vb, vb) if vb in cmesh.tip_vertices else (vb, vb + nv)
             pm = (2 * nv + e, 2 * nv + e + ned)
             yield c, k, pa, pb, pm
 

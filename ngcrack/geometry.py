@@ -141,7 +141,7 @@ class CrackMesh:
     triangles: np.ndarray  # (ne, 3) vertex numbers, in NGSolve's element order
     cracks: tuple[CrackEdges, ...]
     polylines: tuple[np.ndarray, ...]
-    tips: frozenset[int]  # mesh vertex numbers of crack end points inside the body
+    tip_vertices: frozenset[int]  # mesh vertex numbers of the crack tips (crack ends inside the body)
     diameter: float
     maxh: float
     tip_h: float | None
@@ -457,7 +457,7 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
         points=points,
         triangles=triangles,
         cracks=cracks,
-        tips=tips,
+        tip_vertices=tips,
         polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
         diameter=scene.diameter,
         maxh=float(maxh),
@@ -511,7 +511,7 @@ def crack_mesh_of(mesh: ngs.Mesh, scene: Scene, maxh: float, tip_h: float | None
     cracks = tuple(_crack_edges(mesh, scene, k) for k in range(len(scene.cracks)))
     bnd_vertices = {v.nr for el in mesh.Elements(ngs.BND) if not el.mat.startswith("ngcrack_crack") for v in el.vertices}
     tips = frozenset(int(v) for c in cracks if len(c) for v in (c.va[0], c.vb[-1]) if int(v) not in bnd_vertices)
-    return CrackMesh(mesh=mesh, points=points, triangles=triangles, cracks=cracks, tips=tips,
+    return CrackMesh(mesh=mesh, points=points, triangles=triangles, cracks=cracks, tip_vertices=tips,
                      polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
                      diameter=scene.diameter, maxh=float(maxh), tip_h=tip_h,
                      quality=mesh_quality(points, triangles))

@@ -74,7 +74,7 @@ class _Topology:
             crack_edge[c.edge] = True
             split[c.va] = True
             split[c.vb] = True
-        split[list(cmesh.tips)] = False
+        split[list(cmesh.tip_vertices)] = False
         plus = (side > 0)[:, None]
         vertex_node = np.where(plus & split[T], T + nv, T)
         edge_node = 2 * nv + np.where(plus & crack_edge[opp], opp + ned, opp)

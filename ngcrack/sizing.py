@@ -199,7 +199,7 @@ def unknowns_per_triangle(element: str, order: int | None = None) -> float:
     return per.get(order, per[None])
 
 
-def estimate(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading=None,
+def estimate_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading=None,
              order: int | None = None) -> SizeEstimate:
     """Estimated triangles, unknowns and peak memory of `solve(scene, element, ...)`.
 
@@ -360,7 +360,7 @@ def check_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading
                                   or not isinstance(value, (int, float, np.integer, np.floating))
                                   or not math.isfinite(float(value)) or not float(value) > 0):
             raise ValueError(f"{name} = {value!r}: must be a finite number > 0")
-    est = estimate(scene, element, maxh, tip_h, crack_h, grading, order)
+    est = estimate_size(scene, element, maxh, tip_h, crack_h, grading, order)
     if not math.isfinite(est.unknowns):
         check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     ceiling = DEFAULT_MAX_DOF if max_dof is None else max_dof

@@ -239,7 +239,7 @@ def crack_tips(scene, crack_mesh) -> list[Tip]:
         ends = (("first", c.va[0], pts[0], pts[0] - pts[1]), ("last", c.vb[-1], pts[-1], pts[-1] - pts[-2]))
         for end, vertex, p, t in ends:
             clearance = _clearance(scene, c.index, end, p)
-            if int(vertex) not in crack_mesh.tips or clearance <= JUNCTION_RTOL * crack_mesh.diameter:
+            if int(vertex) not in crack_mesh.tip_vertices or clearance <= JUNCTION_RTOL * crack_mesh.diameter:
                 continue  # on the boundary, or on another crack (a junction, not a tip)
             e1 = t / np.linalg.norm(t)
             out.append(Tip(crack=c.index, end=end, x=float(p[0]), y=float(p[1]), e1=(float(e1[0]), float(e1[1])),

@@ -107,7 +107,7 @@ print("reached the tolerance:", sol.options["adapt"]["reached"])
 # stress singularity) and to a band along the faces, where the sliding bends the stress.
 
 # %%
-tip = sol.crack_mesh.points[min(sol.crack_mesh.tips)]
+tip = sol.crack_mesh.points[min(sol.crack_mesh.tip_vertices)]
 fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
 draw(axes[0], sol.crack_mesh, title=f"adapted mesh, {sol.ndof['total']} unknowns")
 draw(axes[1], sol.crack_mesh, sol.error_estimate.eta, box=(-1.6, 1.6, -1.2, 1.2), title="along the crack (indicators)")

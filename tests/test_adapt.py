@@ -43,7 +43,7 @@ def test_refinement_keeps_the_crack_and_its_tips():
     scene = coarse_inclined()
     cmesh = make_mesh(scene, maxh=2.0)
     ne, n_edges = cmesh.mesh.ne, len(cmesh.cracks[0])
-    tips = np.sort(cmesh.points[list(cmesh.tips)], axis=0)
+    tips = np.sort(cmesh.points[list(cmesh.tip_vertices)], axis=0)
     near = np.linalg.norm(cmesh.centroids, axis=1) < 1.5  # the triangles around the crack
     new = refine_crack_mesh(cmesh, scene, near)
     assert cmesh.mesh.ne == ne  # the input mesh is untouched
@@ -55,7 +55,7 @@ def test_refinement_keeps_the_crack_and_its_tips():
         assert abs(t[0] * (p - a)[1] - t[1] * (p - a)[0]) <= 1e-12
     assert crack.length.sum() == pytest.approx(2.0, rel=1e-12)
     assert np.allclose(crack.b[:-1], crack.a[1:])  # a chain, in order along the crack
-    assert np.allclose(np.sort(new.points[list(new.tips)], axis=0), tips)
+    assert np.allclose(np.sort(new.points[list(new.tip_vertices)], axis=0), tips)
     assert new.quality >= 0.5 * cmesh.quality  # bisection keeps the shapes
 
 

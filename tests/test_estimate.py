@@ -71,7 +71,7 @@ def test_indicators_sum_and_concentrate_at_the_tips():
     assert np.sum(est.eta**2) == pytest.approx(est.energy**2, rel=1e-12)
     gf = est.indicator
     assert np.allclose(gf.vec.FV().NumPy(), est.eta)
-    tips = sol.crack_mesh.points[list(sol.crack_mesh.tips)]
+    tips = sol.crack_mesh.points[list(sol.crack_mesh.tip_vertices)]
     worst = sol.crack_mesh.centroids[np.argsort(est.eta)[-5:]]
     dist = np.min(np.linalg.norm(worst[:, None, :] - tips[None, :, :], axis=2), axis=1)
     assert np.all(dist <= 0.5), dist  # the crack half-length is 1, the plate 20 wide

@@ -174,11 +174,11 @@ def test_out_of_range_values_are_refused_not_clamped_nor_kept():
         assert study.state == before and study.solution is good
     # the finest mesh offered stays below the unknowns the widget allows (sizing's estimate)
     from ngcrack.explorer.controls import MAX_UNKNOWNS
-    from ngcrack.sizing import estimate
+    from ngcrack.sizing import estimate_size
 
     low = study.ranges["maxh"].low
-    assert estimate(study.make_scene(), "bdm", maxh=low).unknowns <= 1.01 * MAX_UNKNOWNS
-    assert estimate(study.make_scene(), "bdm", maxh=0.9 * low).unknowns > MAX_UNKNOWNS
+    assert estimate_size(study.make_scene(), "bdm", maxh=low).unknowns <= 1.01 * MAX_UNKNOWNS
+    assert estimate_size(study.make_scene(), "bdm", maxh=0.9 * low).unknowns > MAX_UNKNOWNS
 
 
 @pytest.mark.parametrize("kwargs,text", [

@@ -99,7 +99,7 @@ def test_cracks_may_not_touch_or_cross_holes():
     refused(["crack[0].points[0]", "lies outside", "outside every hole"], holes=hole, cracks=[[[20, 20], [30, 20]]])
     refused(["crack[0]:", "only 0.001 wide", "hole[0]"], holes=hole, cracks=[[[10, 20], [17.999, 20]]])
     s = plate(holes=hole, cracks=[[[10, 20], [17, 20]]])
-    assert s.crack_tips() == [(0, (10.0, 20.0)), (0, (17.0, 20.0))]
+    assert s.tip_points() == [(0, (10.0, 20.0)), (0, (17.0, 20.0))]
 
 
 def test_supports_and_labels_on_holes():
@@ -185,4 +185,4 @@ def test_a_pickled_scene_carries_its_fields_only():
     data = pickle.dumps(s)
     t = pickle.loads(data)
     assert t == s and hash(t) == hash(s) and len(data) < 4000
-    assert [p.holes for p in t.parts()] == [(0,)] and t.crack_tips() == s.crack_tips()
+    assert [p.holes for p in t.parts()] == [(0,)] and t.tip_points() == s.tip_points()

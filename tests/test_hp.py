@@ -70,8 +70,8 @@ def test_layers_grade_geometrically_and_keep_the_crack():
     cmesh = hp.refine_towards_tips(base, scene, layers)
     assert base.mesh.ne == n_base and cmesh.mesh.ne > n_base
     centres = hp.singular_points(scene, cmesh)
-    assert len(centres) == 2 and len(cmesh.tips) == 2
-    for (p, _), v in zip(centres, sorted(cmesh.tips, key=lambda v: cmesh.points[v][0])):
+    assert len(centres) == 2 and len(cmesh.tip_vertices) == 2
+    for (p, _), v in zip(centres, sorted(cmesh.tip_vertices, key=lambda v: cmesh.points[v][0])):
         assert np.linalg.norm(cmesh.points[v] - p) <= 1e-12  # the tips stay vertices
     length = sum(float(c.length.sum()) for c in cmesh.cracks)
     assert abs(length - 2.0) <= 1e-12  # the crack stays a chain of mesh edges

@@ -169,7 +169,7 @@ def test_the_culprit_is_named_not_maxh():
     with pytest.raises(ValueError) as info:
         sizing.check_size(scenes.load("griffith"), "bdm", tip_h=1e-300)
     assert str(info.value).startswith("tip_h = 1e-300:") and "maxh = 1:" not in str(info.value)
-    est = sizing.estimate(scenes.load("griffith"), "bdm", crack_h=1e-4)
+    est = sizing.estimate_size(scenes.load("griffith"), "bdm", crack_h=1e-4)
     assert est.culprit == "crack_h" and est.size == 1e-4
 
 

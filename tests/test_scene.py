@@ -150,7 +150,7 @@ def test_crack_running_along_or_touching_the_boundary():
     # ending at that vertex is fine
     s = Scene.from_dict(base(domain={"polygon": ell}, crack=[{"points": [[0.5, 0.5], [1, 1]]}],
                              boundary=held))
-    assert s.crack_tips() == [(0, (0.5, 0.5))]
+    assert s.tip_points() == [(0, (0.5, 0.5))]
 
 
 def test_crack_crossing_itself():
@@ -177,7 +177,7 @@ def test_zero_length_crack_segment():
 def test_crack_end_points_on_the_boundary_are_allowed():
     s = Scene.from_dict(base(crack=[{"points": [[1, 0], [1.5, 0.5], [2, 0.5]]}]))
     assert s.crack_end_on_boundary(0) == (True, False)
-    assert s.crack_tips() == [(0, (2.0, 0.5))]
+    assert s.tip_points() == [(0, (2.0, 0.5))]
     assert len(s.parts()) == 1
     # an edge crack ending at a polygon vertex
     s = Scene.from_dict(base(crack=[{"points": [[4, 1], [3, 0.5]]}]))

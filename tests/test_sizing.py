@@ -72,7 +72,7 @@ def test_unknowns_per_triangle_match_the_solves():
 def test_the_estimate_takes_microseconds():
     scene = scenes.load("griffith")
     t0 = time.perf_counter()
-    est = sizing.estimate(scene, "bdm", maxh=1e-7)
+    est = sizing.estimate_size(scene, "bdm", maxh=1e-7)
     report(f"griffith maxh 1e-7: {est.describe()} (estimated in {1e6 * (time.perf_counter() - t0):.0f} us)")
     assert est.triangles == pytest.approx(sizing.TRIANGLES_PER_AREA * 200 / 1e-14, rel=1e-6)
 

@@ -43,7 +43,7 @@ def _crack_nodes(crack_mesh: CrackMesh, fixed_vertices: set[int]):
         for k in range(len(c)):
             for v in (int(c.va[k]), int(c.vb[k])):
                 normals[v] = normals.get(v, np.zeros(2)) + c.normal[k]
-    free = {v: n / np.linalg.norm(n) for v, n in normals.items() if v not in crack_mesh.tips and v not in fixed_vertices}
+    free = {v: n / np.linalg.norm(n) for v, n in normals.items() if v not in crack_mesh.tip_vertices and v not in fixed_vertices}
     return free
 
 

@@ -114,7 +114,7 @@ def e_range(E: float) -> Range:
 def mesh_size_range(scene, element: str, maxh: float | None, solve_options: dict) -> tuple[Range, float]:
     """(the allowed mesh sizes, the starting one): from the finest one whose estimated
     unknowns stay below MAX_UNKNOWNS (or the given maxh, if finer) to sqrt(10) times the start."""
-    from ..sizing import estimate, mesh_sizes
+    from ..sizing import estimate_size, mesh_sizes
 
     kw = {k: solve_options.get(k) for k in ("tip_h", "crack_h", "grading")}
     if maxh is not None:
@@ -126,7 +126,7 @@ def mesh_size_range(scene, element: str, maxh: float | None, solve_options: dict
 
     def unknowns(h):
         try:
-            return estimate(scene, element, maxh=h, **kw).unknowns
+            return estimate_size(scene, element, maxh=h, **kw).unknowns
         except Exception:  # noqa: BLE001  (an element the estimate does not know: no bound from it)
             return 0.0
 

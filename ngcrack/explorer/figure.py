@@ -136,7 +136,7 @@ def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | N
         normal /= np.linalg.norm(normal, axis=1)[:, None]
         up = acc[1.0][vs] / np.maximum(cnt[1.0][vs], 1.0)[:, None]
         um = acc[-1.0][vs] / np.maximum(cnt[-1.0][vs], 1.0)[:, None]
-        tip = np.array([int(v) in cm.tips for v in vs])
+        tip = np.array([int(v) in cm.tip_vertices for v in vs])
         mean = (acc[1.0][vs] + acc[-1.0][vs]) / np.maximum(cnt[1.0][vs] + cnt[-1.0][vs], 1.0)[:, None]
         up[tip], um[tip] = mean[tip], mean[tip]
         faces.append({"crack": crack.index, "points": cm.points[vs], "plus": up, "minus": um, "normal": normal,

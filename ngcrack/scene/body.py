@@ -326,7 +326,7 @@ class Scene:
         pts = self.cracks[i].points
         return self.on_boundary(pts[0]), self.on_boundary(pts[-1])
 
-    def crack_tips(self) -> list[tuple[int, Point]]:
+    def tip_points(self) -> list[tuple[int, Point]]:
         """Crack end points strictly inside the domain, as ``(crack index, point)``."""
         out = []
         for i, c in enumerate(self.cracks):
