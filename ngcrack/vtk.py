@@ -22,9 +22,12 @@ Values are written in double precision (NGSolve's binary appended format for the
 meshio's for the cracks). ``write_collection(files, times, "out/run.pvd")`` writes a
 ParaView collection (one entry per time or step, each with one or more parts), and
 ``save_series(solutions, times, "out/growth")`` writes ``out/growth_0000.vtu``, ... and
-``out/growth.pvd`` in one call, for sweeps and crack growth. Sign conventions as everywhere in ngcrack: t runs from a crack's first
-point to its last, nu is t turned by +90 degrees, [u] = u+ - u- with + the side nu points
-into.
+``out/growth.pvd`` in one call, for sweeps and crack growth; ``SeriesWriter("out/growth")``
+does the same one solution at a time, keeping the collection up to date after each (the
+``progress`` callback of ``nc.grow``: ``nc.grow(scene, ..., progress=SeriesWriter(path))``).
+
+Sign conventions as everywhere in ngcrack: t runs from a crack's first point to its last,
+nu is t turned by +90 degrees, [u] = u+ - u- with + the side nu points into.
 """
 
 from __future__ import annotations
@@ -229,3 +232,35 @@ def save_series(solutions: Sequence, times: Sequence[float], path, subdivision: 
     base = vtk_stem(path)
     files = [save_vtk(sol, base.with_name(f"{base.name}_{k:04d}"), subdivision) for k, sol in enumerate(solutions)]
     return write_collection(files, times, base.with_name(base.name + ".pvd"))
+
+
+class SeriesWriter:
+    """Write solutions one at a time (``path_0000``, ``path_0001``, ...), rewriting the
+    collection ``path.pvd`` after each, so that an interrupted run leaves a valid series.
+
+    ``writer.add(sol, time)`` writes one; ``writer(step, result)`` is the ``progress``
+    callback of `ngcrack.grow` (it writes ``result.solution`` at time = the step number).
+    ``files`` and ``times`` hold what was written.
+    """
+
+    def __init__(self, path, subdivision: int = 0):
+        self.base = vtk_stem(path)
+        self.subdivision = subdivision
+        self.files: list[list[Path]] = []
+        self.times: list[float] = []
+
+    @property
+    def collection(self) -> Path:
+        return self.base.with_name(self.base.name + ".pvd")
+
+    def add(self, sol, time: float) -> list[Path]:
+        if isinstance(time, bool) or not isinstance(time, (int, float, np.integer, np.floating)) or not math.isfinite(time):
+            raise ValueError(f"time = {time!r}: expected a finite number")
+        files = save_vtk(sol, self.base.with_name(f"{self.base.name}_{len(self.files):04d}"), self.subdivision)
+        self.files.append(files)
+        self.times.append(float(time))
+        write_collection(self.files, self.times, self.collection)
+        return files
+
+    def __call__(self, step, result) -> None:
+        self.add(result.solution, step)

@@ -40,7 +40,7 @@ DOCS = ROOT / "docs"
 EXECUTED = "05-contact-teaching"
 CONCLUSION = "Compression: the crack closes"
 #: the user guide's pages (docs/guide/NAME.md)
-GUIDE = ("scenes", "cli", "elements", "method", "contact", "fracture", "estimates", "size-guard", "studies", "paper",
+GUIDE = ("scenes", "cli", "elements", "method", "hp", "contact", "fracture", "growth", "estimates", "size-guard", "studies", "paper",
          "stability", "explore", "paraview", "performance")
 #: a Sphinx warning or error in the build's log (not the Jupyter kernel's own log lines)
 SPHINX_WARNING = re.compile(r"(?m)(^|: )(WARNING|ERROR|CRITICAL|SEVERE): ")

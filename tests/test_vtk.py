@@ -200,3 +200,26 @@ def test_series_writes_one_file_per_step_and_their_collection(solutions, tmp_pat
     with pytest.raises(ValueError, match="times"):
         save_series(sols, [0.0], tmp_path / "bad" / "run")
     assert not (tmp_path / "bad").exists()
+
+
+def test_growth_writes_one_file_per_step_through_its_progress_callback(tmp_path):
+    """nc.grow(..., progress=SeriesWriter(path)): one body and one crack file per step, the
+    collection listing them at the step numbers, each crack file the crack of its step
+    (one more segment per step) with that step's opening."""
+    from ngcrack.vtk import SeriesWriter
+
+    writer = SeriesWriter(tmp_path / "growth" / "run")
+    scene = nc.scenes.inclined_crack(angle=45, load=1)
+    res = nc.grow(scene, da=0.5, steps=1, K_Ic=2.0, criterion="mts", element="bdm", maxh=1.0, frames=False,
+                  progress=writer)
+    assert writer.times == [0.0, 1.0]
+    rows = ET.parse(writer.collection).getroot().find("Collection").findall("DataSet")
+    assert [r.get("file") for r in rows] == ["run_0000.vtu", "run_0000_cracks.vtu", "run_0001.vtu", "run_0001_cracks.vtu"]
+    grids = [meshio.read(tmp_path / "growth" / f"run_{k:04d}_cracks.vtu") for k in range(2)]
+    for k, grid in enumerate(grids):
+        opening = np.concatenate([c for c in grid.cell_data["opening"]])
+        assert np.array_equal(opening, np.concatenate([p.normal_jump for p in res.profiles[k]]))
+    # the grown crack reaches further: its end points lie beyond the first step's
+    ext = [np.abs(g.points[:, :2]).max() for g in grids]
+    assert ext[1] > ext[0] + 0.4
+    assert res.table["grew"].any()

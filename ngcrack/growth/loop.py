@@ -232,6 +232,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         if lam_step is None:
             lam_step = min((v["lambda"] for v in values if v["label"] not in frozen), default=math.inf)
         result.add_step(n, scene, sol, values, lam_step, grew, elapsed, trials, frames=frames)
+        result.solution = sol  # this step's solve, for the progress callback (ngcrack.vtk.SeriesWriter)
         if progress is not None:
             progress(n, result)
         for e in extensions:
