@@ -131,7 +131,7 @@ def test_kink_of_the_45_degree_crack_in_tension(tension_mts):
 def test_json_contract(tension_mts):
     d = tension_mts.to_json_dict()
     assert list(d) == ["scene", "element", "criterion", "da", "K_Ic", "stopped", "steps", "cracks"]
-    assert d["criterion"] == "mts" and d["da"] == 0.1 and d["K_Ic"] == 1.0 and d["element"] == "bdm"
+    assert d["criterion"] == "mts" and d["da"] == 0.1 and d["K_Ic"] == 1.0 and d["element"] == nc.SolveOptions().element
     assert d["stopped"].startswith("steps")
     assert [s["step"] for s in d["steps"]] == [0, 1]
     for s in d["steps"]:

@@ -110,7 +110,7 @@ CASES = [
     (["solve", "paper-2", "--friction", "0.5", "--crack-model", "free"], 2, "--friction = 0.5: friction acts only"),
     (["solve", "paper-2", "--friction", "0.5", "--crack-model", "bonded"], 2, "crack_model 'contact'"),
     (["solve", "paper-2", "--element", "tdnns", "--order", "9"], 2, "order = 9"),
-    (["solve", "paper-2", "--order", "2"], 2, "fixed order"),
+    (["solve", "paper-2", "--element", "peers", "--order", "2"], 2, "fixed order"),
     (["solve", "paper-2", "--E", "-5"], 2, "material.E = -5"),
     (["solve", "paper-2", "--nu", "nan"], 2, "material.nu = nan"),
     (["solve", "paper-2", "--json", "r.json", "--plot", "adir"], 2, "--plot = 'adir': is a directory"),
@@ -246,7 +246,7 @@ def test_a_failing_plot_leaves_no_json_and_the_old_one_untouched(place, capsys, 
 
     monkeypatch.setattr(ngcrack.plots, "plot_solution", broken)
     before = _files(place)
-    code, _, err = run(["solve", "paper-2", *MAXH, "--json", "old.json", "--plot", "r.png"], capsys)
+    code, _, err = run(["solve", "paper-2", *MAXH, "--element", "bdm", "--json", "old.json", "--plot", "r.png"], capsys)
     assert code == 1 and len(err) == 1 and "the figure broke" in err[0], err
     assert _files(place) == before
     assert json.loads((place / "old.json").read_text()) == {"kept": True}

@@ -267,7 +267,7 @@ def test_bad_sweep_inputs_are_refused(tmp_path):
         sweep("paper-2", elements=["bdm"], maxh=[0.4, 0.2], reference_maxh=0.3)
     with pytest.raises(ValueError, match="does not exist"):
         sweep("paper-2", elements=["bdm"], maxh=[0.4], out=tmp_path / "nope" / "r.csv")
-    with pytest.raises(ValueError, match="max_dof = 2.5: must be a whole number"):
+    with pytest.raises(ValueError, match="max_dof = 2.5: .*whole number"):
         sweep("paper-2", elements=["bdm"], maxh=[0.4], max_dof=2.5)
     bad = tmp_path / "other.csv"
     bad.write_text("a,b\n1,2\n")
