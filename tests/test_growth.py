@@ -263,8 +263,16 @@ def test_tip_that_would_cross_another_crack_stops():
 def test_grow_command(tmp_path, capsys):
     out = tmp_path / "g.json"
     code = main(["grow", "griffith", "--da", "0.05", "--steps", "1", "--K-Ic", "2", "--criterion", "mts",
-                 "--maxh", "0.5", "--json", str(out), "--csv", str(tmp_path / "g.csv")])
+                 "--maxh", "0.5", "--json", str(out), "--csv", str(tmp_path / "g.csv"), "--vtk", str(tmp_path / "g")])
     assert code == 0
+    # ParaView: one body and one crack file per step and their collection
+    import meshio
+
+    pvd = (tmp_path / "g.pvd").read_text()
+    assert pvd.count("<DataSet") == 4 and "g_0001.vtu" in pvd
+    cracks = [meshio.read(tmp_path / f"g_{n:04d}_cracks.vtu") for n in (0, 1)]
+    openings = [float(np.max(c.cell_data["opening"][0])) for c in cracks]
+    assert min(openings) > 0 and openings[1] > openings[0]  # the crack opens, and more once it is longer
     d = json.loads(out.read_text())
     assert d["K_Ic"] == 2.0 and d["criterion"] == "mts" and len(d["steps"]) == 2
     import pandas as pd

@@ -34,6 +34,8 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--csv", help="write the table (one row per step and tip) here")
     p.add_argument("--gif", help="write an animation of the deformed body and the crack faces here")
     p.add_argument("--png", help="write the paths and the load factors against crack length here")
+    p.add_argument("--vtk", metavar="OUT", help="ParaView: OUT_NNNN.vtu and OUT_NNNN_cracks.vtu per step, written as "
+                                                "the steps finish, and their collection OUT.pvd")
     p.set_defaults(func=run)
     return p
 
@@ -49,6 +51,11 @@ def run(args) -> int:
     csv_path = check_output(args.csv, "--csv", ".csv")
     gif_path = check_output(args.gif, "--gif", ".gif")
     png_path = check_output(args.png, "--png", ".png")
+    series = None
+    if args.vtk is not None:
+        from ngcrack.vtk import SeriesWriter
+
+        series = SeriesWriter(args.vtk)  # checks the place before any work
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
@@ -63,6 +70,8 @@ def run(args) -> int:
         lam = step["load_factor"]
         print(f"step {n}: load factor {lam:.4g}, {step['ndof']} dofs, {step['time_s']:.2f} s"
               if lam is not None else f"step {n}", flush=True)
+        if series is not None:
+            series(n, result)  # the step's solution, and the collection rewritten: a valid series at every step
 
     result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion,
                   frames=gif_path is not None, progress=progress, **options)
@@ -86,6 +95,8 @@ def run(args) -> int:
             staged.write(gif_path, lambda tmp: result.animate(tmp))
             written.append(gif_path)
     print(f"{scene.name}: {len(result.steps)} steps, stopped: {result.stopped}")
+    if series is not None:
+        written.append(series.collection)
     for path in written:
         print(f"wrote {path}")
     return 0
