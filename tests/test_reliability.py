@@ -64,7 +64,7 @@ def test_gaps_just_above_the_limit_mesh_and_keep_their_tips():
     s = Scene(name="t", polygon=SQUARE, material=MAT, boundary={"e0": {"type": "clamped"}},
               cracks=[[[0.2, 0.5], [0.5, 0.5]], [[0.5 + gap, 0.5], [0.8, 0.5]]])
     m = geometry.make_mesh(s, maxh=0.05, tip_h=gap / 4)
-    assert len(m.tips) == 4
+    assert len(m.tip_vertices) == 4
 
 
 def test_short_edges_and_sharp_corners_are_not_gaps():
