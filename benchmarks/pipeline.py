@@ -13,7 +13,6 @@ no figure). No number here is a test threshold.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import pathlib
 import statistics
@@ -71,7 +70,7 @@ def main(argv=None) -> None:
         return
     if args.baseline is None:
         ap.error("--baseline: the checkout to compare with is missing")
-    print(f"| case | this checkout, CPU s | baseline, CPU s | ratio |\n|---|---|---|---|")
+    print("| case | this checkout, CPU s | baseline, CPU s | ratio |\n|---|---|---|---|")
     for label, spec in CASES.items():
         new, old = [], []
         for _ in range(args.repeat):

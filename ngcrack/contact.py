@@ -64,7 +64,6 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
-import scipy.sparse.linalg as spla
 
 from .constraints import ContactSolverError, _inverse_map, scaled_problem
 

@@ -53,10 +53,24 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
-from .geometry import CrackMesh, crack_side
+from .geometry import CrackMesh
+from .local_fields import (
+    INTORDER,
+    INWARD,
+    _average,
+    _element_sizes,
+    _facet_dof_table,
+    _facet_values,
+    _integrate,
+    _Lagrange,
+    _quadrature,
+    _sample_local,
+    _Topology,
+    _topology,
+)
 from .materials import compliance, lame_parameters
 
 #: the crack models with an estimate (the sign condition on [w].nu differs per model)
@@ -66,11 +80,6 @@ METHODS = {"peers": "prager-synge", "bdm": "prager-synge", "tdnns": "prager-syng
            "h1p1": "zz-recovery", "h1p2": "zz-recovery"}
 #: polynomial degree of the reconstructed displacement (mixed) or recovered stress (baselines)
 DEGREE = {"peers": 1, "bdm": 2, "tdnns": 2, "h1p1": 1, "h1p2": 2}
-#: quadrature order of the element integrals (sigma_h of degree <= 2 against eps(w) of degree <= 1)
-INTORDER = 4
-#: points sampled in an element are pulled this fraction of the way to its centroid, so
-#: that the point search returns that element and not a neighbour
-INWARD = 1e-3
 #: Gauss-Legendre points per crack edge for the contact term (exact for degree 5)
 CRACK_GAUSS_POINTS = 3
 
@@ -112,168 +121,12 @@ class ErrorEstimate:
 
 # ------------------------------------------------------------------ mesh topology
 
-@dataclass
-class _Topology:
-    """Element vertices and edges, the crack sides, and the Lagrange node numbering.
-
-    opp_edge[T, i] is the NGSolve edge of triangle T opposite its local vertex i.
-    Nodes: vertex nodes 0..2 nv (a crack vertex on the + side gets v + nv), then edge
-    nodes offset 2 nv (a crack edge seen from the + side gets e + ned).
-    """
-
-    P: np.ndarray
-    T: np.ndarray
-    opp_edge: np.ndarray
-    edge_vertices: np.ndarray
-    side: np.ndarray
-    crack_edge: np.ndarray  # bool per NGSolve edge
-    vertex_node: np.ndarray  # (ne, 3)
-    edge_node: np.ndarray  # (ne, 3), slot i = edge opposite local vertex i
-    n_nodes: int
-
-    @classmethod
-    def build(cls, cmesh: CrackMesh) -> "_Topology":
-        mesh = cmesh.mesh
-        P, T = cmesh.points, cmesh.triangles
-        nv, ned = len(P), mesh.nedge
-        EV = np.array([[v.nr for v in e.vertices] for e in mesh.edges], dtype=int)
-        E = np.array([[e.nr for e in el.edges] for el in mesh.Elements(ngs.VOL)], dtype=int)
-        # the edge opposite local vertex i is the one that does not contain T[:, i]
-        opp = np.empty_like(E)
-        for i in range(3):
-            v = T[:, i][:, None]
-            has = (EV[E][:, :, 0] == v) | (EV[E][:, :, 1] == v)  # (ne, 3) edge k holds vertex i
-            opp[:, i] = E[np.arange(len(T)), np.argmin(has, axis=1)]
-        side = crack_side(cmesh) if cmesh.cracks else np.zeros(len(T))
-        crack_edge = np.zeros(ned, dtype=bool)
-        split = np.zeros(nv, dtype=bool)
-        for c in cmesh.cracks:
-            crack_edge[c.edge] = True
-            split[c.va] = True
-            split[c.vb] = True
-        split[list(cmesh.tips)] = False
-        plus = (side > 0)[:, None]
-        vertex_node = np.where(plus & split[T], T + nv, T)
-        edge_node = 2 * nv + np.where(plus & crack_edge[opp], opp + ned, opp)
-        return cls(P=P, T=T, opp_edge=opp, edge_vertices=EV, side=side, crack_edge=crack_edge,
-                   vertex_node=vertex_node, edge_node=edge_node, n_nodes=2 * nv + 2 * ned)
-
-    def nodes(self, degree: int) -> np.ndarray:
-        return self.vertex_node if degree == 1 else np.hstack([self.vertex_node, self.edge_node])
-
-    def node_points(self, degree: int) -> np.ndarray:
-        """(ne, nk, 2) coordinates of the element nodes (vertices, then edge mid points opposite 0, 1, 2)."""
-        X = self.P[self.T]
-        if degree == 1:
-            return X
-        mids = np.stack([0.5 * (X[:, (i + 1) % 3] + X[:, (i + 2) % 3]) for i in range(3)], axis=1)
-        return np.concatenate([X, mids], axis=1)
-
-
-def _average(top: _Topology, local: np.ndarray, degree: int) -> tuple[np.ndarray, np.ndarray]:
-    """Node values (n_nodes, d) as the mean of the elements' local values (ne, nk, d)."""
-    nodes = top.nodes(degree)
-    d = local.shape[-1]
-    acc = np.zeros((top.n_nodes, d))
-    cnt = np.zeros(top.n_nodes)
-    np.add.at(acc, nodes.ravel(), local.reshape(-1, d))
-    np.add.at(cnt, nodes.ravel(), 1.0)
-    return acc / np.maximum(cnt, 1.0)[:, None], nodes
-
 
 # ---------------------------------------------------- piecewise Lagrange fields
-
-def _sum(terms):
-    """Sum of CoefficientFunctions (the builtin sum starts from the scalar 0)."""
-    out = terms[0]
-    for t in terms[1:]:
-        out = out + t
-    return out
-
-
-class _Lagrange:
-    """Per-triangle P1 / P2 fields given by nodal values, as NGSolve CoefficientFunctions.
-
-    lambda_i = alpha_i + b_i (x - x_c) + c_i (y - y_c) with the coefficients stored in
-    piecewise constant GridFunctions; the field is sum_k W_k phi_k(lambda), phi the
-    Lagrange basis (vertices, then edge mid points opposite vertex 0, 1, 2).
-    """
-
-    def __init__(self, mesh: ngs.Mesh, top: _Topology, degree: int, ncomp: int):
-        self.degree, self.ncomp = degree, ncomp
-        self.nk = 3 if degree == 1 else 6
-        X = top.P[top.T]
-        xc = X.mean(axis=1)
-        M = np.concatenate([np.ones((len(X), 3, 1)), X - xc[:, None, :]], axis=2)  # rows: vertices
-        C = np.linalg.inv(M)  # column i: coefficients (alpha, b, c) of lambda_i
-        ne = len(X)
-        n_geo = 2 + 9
-        self.space = ngs.L2(mesh, order=0) ** (n_geo + self.nk * ncomp)
-        self.gf = ngs.GridFunction(self.space)
-        arr = self.gf.vec.FV().NumPy().reshape(-1, ne)
-        arr[0], arr[1] = xc[:, 0], xc[:, 1]
-        for i in range(3):
-            arr[2 + 3 * i: 5 + 3 * i] = C[:, :, i].T
-        self.arr = arr
-        comps = self.gf.components
-        dx, dy = ngs.x - comps[0], ngs.y - comps[1]
-        self.lam = [comps[2 + 3 * i] + comps[3 + 3 * i] * dx + comps[4 + 3 * i] * dy for i in range(3)]
-        self.glam = [ngs.CF((comps[3 + 3 * i], comps[4 + 3 * i])) for i in range(3)]
-        self.W = [[comps[n_geo + k * ncomp + c] for c in range(ncomp)] for k in range(self.nk)]
-
-    def set(self, values: np.ndarray) -> None:
-        """values (ne, nk, ncomp)."""
-        ne = values.shape[0]
-        self.arr[11:] = values.reshape(ne, -1).T
-
-    def _basis(self):
-        lam, g = self.lam, self.glam
-        if self.degree == 1:
-            return lam, g
-        phi = [lam[i] * (2 * lam[i] - 1) for i in range(3)]
-        grad = [(4 * lam[i] - 1) * g[i] for i in range(3)]
-        for o in range(3):
-            i, j = (o + 1) % 3, (o + 2) % 3
-            phi.append(4 * lam[i] * lam[j])
-            grad.append(4 * (lam[i] * g[j] + lam[j] * g[i]))
-        return phi, grad
-
-    def value(self) -> ngs.CoefficientFunction:
-        phi, _ = self._basis()
-        return ngs.CF(tuple(_sum([self.W[k][c] * phi[k] for k in range(self.nk)]) for c in range(self.ncomp)))
-
-    def gradient(self) -> ngs.CoefficientFunction:
-        """For ncomp = 2: the 2x2 matrix (grad w)_ij = d w_i / d x_j."""
-        _, grad = self._basis()
-        rows = [_sum([self.W[k][c] * grad[k] for k in range(self.nk)]) for c in range(2)]
-        return ngs.CF((rows[0][0], rows[0][1], rows[1][0], rows[1][1]), dims=(2, 2))
 
 
 # ----------------------------------------------- local displacements per element
 
-def _facet_values(gf_comp: ngs.GridFunction, order: int, edges: np.ndarray) -> np.ndarray:
-    """Dof values (len(edges), order + 1) of a FacetFESpace GridFunction (mean, then the
-    linear coefficient: value at the edge's vertex 0 = d0 - d1, at vertex 1 = d0 + d1)."""
-    space = gf_comp.space
-    vec = gf_comp.vec.FV().NumPy()
-    dofs = np.array([space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))) for e in edges], dtype=int).reshape(len(edges), -1)
-    return np.where(dofs >= 0, vec[np.maximum(dofs, 0)], 0.0)[:, : order + 1]
-
-
-def _facet_dof_table(space: ngs.FESpace, ned: int, order: int) -> np.ndarray:
-    """(ned, order + 1) dof numbers of a whole-mesh facet space (-1 for the edges without
-    dofs: a refined mesh keeps its bisected parent edges). The layout (order + 1) e + j
-    of an unrefined mesh is checked on the first and last edges, else read edge by edge."""
-    guess = (order + 1) * np.arange(ned)[:, None] + np.arange(order + 1)[None, :]
-    probe = [0, ned - 1]
-    if space.ndof == guess.size and all(tuple(space.GetDofNrs(ngs.NodeId(ngs.EDGE, e))) == tuple(guess[e]) for e in probe):
-        return guess
-    table = -np.ones((ned, order + 1), dtype=int)
-    for e in range(ned):
-        d = space.GetDofNrs(ngs.NodeId(ngs.EDGE, e))
-        if len(d) == order + 1:
-            table[e] = d
-    return table
 
 
 def _hybrid_traces(sol, top: _Topology) -> tuple[np.ndarray, int]:
@@ -316,16 +169,36 @@ def _hybrid_traces(sol, top: _Topology) -> tuple[np.ndarray, int]:
     return np.concatenate([vert, tr[:, :, 0, :]], axis=1), 2
 
 
-def _sample_local(cf, cmesh: CrackMesh, top: _Topology, degree: int, ncomp: int) -> np.ndarray:
-    """Values (ne, nk, ncomp) of an element-wise field at each element's own nodes."""
-    X = top.node_points(degree)
-    c = X.mean(axis=1, keepdims=True)
-    pts = (X + INWARD * (c - X)).reshape(-1, 2)
-    vals = np.asarray(cf(cmesh.mesh(pts[:, 0], pts[:, 1]))).reshape(len(top.T), -1, ncomp)
-    return vals
-
-
 # ------------------------------------------------------------ boundary and crack data
+
+def _boundary_nodes(cmesh: CrackMesh, top: _Topology, degree: int) -> list:
+    """Per boundary element, in mesh order: (label, node ids, node points, outer normal)
+    of the node copies of its own triangle (kept with the topology: mesh data only)."""
+    kept = top.__dict__.setdefault("_boundary_nodes", {})
+    if degree in kept:
+        return kept[degree]
+    mesh = cmesh.mesh
+    ne = len(top.T)
+    owner = np.full(mesh.nedge, -1)
+    slot = np.full(mesh.nedge, -1)
+    owner[top.opp_edge.ravel()] = np.repeat(np.arange(ne), 3)
+    slot[top.opp_edge.ravel()] = np.tile(np.arange(3), ne)
+    rows = []
+    for el in mesh.Elements(ngs.BND):
+        vs = [v.nr for v in el.vertices]
+        e = el.edges[0].nr
+        T, k = owner[e], slot[e]
+        local = [int(np.flatnonzero(top.T[T] == v)[0]) for v in vs]
+        ids = [int(top.vertex_node[T, i]) for i in local]
+        pts = [top.P[v] for v in vs]
+        if degree == 2:
+            ids.append(int(top.edge_node[T, k]))
+            pts.append(0.5 * (top.P[vs[0]] + top.P[vs[1]]))
+        d = top.P[vs[1]] - top.P[vs[0]]
+        rows.append((el.mat, ids, np.array(pts), np.array([d[1], -d[0]]) / np.linalg.norm(d)))
+    kept[degree] = rows
+    return rows
+
 
 def _apply_boundary(W: np.ndarray, cmesh: CrackMesh, top: _Topology, loads, degree: int) -> None:
     """Dirichlet nodes take the data, roller nodes lose their normal component.
@@ -338,31 +211,20 @@ def _apply_boundary(W: np.ndarray, cmesh: CrackMesh, top: _Topology, loads, degr
     roller = set(loads.roller)
     if not dirichlet and not roller:
         return
-    ne = len(top.T)
-    owner = np.full(mesh.nedge, -1)
-    slot = np.full(mesh.nedge, -1)
-    owner[top.opp_edge.ravel()] = np.repeat(np.arange(ne), 3)
-    slot[top.opp_edge.ravel()] = np.tile(np.arange(3), ne)
-    for el in mesh.Elements(ngs.BND):
-        lab = el.mat
-        if lab not in dirichlet and lab not in roller:
-            continue
-        vs = [v.nr for v in el.vertices]
-        e = el.edges[0].nr
-        T, k = owner[e], slot[e]
-        local = [int(np.flatnonzero(top.T[T] == v)[0]) for v in vs]
-        ids = [top.vertex_node[T, i] for i in local]
-        pts = [top.P[v] for v in vs]
-        if degree == 2:
-            ids.append(top.edge_node[T, k])
-            pts.append(0.5 * (top.P[vs[0]] + top.P[vs[1]]))
+    rows = _boundary_nodes(cmesh, top, degree)
+    data = {}  # label -> the data at its nodes, one evaluation per label
+    for lab in dirichlet:
+        g = loads.displacement.get(lab)
+        at = [r[2] for r in rows if r[0] == lab]
+        if g is not None and at:
+            pts = np.concatenate(at)
+            data[lab] = iter(np.asarray(g(mesh(pts[:, 0], pts[:, 1]))).reshape(len(pts), -1)[:, :2])
+    for lab, ids, _pts, n in rows:
         if lab in dirichlet:
-            g = loads.displacement.get(lab)
-            for i, x in zip(ids, pts):
-                W[i] = 0.0 if g is None else np.asarray(g(mesh(x[0], x[1]))).reshape(-1)[:2]
-        else:
-            d = top.P[vs[1]] - top.P[vs[0]]
-            n = np.array([d[1], -d[0]]) / np.linalg.norm(d)
+            values = data.get(lab)
+            for i in ids:
+                W[i] = 0.0 if values is None else next(values)
+        elif lab in roller:
             for i in ids:
                 W[i] -= np.dot(W[i], n) * n
 
@@ -396,7 +258,7 @@ def _admissible_crack(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degree: i
             W[m] -= delta
 
     for _ in range(2):
-        for c, k, pa, pb, pm in _crack_node_pairs(cmesh, top, degree):
+        for c, k, pa, pb, _pm in _crack_node_pairs(cmesh, top, degree):
             nu = c.normal[k]
             push(pa, nu, 0.0)
             push(pb, nu, 0.0)
@@ -414,6 +276,7 @@ def _crack_jump_quadrature(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degr
     g, wg = np.polynomial.legendre.leggauss(CRACK_GAUSS_POINTS)
     t = 0.5 * (g + 1.0)
     rows = []
+    lengths = {id(c): c.length for c in cmesh.cracks}  # (a property: computed once per crack)
     for c, k, pa, pb, pm in _crack_node_pairs(cmesh, top, degree):
         nu = c.normal[k]
         ja, jb = (float(np.dot(W[p[1]] - W[p[0]], nu)) for p in (pa, pb))
@@ -423,31 +286,34 @@ def _crack_jump_quadrature(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degr
             jm = float(np.dot(W[pm[1]] - W[pm[0]], nu))
             j = ja * (1 - t) * (1 - 2 * t) + jb * t * (2 * t - 1) + jm * 4 * t * (1 - t)
         x = c.a[k][None, :] + t[:, None] * (c.b[k] - c.a[k])[None, :]
-        rows.append((x, 0.5 * wg * c.length[k], j, nu, int(c.edge[k]), c.length[k]))
+        L = lengths[id(c)][k]
+        rows.append((x, 0.5 * wg * L, j, nu, int(c.edge[k]), L))
     return rows
 
 
 # ---------------------------------------------------------------------- estimate
 
-def _element_sizes(top: _Topology) -> np.ndarray:
-    X = top.P[top.T]
-    return np.max(np.stack([np.linalg.norm(X[:, i] - X[:, (i + 1) % 3], axis=1) for i in range(3)]), axis=0)
 
+def _zz_recovery(sol, top: _Topology, A, quad=None) -> tuple[dict[str, np.ndarray], np.ndarray | None]:
+    """eta_T^2 = ||sigma* - sigma_h||_A,T^2, sigma* the node-averaged stress (per crack
+    face); and sigma_h at the quadrature points (None without `quad`).
 
-def _integrate(cf, mesh) -> np.ndarray:
-    """Element-wise integrals; the compiled tree is 10-20 times faster (measured)."""
-    return np.asarray(ngs.Integrate(cf.Compile(), mesh, order=INTORDER, element_wise=True)).reshape(-1)
-
-
-def _zz_recovery(sol, top: _Topology, A) -> dict[str, np.ndarray]:
-    """eta_T^2 = ||sigma* - sigma_h||_A,T^2, sigma* the node-averaged stress (per crack face)."""
+    sigma_h of h1p1, h1p2 is a polynomial of degree DEGREE - 1 on each triangle, so its
+    values at the quadrature points are the interpolation of its values at the
+    element's (inward) nodes: one evaluation of the stress, not two."""
     cmesh, degree = sol.crack_mesh, DEGREE[sol.element]
-    nodal, nodes = _average(top, _sample_local(sol.sigma, cmesh, top, degree, 4), degree)
+    local = _sample_local(sol.sigma, cmesh, top, degree, 4)
+    nodal, nodes = _average(top, local, degree)
+    if quad is not None:
+        ne, nq = quad.weights.shape
+        sig_q = np.matmul(quad.basis(degree, INWARD)[None], local).reshape(ne, nq, 2, 2)
+        recovered = np.matmul(quad.basis(degree)[None], nodal[nodes]).reshape(ne, nq, 2, 2)
+        return {"stress": quad.energy(recovered - sig_q, A)}, sig_q
     lag = _Lagrange(cmesh.mesh, top, degree, 4)
     lag.set(nodal[nodes])
     s = lag.value()
     d = ngs.CF((s[0], s[1], s[2], s[3]), dims=(2, 2)) - sol.sigma
-    return {"stress": _integrate(ngs.InnerProduct(A.apply(d), d), cmesh.mesh)}
+    return {"stress": _integrate(ngs.InnerProduct(A.apply(d), d), cmesh.mesh)}, None
 
 
 def _admissible_displacement(sol, loads, crack_model: str, top: _Topology) -> tuple[np.ndarray, np.ndarray, int]:
@@ -476,10 +342,13 @@ def _contact_term(sol, W: np.ndarray, top: _Topology, degree: int) -> tuple[np.n
     pts = np.concatenate([x - INWARD * L * nu[None, :] for x, _, _, nu, _, L in rows])
     sig = np.asarray(sol.sigma(mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
     q, min_jump = 0, 0.0
-    for x, w, j, nu, e, L in rows:
+    edge_elements = top.__dict__.setdefault("_edge_elements", {})  # mesh data: kept with the topology
+    for _x, w, j, nu, e, _L in rows:
         sn = np.einsum("i,pij,j->p", nu, sig[q:q + len(w)], nu)
         q += len(w)
-        els = [el.nr for el in mesh.edges[e].elements]
+        els = edge_elements.get(e)
+        if els is None:
+            els = edge_elements[e] = [el.nr for el in mesh.edges[e].elements]
         out[els] += 2.0 * float(np.sum(w * np.abs(sn) * j)) / len(els)
         min_jump = min(min_jump, float(j.min()))
     return out, min_jump
@@ -494,7 +363,8 @@ def _oscillation(mesh, top: _Topology, f, A) -> np.ndarray:
     return (_element_sizes(top) / math.pi) ** 2 * np.maximum(osc2, 0.0) * A.c_dev
 
 
-def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[str]) -> tuple[dict, float]:
+def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[str], quad=None,
+                  sig_q=None) -> tuple[dict, float]:
     """The squared per-triangle parts of the mixed elements' estimate (see the module)."""
     mat = sol.scene.material
     lam, mu = lame_parameters(mat.E, mat.nu, mat.plane)
@@ -502,12 +372,20 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
         raise ValueError("material.nu = 0.5: the Prager-Synge estimate needs a finite C (nu < 1/2 in plane strain)")
     mesh = sol.crack_mesh.mesh
     W, nodes, degree = _admissible_displacement(sol, loads, crack_model, top)
-    lag = _Lagrange(mesh, top, degree, 2)
-    lag.set(W[nodes])
-    g = lag.gradient()
-    eps = 0.5 * (g + g.trans)
-    d = sol.sigma - (2 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2))
-    parts = {"stress": _integrate(ngs.InnerProduct(A.apply(d), d), mesh)}
+    if quad is not None:
+        # (grad w)_ij = d w_i / d x_j = sum_k W_k,i d phi_k / d x_j
+        g = np.matmul(np.swapaxes(W[nodes], 1, 2)[:, None], quad.basis_gradient(top, degree))
+        eps = 0.5 * (g + np.swapaxes(g, -1, -2))
+        tr = eps[..., 0, 0] + eps[..., 1, 1]
+        d = sig_q - (2 * mu * eps + lam * tr[..., None, None] * np.eye(2))
+        parts = {"stress": quad.energy(d, A)}
+    else:
+        lag = _Lagrange(mesh, top, degree, 2)
+        lag.set(W[nodes])
+        g = lag.gradient()
+        eps = 0.5 * (g + g.trans)
+        d = sol.sigma - (2 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2))
+        parts = {"stress": _integrate(ngs.InnerProduct(A.apply(d), d), mesh)}
     min_jump = 0.0
     if sol.crack_mesh.cracks and crack_model == "contact":
         parts["contact"], min_jump = _contact_term(sol, W, top, degree)
@@ -534,17 +412,22 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     mat = sol.scene.material
     A = compliance(mat.E, mat.nu, mat.plane)
     mesh = sol.crack_mesh.mesh
-    top = _Topology.build(sol.crack_mesh)
+    top = _topology(sol.crack_mesh)
     notes: list[str] = []
     min_jump = 0.0
+    quad = _quadrature(sol.crack_mesh, top)
     if METHODS[sol.element] == "zz-recovery":
-        parts = _zz_recovery(sol, top, A)
+        parts, sig_q = _zz_recovery(sol, top, A, quad)
         notes.append("recovery (ZZ) estimate: not a bound")
     else:
-        parts, min_jump = _prager_synge(sol, loads, crack_model, top, A, notes)
+        sig_q = quad.stress(sol.sigma) if quad is not None else None
+        parts, min_jump = _prager_synge(sol, loads, crack_model, top, A, notes, quad, sig_q)
     eta2 = sum(parts.values())
     terms = {k: float(parts[k].sum()) if k in parts else 0.0 for k in ("stress", "contact", "oscillation")}
-    norm2 = float(np.sum(_integrate(ngs.InnerProduct(A.apply(sol.sigma), sol.sigma), mesh)))
+    if quad is not None:
+        norm2 = float(np.sum(quad.energy(sig_q, A)))
+    else:
+        norm2 = float(np.sum(_integrate(ngs.InnerProduct(A.apply(sol.sigma), sol.sigma), mesh)))
     eta = np.sqrt(np.maximum(eta2, 0.0))
     if not np.all(np.isfinite(eta)):
         raise ValueError("the error estimate is not finite (check the loads and material data)")

@@ -112,7 +112,7 @@ class CrackProblem:
     def nn(self) -> int:
         return self.Gn.shape[1]
 
-    def point_form(self) -> "_PointForm":
+    def point_form(self) -> _PointForm:
         """The problem in the scaled point values (module docstring)."""
         m, mt = self.m, len(self.t_point)
         if self.Gn.shape != (m, m) or self.Gt.shape != (mt, mt) or self.S.shape != (m + mt, m + mt):
@@ -129,7 +129,7 @@ class CrackProblem:
         return _PointForm(A=A, c=c / beta if beta > 0 else c, D=D, beta=beta, m=m, p=p, Ginv=Ginv,
                           mu_s=self.mu[p] * D[m:] / D[p])
 
-    def scaled_threshold(self, pf: "_PointForm") -> np.ndarray:
+    def scaled_threshold(self, pf: _PointForm) -> np.ndarray:
         """Tresca: tau_i = g omega D_t / beta at the tangential values (scaled units)."""
         p = pf.p
         return np.asarray(self.threshold, dtype=float)[p] * self.weights[p] * pf.D[pf.m:] / pf.beta
@@ -401,7 +401,7 @@ def _solve(problem, solver, options, method, tol, max_iter, kkt_tol) -> Friction
         tau = np.zeros(mt)
         steps, iters = 0, 0
         prev_sets = None
-        for iters in range(1, max_iter + 1):
+        for iters in range(1, max_iter + 1):  # noqa: B007  (the count is reported after the loop)
             v, g, act, slip, s, raw = _tresca(pf, tau, act, slip, solver, options)
             steps += s
             lam = np.where(act, g[:m], 0.0)

@@ -32,7 +32,7 @@ class Compliance:
         """A(I) = spherical * I: zero for plane strain at nu = 1/2 (incompressible)."""
         return self.c_dev - 2.0 * self.c_tr
 
-    def with_spherical_floor(self, floor: float) -> "Compliance":
+    def with_spherical_floor(self, floor: float) -> Compliance:
         """The same compliance with A(I) at least `floor * c_dev` (see elements/base.py)."""
         if self.spherical >= floor * self.c_dev:
             return self

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS
-from .elements import ELEMENTS, ORDERED
+from .elements import ELEMENTS, ORDERED, ORDERS
 from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_options
 from .hybrid import Factorization
 from .schur import SCHUR_METHODS
@@ -32,6 +32,13 @@ CRACK_MODELS = ("contact", "free", "bonded")
 #: the QP solvers cvxpy offers that can solve the crack problem (when installed)
 CVXPY_QP_SOLVERS = ("CLARABEL", "OSQP", "SCS", "ECOS", "CVXOPT", "PIQP", "PROXQP", "MOSEK", "GUROBI", "CPLEX",
                     "QPALM", "DAQP", "HIGHS")
+
+
+#: hp meshes (ngcrack.hp): the ratio of consecutive layer radii, its allowed range, and the
+#: most layers (beyond about 10 the innermost triangles reach round-off relative to the body)
+HP_SIGMA = 0.2
+HP_SIGMA_RANGE = (0.05, 0.7)
+HP_MAX_LAYERS = 12
 
 
 def qp_solvers() -> tuple[str, ...]:
@@ -103,17 +110,21 @@ class SolveOptions:
     condition: bool = False
     max_dof: int | None = None
     adapt: float | None = None
+    hp: int | None = None
+    hp_sigma: float | None = None
 
     def __post_init__(self):
         set_ = object.__setattr__
         set_(self, "element", _choice("element", self.element, tuple(ELEMENTS)))
         if self.order is not None:
-            if isinstance(self.order, bool) or not isinstance(self.order, numbers.Integral) \
-                    and not (is_number(self.order) and float(self.order).is_integer()):
-                raise ValueError(f"order = {self.order!r}: must be a whole number (or None for the element's default)")
             if self.element not in ORDERED:
                 raise ValueError(f"order = {self.order!r}: element {self.element!r} has a fixed order; "
                                  f"elements with an order: {', '.join(ORDERED)}")
+            allowed = ORDERS[self.element]
+            whole = is_number(self.order) and math.isfinite(float(self.order)) and float(self.order).is_integer()
+            if not whole or int(self.order) not in allowed:
+                raise ValueError(f"order = {self.order!r}: allowed values for {self.element} are "
+                                 f"{', '.join(map(str, allowed))} (or None for the element's default)")
             set_(self, "order", int(self.order))
         for name in ("maxh", "tip_h", "crack_h"):
             set_(self, name, positive_size(name, getattr(self, name)))
@@ -136,6 +147,15 @@ class SolveOptions:
         if not isinstance(self.condition, bool):
             raise ValueError(f"condition = {self.condition!r}: must be True or False")
         set_(self, "max_dof", whole_number("max_dof", self.max_dof))
+        if self.hp is not None or self.hp_sigma is not None:
+            set_(self, "hp", whole_number("hp", self.hp, minimum=0) if self.hp is not None else 0)
+            if self.hp > HP_MAX_LAYERS:
+                raise ValueError(f"hp = {self.hp!r}: the number of layers must be an integer in 0..{HP_MAX_LAYERS}")
+            sigma = HP_SIGMA if self.hp_sigma is None else self.hp_sigma
+            if not is_number(sigma) or not HP_SIGMA_RANGE[0] <= float(sigma) <= HP_SIGMA_RANGE[1]:
+                raise ValueError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [{HP_SIGMA_RANGE[0]:g}, "
+                                 f"{HP_SIGMA_RANGE[1]:g}]")
+            set_(self, "hp_sigma", float(sigma))
         if self.adapt is not None:
             a = self.adapt
             if not is_number(a) or not (math.isfinite(float(a)) and 0 < float(a) < 1):
@@ -167,7 +187,7 @@ class SolveOptions:
     @property
     def mesh_key(self) -> tuple:
         """The mesh options (besides the scene's geometry and [mesh] values)."""
-        return (self.maxh, self.tip_h, self.crack_h, self.grading)
+        return (self.maxh, self.tip_h, self.crack_h, self.grading, self.hp or 0, self.hp_sigma)
 
     @property
     def element_key(self) -> tuple:

@@ -32,8 +32,8 @@ from __future__ import annotations
 import dataclasses
 import time
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from . import elements as _elements
 from .constraints import discrete_contact_forces, kkt_at_constraints
@@ -42,11 +42,21 @@ from .elements import Discretization, Loads
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
 from .geometry import CrackMesh, make_mesh
+from .hp import hp_mesh
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .materials import compliance
 from .options import SolveOptions
-from .post import (CrackProfile, component_forces, consistent_tractions, crack_profile, endpoint_map, field_scales,
-                   kkt_residuals, lumped_traction, tributary_lengths)
+from .post import (
+    CrackProfile,
+    component_forces,
+    consistent_tractions,
+    crack_profile,
+    endpoint_map,
+    field_scales,
+    kkt_residuals,
+    lumped_traction,
+    tributary_lengths,
+)
 from .scene import BoundaryCondition, Scene
 from .sizing import check_request
 from .solution import Solution
@@ -245,11 +255,15 @@ class Pipeline:
 
     # -------------------------------------------------------------- stages
     def mesh(self, scene: Scene, options: SolveOptions) -> CrackMesh:
-        """The scene's mesh with cracks as interior edges (geometry.make_mesh), cached."""
+        """The scene's mesh with cracks as interior edges (geometry.make_mesh), cached; with
+        options.hp, hp.hp_mesh: a base mesh coarse at the tips and hp geometric layers towards them."""
         key = (geometry_key(scene), options.mesh_key)
         if self._mesh is None or self._mesh[0] != key:
             o = options
-            self._mesh = (key, make_mesh(scene, maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading))
+            sizes = dict(maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
+            # hp: the coarse base mesh of hp.base_mesh (unless sizes are given) and the layers
+            cmesh = hp_mesh(scene, o.hp, sigma=o.hp_sigma, **sizes) if o.hp else make_mesh(scene, **sizes)
+            self._mesh = (key, cmesh)
             self.counts["mesh"] += 1
             self.redone.append("mesh")
         return self._mesh[1]
@@ -423,7 +437,7 @@ class Pipeline:
             options={"qp_solver": o.qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
                      "largest_dense": red.largest_dense, "tip_h": o.tip_h, "crack_model": o.crack_model,
                      "order": o.order, "friction": [float(f) for f in mu], "friction_method": o.friction_method,
-                     "tangential": tangential},
+                     "tangential": tangential, "hp": o.hp or 0},
             conditioning=conditioning, kkt_sampled=kkt_sampled, forces=forces,
         )
         self.post_process(sol, loads)

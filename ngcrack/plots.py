@@ -279,7 +279,7 @@ def plot_sigma_nu_isolines(solutions, path=None, levels: int = 24, title: str | 
     bounds = np.linspace(lo, hi, levels + 1)
     norm = TwoSlopeNorm(vmin=lo, vcenter=0.0, vmax=hi)
     cf = None
-    for ax, sol, (verts, tris, snn, nu) in zip(axes[:, 0], solutions, data):
+    for ax, sol, (verts, tris, snn, _nu) in zip(axes[:, 0], solutions, data):
         tri = Triangulation(verts[:, 0], verts[:, 1], tris)
         cf = ax.tricontourf(tri, snn, levels=bounds, cmap="RdBu_r", norm=norm, extend="both")
         ax.tricontour(tri, snn, levels=bounds, colors="k", linewidths=0.25)

@@ -10,14 +10,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .friction import sample_states
 from .geometry import CrackEdges, CrackMesh
-
 
 
 def _local_coordinate(crack_mesh: CrackMesh) -> ngs.CoefficientFunction:

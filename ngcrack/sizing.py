@@ -55,7 +55,7 @@ TRIANGLES_PER_AREA = 2.25
 #: unknowns (total, before condensation) per triangle, measured: {element: {order: value}}
 UNKNOWNS_PER_TRIANGLE = {
     "peers": {None: 13.6},
-    "bdm": {None: 21.2},
+    "bdm": {None: 21.2, 1: 21.2, 2: 42.0, 3: 70.0},
     "tdnns": {None: 19.2, 1: 19.2, 2: 37.3, 3: 60.4},
     "h1p1": {None: 1.1},
     "h1p2": {None: 4.2},

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .constraints import KKT_KEYS
 from .contact import QPResult
@@ -59,7 +59,7 @@ class Solution:
     built: list[str]
     options: dict = field(default_factory=dict)
     conditioning: dict = field(default_factory=dict)
-    #: K_I, K_II, G at every crack end inside the body (tips.py)
+    #: K_I, K_II, G at every crack end inside the body (tips.py; the tip frame is in its docstring)
     tips: list = field(default_factory=list)
     kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
     forces: np.ndarray | None = None
@@ -124,6 +124,10 @@ class Solution:
             "tips": [tip.to_dict() for tip in self.tips],
             "cracks": [p.to_dict() for p in self.profiles],
             **({"error_estimate": self.error_estimate.to_dict()} if self.error_estimate is not None else {}),
-            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate)} for r in self.adapt_history.itertuples()]}
+            # each adaptive step: its unknowns, its relative estimate, and its seconds (solve,
+            # estimate and the refinement that made its mesh); time_s.total is the whole run
+            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate),
+                           "time_s": float(r.time_solve + r.time_estimate + r.time_refine)}
+                          for r in self.adapt_history.itertuples()]}
                if self.adapt_history is not None else {}),
         }

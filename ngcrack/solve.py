@@ -63,6 +63,10 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     solve carries `sol.error_estimate` (estimate.py), None for an element or crack model
     without one.
 
+    hp: L layers of geometric refinement (ratio hp_sigma, default 0.2) towards every crack
+    tip of the scene's mesh (ngcrack.hp); with order 2-3 of bdm or tdnns it converges
+    exponentially in the unknowns at the tips' square-root singularity.
+
     `scene` is a Scene or the name of a built-in scene (`ngcrack scenes`). The options
     may also come as one validated `options=SolveOptions(...)` (keywords then change
     it); `pipeline`: a Pipeline whose cached stages this solve may reuse (the explorer,

@@ -28,11 +28,10 @@ import math
 import warnings
 from pathlib import Path
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .elements import ELEMENTS, MIXED, Loads
-from .materials import compliance
 from .scene import BoundaryCondition, Crack, Material, Scene
 from .solve import solve
 
@@ -161,6 +160,7 @@ def scaled_scene(scene: Scene, E: float = 1.0, load: float = 1.0, size: float = 
 def scale_table(elements=MIXED, scene_name: str = "paper-1", factors=None):
     """Deviation from the scaling laws, KKT residuals and condition estimates."""
     import pandas as pd
+
     from . import scenes
 
     base = scenes.load(scene_name)
@@ -207,6 +207,7 @@ def strip_scene(aspect: float = 100.0, p: float = 1.0) -> Scene:
 def extreme_table(elements=MIXED, aspect: float = 100.0, tip_ratio: float = 1e-4):
     """The 1:100 strip (exact uniform stress) and griffith with tip_h = tip_ratio * maxh."""
     import pandas as pd
+
     from . import scenes
 
     rows = []

@@ -1,6 +1,6 @@
 """Fracture parameters at the crack tips: K_I, K_II and G by the domain (equivalent-domain) integral.
 
-Frame (DESIGN.md section 3). At a crack end inside the body, e1 is the unit tangent of
+The tip frame. At a crack end inside the body, e1 is the unit tangent of
 the crack's tip segment pointing out of the crack, e2 is e1 turned by +90 degrees, and
 (r, theta) are polar coordinates about the tip in that frame (theta = +-pi on the crack
 faces, + on the side e2 points into). K_I and K_II are defined by
@@ -65,8 +65,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .materials import compliance as _compliance
 

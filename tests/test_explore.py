@@ -148,13 +148,61 @@ def test_bad_combinations_show_one_line_and_keep_the_last_answer():
     assert study.error.startswith("ValueError: material.nu = 0.5") and "\n" not in study.error
     assert study.solution is good
     assert study.update(element="bdm") is not None and study.error is None  # nu = 1/2 is fine for bdm
-    assert study.update(center_x=4.5) is None
+    assert study.update(center_x=4.0, half_length=2.0) is None  # in range, but the crack leaves the plate
     assert study.error.startswith("SceneError: crack[0].points")
     assert study.update(center_x=0.0) is not None and study.error is None
     assert study.update(colour="red") is None and "unknown control colour" in study.error
-    assert study.update(field="pressure") is None and "field = 'pressure'" in study.error
+    assert study.update(field="pressure") is None and "field (stress shown) = 'pressure'" in study.error
     assert study.update(maxh=-1.0) is None and "maxh" in study.error
     assert study.update(maxh=MAXH, field="von_mises") is not None and study.error is None
+
+
+def test_out_of_range_values_are_refused_not_clamped_nor_kept():
+    """A value out of its control's range is refused with one line naming the control
+    and the range; the model keeps its previous value (and answer)."""
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
+    good, before = study.solution, dict(study.state)
+    for change, text in [({"nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5"),
+                         ({"E": -1000.0}, "E (Young's modulus) = -1000 refused: allowed from 10 to 1e+05"),
+                         ({"maxh": 0.0}, "maxh (mesh size) = 0 refused: allowed from "),
+                         ({"load": 3.0}, "load (load factor) = 3 refused: allowed from -2 to 2"),
+                         ({"angle": 100.0}, "angle (crack angle) = 100 refused: allowed from -80 to 80"),
+                         ({"nu": "abc"}, "nu (Poisson's ratio) = 'abc': a number from 0 to 0.5"),
+                         ({"load": 0.5, "nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused")]:
+        assert study.update(**change) is None
+        assert study.error.startswith("ValueError: " + text) and "\n" not in study.error, study.error
+        assert study.state == before and study.solution is good
+    # the finest mesh offered stays below the unknowns the widget allows (sizing's estimate)
+    from ngcrack.explorer.controls import MAX_UNKNOWNS
+    from ngcrack.sizing import estimate
+
+    low = study.ranges["maxh"].low
+    assert estimate(study.make_scene(), "bdm", maxh=low).unknowns <= 1.01 * MAX_UNKNOWNS
+    assert estimate(study.make_scene(), "bdm", maxh=0.9 * low).unknowns > MAX_UNKNOWNS
+
+
+@pytest.mark.parametrize("kwargs,text", [
+    ({"maxh": 0}, "maxh (mesh size) = 0 refused: it must be a number > 0"),
+    ({"E": -1000}, "E (Young's modulus) = -1000 refused: it must be a number > 0"),
+    ({"element": "q2"}, "element = 'q2': allowed values are peers, bdm, tdnns, h1p1, h1p2"),
+    ({"nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5"),
+    ({"crack_model": "glued"}, "crack_model (crack model) = 'glued': allowed values are contact, free, bonded"),
+    ({"angle": 90}, "angle (crack angle) = 90 refused: allowed from -80 to 80"),
+])
+def test_construction_refuses_bad_arguments_before_any_widget(kwargs, text):
+    with pytest.raises(ValueError) as info:
+        nc.explore("inclined-crack", **kwargs)
+    assert str(info.value) == text or str(info.value).startswith(text), str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def test_unknown_scene_lists_scene_functions_and_built_in_scenes():
+    with pytest.raises(ValueError) as info:
+        nc.explore("inclined")
+    msg = str(info.value)
+    assert msg.startswith("scene = 'inclined'")
+    for name in list(SCENE_FUNCTIONS) + nc.scenes.names():
+        assert name in msg
 
 
 def test_controls_follow_the_scene_and_the_installed_ngcrack():
@@ -362,3 +410,128 @@ def test_former_names_still_work():
     assert old.Drawing is ex.Drawing and old.scaled_loads is ex.scaled_loads and old.explore is nc.explore
     pytest.importorskip("ipywidgets")
     assert old.Explorer is ex.ExplorerWidget
+
+
+@pytest.mark.parametrize("element,crack_model", [("peers", "contact"), ("bdm", "contact"), ("tdnns", "bonded"),
+                                                 ("h1p1", "contact"), ("h1p2", "free")])
+def test_estimate_sums_in_numpy_as_ngsolve_integrates(monkeypatch, element, crack_model):
+    """The estimate's element integrals are sums over NGSolve's own quadrature points in
+    numpy, with the fields evaluated in their own element (no point search): the same
+    numbers to 1e-12 as NGSolve's element-wise Integrate over the same integrands with
+    the point search (the path kept for curved meshes). paper-1: a body force, a clamped
+    edge, a crack partly in contact."""
+    from ngcrack import estimate as est
+    from ngcrack import local_fields
+    from ngcrack.pipeline import scene_loads
+
+    model = nc.Explorer("paper-1", element, maxh=0.2, crack_model=crack_model)
+    sol, loads = model.solution, scene_loads(model.scene)
+    fast = est.estimate(sol, loads, crack_model)
+    again = est.estimate(sol, loads, crack_model)  # the mesh's topology and quadrature kept
+    monkeypatch.setattr(est, "_quadrature", lambda cmesh, top: None)
+    monkeypatch.setattr(local_fields, "_element_mesh_points", lambda cmesh, top, lam: None)
+    monkeypatch.setattr(est, "_topology", est._Topology.build)
+    slow = est.estimate(sol, loads, crack_model)
+    assert np.max(np.abs(fast.eta - slow.eta)) <= 1e-12 * np.max(slow.eta)
+    assert np.array_equal(fast.eta, again.eta)
+    assert abs(fast.energy - slow.energy) <= 1e-12 * slow.energy
+    assert abs(fast.relative - slow.relative) <= 1e-12 * slow.relative
+    for k, v in slow.terms.items():
+        assert abs(fast.terms[k] - v) <= 1e-12 * max(abs(v), slow.energy ** 2)
+    assert fast.notes == slow.notes and fast.min_jump == pytest.approx(slow.min_jump, rel=1e-12, abs=1e-300)
+
+
+def test_widget_refuses_typed_values_and_stays_equal_to_the_model():
+    pytest.importorskip("ipywidgets")
+    w = nc.explore("inclined-crack", maxh=MAXH)
+    png, nu = w.image.value, w.model.state["nu"]
+    for name, value, text in [("nu", 0.7, "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5"),
+                              ("E", -1000.0, "E (Young's modulus) = -1000 refused"),
+                              ("maxh", 0.0, "maxh (mesh size) = 0 refused: allowed from"),
+                              ("angle", 95.0, "angle (crack angle) = 95 refused: allowed from -80 to 80")]:
+        before = dict(w.model.state)
+        w.typed[name].value = value
+        assert text in w.status.value, w.status.value
+        assert w.model.state == before and w.image.value == png
+        shown = before[name] if before[name] is not None else w.model.start_maxh
+        assert w.typed[name].value == shown and w.controls[name].value == pytest.approx(shown, rel=1e-12)
+    assert w.model.state["nu"] == nu
+    w.typed["nu"].value = 0.35  # a typed value in range is taken, and the slider follows
+    assert w.status.value == "" and w.model.state["nu"] == 0.35 and w.controls["nu"].value == 0.35
+    w.controls["load"].value = -1.0  # and a slider value, the box follows
+    assert w.typed["load"].value == -1.0 == w.model.state["load"]
+    import json
+
+    data = json.loads(w.data.value.replace("&amp;", "&"))
+    assert data["state"]["nu"] == data["controls"]["nu"] == data["typed"]["nu"] == 0.35
+
+
+def test_figure_faces_show_gap_overlap_and_closure():
+    """Tension opens the inclined crack (a gap between the drawn faces), crack model
+    free under compression makes the faces pass through each other (an overlap),
+    contact under compression keeps them closed: read off the figure's data, the faces'
+    openings drawn against the solution's own jumps."""
+    pytest.importorskip("ipywidgets")
+    w = nc.explore("inclined-crack", maxh=MAXH)
+    d = w.drawing.data
+    assert d["max_gap"] == 0.0 and d["max_overlap"] == 0.0  # compression, contact: closed
+    jn = lambda: np.concatenate([p.normal_jump for p in w.model.solution.crack_profiles()])  # noqa: E731
+    w.controls["crack_model"].value = "free"
+    d = w.drawing.data
+    assert d["max_gap"] == 0.0 and d["max_overlap"] > 0.0
+    assert d["max_overlap"] == pytest.approx(-jn().min(), rel=0.1)  # the faces' vertices vs the edge mid points
+    for f in d["faces"]:  # the drawn faces: the + face moved by its displacement, the overlap is on the figure
+        plus, minus = np.asarray(f["plus"]), np.asarray(f["minus"])
+        nu = w.model.solution.crack_mesh.cracks[f["crack"]].normal[0]
+        assert np.min((plus - minus) @ nu) == pytest.approx(-d["max_overlap"] * d["magnification"], rel=1e-9)
+    w.controls["crack_model"].value = "contact"
+    w.controls["load"].value = -1.0
+    d = w.drawing.data
+    assert d["max_overlap"] == 0.0 and d["max_gap"] == pytest.approx(jn().max(), rel=0.1)
+    # no slip shading where nothing moves
+    w.controls["load"].value = 0.0
+    assert w.drawing.data["shaded"] == [] and w.drawing.data["max_gap"] == 0.0
+
+
+def test_scales_are_held_while_the_load_changes():
+    pytest.importorskip("ipywidgets")
+    w = nc.explore("inclined-crack", maxh=MAXH)
+    first = dict(w.drawing.data)
+    w.controls["load"].value = 0.5  # auto: held
+    d = w.drawing.data
+    assert d["held"] and d["clim"] == first["clim"] and d["magnification"] == first["magnification"]
+    assert d["jump_lim"] == first["jump_lim"]
+    w.controls["angle"].value = 60.0  # a new geometry re-fits in auto
+    assert w.drawing.data["held"] is False
+    fitted = dict(w.drawing.data)
+    w.controls["scales"].value = "hold"
+    w.controls["angle"].value = 30.0  # held across a geometry change too
+    assert w.drawing.data["clim"] == fitted["clim"] and w.drawing.data["magnification"] == fitted["magnification"]
+    w.controls["scales"].value = "fit"
+    w.controls["load"].value = 1.0
+    assert w.drawing.data["held"] is False and w.drawing.data["clim"] != fitted["clim"]
+    w.controls["magnification"].value = 50.0  # a fixed magnification
+    assert w.drawing.data["magnification"] == 50.0 and w.model.redone == ["figure"]
+    # the time split adds up: the model's update plus the drawing
+    w.controls["load"].value = 0.8
+    r = w.model.readouts()
+    assert sum(w.timing.values()) == pytest.approx(r["latency_s"] + w.timing["drawing"], rel=1e-9, abs=1e-12)
+    # K values tied to their tips, three significant digits
+    tips = w.drawing.data["tips"]
+    assert len(tips) == 2 and tips[0].startswith("tip A (") and "K_I = " in tips[0] and "K_II = " in tips[1]
+    K_II = w.model.solution.tips[0].K_II
+    assert f"K_II = {K_II:#.3g}".rstrip(".") in tips[0]
+
+
+def test_webgui_field_is_the_figure_field():
+    """The webgui's stress is the figure's: sigma_nu, and von Mises in plane strain (the scene's)."""
+    from ngcrack.explorer.widget import webgui_field
+
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
+    sol = study.solution
+    cent = sol.crack_mesh.centroids
+    for field in ex.FIELDS:
+        cf, name = webgui_field(sol, field)
+        vals = np.asarray(cf(sol.mesh(cent[:, 0], cent[:, 1]))).reshape(-1)
+        assert np.allclose(vals, ex.stress_values(sol, field), rtol=1e-12, atol=1e-12 * np.abs(vals).max())
+    assert sol.scene.material.plane == "strain" and "plane strain" in webgui_field(sol, "von_mises")[1]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -28,7 +28,7 @@ SHEAR_RTOL = {"peers": 0.01, "bdm": 0.01, "tdnns": 0.01, "h1p1": 0.1, "h1p2": 0.
 ROUND_OFF = 1e-10
 
 
-@lru_cache(maxsize=None)
+@cache
 def inclined(element: str, mu: float, load: float = -1.0):
     return nc.solve(inclined_crack(angle=ANGLE, load=load).with_(friction=mu), element=element)
 

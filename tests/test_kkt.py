@@ -27,7 +27,7 @@ KKT_BOUND = 1e-10
 MESH = {"paper-1": {"maxh": 0.2}, "paper-2": {"maxh": 0.2}, "griffith": {"maxh": 2.0}}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def solved(name: str, element: str, crack_model: str = "contact"):
     return nc.solve(nc.scenes.load(name), element=element, crack_model=crack_model, **MESH.get(name, {"maxh": 0.3}))
 
@@ -92,7 +92,6 @@ def test_kkt_formula_sees_each_violation():
 def test_a_wrong_contact_state_shows(monkeypatch):
     """kkt is not vacuous: hold one open point of griffith closed and the tension shows."""
     import ngcrack.contact as contact
-
     import ngcrack.pipeline as pipeline
     true_qp = contact.solve_qp
 

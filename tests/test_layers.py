@@ -18,17 +18,17 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "references")),
-    ("scene", ("scene", "scenes", "sizing")),
-    ("mesh", ("crack_sides", "geometry", "hp")),
+    ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "outputs")),
+    ("scene", ("scene", "scenes", "references", "sizing")),
+    ("mesh", ("crack_sides", "geometry")),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
-    ("post-processing", ("post", "tips", "estimate", "vtk")),
+    ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk")),
     ("options and solution", ("options", "solution")),
-    ("pipeline", ("pipeline",)),
+    ("pipeline and hp meshes", ("pipeline", "hp")),
     ("loops over the pipeline", ("adapt",)),
     ("one-shot solve", ("solve",)),
     ("studies", ("study", "sweeps", "stability", "growth", "paper", "plots")),
-    ("views", ("explorer", "interactive", "cli", "__main__", "")),
+    ("views", ("explorer", "interactive", "cli", "growth.cli", "__main__", "")),
 ]
 
 #: the largest module, in lines (the aim is about 500: one idea a module)
@@ -136,15 +136,15 @@ def test_no_import_cycle():
 
 
 def test_no_module_is_patched_at_run_time():
-    """No assignment to an attribute of an imported module, no setattr on one."""
+    """No assignment to an attribute of an imported ngcrack module, no setattr on one."""
     found = []
     for name, path in _modules().items():
         tree = ast.parse(path.read_text())
-        imported = set()
+        imported = set()  # the names bound to ngcrack's own modules
         for node in ast.walk(tree):
             if isinstance(node, ast.Import):
-                imported |= {(a.asname or a.name).split(".")[0] for a in node.names}
-            elif isinstance(node, ast.ImportFrom):
+                imported |= {a.asname or a.name for a in node.names if a.name.startswith("ngcrack")}
+            elif isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("ngcrack")):
                 imported |= {a.asname or a.name for a in node.names}
         for node in ast.walk(tree):
             targets = node.targets if isinstance(node, ast.Assign) else \

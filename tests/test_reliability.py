@@ -14,7 +14,7 @@ import pytest
 
 import ngcrack as nc
 from ngcrack import geometry, scenes, sizing
-from ngcrack.scene import (MAX_CRACK_POINTS, MAX_POLYGON_VERTICES, Scene, SceneError)
+from ngcrack.scene import MAX_CRACK_POINTS, MAX_POLYGON_VERTICES, Scene, SceneError
 from ngcrack.scene.planar import MIN_GAP_RTOL
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -175,7 +175,7 @@ def test_the_culprit_is_named_not_maxh():
 
 @pytest.mark.parametrize("bad", [2.5, 1e4 + 0.5, np.float64(7.25)])
 def test_max_dof_must_be_whole(bad):
-    with pytest.raises(ValueError, match=rf"max_dof = .*: must be None .*whole number"):
+    with pytest.raises(ValueError, match=r"max_dof = .*: must be None .*whole number"):
         sizing.check_max_dof(bad)
     for good in (1e4, 30000, np.int64(5), np.float32(64.0)):
         sizing.check_max_dof(good)

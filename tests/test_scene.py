@@ -5,8 +5,7 @@ import math
 import pytest
 
 from ngcrack import scenes
-from ngcrack.scene import (GEOMETRY_RTOL, BoundaryCondition, Crack, Material, Scene,
-                           SceneError)
+from ngcrack.scene import GEOMETRY_RTOL, BoundaryCondition, Crack, Material, Scene, SceneError
 
 SQUARE = [[0, 0], [4, 0], [4, 1], [0, 1]]
 LABELS = ["bottom", "right", "top", "left"]

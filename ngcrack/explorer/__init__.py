@@ -3,16 +3,18 @@
 - `model`: `Explorer`, the scene, its controls and the pipeline's caches (no widgets);
 - `loads`: the scene's loads scaled by the load factor and turned;
 - `figure`: `Drawing`, the deformed body and the crack profiles (matplotlib, PNG);
-- `widget`: `explore()` and `ExplorerWidget`, the ipywidgets view.
+- `widget`: `explore()` and `ExplorerWidget`, the ipywidgets view;
+- `growth_view`: `explore_growth(result)`, a step slider over a crack-growth path.
 """
 
-from .figure import FIELDS, Drawing, draw, stress_values
 from ..pipeline import ParameterLoads, geometry_key, load_structure
+from .figure import FIELDS, Drawing, draw, stress_values
+from .growth_view import explore_growth
 from .loads import scaled_loads
 from .model import LEVELS, Explorer, Study, contact_length, friction_supported
 from .widget import SLIDERS, explore
 
-__all__ = ["Drawing", "Explorer", "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS", "Study",
+__all__ = ["Drawing", "Explorer", "explore_growth", "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS", "Study",
            "contact_length", "draw", "explore", "friction_supported", "geometry_key", "load_structure",
            "scaled_loads", "stress_values"]
 

@@ -1,13 +1,29 @@
-"""The explorer's figure: the deformed body coloured by a stress field and the crack profiles.
+"""The explorer's figure: the deformed body, its crack faces, the loads and supports, the profiles.
 
 `Drawing` keeps one matplotlib figure (Agg canvas, no pyplot state) and redraws it for a
 solution (`render` returns PNG bytes); `draw` is the one-off; `stress_values` the stress
-field shown, per triangle.
+field shown, per triangle; `crack_faces` the two faces of each crack as drawn.
+
+What a student should read off the picture is drawn, not left to the colours:
+
+- each crack's two faces as two curves, each moved by its own side's displacement at the
+  figure's magnification: an opening is a gap between them, an interpenetration (crack
+  model ``free`` under compression) an overlap, shaded; a zoomed panel around the cracks;
+- the crack's normal nu and tangent t as arrows, the loads as arrows on the loaded edges
+  (traction, prescribed displacement; the body force at the centroid), clamped edges
+  hatched and rollers as circles;
+- the scales can be held (`render(hold=True)`): colour limits, profile axes,
+  magnification and load-arrow scale stay those of the first frame held, so that two
+  loads or crack models are compared on one scale; units on the colour bar and axes
+  (the scene's, else "E units" for stresses and "length units");
+- the tips' K_I, K_II next to their names ("tip A (x, y): K_I = ..., K_II = ...", three
+  significant digits), the stick / slip shading only where the faces move.
 """
 
 from __future__ import annotations
 
 import io
+import math
 
 import numpy as np
 
@@ -18,17 +34,49 @@ DEFORMED_FRACTION = 0.08
 
 #: shading of the crack profiles by the faces' state, where the solution reports one
 STATE_COLORS = {"stick": "0.85", "slip": "#fde0b0"}
+#: a face sample counts as sliding (shaded "slip") only where its sliding exceeds this
+#: fraction of the largest displacement: at zero load nothing is shaded
+SLIDE_RTOL = 1e-6
 
 #: the traction axis spans at least this fraction of the body's stress scale (so that
 #: round-off on a traction-free crack is drawn as the zero it is)
 PROFILE_FLOOR = 0.05
 
-#: figure size in inches and resolution: small enough to draw in ~0.1 s
-FIGURE_SIZE = (10.0, 4.4)
-FIGURE_DPI = 80
+#: figure width in inches and resolution (the image is shown at its own size: 1 px per px)
+FIGURE_WIDTH = 9.6
+FIGURE_DPI = 96
+#: kept for older imports: the size of a square body's figure
+FIGURE_SIZE = (FIGURE_WIDTH, 5.4)
+#: font size in points (11 px at 96 dpi)
+FONT_SIZE = 8.5
+#: above this many triangles no edges are drawn and antialiasing is off (no moire)
+EDGE_LIMIT = 3000
+#: a body this much wider than high is drawn above the panels, not beside them
+WIDE = 2.0
+#: colours of the two crack faces (+ side: the one nu points into)
+FACE_COLORS = {"+": "#1f3b8c", "-": "#c2410c"}
+#: the faces count as closed where |opening| is below this fraction of the largest
+#: displacement (the post-processed displacements differ from the QP's jumps at 1e-5)
+FACE_RTOL = 1e-3
+#: significant digits of the K values
+K_DIGITS = 3
+
+_TIP_NAMES = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+
 
 def _tip_value(tip, key):
     return tip.get(key) if isinstance(tip, dict) else getattr(tip, key, None)
+
+
+def _sig(value: float, digits: int = K_DIGITS) -> str:
+    """`value` at `digits` significant digits, trailing zeros kept (0.500, 1.20e-05)."""
+    return f"{value:#.{digits}g}".rstrip(".")
+
+
+def units(scene) -> tuple[str, str]:
+    """(stress unit, length unit) of a scene: its own where it names them, else "E units", "length units"."""
+    u = getattr(scene, "units", None) or {}
+    return (u.get("stress") or "E units", u.get("length") or "length units")
 
 
 def stress_values(sol, field: str) -> np.ndarray:
@@ -48,6 +96,50 @@ def stress_values(sol, field: str) -> np.ndarray:
     return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
 
 
+def field_label(field: str, scene) -> str:
+    """The colour bar's label: the field, its formula and its unit (mathtext, no literal underscores)."""
+    stress = units(scene)[0]
+    if field == "sigma_nu":
+        return rf"$\sigma_{{\nu\nu}} = (\sigma\nu)\cdot\nu$  [{stress}]"
+    plane = "plane strain" if scene.material.plane == "strain" else "plane stress"
+    return f"von Mises stress ({plane})  [{stress}]"
+
+
+def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | None = None) -> list[dict]:
+    """Per crack: its vertices' points, the displacement of each face there (the mean of
+    the corner displacements of the triangles on that side; a tip inside the body, where
+    the faces meet, takes the mean of all), the normals, and the opening [u].nu = (u+ - u-).nu."""
+    from ..geometry import crack_side
+
+    cm = sol.crack_mesh
+    if not cm.cracks:
+        return []
+    if side is None:
+        side = crack_side(cm)
+    nv = len(cm.points)
+    acc = {s: np.zeros((nv, 2)) for s in (1.0, -1.0)}
+    cnt = {s: np.zeros(nv) for s in (1.0, -1.0)}
+    tris = cm.triangles
+    for s in (1.0, -1.0):
+        rows = np.flatnonzero(side == s)
+        np.add.at(acc[s], tris[rows].ravel(), disp[rows].reshape(-1, 2))
+        np.add.at(cnt[s], tris[rows].ravel(), 1.0)
+    faces = []
+    for crack in cm.cracks:
+        vs = crack.vertices()
+        n_edge = crack.normal
+        normal = np.vstack([n_edge[:1], 0.5 * (n_edge[1:] + n_edge[:-1]), n_edge[-1:]])
+        normal /= np.linalg.norm(normal, axis=1)[:, None]
+        up = acc[1.0][vs] / np.maximum(cnt[1.0][vs], 1.0)[:, None]
+        um = acc[-1.0][vs] / np.maximum(cnt[-1.0][vs], 1.0)[:, None]
+        tip = np.array([int(v) in cm.tips for v in vs])
+        mean = (acc[1.0][vs] + acc[-1.0][vs]) / np.maximum(cnt[1.0][vs] + cnt[-1.0][vs], 1.0)[:, None]
+        up[tip], um[tip] = mean[tip], mean[tip]
+        faces.append({"crack": crack.index, "points": cm.points[vs], "plus": up, "minus": um, "normal": normal,
+                      "opening": np.einsum("ij,ij->i", up - um, normal)})
+    return faces
+
+
 def draw(sol, field: str = "sigma_nu", title: str = "") -> bytes:
     """The figure of a solution as PNG bytes (one-off; `Drawing` redraws a figure it keeps)."""
     return Drawing().render(sol, field, title)
@@ -56,121 +148,400 @@ def draw(sol, field: str = "sigma_nu", title: str = "") -> bytes:
 class Drawing:
     """A figure kept between redraws (matplotlib's Agg canvas, no pyplot state).
 
-    Left: the deformed body, each triangle moved by the locally post-processed
-    displacement (plots.element_displacements), magnified so that the largest
-    displacement is DEFORMED_FRACTION of the body's diameter (the crack opening and
-    sliding show as gaps and offsets), coloured by a stress field (`stress_values`).
-    Right: the crack profiles along s (opening [u].nu, sliding [u].t; normal and shear
-    traction on a twin axis), the stick/slip state as shaded bands where the profiles
-    carry one, the tips' K_I, K_II in the title where the solution has them. The axes,
-    colour bar and fonts are made once: a redraw only replaces data (measured: a new
-    figure with a layout engine took 0.5-0.9 s, this 0.1-0.2 s).
+    Panels: the deformed body (each triangle moved by the locally post-processed
+    displacement, plots.element_displacements, magnified; coloured by a stress field,
+    `stress_values`), a zoom on the cracks, and the crack profiles along s (opening
+    [u].nu, sliding [u].t; normal and shear traction on a twin axis, stick / slip shaded).
+    A body at least WIDE times wider than high spans the top; otherwise it is on the
+    left. The axes, colour bar and fonts are made once per layout: a redraw replaces data.
+
+    After `render`: `data` holds what was drawn, for checks without pixels: the
+    magnification, the colour limits, the profile limits, per crack the faces' drawn
+    points and openings, and `max_gap` / `max_overlap` (the largest opening and
+    interpenetration of the faces, in length units, unmagnified).
     """
 
     def __init__(self):
+        self.fig = None
+        self._layout = None
+        self._held: dict | None = None
+        self._temporary: list = []
+        self._side = None  # (crack_mesh, crack_side) of the last mesh
+        self.data: dict = {}
+
+    # ------------------------------------------------------------------ layout
+    def _make(self, poly: np.ndarray) -> None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.collections import PolyCollection
         from matplotlib.figure import Figure
 
-        self.fig = fig = Figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI)
+        w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
+        aspect = w / h if h > 0 else 1.0
+        wide = aspect >= WIDE
+        if wide:
+            body_h = FIGURE_WIDTH * 0.86 / aspect
+            height = body_h + 3.6
+            fig = Figure(figsize=(FIGURE_WIDTH, height), dpi=FIGURE_DPI)
+            gs = fig.add_gridspec(2, 2, height_ratios=[body_h, 2.4], width_ratios=[1.0, 1.5], hspace=0.55,
+                                  wspace=0.45, left=0.07, right=0.9, top=1 - 0.5 / height, bottom=1.05 / height)
+            ax = fig.add_subplot(gs[0, :])
+            axz, axp = fig.add_subplot(gs[1, 0]), fig.add_subplot(gs[1, 1])
+        else:
+            height = min(6.4, max(4.6, 0.55 * FIGURE_WIDTH / max(aspect, 0.35)))
+            fig = Figure(figsize=(FIGURE_WIDTH, height), dpi=FIGURE_DPI)
+            gs = fig.add_gridspec(2, 2, width_ratios=[1.25, 1.0], height_ratios=[1.0, 1.0], hspace=0.5,
+                                  wspace=0.42, left=0.07, right=0.92, top=1 - 0.5 / height, bottom=1.05 / height)
+            ax = fig.add_subplot(gs[:, 0])
+            axz, axp = fig.add_subplot(gs[0, 1]), fig.add_subplot(gs[1, 1])
         FigureCanvasAgg(fig)
-        self.ax, self.axp = fig.subplots(1, 2, width_ratios=[1.15, 1])
-        fig.subplots_adjust(left=0.04, right=0.92, bottom=0.12, top=0.87, wspace=0.32)
-        self.axt = self.axp.twinx()
-        self.body = PolyCollection(np.zeros((0, 3, 2)), cmap="RdBu_r", edgecolors="face", linewidths=0.1)
+        self.fig, self.ax, self.axz, self.axp = fig, ax, axz, axp
+        self.axt = axp.twinx()
+        for a in (ax, axz, axp, self.axt):
+            a.tick_params(labelsize=FONT_SIZE)
+        self.body = PolyCollection(np.zeros((0, 3, 2)), cmap="RdBu_r")
         self.body.set_array(np.zeros(0))
-        self.ax.add_collection(self.body)
-        self.colorbar = fig.colorbar(self.body, ax=self.ax, shrink=0.85)
-        self.ax.set_aspect("equal")
-        self.axp.set_xlabel("s along the crack")
-        self.axp.set_ylabel("jump")
-        self.axt.set_ylabel("traction")
-        self._temporary: list = []
+        ax.add_collection(self.body)
+        self.zoom = PolyCollection(np.zeros((0, 3, 2)), cmap="RdBu_r", edgecolors="face", linewidths=0.2)
+        self.zoom.set_array(np.zeros(0))
+        axz.add_collection(self.zoom)
+        self.colorbar = fig.colorbar(self.body, ax=ax, shrink=0.9, extend="both", pad=0.02,
+                                     fraction=0.035 if wide else 0.05)
+        self.colorbar.ax.tick_params(labelsize=FONT_SIZE)
+        ax.set_aspect("equal")
+        axz.set_aspect("equal")
+        self._layout = (round(aspect, 3), wide)
+        self._height = height
 
-    def render(self, sol, field: str = "sigma_nu", title: str = "") -> bytes:
-        """Draw `sol` with the stress `field` (one of FIELDS) and return the PNG bytes."""
+    # ------------------------------------------------------------------ render
+    def render(self, sol, field: str = "sigma_nu", title: str = "", *, hold: bool = False,
+               magnification: float = 0.0, load_factor: float | None = None) -> bytes:
+        """Draw `sol` with the stress `field` (one of FIELDS) and return the PNG bytes.
+
+        ``hold``: keep the scales of the last frame drawn with hold (the first one sets
+        them; a new field or layout sets them again). ``magnification`` > 0: displacements
+        drawn times this factor (0: automatic, or the held one). ``load_factor``: shown in
+        the title, with its sign's meaning."""
         from ..plots import element_displacements
 
+        poly = np.asarray(sol.scene.polygon, float)
+        w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
+        layout = (round(w / h if h > 0 else 1.0, 3), (w / h if h > 0 else 1.0) >= WIDE)
+        if self.fig is None or layout != self._layout:
+            self._make(poly)
+            self._held = None
         for artist in self._temporary:
             artist.remove()
         self._temporary = []
-        ax, axp, axt = self.ax, self.axp, self.axt
+        ax, axz, axp, axt = self.ax, self.axz, self.axp, self.axt
+        stress_unit, length_unit = units(sol.scene)
+        model = (getattr(sol, "options", None) or {}).get("crack_model")
         corners, disp = element_displacements(sol)
-        poly = np.asarray(sol.scene.polygon)
         diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
-        umax = float(np.max(np.linalg.norm(disp, axis=2)))
-        scale = DEFORMED_FRACTION * diam / umax if umax > 0 else 0.0
+        umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
         vals = stress_values(sol, field)
-        self.body.set_verts(corners + scale * disp)
-        self.body.set_array(vals)
-        if field == "sigma_nu":
-            lim = float(np.percentile(np.abs(vals), 99)) or 1.0
-            self.body.set_cmap("RdBu_r")
-            self.body.set_clim(-lim, lim)
-        else:
-            self.body.set_cmap("viridis")
-            self.body.set_clim(0.0, float(np.percentile(vals, 99)) or 1.0)
-        self.colorbar.set_label("σ_ν = (σν)·ν" if field == "sigma_nu" else "von Mises stress")
-        self._temporary += ax.plot(*np.vstack([poly, poly[:1]]).T, color="0.6", lw=0.6, ls="--")
-        # the cracks drawn where the body went: each crack vertex moved by the mean of its
-        # triangles' corner displacements (the middle of the gap where the crack opens)
-        cm = sol.crack_mesh
-        moved = np.zeros_like(cm.points)
-        count = np.zeros(len(cm.points))
-        np.add.at(moved, cm.triangles.ravel(), disp.reshape(-1, 2))
-        np.add.at(count, cm.triangles.ravel(), 1.0)
-        moved = cm.points + scale * moved / np.maximum(count, 1.0)[:, None]
-        for crack in cm.cracks:
-            pts = moved[crack.vertices()]
-            self._temporary += ax.plot(pts[:, 0], pts[:, 1], color="k", lw=0.6, alpha=0.5)
-        tips = [t for t in (getattr(sol, "tips", None) or []) if _tip_value(t, "K_I") is not None]
-        for tip in tips:
-            if _tip_value(tip, "x") is not None:
-                at = np.array([_tip_value(tip, "x"), _tip_value(tip, "y")], float)
-                nearest = int(np.argmin(np.linalg.norm(cm.points - at, axis=1)))  # the tip is a mesh vertex
-                self._temporary += ax.plot([moved[nearest, 0]], [moved[nearest, 1]], "k*", ms=7)
-        ax.relim()
-        ax.update_datalim(np.vstack([(corners + scale * disp).reshape(-1, 2), poly]))
-        ax.autoscale_view()
-        ax.set_title(f"{title or sol.scene.name} ({sol.element}): displacement x {scale:.3g}", fontsize=10)
         profiles = sol.crack_profiles()
+        jmax = max([float(np.max(np.abs(np.r_[p.normal_jump, p.tangential_jump]), initial=0.0)) for p in profiles]
+                   + [0.0])
+        tmax = max([float(np.max(np.abs(np.r_[p.normal_stress, p.shear_stress]), initial=0.0)) for p in profiles]
+                   + [0.0])
+        stress_scale = float(np.percentile(np.abs(vals), 99)) if len(vals) else 0.0
+        fresh = {
+            "scale": DEFORMED_FRACTION * diam / umax if umax > 0 else 0.0,
+            "clim": float(np.percentile(np.abs(vals), 99)) if field == "sigma_nu" else float(np.percentile(vals, 99)),
+            "jump": jmax,
+            "traction": max(tmax, PROFILE_FLOOR * stress_scale),
+            "load": _load_magnitude(sol.scene),
+        }
+        held = self._held if hold and self._held is not None and self._held.get("field") == field else None
+        if held is None:
+            held = {"field": field}
+        for k, v in fresh.items():  # a held scale that was zero (an unloaded frame) is taken from this one
+            if not held.get(k):
+                held[k] = v
+        self._held = held
+        scale = float(magnification) if magnification and magnification > 0 else held["scale"]
+        clim = held["clim"] or 1.0
+
+        # the body
+        moved = corners + scale * disp
+        self.body.set_verts(moved)
+        self.body.set_array(vals)
+        cmap = "RdBu_r" if field == "sigma_nu" else "viridis"
+        lo = -clim if field == "sigma_nu" else 0.0
+        for coll in (self.body, self.zoom):
+            coll.set_cmap(cmap)
+            coll.set_clim(lo, clim)
+        if len(corners) > EDGE_LIMIT:
+            self.body.set_edgecolor("face")
+            self.body.set_linewidth(0.0)
+            self.body.set_antialiased(False)
+        else:
+            self.body.set_edgecolor((0.0, 0.0, 0.0, 0.18))
+            self.body.set_linewidth(0.25)
+            self.body.set_antialiased(True)
+        self.colorbar.set_label(field_label(field, sol.scene), fontsize=FONT_SIZE)
+        closed = np.vstack([poly, poly[:1]])
+        self._temporary += ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
+        self._draw_boundary(sol.scene, poly, diam, held["load"])
+
+        # the crack faces, each moved by its own side's displacement
+        side = self._crack_side(sol.crack_mesh)
+        faces = crack_faces(sol, corners, disp, side)
+        tol = FACE_RTOL * umax
+        gap = max([float(np.max(f["opening"], initial=0.0)) for f in faces] + [0.0])
+        overlap = max([float(np.max(-f["opening"], initial=0.0)) for f in faces] + [0.0])
+        gap, overlap = (gap if gap > tol else 0.0), (overlap if overlap > tol else 0.0)
+        drawn = []
+        for f in faces:
+            plus = f["points"] + scale * f["plus"]
+            minus = f["points"] + scale * f["minus"]
+            drawn.append({"crack": f["crack"], "plus": plus.tolist(), "minus": minus.tolist(),
+                          "opening": f["opening"].tolist()})
+            for a, lw in ((ax, 1.1), (axz, 1.6)):
+                self._temporary += a.plot(*plus.T, color=FACE_COLORS["+"], lw=lw, zorder=4)
+                self._temporary += a.plot(*minus.T, color=FACE_COLORS["-"], lw=lw, zorder=4)
+                over = f["opening"] < -tol
+                if np.any(over):
+                    poly_o = np.vstack([plus, minus[::-1]])
+                    self._temporary += a.fill(*poly_o.T, color="#d00000", alpha=0.35, lw=0, zorder=3)
+        # the tips, named A, B, ... in both panels
+        tips = [t for t in (getattr(sol, "tips", None) or []) if _tip_value(t, "K_I") is not None]
+        tip_text = []
+        cm = sol.crack_mesh
+        for k, tip in enumerate(tips):
+            name = _TIP_NAMES[k % len(_TIP_NAMES)]
+            x, y = _tip_value(tip, "x"), _tip_value(tip, "y")
+            if x is not None:
+                at = np.array([x, y], float)
+                nearest = int(np.argmin(np.linalg.norm(cm.points - at, axis=1)))
+                u = self._vertex_displacement(cm, corners, disp, nearest)
+                p = cm.points[nearest] + scale * u
+                for a in (ax, axz):
+                    self._temporary += a.plot([p[0]], [p[1]], "k*", ms=8, zorder=5)
+                    self._temporary.append(a.annotate(name, p, xytext=(4, 4), textcoords="offset points",
+                                                      fontsize=FONT_SIZE + 1, weight="bold", zorder=6))
+                where = f"({_sig(x)}, {_sig(y)})"
+            else:
+                where = ""
+            tip_text.append(f"tip {name} {where}: K_I = {_sig(_tip_value(tip, 'K_I'))}, "
+                            f"K_II = {_sig(_tip_value(tip, 'K_II'))}")
+        # nu and t on each crack (undeformed directions, at the crack's middle edge)
+        arrow = 0.07 * diam
+        for crack, f in zip(cm.cracks, faces):
+            k = len(crack) // 2
+            base = crack.mid[k] + scale * 0.5 * (f["plus"][min(k, len(f["plus"]) - 1)]
+                                                 + f["minus"][min(k, len(f["minus"]) - 1)])
+            for a, length in ((ax, arrow), (axz, None)):
+                L = length if length is not None else 0.12 * max(float(np.sum(crack.length)), 1e-12)
+                for vec, lab, col in ((crack.normal[k], "ν", "#7a0177"), (crack.tangent[k], "t", "#006d2c")):
+                    self._temporary.append(a.annotate("", xy=base + L * vec, xytext=base, zorder=6,
+                                                      arrowprops={"arrowstyle": "->", "color": col, "lw": 1.3}))
+                    self._temporary.append(a.text(*(base + 1.2 * L * vec), lab, color=col, fontsize=FONT_SIZE + 2,
+                                                  ha="center", va="center", zorder=6))
+        ax.update_datalim(np.vstack([moved.reshape(-1, 2), poly] + ([np.array(self._extent)] if self._extent else [])))
+        ax.autoscale_view()
+        ax.set_xlabel(f"x [{length_unit}]", fontsize=FONT_SIZE)
+        ax.set_ylabel(f"y [{length_unit}]", fontsize=FONT_SIZE)
+        head = title or sol.scene.name
+        load_txt = ""
+        if load_factor is not None:
+            load_txt = f", load factor {load_factor:+.2f}"
+        ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt}): "
+                     f"displacements × {scale:.3g}", fontsize=FONT_SIZE + 1, pad=12)
+        legend = [("red arrows: traction", "#b91c1c")] if any(bc.type == "traction" for bc in sol.scene.boundary.values()) else []
+        legend += [("purple arrows: prescribed u", "#6d28d9")] if any(bc.type == "displacement"
+                                                                     for bc in sol.scene.boundary.values()) else []
+        legend += [("f: body force", "0.2")] if sol.scene.body_force is not None else []
+        kinds = {bc.type for bc in sol.scene.boundary.values()}
+        legend += [("hatched: clamped", "k")] if "clamped" in kinds else []
+        legend += [("circles: roller", "k")] if "roller" in kinds else []
+        legend += [("blue / orange: + / - face (ν points into +)", FACE_COLORS["+"])] if cm.cracks else []
+        self._temporary.append(self.fig.text(0.01, 0.05 / self._height * 6, ";  ".join(t for t, _ in legend),
+                                             fontsize=FONT_SIZE - 0.5, color="0.25", va="bottom", ha="left"))
+
+        # the zoom on the cracks: the same magnification
+        self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap)
+
+        # the crack profiles
         has_state = False
+        shaded: set[str] = set()
+        moving = SLIDE_RTOL * umax
+        jlim = 1.1 * (held["jump"] or 1.0)
+        tlim = 1.1 * (held["traction"] or 1.0)
+        jpow, tpow = _power(jlim), _power(tlim)
         for k, p in enumerate(profiles):
             sfx = f" (crack {k})" if len(profiles) > 1 else ""
-            self._temporary += axp.plot(p.s, p.normal_jump, "-", color="tab:blue", label="opening [u]·ν" + sfx)
-            self._temporary += axp.plot(p.s, p.tangential_jump, "--", color="tab:green", label="sliding [u]·t" + sfx)
-            self._temporary += axt.plot(p.s, p.normal_stress, "-", color="tab:red", lw=1, label="σ_n" + sfx)
-            self._temporary += axt.plot(p.s, p.shear_stress, ":", color="tab:purple", lw=1, label="σ_t" + sfx)
+            self._temporary += axp.plot(p.s, np.asarray(p.normal_jump) / jpow, "-", color="tab:blue",
+                                        label="opening [u]·ν" + sfx)
+            self._temporary += axp.plot(p.s, np.asarray(p.tangential_jump) / jpow, "--", color="tab:green",
+                                        label="sliding [u]·t" + sfx)
+            self._temporary += axt.plot(p.s, np.asarray(p.normal_stress) / tpow, "-", color="tab:red", lw=1,
+                                        label="$\\sigma_n$" + sfx)
+            self._temporary += axt.plot(p.s, np.asarray(p.shear_stress) / tpow, ":", color="tab:purple", lw=1,
+                                        label="$\\sigma_t$" + sfx)
             state = getattr(p, "state", None)
-            if state is not None and len(p.s) > 1:
+            if state is not None and len(p.s) > 1 and umax > 0 and model in (None, "contact"):
                 s = np.asarray(p.s, float)
                 mids = 0.5 * (s[1:] + s[:-1])
                 edges = np.r_[s[0] - (mids[0] - s[0]), mids, s[-1] + (s[-1] - mids[-1])]
-                for lo, hi, st in zip(edges[:-1], edges[1:], state):
-                    if st in STATE_COLORS:
-                        self._temporary.append(axp.axvspan(lo, hi, color=STATE_COLORS[st], lw=0, zorder=0))
+                slides = np.abs(np.asarray(p.tangential_jump, float)) > moving
+                for lo_s, hi_s, st, mv in zip(edges[:-1], edges[1:], state, slides):
+                    if st in STATE_COLORS and (st != "slip" or mv):
+                        self._temporary.append(axp.axvspan(lo_s, hi_s, color=STATE_COLORS[st], lw=0, zorder=0))
                         has_state = True
+                        shaded.add(str(st))
         self._temporary.append(axp.axhline(0.0, color="0.5", lw=0.5))
-        # symmetric axes (both zeros on one line); round-off is not magnified to fill them
-        stress_scale = float(np.percentile(np.abs(vals), 99)) or 1.0
-        jmax = max([float(np.max(np.abs(np.r_[p.normal_jump, p.tangential_jump]), initial=0.0)) for p in profiles] + [0.0])
-        tmax = max([float(np.max(np.abs(np.r_[p.normal_stress, p.shear_stress]), initial=0.0)) for p in profiles] + [0.0])
-        axp.set_ylim(-1.1 * (jmax or 1.0), 1.1 * (jmax or 1.0))
-        tlim = max(tmax, PROFILE_FLOOR * stress_scale)
-        axt.set_ylim(-1.1 * tlim, 1.1 * tlim)
+        axp.set_ylim(-jlim / jpow, jlim / jpow)
+        axt.set_ylim(-tlim / tpow, tlim / tpow)
         if profiles:
-            axp.set_xlim(0.0, max(float(c.s_mid[-1] + 0.5 * c.length[-1]) for c in sol.crack_mesh.cracks))
+            axp.set_xlim(0.0, max(float(c.s_mid[-1] + 0.5 * c.length[-1]) for c in cm.cracks))
+        axp.set_xlabel(f"s along the crack [{length_unit}]", fontsize=FONT_SIZE)
+        axp.set_ylabel(f"jump [{_times(jpow)}{length_unit}]", fontsize=FONT_SIZE)
+        axt.set_ylabel(f"traction [{_times(tpow)}{stress_unit}]", fontsize=FONT_SIZE)
         handles, labels = axp.get_legend_handles_labels()
         handles_t, labels_t = axt.get_legend_handles_labels()
         if handles:
-            self._temporary.append(axp.legend(handles + handles_t, labels + labels_t, fontsize=7, loc="best"))
-        title = "crack profiles" if profiles else "no crack"
+            self._temporary.append(axp.legend(handles + handles_t, labels + labels_t, fontsize=FONT_SIZE - 1.5,
+                                              loc="upper right", ncol=2, framealpha=0.8))
+        ptitle = "crack profiles" if profiles else "no crack"
         if has_state:
-            title += " (grey: stick, orange: slip)"
-        if tips:
-            title = "(K_I, K_II) at the tips: " + ", ".join(
-                f"({_tip_value(t, 'K_I'):.3g}, {_tip_value(t, 'K_II'):.3g})" for t in tips) + "\n" + title
-        axp.set_title(title, fontsize=8 if tips or has_state else 10)
+            ptitle += " (grey: stick, orange: slip)"
+        axp.set_title(ptitle, fontsize=FONT_SIZE + 0.5)
+        if tip_text:
+            self._temporary.append(self.fig.text(0.01, 0.1 / self._height, ";   ".join(tip_text), ha="left",
+                                                 va="bottom", fontsize=FONT_SIZE + 0.5))
+        self.data = {"magnification": scale, "clim": (lo, clim), "jump_lim": jlim, "traction_lim": tlim,
+                     "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
+                     "held": bool(hold), "field": field, "shaded": sorted(shaded)}
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png")
         return buf.getvalue()
+
+    # ------------------------------------------------------------------ parts
+    def _crack_side(self, cm):
+        from ..geometry import crack_side
+
+        if self._side is None or self._side[0] is not cm:
+            self._side = (cm, crack_side(cm) if cm.cracks else np.zeros(len(cm.triangles)))
+        return self._side[1]
+
+    @staticmethod
+    def _vertex_displacement(cm, corners, disp, v: int) -> np.ndarray:
+        rows, cols = np.nonzero(cm.triangles == v)
+        return disp[rows, cols].mean(axis=0) if len(rows) else np.zeros(2)
+
+    def _draw_boundary(self, scene, poly: np.ndarray, diam: float, load_ref: float) -> None:
+        """Load arrows on the loaded edges, hatching on clamped edges, circles on rollers."""
+        ax = self.ax
+        self._extent = []  # points the body panel must show (the arrows' ends)
+        n = len(poly)
+        labels = scene.labels or tuple(str(i) for i in range(n))
+        arrow = 0.08 * diam
+        centroid = poly.mean(axis=0)
+        for i in range(n):
+            a, b = poly[i], poly[(i + 1) % n]
+            d = b - a
+            L = float(np.hypot(*d))
+            if L == 0:
+                continue
+            t = d / L
+            out = np.array([t[1], -t[0]])
+            if np.dot(out, 0.5 * (a + b) - centroid) < 0:
+                out = -out
+            bc = scene.boundary.get(labels[i]) if i < len(labels) else None
+            if bc is None:
+                continue
+            if bc.type == "clamped":
+                self._temporary += ax.plot(*np.vstack([a, b]).T, color="k", lw=2.2, zorder=5, solid_capstyle="butt")
+                k = max(3, int(L / (0.04 * diam)))
+                for s in np.linspace(0.0, 1.0, k):
+                    p = a + s * d
+                    q = p + 0.025 * diam * (out + 0.7 * t)
+                    self._temporary += ax.plot([p[0], q[0]], [p[1], q[1]], color="k", lw=0.8, zorder=5)
+            elif bc.type == "roller":
+                k = max(3, int(L / (0.06 * diam)))
+                s = np.linspace(0.5 / k, 1 - 0.5 / k, k)
+                pts = a[None] + s[:, None] * d[None] + 0.015 * diam * out[None]
+                self._temporary += ax.plot(pts[:, 0], pts[:, 1], "o", ms=3.5, mfc="white", mec="k", mew=0.8,
+                                           zorder=5, ls="none")
+            elif bc.type in ("traction", "displacement"):
+                v = np.asarray(bc.value, float)
+                mag = float(np.hypot(*v))
+                if mag == 0 or not load_ref:
+                    continue
+                length = min(2.0, mag / load_ref) * arrow
+                e = v / mag
+                color = "#b91c1c" if bc.type == "traction" else "#6d28d9"
+                k = max(3, int(L / (0.12 * diam)))
+                for s in np.linspace(0.5 / k, 1 - 0.5 / k, k):
+                    p = a + s * d
+                    tail, head = (p - length * e, p) if np.dot(e, out) <= 0 else (p, p + length * e)
+                    self._extent += [tail, head]
+                    self._temporary.append(ax.annotate("", xy=head, xytext=tail, annotation_clip=False, zorder=6,
+                                                       arrowprops={"arrowstyle": "-|>", "color": color, "lw": 1.2}))
+        f = getattr(scene, "body_force", None)
+        if f is not None and np.hypot(*f) > 0 and load_ref:
+            f = np.asarray(f, float)
+            e = f / np.hypot(*f)
+            length = min(2.0, float(np.hypot(*f)) / load_ref) * arrow
+            lo, hi = poly.min(axis=0), poly.max(axis=0)
+            at = lo + np.array([0.1, 0.75]) * (hi - lo)  # (the upper left, away from a central crack)
+            self._temporary.append(ax.annotate("", xy=at + 0.5 * length * e, xytext=at - 0.5 * length * e, zorder=6,
+                                               arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.6}))
+            self._temporary.append(ax.text(*(at - 0.5 * length * e), "f ", color="0.2", fontsize=FONT_SIZE + 1,
+                                           ha="right", va="bottom", zorder=6))
+
+    def _draw_zoom(self, faces, scale, corners, moved, vals, diam, length_unit, gap, overlap) -> None:
+        axz = self.axz
+        if not faces:
+            self.zoom.set_verts(np.zeros((0, 3, 2)))
+            self.zoom.set_array(np.zeros(0))
+            axz.set_title("no crack", fontsize=FONT_SIZE + 0.5)
+            return
+        pts = np.vstack([np.vstack([f["points"] + scale * f["plus"], f["points"] + scale * f["minus"]])
+                         for f in faces])
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        extent = float(max(np.max(hi - lo), 1e-12))
+        if extent <= 0.35 * diam:  # the whole crack
+            c = 0.5 * (lo + hi)
+            half = 0.65 * extent
+            where = ""
+        else:  # a long crack: around its largest opening or interpenetration
+            f = max(faces, key=lambda f: float(np.max(np.abs(f["opening"]))))
+            k = int(np.argmax(np.abs(f["opening"])))
+            c = f["points"][k] + scale * 0.5 * (f["plus"][k] + f["minus"][k])
+            half = 0.12 * diam
+            where = " (largest |opening|)"
+        lo, hi = c - half, c + half
+        inside = np.all((moved.max(axis=1) >= lo) & (moved.min(axis=1) <= hi), axis=1)
+        self.zoom.set_verts(moved[inside])
+        self.zoom.set_array(vals[inside])
+        axz.set_xlim(lo[0], hi[0])
+        axz.set_ylim(lo[1], hi[1])
+        axz.set_xlabel(f"x [{length_unit}]", fontsize=FONT_SIZE)
+        state = (f"faces overlap (up to {_sig(overlap)})" if overlap > 0
+                 else f"crack open (gap up to {_sig(gap)})" if gap > 0 else "faces closed")
+        axz.set_title(f"zoom{where}: {state}", fontsize=FONT_SIZE)
+
+
+def _power(limit: float) -> float:
+    """A power of ten to divide an axis by, so that its ticks read 0.1 to 1000 (1 if they do already)."""
+    if not limit or not np.isfinite(limit):
+        return 1.0
+    e = math.floor(math.log10(limit))
+    return 1.0 if -1 <= e <= 3 else 10.0 ** e
+
+
+def _times(power: float) -> str:
+    return "" if power == 1.0 else f"$10^{{{int(round(math.log10(power)))}}}$ "
+
+
+def _load_magnitude(scene) -> float:
+    """The largest load vector of a scene (traction, displacement, body force): the arrows' scale."""
+    mags = [float(np.hypot(*bc.value)) for bc in scene.boundary.values() if bc.type in ("traction", "displacement")]
+    if scene.body_force is not None:
+        mags.append(float(np.hypot(*scene.body_force)))
+    return max(mags, default=0.0) or 0.0
+
+
+__all__ = ["DEFORMED_FRACTION", "Drawing", "FIELDS", "crack_faces", "draw", "field_label", "stress_values", "units"]

@@ -40,10 +40,14 @@ from typing import Any
 
 import numpy as np
 
-from ..options import SolveOptions
+from ..elements import ELEMENTS
+from ..options import CRACK_MODELS, SolveOptions
 from ..pipeline import Pipeline
 from ..scene import Crack, Scene
-from ..scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
+from ..scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
+from ..scenes import load as _load_scene
+from ..scenes import names as _scene_names
+from .controls import FIXED, SCALES, Range, check_choice, e_range, mesh_size_range
 from .figure import FIELDS
 from .loads import scaled_loads
 
@@ -69,7 +73,7 @@ FIGURE_DPI = 80
 #: re-assembly on the same mesh, a new mesh
 LEVELS = ("view", "load", "assemble", "mesh")
 _CONTROL_LEVEL = {
-    "field": "view",
+    "field": "view", "scales": "view", "magnification": "view",
     "load": "load", "load_angle": "load", "friction": "load", "crack_model": "load",
     "E": "assemble", "nu": "assemble", "element": "assemble",
     "maxh": "mesh",
@@ -116,16 +120,18 @@ class Explorer:
             self.function = scene
         elif isinstance(scene, str) and scene in SCENE_FUNCTIONS:
             self.function = scene_function(scene)
-        elif isinstance(scene, str):
+        elif isinstance(scene, str) and scene in _scene_names():
             self.base = _load_scene(scene)
         elif isinstance(scene, Scene):
             self.base = scene
         else:
-            raise ValueError(f"scene = {scene!r}: a Scene, a built-in scene name or a scene function "
-                             f"({', '.join(SCENE_FUNCTIONS)})")
+            raise ValueError(f"scene = {scene!r}: a Scene, or one of the scene functions "
+                             f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
+        #: the scene's name as given (a scene function's or built-in scene's name), for titles
+        self.name = scene.name if isinstance(scene, (Scene, SceneFunction)) else scene
         self.solve_options = dict(solve_options or {})
         self.state: dict[str, Any] = {"element": element, "maxh": maxh, "crack_model": crack_model, "field": field,
-                                      "load": float(load), "load_angle": float(load_angle)}
+                                      "load": load, "load_angle": load_angle, "scales": "auto", "magnification": 0.0}
         if self.function is not None:
             self.state.update({p.name: p.default for p in self.function.parameters if p.kind == "geometry"})
         unknown = [k for k in params if k not in self.state and k not in ("E", "nu", "friction")]
@@ -135,14 +141,26 @@ class Explorer:
         self.state.update(params)
         # the friction control overrides the scene's per-crack coefficients only once it is set
         self._friction_set = "friction" in params
-        try:
-            ref = self._base_scene()
-        except ValueError:  # bad geometry parameters: shown by the first update; material from the defaults
-            ref = self.function() if self.function is not None else self.base
+        if self.function is not None:
+            ref = self.function()  # the material and mesh-size defaults (the geometry is checked by the first update)
+        else:
+            ref = self.base
         self.state.setdefault("E", ref.material.E)
         self.state.setdefault("nu", ref.material.nu)
         if friction_supported():
             self.state.setdefault("friction", float(getattr(ref.cracks[0], "friction", 0.0) or 0.0) if ref.cracks else 0.0)
+        # every value checked before anything is built: ValueError naming the control and what it allows
+        check_choice("element", element, ELEMENTS)
+        self.ranges: dict[str, Range] = dict(FIXED)
+        self.ranges["E"] = e_range(self.state["E"])
+        self.ranges["maxh"], self.start_maxh = mesh_size_range(ref, element, maxh, self.solve_options)
+        if self.function is not None:
+            self.ranges.update({p.name: Range(p.low, p.high, p.step) for p in self.function.geometry()})
+        for name in list(self.state):
+            if name in self.controls() or name in ("scales", "magnification"):
+                if name == "maxh" and self.state[name] is None:
+                    continue
+                self.state[name] = self.check(name, self.state[name])
         self.solution = None
         self.scene: Scene | None = None
         self.error: str | None = None
@@ -156,10 +174,24 @@ class Explorer:
     def controls(self) -> tuple[str, ...]:
         """The names `update` accepts."""
         names = ["load", "load_angle", "E", "nu"] + (["friction"] if friction_supported() else [])
-        names += ["maxh", "element", "crack_model", "field"]
+        names += ["maxh", "element", "crack_model", "field", "scales", "magnification"]
         if self.function is not None:
             names += [p.name for p in self.function.geometry()]
         return tuple(names)
+
+    def check(self, name: str, value: Any) -> Any:
+        """`value` as control `name` takes it, or ValueError (one line: the control and what it allows)."""
+        if name in self.ranges:
+            return self.ranges[name].check(name, value)
+        if name == "element":
+            return check_choice(name, value, ELEMENTS)
+        if name == "crack_model":
+            return check_choice(name, value, CRACK_MODELS)
+        if name == "field":
+            return check_choice(name, value, FIELDS)
+        if name == "scales":
+            return check_choice(name, value, tuple(SCALES))
+        return value
 
     def level(self, name: str) -> str:
         """What a change of control `name` invalidates (one of LEVELS)."""
@@ -195,8 +227,8 @@ class Explorer:
             if unknown:
                 raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
                                  f"allowed: {', '.join(self.controls())}")
-            if "field" in changes and changes["field"] not in FIELDS:
-                raise ValueError(f"field = {changes['field']!r}: allowed values are {', '.join(FIELDS)}")
+            # a refused value is not kept: the state stays as it was
+            changes = {k: self.check(k, v) for k, v in changes.items()}
             self.state.update(changes)
             self._friction_set = self._friction_set or "friction" in changes
             if self.solution is not None and changes and all(self.level(k) == "view" for k in changes) \
@@ -238,7 +270,8 @@ class Explorer:
         t = sol.timings
         return {
             "unknowns": dict(sol.ndof),
-            "time_s": {k: float(t.get(k, 0.0)) for k in ("mesh", "assemble", "linear", "contact", "total")},
+            "time_s": {k: float(t.get(k, 0.0)) for k in ("mesh", "assemble", "linear", "contact", "tips", "estimate",
+                                                        "total")},
             "latency_s": self.latency,
             "redone": list(self.redone),
             "kkt": max((float(v) for v in sol.kkt.values() if isinstance(v, (int, float))), default=0.0),

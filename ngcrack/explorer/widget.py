@@ -1,13 +1,22 @@
 """The explorer's ipywidgets view: `explore()` and `ExplorerWidget`.
 
-Sliders and menus wired to `Explorer.update` (the model), the figure (`Drawing`, a PNG
-in an ipywidgets Image), readouts and a one-line status. ipywidgets is imported only when
-a widget is made.
+Sliders, typed values and menus wired to `Explorer.update` (the model), the figure
+(`Drawing`, a PNG in an ipywidgets Image), readouts and a one-line status. ipywidgets is
+imported only when a widget is made.
+
+Every numeric control is a slider and a box for a typed value: a typed value out of the
+control's range is refused (the status says so in one line, naming the control and the
+range), never clamped, and both the slider and the box go back to the model's value, so
+that the widgets and the model always agree. While a solve runs the figure is greyed and
+the status says "solving..."; the readout's time split adds up to the time from the
+change to the new figure (solve stages, tips, estimate, the rest of the solve, drawing).
 """
 
 from __future__ import annotations
 
 import functools
+import html
+import json
 import math
 import time
 from typing import Any
@@ -15,19 +24,24 @@ from typing import Any
 import ngsolve as ngs
 
 from .. import elements as _elements
+from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
-from .figure import Drawing
-from ..options import CRACK_MODELS
+from .controls import CRACK_MODEL_HELP, HELP, HOLD_ON, LABELS, SCALES
+from .figure import FIELDS, Drawing
 from .model import Explorer, _one_line
 
-#: slider ranges of the controls every scene has: (low, high, step)
-SLIDERS = {
-    "load": (-2.0, 2.0, 0.1),
-    "load_angle": (-180.0, 180.0, 5.0),
-    "nu": (0.0, 0.5, 0.01),
-    "friction": (0.0, 1.0, 0.05),
-}
+#: the page's style: the busy figure greyed, the refusals red
+STYLE = """<style>
+.ngcrack-busy { opacity: 0.35; filter: grayscale(100%); transition: opacity 0.1s; }
+.ngcrack-status { color: #b00020; font-size: 13px; }
+.ngcrack-readout { font-size: 13px; line-height: 1.45; }
+.ngcrack-help { font-size: 12px; color: #444; }
+</style>"""
+
+#: the slider ranges of older imports (the model's `ranges` are what counts)
+SLIDERS = {"load": (-2.0, 2.0, 0.1), "load_angle": (-180.0, 180.0, 5.0), "nu": (0.0, 0.5, 0.01),
+           "friction": (0.0, 1.0, 0.05)}
 
 
 def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui: bool = False, **kwargs: Any):
@@ -36,9 +50,11 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     ``nc.explore("inclined-crack")`` shows the inclined crack with sliders for its angle,
     half length and position; ``nc.explore(scene)`` a fixed geometry. ``webgui`` adds a
     checkbox for NGSolve's 3D view of the stress field. Returns an `ExplorerWidget`
-    (an ipywidgets VBox; `.model` is the model).
+    (an ipywidgets VBox; `.model` is the model). Bad arguments raise one ValueError
+    naming the argument and what it allows, before any widget is made.
     """
-    return _widget_class()(Explorer(scene, element, **kwargs), webgui=webgui)
+    model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
+    return _widget_class()(model, webgui=webgui)
 
 
 @functools.lru_cache(maxsize=1)
@@ -56,14 +72,20 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-class _ExplorerView:
-    """Sliders and menus wired to `Explorer.update`, the figure, readouts and a status line
-    (an ipywidgets VBox: `ngcrack.explorer.ExplorerWidget`).
+def _escape(text: str) -> str:
+    return html.escape(text, quote=False)
 
-    `model` is the `Explorer` (also as `study`, its former name);
-    `controls` maps control names to their widgets; `image` holds the figure (PNG);
-    `status` the one-line message of the last failure (empty after a success);
-    `latency` the wall time from the last control change to the new figure (seconds).
+
+class _ExplorerView:
+    """Sliders, typed values and menus wired to `Explorer.update`, the figure, readouts and
+    a status line (an ipywidgets VBox: `ngcrack.explorer.ExplorerWidget`).
+
+    `model` is the `Explorer` (also as `study`, its former name); `controls` maps control
+    names to their main widgets (sliders, menus), `typed` the numeric controls to their
+    boxes for typed values; `image` holds the figure (PNG); `status` the one-line message
+    of the last failure or refusal (empty after a success); `readout` the numbers;
+    `data` (hidden) what the figure shows, as JSON, for checks; `latency` the wall time
+    from the last control change to the new figure, `timing` its split (seconds).
     """
 
     def __init__(self, model: Explorer, webgui: bool = False):
@@ -72,47 +94,67 @@ class _ExplorerView:
         self.model = model
         st = model.state
         self.controls: dict[str, Any] = {}
-        cont = {"continuous_update": False, "style": {"description_width": "90px"},
-                "layout": w.Layout(width="320px")}
-        for name in ("load", "load_angle", "nu") + (("friction",) if "friction" in st else ()):
-            lo, hi, step = SLIDERS[name]
-            self.controls[name] = w.FloatSlider(value=float(st[name]), min=lo, max=hi, step=step,
-                                                description={"load_angle": "load angle", "load": "load x"}.get(name, name),
-                                                readout_format=".2f", **cont)
-        E = float(st["E"])
-        self.controls["E"] = w.FloatLogSlider(value=E, base=10, min=math.log10(E) - 2, max=math.log10(E) + 2, step=0.1,
-                                              description="E", readout_format=".3g", **cont)
-        h0 = float(st["maxh"] if st["maxh"] is not None else (model.solution.maxh if model.solution else 1.0))
-        self.controls["maxh"] = w.FloatLogSlider(value=h0, base=10, min=math.log10(h0) - 1, max=math.log10(h0) + 0.5,
-                                                 step=0.05, description="mesh size", readout_format=".3g", **cont)
-        menu = {k: v for k, v in cont.items() if k != "continuous_update"}
+        self.typed: dict[str, Any] = {}
+        self._syncing = False
+        self._png = b""
+        self.latency = 0.0
+        self.timing: dict[str, float] = {}
+        self.drawing = Drawing()
+        style = {"description_width": "125px"}
+        rows = []
+        numeric = ["load", "load_angle", "E", "nu"] + (["friction"] if "friction" in st else []) + ["maxh"]
+        if model.function is not None:
+            numeric += [p.name for p in model.function.geometry()]
+        for name in numeric:
+            r = model.ranges[name]
+            value = st[name] if st[name] is not None else model.start_maxh
+            tip = HELP.get(name) or (self._param_doc(name) or "")
+            common = {"description": LABELS.get(name, name.replace("_", " ")), "readout": False,
+                      "continuous_update": False, "style": style, "layout": w.Layout(width="300px"),
+                      "tooltip": tip}
+            if r.log:
+                slider = w.FloatLogSlider(value=float(value), base=10, min=math.log10(r.low), max=math.log10(r.high),
+                                          step=r.step, **common)
+            else:
+                slider = w.FloatSlider(value=float(value), min=r.low, max=r.high, step=r.step, **common)
+            box = w.FloatText(value=float(value), layout=w.Layout(width="80px"), tooltip=tip)
+            box.add_class(f"ngcrack-typed-{name}")
+            slider.add_class(f"ngcrack-slider-{name}")
+            self.controls[name], self.typed[name] = slider, box
+            rows.append(w.HBox([slider, box]))
+        menu = {"style": style, "layout": w.Layout(width="300px")}
         self.controls["element"] = w.Dropdown(options=list(_elements.ELEMENTS), value=st["element"],
                                               description="element", **menu)
         crack_models = CRACK_MODELS
         self.controls["crack_model"] = w.Dropdown(options=list(crack_models), value=st["crack_model"],
                                                   description="crack model", **menu)
-        if model.function is not None:
-            for p in model.function.geometry():
-                self.controls[p.name] = w.FloatSlider(value=float(st[p.name]), min=p.low, max=p.high, step=p.step,
-                                                      description=p.name.replace("_", " "), tooltip=p.doc,
-                                                      readout_format=".2f", **cont)
-        self.controls["field"] = w.ToggleButtons(options=[("sigma_nu", "sigma_nu"), ("von Mises", "von_mises")],
-                                                 value=st["field"], description="stress",
-                                                 style={"description_width": "90px", "button_width": "90px"})
+        self.controls["field"] = w.Dropdown(options=[("σ_νν (normal to the crack)", "sigma_nu"),
+                                                     ("von Mises", "von_mises")],
+                                            value=st["field"], description="stress shown", **menu)
+        self.controls["scales"] = w.Dropdown(options=[(v, k) for k, v in SCALES.items()], value=st["scales"],
+                                             description="scales", **menu)
+        self.controls["magnification"] = w.FloatText(value=float(st["magnification"]), description="magnification",
+                                                     tooltip=HELP["magnification"], style=style,
+                                                     layout=w.Layout(width="300px"))
+        self.controls["magnification"].add_class("ngcrack-typed-magnification")
         for name, widget in self.controls.items():
             widget.observe(lambda change, name=name: self._changed(name, change["new"]), names="value")
-        self.image = w.Image(format="png", layout=w.Layout(width="800px"))
-        self.image.add_class("ngcrack-figure")
-        self.readout = w.HTML()
+        for name, widget in self.typed.items():
+            widget.observe(lambda change, name=name: self._changed(name, change["new"]), names="value")
+        menus = [self.controls[k] for k in ("element", "crack_model", "field", "scales", "magnification")]
+        half = (len(rows) + 1) // 2
+        grid = w.HBox([w.VBox(rows[:half] + menus[:2]), w.VBox(rows[half:] + menus[2:])])
+        self.help = w.HTML()
+        self.help.add_class("ngcrack-help")
         self.status = w.HTML()
         self.status.add_class("ngcrack-status")
-        self._png = b""
-        self.latency = 0.0
-        self.drawing = Drawing()
-        children_controls = [self.controls[k] for k in self.controls if k != "field"]
-        half = (len(children_controls) + 1) // 2
-        grid = w.HBox([w.VBox(children_controls[:half]), w.VBox(children_controls[half:])])
-        parts = [grid, self.controls["field"], self.status, self.image, self.readout]
+        self.readout = w.HTML()
+        self.readout.add_class("ngcrack-readout")
+        self.data = w.HTML(layout=w.Layout(display="none"))
+        self.data.add_class("ngcrack-data")
+        self.image = w.Image(format="png", layout=w.Layout(width="auto", max_width="100%"))
+        self.image.add_class("ngcrack-figure")
+        parts = [w.HTML(STYLE), grid, self.help, self.status, self.readout, self.image, self.data]
         self.webgui = None
         if webgui:
             self.webgui = w.Output()
@@ -120,42 +162,115 @@ class _ExplorerView:
             box.observe(lambda change: self._draw_webgui(change["new"]), names="value")
             parts += [box, self.webgui]
         super().__init__(parts)
-        self._refresh()
+        self._refresh(hold=False)
 
     @property
     def study(self) -> Explorer:
         """The model (former name of `model`)."""
         return self.model
 
+    def _param_doc(self, name: str) -> str | None:
+        fn = self.model.function
+        return next((p.doc for p in fn.parameters if p.name == name), None) if fn is not None else None
+
+    # ------------------------------------------------------------------ events
     def _changed(self, name: str, value) -> None:
+        if self._syncing:
+            return
         t0 = time.perf_counter()
-        self.model.update(**{name: value})
-        self._refresh()
+        level = self.model.level(name)
+        if level != "view":
+            self._busy(True)
+        try:
+            self.model.update(**{name: value})
+        finally:
+            self._sync()
+        mode = self.model.state["scales"]
+        hold = mode == "hold" or (mode == "auto" and name in HOLD_ON)
+        self._refresh(hold=hold, t0=t0)
+        self._busy(False)
         self.latency = time.perf_counter() - t0
 
-    def _refresh(self) -> None:
-        s = self.model
-        if s.error is None and s.solution is not None:
+    def _busy(self, on: bool) -> None:
+        if on:
+            self.image.add_class("ngcrack-busy")
+            self.status.value = "<span style='color:#555'>solving...</span>"
+        else:
+            self.image.remove_class("ngcrack-busy")
+
+    def _sync(self) -> None:
+        """Every widget shows the model's value (a refused value goes back to the kept one)."""
+        st = self.model.state
+        self._syncing = True
+        try:
+            for name, widget in list(self.controls.items()) + list(self.typed.items()):
+                value = st.get(name)
+                if name == "maxh" and value is None:
+                    value = self.model.start_maxh
+                if value is not None and widget.value != value:
+                    widget.value = value
+        finally:
+            self._syncing = False
+
+    # ------------------------------------------------------------------ drawing
+    def _refresh(self, hold: bool = False, t0: float | None = None) -> None:
+        m = self.model
+        draw_s = 0.0
+        if m.error is None and m.solution is not None:
             try:
-                self._png = self.drawing.render(s.solution, s.state["field"])
+                t_draw = time.perf_counter()
+                self._png = self.drawing.render(m.solution, m.state["field"], title=m.name, hold=hold,
+                                                magnification=m.state["magnification"],
+                                                load_factor=m.state["load"])
                 self.image.value = self._png
+                draw_s = time.perf_counter() - t_draw
             except Exception as exc:  # noqa: BLE001  (a drawing failure is reported, never raised)
-                s.error = _one_line(exc)
-        kept = "showing the last good answer" if s.solution is not None else "no answer yet"
-        self.status.value = ("" if s.error is None else
-                             f"<span style='color:#b00020'>&#9888; {_escape(s.error)} ({kept})</span>")
-        r = s.readouts()
-        if r:
-            t = r["time_s"]
-            nd = r["unknowns"]
-            self.readout.value = (
-                f"<b>unknowns</b> {nd['total']} (global {nd['global']}, contact {nd['contact']}) &nbsp; "
-                f"<b>time</b> mesh {t['mesh']:.2f} s, assemble {t['assemble']:.2f} s, linear {t['linear']:.2f} s, "
-                f"contact {t['contact']:.2f} s; update {r['latency_s']:.2f} s ({_escape(', '.join(r['redone']) or '-')})"
-                f"<br><b>KKT residual</b> {r['kkt']:.1e} &nbsp; <b>contact length</b> {r['contact_length']:.3g} "
-                f"of {r['crack_length']:.3g}")
+                m.error = _one_line(exc)
+        kept = "the figure shows the last good answer" if m.solution is not None else "no answer yet"
+        self.status.value = ("" if m.error is None else
+                             f"<span>&#9888; {_escape(m.error)} ({kept})</span>")
+        self.help.value = _escape(CRACK_MODEL_HELP.get(m.state["crack_model"], "")) + \
+            " &nbsp;|&nbsp; " + _escape("load factor: " + HELP["load"])
+        self._readout(draw_s)
+        self._data()
         if self.webgui is not None and getattr(self, "_webgui_on", False):
             self._draw_webgui(True)
+
+    def _readout(self, draw_s: float) -> None:
+        m = self.model
+        r = m.readouts()
+        if not r:
+            self.readout.value = ""
+            return
+        t, nd = r["time_s"], r["unknowns"]
+        if m.redone == ["figure"]:
+            split = {"drawing": draw_s}
+        else:
+            split = {k: t[k] for k in ("mesh", "assemble", "linear", "contact", "tips", "estimate")}
+            split["rest of the solve"] = max(0.0, r["latency_s"] - sum(split.values()))
+            split["drawing"] = draw_s
+        self.timing = split
+        total = sum(split.values())
+        parts = " + ".join(f"{k} {v:.2f}" for k, v in split.items())
+        tips = self.drawing.data.get("tips") or []
+        self.readout.value = (
+            f"<b>unknowns</b> {nd['total']} (global {nd['global']}, contact {nd['contact']}) &nbsp; "
+            f"<b>time</b> {total:.2f} s = {parts} s ({_escape(', '.join(r['redone']) or '-')})"
+            f"<br><b>KKT residual</b> {r['kkt']:.1e} &nbsp; <b>contact length</b> {r['contact_length']:.3g} "
+            f"of {r['crack_length']:.3g}"
+            + (f"<br>{_escape(';  '.join(tips))}" if tips else ""))
+
+    def _data(self) -> None:
+        m = self.model
+        d = self.drawing.data
+        state = {k: (v if isinstance(v, (int, float, str)) or v is None else str(v)) for k, v in m.state.items()}
+        widgets = {k: w.value for k, w in self.controls.items()}
+        typed = {k: w.value for k, w in self.typed.items()}
+        self.data.value = _escape(json.dumps({
+            "state": state, "controls": widgets, "typed": typed, "error": m.error,
+            "max_gap": d.get("max_gap"), "max_overlap": d.get("max_overlap"),
+            "magnification": d.get("magnification"), "clim": d.get("clim"), "held": d.get("held"),
+            "timing": self.timing}))
 
     def _draw_webgui(self, on: bool) -> None:
         self._webgui_on = on
@@ -167,12 +282,25 @@ class _ExplorerView:
                 from ngsolve.webgui import Draw
 
                 sol = self.model.solution
-                sig = sol.sigma
-                vm = ngs.sqrt(sig[0, 0] ** 2 + sig[1, 1] ** 2 - sig[0, 0] * sig[1, 1] + 3 * sig[0, 1] ** 2)
-                Draw(vm, sol.mesh, "von Mises (plane stress form)")
+                cf, name = webgui_field(sol, self.model.state["field"])
+                Draw(cf, sol.mesh, name)
             except Exception as exc:  # noqa: BLE001
                 print(_one_line(exc))
 
 
-def _escape(text: str) -> str:
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+def webgui_field(sol, field: str) -> tuple[Any, str]:
+    """The figure's stress field as an NGSolve CoefficientFunction, and its name: sigma_nu
+    (the first crack's normal) or von Mises with sigma_zz = nu (sigma_xx + sigma_yy) in
+    plane strain, 0 in plane stress (as `figure.stress_values`)."""
+    if field not in FIELDS:
+        raise ValueError(f"field = {field!r}: allowed values are {', '.join(FIELDS)}")
+    sig = sol.sigma
+    sxx, syy, sxy = sig[0, 0], sig[1, 1], 0.5 * (sig[0, 1] + sig[1, 0])
+    if field == "sigma_nu":
+        cm = sol.crack_mesh
+        n = cm.cracks[0].normal[0] if cm.cracks else (0.0, 1.0)
+        return n[0] * n[0] * sxx + 2 * n[0] * n[1] * sxy + n[1] * n[1] * syy, "sigma_nu"
+    mat = sol.scene.material
+    szz = mat.nu * (sxx + syy) if mat.plane == "strain" else 0.0 * sxx
+    vm = ngs.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
+    return vm, f"von Mises (plane {mat.plane})"

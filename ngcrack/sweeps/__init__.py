@@ -23,8 +23,9 @@ The modules, each one idea, lower ones first:
 from ..quadrature import QUADRATURE_ORDER, quadrature_points
 from .cases import MESH_OPTIONS, Case, run_case
 from .executors import DASK_CONNECT_TIMEOUT
+from .grid import check_friction_applies, warn_friction_not_applied
 from .measuring import comparison_errors, element_means, mean_errors
-from .plan import SweepError, sweep
+from .plan import SweepError, check_sweep, sweep
 from .quantities import (
     QUANTITIES,
     QUANTITY_LABELS,
@@ -40,13 +41,14 @@ from .quantities import (
     tip_columns,
 )
 from .rates import RATE_COLUMNS, fitted_rates, markdown_table, with_rates
-from .results import KEY, KEY_DIGITS, ROW_COLUMNS, ROW_SCHEMA, ResultsFile, csv_line, read_results, scene_friction, typed
+from .results import KEY, KEY_DIGITS, ROW_COLUMNS, ROW_SCHEMA, ResultsFile, csv_line, file_name_part, read_results, scene_friction, typed
 
 __all__ = [
     "Case", "DASK_CONNECT_TIMEOUT", "KEY", "KEY_DIGITS", "MESH_OPTIONS", "QUADRATURE_ORDER", "QUANTITIES",
     "QUANTITY_LABELS", "RATE_COLUMNS", "RATE_QUANTITIES", "ROW_COLUMNS", "ROW_SCHEMA", "Reference", "ResultsFile",
-    "SweepError", "TIP_QUANTITIES", "ZERO_FIELD", "comparison_errors", "csv_line", "element_means", "fitted_rates",
+    "SweepError", "TIP_QUANTITIES", "check_friction_applies", "check_sweep", "ZERO_FIELD", "comparison_errors",
+    "csv_line", "element_means", "file_name_part", "fitted_rates",
     "griffith_opening", "k_error", "markdown_table", "mean_errors", "opening_error", "quadrature_points",
     "quantity_normal", "read_results", "run_case", "sample_quantities", "scene_friction", "sweep", "tip_columns",
-    "typed", "with_rates",
+    "typed", "warn_friction_not_applied", "with_rates",
 ]

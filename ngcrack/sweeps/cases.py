@@ -135,7 +135,7 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
         t = sol.timings
         row = {
             "scene": scene.name, "element": case.element, "maxh": float(case.maxh), "nu": float(case.nu),
-            "friction": scene_friction(scene),
+            "friction": scene_friction(scene) if case.solve_options.get("crack_model", "contact") == "contact" else 0.0,
             "E": float(scene.material.E), "h": h, "n_elements": ne,
             "ndof_total": int(sol.ndof["total"]), "ndof_global": int(sol.ndof["global"]),
             "ndof_contact": int(sol.ndof["contact"]),

@@ -2,12 +2,24 @@
 
 Each executor has the same small interface (capacity, submit, wait, prepare, close):
 the sweep's plan submits cases up to the capacity and waits for the first to finish.
+
+Worker processes die with the process that started them, however it ends: on Linux
+the kernel kills them when their parent dies (prctl PR_SET_PDEATHSIG), elsewhere a
+watchdog thread in each worker notices that its parent is gone. An interrupted or
+failed sweep terminates its workers rather than waiting for their runs.
 """
 
 from __future__ import annotations
 
 import os
+import signal
+import sys
+import threading
+import time
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+
+#: seconds between a worker's checks that its parent is alive (where the kernel cannot tell it)
+WATCHDOG_PERIOD = 0.5
 
 
 class _Serial:
@@ -35,8 +47,32 @@ class _Serial:
         pass
 
 
-def _limit_threads(threads: int) -> None:
-    """Worker start: at most `threads` threads for libraries loaded later (MKL PARDISO)."""
+def _die_with_parent(parent: int) -> None:
+    """End this process when the process `parent` ends (SIGKILL included)."""
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            PR_SET_PDEATHSIG = 1
+            if ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0:
+                if os.getppid() != parent:  # died before the request took effect
+                    os._exit(1)
+                return
+        except (OSError, AttributeError):
+            pass
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(WATCHDOG_PERIOD)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="ngcrack-parent-watchdog", daemon=True).start()
+
+
+def _worker_start(threads: int, parent: int) -> None:
+    """Worker start: die with the sweep's process; at most `threads` threads for libraries
+    loaded later (MKL PARDISO)."""
+    _die_with_parent(parent)
     for var in ("MKL_NUM_THREADS", "OMP_NUM_THREADS"):
         os.environ.setdefault(var, str(threads))
 
@@ -54,13 +90,23 @@ class _Processes(_Serial):
         self.capacity = jobs
         threads = max(1, (os.cpu_count() or 1) // jobs)
         self.pool = ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"),
-                                        initializer=_limit_threads, initargs=(threads,))
+                                        initializer=_worker_start, initargs=(threads, os.getpid()))
 
     def submit(self, fn, *args):
         return self.pool.submit(fn, *args)
 
     def close(self, cancel: bool = False):
-        self.pool.shutdown(wait=True, cancel_futures=cancel)
+        """Wait for the workers to finish; cancel: stop them now (their runs are lost either way)."""
+        if not cancel:
+            self.pool.shutdown(wait=True)
+            return
+        workers = list((getattr(self.pool, "_processes", None) or {}).values())
+        self.pool.shutdown(wait=False, cancel_futures=True)
+        for proc in workers:
+            if proc.is_alive():
+                proc.terminate()
+        for proc in workers:
+            proc.join(timeout=10)
 
 
 #: how long to wait for a dask scheduler before giving up

@@ -11,15 +11,34 @@ from __future__ import annotations
 import itertools
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
 from ..options import SolveOptions
 from .cases import MESH_OPTIONS, Case
-from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, scene_friction
+from .results import _SETUP_COLUMNS, KEY_DIGITS, _key, file_name_part, scene_friction
+
+
+def check_friction_applies(friction, crack_model: str | None, field: str = "friction") -> None:
+    """Refuse a friction coefficient asked for with a crack model that has none (free, bonded)."""
+    values = [friction] if isinstance(friction, (int, float, np.floating, np.integer)) else list(friction or [])
+    given = [float(f) for f in values if isinstance(f, (int, float, np.floating, np.integer)) and f != 0]
+    if given and (crack_model or "contact") != "contact":
+        raise ValueError(f"{field} = {given[0]:g}: friction acts only with crack_model = 'contact' (free and "
+                         f"bonded cracks have no contact, so no friction); drop {field} or use crack_model "
+                         f"'contact'")
+
+
+def warn_friction_not_applied(scene, crack_model: str | None) -> None:
+    """Warn that a scene's own friction plays no part under crack_model free or bonded."""
+    mu = scene_friction(scene)
+    if mu and (crack_model or "contact") != "contact":
+        warnings.warn(f"scene {scene.name!r}: its cracks' friction ({mu:g}) is not applied with crack_model = "
+                      f"{crack_model!r}; the rows record friction 0", UserWarning, stacklevel=3)
 
 
 def _as_list(values, name: str) -> list:
@@ -138,6 +157,9 @@ class _Grid:
         return [(el, h, (v, f)) for el, v, f, h in itertools.product(self.elements, self.nus, self.frictions, self.sizes)]
 
     def friction_value(self, f: float | None) -> float:
+        """The friction a run applies (its row's `friction`): 0 for free and bonded cracks."""
+        if self.solve_options.get("crack_model", "contact") != "contact":
+            return 0.0
         return scene_friction(self.scene) if f is None else float(f)
 
     def keys(self) -> list[tuple]:
@@ -164,7 +186,8 @@ class _Grid:
     def ref_file(self, ref_dir: Path, element: str, variant: tuple) -> Path:
         nu, f = variant
         mu = "" if f is None else f"-mu{float(f):.{KEY_DIGITS}g}"
-        return ref_dir / f"{self.scene.name}-{element}-nu{nu:.{KEY_DIGITS}g}{mu}-h{self.ref_h:.{KEY_DIGITS}g}.npz"
+        name = f"{file_name_part(self.scene.name)}-{element}-nu{nu:.{KEY_DIGITS}g}{mu}-h{self.ref_h:.{KEY_DIGITS}g}.npz"
+        return ref_dir / name  # a plain name: inside ref_dir, whatever the scene is called
 
     def case(self, element: str, h: float, variant: tuple, **kw) -> Case:
         nu, f = variant

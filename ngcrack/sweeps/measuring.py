@@ -7,8 +7,8 @@ error of the element means against the next finer mesh's (the paper's way).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 

@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import sys
 import warnings
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Iterable
 
 from .cases import Case, run_case
 from .executors import _Dask, _executor
-from .grid import _Grid, _key, _same
+from .grid import _Grid, _key, _same, check_friction_applies, warn_friction_not_applied
 from .quantities import Reference, tip_columns
 from .rates import with_rates
 from .results import ROW_COLUMNS, ResultsFile, typed
@@ -22,6 +22,31 @@ from .results import ROW_COLUMNS, ResultsFile, typed
 
 class SweepError(RuntimeError):
     """A run of a sweep failed; the message names the case."""
+
+
+def check_sweep(scene, elements=("bdm",), maxh=(0.2, 0.1, 0.05), nu=None, *, friction=None, reference_maxh=None,
+                reference_element=None, jobs: int = 1, solve_options: dict | None = None, max_dof=None, adapt=None,
+                adapt_maxh=None) -> _Grid:
+    """Check a sweep's request as `sweep` does before any run (options, the size guard of every run);
+    a bad one raises ValueError naming the field. Returns the checked grid."""
+    from ..scenes import resolve
+
+    if isinstance(scene, (str, Path)):
+        scene = resolve(scene)
+    crack_model = (solve_options or {}).get("crack_model")
+    check_friction_applies(friction, crack_model)
+    if friction is None:
+        warn_friction_not_applied(scene, crack_model)
+    if max_dof is not None:
+        from ..sizing import check_max_dof
+
+        check_max_dof(max_dof)
+        solve_options = {**(solve_options or {}), "max_dof": int(max_dof)}
+    grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
+                         jobs, solve_options, friction,
+                         adapt_maxh=(adapt_maxh or scene.maxh or 0.0) if adapt is not None else None)
+    grid.check_sizes()
+    return grid
 
 
 def sweep(
@@ -68,19 +93,10 @@ def sweep(
     """
     import pandas as pd
 
-    from ..scenes import resolve
-
-    if isinstance(scene, (str, Path)):
-        scene = resolve(scene)
-    if max_dof is not None:
-        from ..sizing import check_max_dof
-
-        check_max_dof(max_dof)
-        solve_options = {**(solve_options or {}), "max_dof": int(max_dof)}
-    grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
-                         jobs, solve_options, friction,
-                         adapt_maxh=(adapt_maxh or scene.maxh or 0.0) if adapt is not None else None)
-    grid.check_sizes()
+    grid = check_sweep(scene, elements, maxh, nu, friction=friction, reference_maxh=reference_maxh,
+                       reference_element=reference_element, jobs=jobs, solve_options=solve_options,
+                       max_dof=max_dof, adapt=adapt, adapt_maxh=adapt_maxh)
+    scene = grid.scene
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
     bar = None

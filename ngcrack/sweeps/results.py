@@ -14,9 +14,10 @@ import csv
 import io
 import math
 import os
+import re
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 
@@ -33,7 +34,7 @@ ROW_SCHEMA: dict[str, type] = {
     "element": str,
     "maxh": float,                # requested global mesh size
     "nu": float,                  # Poisson's ratio
-    "friction": float,            # Coulomb coefficient of the cracks (the largest, if they differ)
+    "friction": float,            # Coulomb coefficient applied (the cracks' largest; 0 for free and bonded cracks)
     "E": float,
     "h": float,                   # the mesh's largest edge length
     "n_elements": int,
@@ -89,6 +90,23 @@ def scene_friction(scene) -> float:
     return max((float(c.friction) for c in scene.cracks), default=0.0)
 
 
+#: the longest part of a file name taken from a scene's name
+NAME_PART_MAX = 64
+
+
+def file_name_part(text: str) -> str:
+    """`text` as a safe part of a file name: letters, digits, '.', '_' and '-' only, no
+    leading dot, at most NAME_PART_MAX characters; a name that had to change gets a
+    short hash of the original, so that two different names stay two different files."""
+    import hashlib
+
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", str(text)).lstrip(".") or "_"
+    if safe == text and len(safe) <= NAME_PART_MAX:
+        return safe
+    digest = hashlib.sha1(str(text).encode()).hexdigest()[:8]
+    return f"{safe[:NAME_PART_MAX]}-{digest}"
+
+
 def _format(value) -> str:
     if isinstance(value, (bool, np.bool_)):
         return "True" if value else "False"
@@ -109,8 +127,7 @@ def typed(df):
     import pandas as pd
 
     df = df.copy()
-    schema = dict(ROW_SCHEMA, **{c: float for c in df.columns if _is_tip_column(str(c))})
-    for col, typ in schema.items():
+    for col, typ in _schema(df.columns).items():
         if col not in df.columns:
             continue
         if typ is float:
@@ -124,37 +141,110 @@ def typed(df):
     return df
 
 
+def _schema(columns) -> dict[str, type]:
+    return dict(ROW_SCHEMA, **{c: float for c in columns if _is_tip_column(str(c))})
+
+
+def _corrupted(path: Path, what: str) -> ValueError:
+    return ValueError(f"{path}: {what}; the file is corrupted (edited by hand or written by something else): "
+                      f"repair or delete that row, or write to another file")
+
+
+def _check_cells(path: Path, header: list[str], records: list[list[str]]) -> None:
+    """Refuse a cell that is not what a sweep writes: a finite number (or empty: not
+    computed) in a float column, an integer, True or False; row i is line i + 1."""
+    schema = _schema(header)
+    for i, rec in enumerate(records, start=1):
+        for col, cell in zip(header, rec):
+            typ = schema.get(col, str)
+            if typ is str:
+                continue
+            ok = True
+            if typ is float:
+                if cell != "":
+                    try:
+                        ok = math.isfinite(float(cell))
+                    except ValueError:
+                        ok = False
+            elif typ is int:
+                ok = cell.lstrip("-").isdigit()
+            elif typ is bool:
+                ok = cell in ("True", "False")
+            if not ok:
+                kind = {float: "a finite number (or empty)", int: "an integer", bool: "True or False"}[typ]
+                raise _corrupted(path, f"row {i} (line {i + 1}), column {col!r}: {cell!r} is not {kind}")
+
+
+def _check_unique(path: Path, df) -> None:
+    """Refuse two rows of the same run (a duplicated line)."""
+    seen: dict[tuple, int] = {}
+    for i, rec in enumerate(df[list(KEY)].itertuples(index=False), start=1):
+        key = _key(*rec)
+        if key in seen:
+            what = ", ".join(f"{k} = {v!r}" for k, v in zip(KEY, rec))
+            raise _corrupted(path, f"rows {seen[key]} and {i} (lines {seen[key] + 1} and {i + 1}) are the same run "
+                                   f"({what})")
+        seen[key] = i
+
+
 def read_results(path):
-    """A sweep CSV as a typed pandas DataFrame (ignoring a trailing partial line)."""
+    """A sweep CSV as a typed pandas DataFrame (ignoring a trailing partial line).
+
+    A file that is not a sweep's is refused with a ValueError naming the file and, for a
+    corrupted row, the row, the column and the cell: a row with the wrong number of
+    cells, a cell that does not parse as its column's type (never read as NaN), two
+    rows of the same run.
+    """
     import pandas as pd
 
     path = Path(path)
-    text = path.read_text()
+    try:
+        text = path.read_text()
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a text file ({exc.reason} at byte {exc.start}); write to another file") from None
     if text and not text.endswith("\n"):
         text = text[: text.rfind("\n") + 1]
     if not text:
         return typed(pd.DataFrame(columns=list(ROW_COLUMNS)))
+    try:
+        lines = list(csv.reader(io.StringIO(text)))
+    except csv.Error as exc:
+        raise ValueError(f"{path}: not a CSV file ({exc}); write to another file") from None
+    header, records = lines[0], lines[1:]
+    n = len(ROW_COLUMNS)
+    if tuple(header[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in header[n:]):
+        raise ValueError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
+                         f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
+    for i, rec in enumerate(records, start=1):
+        if len(rec) != len(header):
+            raise _corrupted(path, f"row {i} (line {i + 1}) has {len(rec)} cells, the header {len(header)}")
+    _check_cells(path, header, records)
     # floats must read back exactly (resume keys, reproducible tables): pandas >= 3 parses
     # round-trip by default, older versions need asking
     exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
     df = pd.read_csv(io.StringIO(text), **exact,
                      dtype={"scene": str, "element": str, "reference_element": str, "crack_model": str,
                             "qp_solver": str})
-    n = len(ROW_COLUMNS)
-    if tuple(df.columns[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in df.columns[n:]):
-        raise ValueError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
-                         f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
-    return typed(df)
+    df = typed(df)
+    _check_unique(path, df)
+    return df
 
 
 class ResultsFile:
-    """The sweep's CSV: header once, then one complete line per finished run."""
+    """The sweep's CSV: the header with the first row, then one complete line per finished run.
+
+    A new file is created only with its first row (header and row in one write): a
+    sweep that fails or is interrupted before any run finishes leaves no file.
+    """
 
     def __init__(self, path, columns: Sequence[str] = ROW_COLUMNS) -> None:
         self.path = Path(path)
         self.columns = tuple(columns)
+        self._header = ""
         if not self.path.parent.exists():
             raise ValueError(f"out = {str(self.path)!r}: the directory {str(self.path.parent)!r} does not exist")
+        if self.path.is_dir():
+            raise ValueError(f"out = {str(self.path)!r}: is a directory; give a file name")
         if self.path.exists() and self.path.stat().st_size:
             data = self.path.read_bytes()
             if not data.endswith(b"\n"):  # a line cut by an interruption: drop it
@@ -171,7 +261,7 @@ class ResultsFile:
             self.existing = None
             buf = io.StringIO()  # tip columns hold a comma (K_I[0,last]): quoted
             csv.writer(buf, lineterminator="\n").writerow(self.columns)
-            self._append(buf.getvalue())
+            self._header = buf.getvalue()
 
     def _append(self, text: str) -> None:
         fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
@@ -185,4 +275,5 @@ class ResultsFile:
             os.close(fd)
 
     def append(self, row: dict) -> None:
-        self._append(csv_line(row, self.columns))
+        self._append(self._header + csv_line(row, self.columns))
+        self._header = ""
