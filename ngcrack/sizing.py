@@ -43,11 +43,11 @@ and 3.7-4.0 kB for the displacement baselines at 1e6 unknowns) are element const
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
+from .memory import available_memory, memory_limits  # noqa: F401  (re-exported)
 from .scene.types import MAX_SCALE, MIN_SIZE_RTOL
 
 #: netgen triangles per unit area at mesh size h: TRIANGLES_PER_AREA / h^2 (fitted; 4/sqrt(3) = 2.31 equilateral)
@@ -215,82 +215,6 @@ def estimate_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grad
         size = scene.holes[int(culprit[5:culprit.index("]")])].edge_h
     return SizeEstimate(triangles=tri, unknowns=dof, memory=dof * BYTES_PER_UNKNOWN[element], maxh=H,
                         culprit=culprit, size=size)
-
-
-def _read_number(path: str) -> float | None:
-    try:
-        with open(path) as fh:
-            text = fh.read().strip()
-    except OSError:
-        return None
-    try:
-        return float(text)
-    except ValueError:
-        return None  # "max": no limit
-
-
-def _process_status(key: str) -> float | None:
-    """A size in bytes from /proc/self/status (VmSize, VmRSS, ...), or None."""
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith(key + ":"):
-                    return float(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return None
-
-
-def memory_limits() -> dict[str, float]:
-    """What this process may still allocate, by every limit that applies (bytes).
-
-    ``machine``: the memory the machine can still give (Linux MemAvailable, else free
-    pages); ``address space``: the soft ``RLIMIT_AS`` (``ulimit -v``) minus the address
-    space already mapped; ``cgroup``: the cgroup's ``memory.max`` minus its
-    ``memory.current`` (cgroup v2; v1's ``memory.limit_in_bytes`` and ``usage_in_bytes``).
-    Limits that are absent or unlimited are left out.
-    """
-    out: dict[str, float] = {}
-    avail = None
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    avail = float(line.split()[1]) * 1024
-                    break
-    except OSError:
-        pass
-    if avail is None:
-        try:
-            avail = float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-        except (ValueError, OSError, AttributeError):
-            avail = None
-    if avail is not None:
-        out["machine"] = avail
-    try:
-        import resource
-
-        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-        if soft not in (resource.RLIM_INFINITY, -1) and soft > 0:
-            used = _process_status("VmSize") or 0.0
-            out["address space"] = max(float(soft) - used, 0.0)
-    except (ImportError, OSError, ValueError):
-        pass
-    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
-                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
-                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
-        limit = _read_number(limit_file)
-        if limit is not None and limit < 2**60:  # v1 writes a huge number for "no limit"
-            out["cgroup"] = max(limit - (_read_number(usage_file) or 0.0), 0.0)
-            break
-    return out
-
-
-def available_memory() -> float | None:
-    """The memory this process can still allocate: the least of the machine's available
-    memory, its address-space limit and its cgroup's limit (`memory_limits`), or None."""
-    limits = memory_limits()
-    return min(limits.values()) if limits else None
 
 
 def check_max_dof(max_dof) -> None:

@@ -204,7 +204,9 @@ def test_the_guard_respects_the_address_space_limit():
 
 def test_the_guard_respects_the_cgroup_limit(monkeypatch):
     values = {"/sys/fs/cgroup/memory.max": 1.5e9, "/sys/fs/cgroup/memory.current": 0.5e9}
-    monkeypatch.setattr(sizing, "_read_number", lambda path: values.get(path))
+    from ngcrack import memory
+
+    monkeypatch.setattr(memory, "_read_number", lambda path: values.get(path))
     assert sizing.memory_limits()["cgroup"] == pytest.approx(1e9)
     assert sizing.available_memory() <= 1e9
     with pytest.raises(ValueError, match=r"cgroup memory limit leaves 1 GB available"):
