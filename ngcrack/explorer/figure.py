@@ -284,7 +284,8 @@ class Drawing:
             self.body.set_antialiased(False)
         else:  # edges on the triangles large enough to show them; the small ones edged in their own colour
             px = _pixels_per_unit(ax, poly)
-            size = np.sqrt(0.5 * np.abs(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])))
+            a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+            size = np.sqrt(0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
             big = size * px >= EDGE_PIXELS
             colors = self.body.cmap(self.body.norm(vals))
             colors[big] = (0.0, 0.0, 0.0, 0.2)
@@ -360,11 +361,10 @@ class Drawing:
             load_txt = f", load factor {load_factor:+.2f}"
         ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt}): "
                      f"displacements × {scale:.3g}", fontsize=FONT_SIZE + 1, pad=12)
-        legend = [("red arrows: traction", "#b91c1c")] if any(bc.type == "traction" for bc in sol.scene.boundary.values()) else []
-        legend += [("purple arrows: prescribed u", "#6d28d9")] if any(bc.type == "displacement"
-                                                                     for bc in sol.scene.boundary.values()) else []
-        legend += [("f: body force", "0.2")] if sol.scene.body_force is not None else []
         kinds = {bc.type for bc in sol.scene.boundary.values()}
+        legend = [("red arrows: traction", "#b91c1c")] if "traction" in kinds else []
+        legend += [("purple arrows: prescribed u", "#6d28d9")] if "displacement" in kinds else []
+        legend += [("f: body force", "0.2")] if sol.scene.body_force is not None else []
         legend += [("hatched: clamped", "k")] if "clamped" in kinds else []
         legend += [("circles: roller", "k")] if "roller" in kinds else []
         legend += [("blue / orange: + / - face (ν points into +)", FACE_COLORS["+"])] if cm.cracks else []
