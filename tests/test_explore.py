@@ -477,6 +477,9 @@ def test_figure_faces_show_gap_overlap_and_closure():
     w.controls["crack_model"].value = "free"
     d = w.drawing.data
     assert d["max_gap"] == 0.0 and d["max_overlap"] > 0.0
+    r = w.model.readouts()
+    assert r["contact_length"] == 0.0 and r["overlap_length"] == pytest.approx(r["crack_length"], rel=1e-12)
+    assert "faces pass through each other" in w.readout.value
     assert d["max_overlap"] == pytest.approx(-jn().min(), rel=0.1)  # the faces' vertices vs the edge mid points
     for f in d["faces"]:  # the drawn faces: the + face moved by its displacement, the overlap is on the figure
         plus, minus = np.asarray(f["plus"]), np.asarray(f["minus"])

@@ -8,11 +8,11 @@
 
 from .figure import FIELDS, Drawing, draw, stress_values
 from .loads import ParameterLoads, load_structure, scaled_loads
-from .model import LEVELS, Explorer, Study, contact_length, friction_supported, geometry_key
+from .model import LEVELS, Explorer, Study, contact_length, friction_supported, geometry_key, overlap_length
 from .widget import SLIDERS, explore
 
 __all__ = ["Drawing", "Explorer", "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS", "Study",
-           "contact_length", "draw", "explore", "friction_supported", "geometry_key", "load_structure",
+           "contact_length", "draw", "explore", "friction_supported", "geometry_key", "load_structure", "overlap_length",
            "scaled_loads", "stress_values"]
 
 

@@ -279,6 +279,8 @@ class _ExplorerView:
             f"<b>time</b> {total:.2f} s = {parts} s ({_escape(', '.join(r['redone']) or '-')})"
             f"<br><b>KKT residual</b> {r['kkt']:.1e} &nbsp; <b>contact length</b> {r['contact_length']:.3g} "
             f"of {r['crack_length']:.3g}"
+            + (f" &nbsp; <b>faces pass through each other</b> over {r['overlap_length']:.3g}"
+               if r["overlap_length"] > 0 else "")
             + (f"<br>{_escape(';  '.join(tips))}" if tips else "") + "</div>")
 
     def _data(self) -> None:
