@@ -32,6 +32,10 @@ FIELDS = ("sigma_nu", "von_mises")
 #: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
 DEFORMED_FRACTION = 0.08
 
+#: a held magnification is given up where it would draw a displacement larger than this
+#: fraction of the body's diameter (the figure re-fits it)
+MAX_DEFORMED_FRACTION = 0.25
+
 #: shading of the crack profiles by the faces' state, where the solution reports one
 STATE_COLORS = {"stick": "0.85", "slip": "#fde0b0"}
 #: a face sample counts as sliding (shaded "slip") only where its sliding exceeds this
@@ -183,7 +187,7 @@ class Drawing:
         aspect = w / h if h > 0 else 1.0
         wide = aspect >= WIDE
         if wide:
-            body_h = FIGURE_WIDTH * 0.86 / aspect
+            body_h = min(3.6, 1.5 * FIGURE_WIDTH * 0.86 / aspect)  # (room for the axes labels and arrows)
             height = body_h + 3.6
             fig = Figure(figsize=(FIGURE_WIDTH, height), dpi=FIGURE_DPI)
             gs = fig.add_gridspec(2, 2, height_ratios=[body_h, 2.4], width_ratios=[1.0, 1.5], hspace=0.55,
@@ -265,6 +269,8 @@ class Drawing:
                 held[k] = v
         for k in ("jump", "traction"):  # the profile axes only grow while held: no curve leaves them
             held[k] = max(held[k], fresh[k])
+        if held["scale"] * umax > MAX_DEFORMED_FRACTION * diam:  # a held magnification that would explode the body
+            held["scale"] = fresh["scale"]
         self._held = held
         scale = float(magnification) if magnification and magnification > 0 else held["scale"]
         clim = held["clim"] or 1.0
