@@ -1,14 +1,17 @@
 """The interactive explorer: `nc.explore(...)`, a JupyterLab widget, and its model `nc.Explorer`.
 
 - `model`: `Explorer`, the scene, its controls and the pipeline's caches (no widgets);
+- `controls`: what each control accepts (ranges, choices), its name, the one-line refusal;
 - `loads`: the scene's loads scaled and turned, and as NGSolve Parameters;
-- `figure`: `Drawing`, the deformed body and the crack profiles (matplotlib, PNG);
+- `figure`: `Drawing`, the deformed body with its crack faces, loads and supports, a zoom
+  on the crack and the crack profiles (matplotlib, PNG);
 - `widget`: `explore()` and `ExplorerWidget`, the ipywidgets view.
 """
 
 from .figure import FIELDS, Drawing, draw, stress_values
 from .loads import ParameterLoads, load_structure, scaled_loads
-from .model import LEVELS, Explorer, Study, contact_length, friction_supported, geometry_key, overlap_length
+from .model import (LEVELS, Explorer, Study, contact_length, friction_supported, geometry_key,
+                    overlap_length)
 from .widget import SLIDERS, explore
 
 __all__ = ["Drawing", "Explorer", "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS", "Study",
