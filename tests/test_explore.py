@@ -536,3 +536,9 @@ def test_webgui_field_is_the_figure_field():
         vals = np.asarray(cf(sol.mesh(cent[:, 0], cent[:, 1]))).reshape(-1)
         assert np.allclose(vals, ex.stress_values(sol, field), rtol=1e-12, atol=1e-12 * np.abs(vals).max())
     assert sol.scene.material.plane == "strain" and "plane strain" in webgui_field(sol, "von_mises")[1]
+    # plane stress: sigma_zz = 0, as the figure
+    stress = nc.Explorer(nc.scenes.load("griffith").with_(plane="stress"), maxh=MAXH).solution
+    cent = stress.crack_mesh.centroids
+    cf, name = webgui_field(stress, "von_mises")
+    vals = np.asarray(cf(stress.mesh(cent[:, 0], cent[:, 1]))).reshape(-1)
+    assert "plane stress" in name and np.allclose(vals, ex.stress_values(stress, "von_mises"), rtol=1e-12)

@@ -159,8 +159,14 @@ class Explorer:
     multiplier of every load of the scene, 1 = as given, negative reverses it),
     ``load_angle`` (degrees, turns every load vector), ``E``, ``nu``, ``friction``
     (where supported), ``maxh``, ``element``, ``crack_model``, ``field`` (the stress shown,
-    one of FIELDS) and the scene function's parameters. ``solve_options`` go to
+    one of FIELDS), ``scales`` (the figure's: "auto", "hold", "fit"), ``magnification``
+    (0: automatic) and the scene function's parameters. ``solve_options`` go to
     `ngcrack.solve` unchanged (qp_solver, linear_solver, tip_h, ...).
+
+    Every value is checked (`check`, `ranges`: controls.py) when the model is made and
+    on every `update`: a bad argument to the constructor raises a ValueError naming the
+    control and what it allows, before anything is built; a value out of range later is
+    refused (`error`) and not kept. ``name`` is the scene's name as given (for titles).
 
     After each `update`: ``solution`` the last good `Solution`, ``error`` the one-line
     message of the last failure (None after a success), ``redone`` what the last update
