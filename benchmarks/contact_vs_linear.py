@@ -271,7 +271,7 @@ def main_schur(args) -> None:
         act = np.zeros(m, dtype=bool)  # start from nothing active, as pdas does
         t0 = time.perf_counter()
         steps = 0
-        for steps in range(1, 30):
+        for steps in range(1, 30):  # noqa: B007  (the count is reported after the loop)
             keep = np.setdiff1d(np.arange(sysm.n), sysm.contact[act])
             fac = Factorization(K[keep][:, keep], backend=solver)
             y = np.zeros(sysm.n)

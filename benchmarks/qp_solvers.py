@@ -113,7 +113,7 @@ def main_solvers(args) -> None:
             print(line, flush=True)
     for m, cond in (RANDOM[:1] if args.quick else RANDOM):
         S, b, G = random_qp(m, cond)
-        for line in run_all(f"random SPD", S, b, G):
+        for line in run_all("random SPD", S, b, G):
             print(line, flush=True)
 
 

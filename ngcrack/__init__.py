@@ -11,16 +11,26 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 "Locking-free finite elements for unilateral crack problems in elasticity".
 """
 
-from . import scenes
+from . import references, scenes
+from .constraints import ContactSolverError
 from .elements import ELEMENTS, Loads
-from .explorer import Explorer, Study, explore
+from .explorer import Explorer, Study, explore, explore_growth
+from .growth import GrowthResult, grow
+from .options import CRACK_MODELS, SolveOptions
+from .pipeline import Pipeline
 from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
-from .solve import CRACK_MODELS, Solution, SolveError, solve
-from .study import fitted_rates, sweep
+from .schur import LinearSolverError
+from .sizing import CoarseMeshWarning
+from .solution import Solution
+from .solve import SolveError, solve
+from .sweeps import SweepError, fitted_rates, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "Loads", "Material", "Scene",
-    "SceneError", "Solution", "SolveError", "Study", "explore", "fitted_rates", "scenes", "solve", "sweep",
+    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
+    "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
+    "grow", "references", "scenes", "solve", "sweep",
+    # the errors and warnings a script may catch
+    "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
 ]

@@ -16,14 +16,15 @@ warns, and says so in sol.options["adapt"]["reached"]).
 
 from __future__ import annotations
 
-import math
 import time
 import warnings
 
 import numpy as np
 
 from .estimate import ESTIMATE_CRACK_MODELS, METHODS
-from .geometry import CrackMesh, make_mesh, refine_crack_mesh
+from .geometry import CrackMesh, refine_crack_mesh
+from .options import SolveOptions
+from .pipeline import Pipeline
 
 #: Doerfler's bulk parameter: mark the fewest triangles that hold this share of eta^2
 DOERFLER_THETA = 0.5
@@ -33,13 +34,10 @@ DEFAULT_MAX_DOF = 200_000
 MAX_STEPS = 40
 
 
-def check_adapt_options(adapt, max_dof, element: str, crack_model: str, scene=None) -> None:
-    """Refuse a tolerance outside (0, 1), a non-positive budget, or an element / crack
-    model / material without an estimate, naming the field, before any meshing."""
-    if isinstance(adapt, bool) or not (isinstance(adapt, (int, float)) and math.isfinite(adapt) and 0 < adapt < 1):
-        raise ValueError(f"adapt = {adapt!r}: the relative error tolerance must lie in (0, 1)")
-    if max_dof is not None and (isinstance(max_dof, bool) or not isinstance(max_dof, (int, np.integer)) or max_dof <= 0):
-        raise ValueError(f"max_dof = {max_dof!r}: must be a positive integer (a number of unknowns)")
+def check_adapt_options(options: SolveOptions, scene=None) -> None:
+    """Refuse an element / crack model / material without an estimate, naming the field,
+    before any meshing (the tolerance and the budget are checked by SolveOptions)."""
+    element, crack_model = options.element, options.crack_model
     if element not in METHODS:
         raise ValueError(f"element = {element!r}: adaptivity needs an error estimate; elements with one: {', '.join(METHODS)}")
     if crack_model not in ESTIMATE_CRACK_MODELS:
@@ -54,11 +52,9 @@ def check_adapt_options(adapt, max_dof, element: str, crack_model: str, scene=No
 
 # ------------------------------------------------------------ the four steps
 
-def solve_step(scene, crack_mesh: CrackMesh, element: str, previous, options: dict):
+def solve_step(pipeline: Pipeline, scene, crack_mesh: CrackMesh, options: SolveOptions, previous, loads=None):
     """Solve on a given mesh, the QP warm-started from the previous step's solution."""
-    from .solve import solve
-
-    return solve(scene, element=element, crack_mesh=crack_mesh, warm_start=previous, **options)
+    return pipeline.run(scene, options, crack_mesh=crack_mesh, warm_start=previous, loads=loads)
 
 
 def estimate_step(sol):
@@ -86,35 +82,52 @@ def refine(crack_mesh: CrackMesh, scene, marked: np.ndarray) -> CrackMesh:
 
 # ------------------------------------------------------------------ the loop
 
-def solve_adaptive(scene, element: str, adapt: float, max_dof: int | None = None, maxh=None, tip_h=None,
-                   crack_h=None, grading=None, theta: float = DOERFLER_THETA, monitor=None, **options):
+def solve_adaptive(scene, options: SolveOptions | str, adapt: float | None = None, *, loads=None,
+                   theta: float = DOERFLER_THETA, monitor=None, pipeline: Pipeline | None = None, **changes):
     """Refine until the relative estimate is <= adapt or the budget max_dof is reached.
+
+    `options`: a SolveOptions, or an element name (then `changes` are the other solve
+    options: maxh, max_dof, ...); `adapt` the tolerance (None: options.adapt).
+    `pipeline`: the Pipeline to run the steps on (None: a fresh one).
 
     Returns the last Solution with `adapt_history` (a pandas DataFrame: step, ndof,
     global and contact unknowns, triangles, hmin, hmax, estimate (relative), energy
     (absolute), solve / estimate / refine seconds and the cumulated wall time) and
-    options["adapt"] = {"tol", "max_dof", "theta", "steps", "reached"}. `monitor(sol)`, if
-    given, returns a dict of further columns for each step's row (e.g. a measured error).
+    options["adapt"] = {"tol", "max_dof", "theta", "steps", "reached"}; `timings["total"]`
+    is the whole adaptive run (every step's meshing, solve, estimate and refinement),
+    `timings["last_step"]` the last solve alone. `monitor(sol)`, if given, returns a dict
+    of further columns for each step's row (e.g. a measured error).
     """
     import pandas as pd
 
-    check_adapt_options(adapt, max_dof, element, options.get("crack_model", "contact"), scene)
-    budget = DEFAULT_MAX_DOF if max_dof is None else int(max_dof)
+    if isinstance(options, SolveOptions):
+        options = options.replace(**changes)
+    else:
+        options = SolveOptions.of(element=options, **changes)
+    if adapt is not None:
+        options = options.replace(adapt=adapt)
+    adapt = options.adapt
+    if adapt is None:
+        raise ValueError("adapt = None: give the relative error tolerance in (0, 1)")
+    check_adapt_options(options, scene)
+    budget = DEFAULT_MAX_DOF if options.max_dof is None else options.max_dof
+    step_options = options.replace(adapt=None)
+    pipeline = pipeline if pipeline is not None else Pipeline()
     t_start = time.perf_counter()
     t0 = time.perf_counter()
-    cmesh = make_mesh(scene, maxh=maxh, tip_h=tip_h, crack_h=crack_h, grading=grading)
+    cmesh = pipeline.mesh(scene, step_options)
     t_mesh = time.perf_counter() - t0
     rows, sol, reached = [], None, False
     for step in range(MAX_STEPS):
-        sol = solve_step(scene, cmesh, element, sol, options)
+        sol = solve_step(pipeline, scene, cmesh, step_options, sol, loads)
         est = estimate_step(sol)
         edges = np.linalg.norm(cmesh.points[cmesh.triangles] - cmesh.points[np.roll(cmesh.triangles, 1, axis=1)], axis=2)
         row = {"step": step, "ndof": int(sol.ndof["total"]), "global": int(sol.ndof["global"]),
                "contact": int(sol.ndof["contact"]), "triangles": int(sol.mesh.ne),
                "hmin": float(edges.max(axis=1).min()), "hmax": float(edges.max(axis=1).max()),
                "estimate": float(est.relative), "energy": float(est.energy),
-               "time_solve": float(sol.timings["total"]), "time_estimate": float(est.time),
-               "time_refine": t_mesh}
+               "time_solve": float(sol.timings["total"]),
+               "time_estimate": float(est.time), "time_refine": t_mesh}
         if monitor is not None:
             row.update(monitor(sol))
         rows.append(row)
@@ -133,7 +146,9 @@ def solve_adaptive(scene, element: str, adapt: float, max_dof: int | None = None
     history = pd.DataFrame(rows)
     history["time_total"] = (history["time_solve"] + history["time_estimate"] + history["time_refine"]).cumsum()
     sol.adapt_history = history
-    sol.timings["adapt_total"] = time.perf_counter() - t_start
+    sol.timings["last_step"] = sol.timings["total"]
+    sol.timings["total"] = time.perf_counter() - t_start
+    sol.timings["adapt_total"] = sol.timings["total"]
     sol.options["adapt"] = {"tol": float(adapt), "max_dof": budget, "theta": float(theta), "steps": len(rows),
                             "reached": reached}
     if not reached:

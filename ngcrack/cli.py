@@ -9,11 +9,18 @@
                         [--friction MU ...] --out results.csv [--reference-maxh H] [--reference-element E]
                         [--jobs N] [--dask ADDRESS] [--max-dof N]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
+    ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts] [solve options] --json OUT
+                       [--csv OUT] [--gif OUT] [--png OUT]
 
-SCENE is a built-in scene name or a TOML file. Bad input exits with code 2 and a
-one-line message before any meshing; output files are written only after a successful
-solve, atomically (a temporary file renamed into place), so none is left half-written.
-`sweep` writes its CSV one complete line per finished run and resumes (ngcrack.study);
+SCENE is a built-in scene name or a TOML file. No command shows a traceback: bad input
+exits with code 2 and one line on stderr naming the field, before any meshing; a system
+that cannot be solved (singular, a failed crack QP, out of memory) exits with code 3
+and one line naming the cause; anything unexpected exits with code 1, one line and
+the advice to run again with --debug (which prints the traceback). Warnings are one
+line each. Output files are written only after a successful solve, atomically (a
+temporary file renamed into place), so none is left half-written and an existing one
+is untouched on failure; an output that cannot be written is refused before the solve.
+`sweep` writes its CSV one complete line per finished run and resumes (ngcrack.sweeps);
 `paper` runs the paper's study (ngcrack.paper).
 """
 
@@ -22,50 +29,40 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
+import signal
 import sys
-import tempfile
-from pathlib import Path
+import threading
+import traceback
+import warnings
+
+from .outputs import NotSolvedError, StagedWrites, UsageError, check_finite, check_output, check_output_folder
+
+#: exit codes: bad input, a system that cannot be solved, something unexpected
+EXIT_INPUT, EXIT_SOLVE, EXIT_UNEXPECTED = 2, 3, 1
+#: a size option (maxh, tip_h, crack_h) must lie within these multiples of the body's diameter
+SIZE_RANGE = (1e-100, 1e100)
 
 
-class UsageError(ValueError):
-    """Bad command-line input (exit code 2)."""
+def _check_sizes(scene, sizes: dict) -> None:
+    """Mesh sizes within SIZE_RANGE of the body's diameter (beyond it, no arithmetic on them is safe)."""
+    d = scene.diameter
+    lo, hi = SIZE_RANGE
+    if scene.maxh is not None:
+        sizes = {f"the scene's mesh.maxh ({scene.name!r})": scene.maxh, **sizes}
+    for flag, values in sizes.items():
+        for v in values if isinstance(values, list) else [values]:
+            if v is not None and not lo * d <= v <= hi * d:
+                raise UsageError(f"{flag} = {v:g}: must lie between {lo:g} and {hi:g} times the body's "
+                                 f"diameter ({d:g}); a mesh size is a length in the scene's units")
 
 
-def _atomic_write(path: Path, write) -> None:
-    """Write through a temporary file in the same directory, then rename into place."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+def _check_friction(scene, args) -> None:
+    """--friction only with --crack-model contact; a scene's own friction under free or bonded: a warning."""
+    from .sweeps import check_friction_applies, warn_friction_not_applied
 
-
-def _check_output(path: str | None, field: str, suffix: str | None = None) -> Path | None:
-    if path is None:
-        return None
-    p = Path(path)
-    if not p.parent.exists():
-        raise UsageError(f"{field} = {path!r}: the directory {str(p.parent)!r} does not exist")
-    if suffix and p.suffix.lower() != suffix:
-        raise UsageError(f"{field} = {path!r}: must end in {suffix}")
-    return p
-
-
-def _finite_json(obj) -> None:
-    """Refuse NaN or infinity anywhere in the result (json would write invalid tokens)."""
-    if isinstance(obj, float) and not math.isfinite(obj):
-        raise RuntimeError("the result contains a non-finite number; nothing was written")
-    if isinstance(obj, dict):
-        for v in obj.values():
-            _finite_json(v)
-    elif isinstance(obj, list):
-        for v in obj:
-            _finite_json(v)
+    check_friction_applies(args.friction, args.crack_model, "--friction")
+    if args.friction is None and args.command == "solve":  # (a sweep warns itself)
+        warn_friction_not_applied(scene, args.crack_model)
 
 
 def cmd_scenes(args) -> int:
@@ -89,29 +86,42 @@ def cmd_solve(args) -> int:
 
     if args.element not in ELEMENTS:
         raise UsageError(f"--element = {args.element!r}: allowed values are {', '.join(ELEMENTS)}")
-    json_path = _check_output(args.json, "--json")
-    plot_path = _check_output(args.plot, "--plot", ".png")
+    json_path = check_output(args.json, "--json")
+    plot_path = check_output(args.plot, "--plot", ".png")
+    if args.vtk is not None:
+        from .vtk import vtk_stem
+
+        vtk_stem(args.vtk)
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
+    _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
+    _check_friction(scene, args)
+    from .options import SolveOptions
     from .solve import solve
 
-    options = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order),
-                                 ("adapt", args.adapt)) if v is not None}
-    sol = solve(scene, element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
-                crack_model=args.crack_model, max_dof=args.max_dof, **options)
+    given = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order), ("adapt", args.adapt),
+                               ("hp", args.hp)) if v is not None}
+    options = SolveOptions.of(element=args.element, maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
+                              crack_model=args.crack_model, max_dof=args.max_dof, **given)  # checked once, here
+    sol = solve(scene, options=options)
     result = sol.to_json_dict()
-    _finite_json(result)
-    if json_path is not None:
-        def write_json(tmp):
-            with open(tmp, "w") as fh:
-                json.dump(result, fh, indent=1)
-        _atomic_write(json_path, write_json)
-    if plot_path is not None:
-        from .plots import plot_solution
+    check_finite(result)
+    with StagedWrites() as staged:  # both files or neither; existing ones untouched on failure
+        if json_path is not None:
+            def write_json(tmp):
+                with open(tmp, "w") as fh:
+                    json.dump(result, fh, indent=1)
+            staged.write(json_path, write_json)
+        if plot_path is not None:
+            from .plots import plot_solution
 
-        _atomic_write(plot_path, lambda tmp: plot_solution(sol, tmp))
+            staged.write(plot_path, lambda tmp: plot_solution(sol, tmp))
+    if args.vtk is not None:  # ParaView: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
+        from .vtk import save_vtk
+
+        vtk_paths = save_vtk(sol, args.vtk)
     k, t, n = result["kkt"], result["time_s"], result["ndof"]
     print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
@@ -136,7 +146,7 @@ def cmd_solve(args) -> int:
         steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
         reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"
         print(f"adapt to {args.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
-    for path in (json_path, plot_path):
+    for path in (json_path, plot_path, *(vtk_paths if args.vtk is not None else ())):
         if path is not None:
             print(f"wrote {path}")
     return 0
@@ -164,7 +174,7 @@ def cmd_sweep(args) -> int:
     from . import scenes
 
     opts = _sweep_options(args)
-    out = _check_output(args.out, "--out", ".csv")
+    out = check_output(args.out, "--out", ".csv")
     scene = scenes.resolve(args.scene)
     for v in args.nu or []:
         scene.with_(nu=v)  # a bad nu is refused here, before any meshing
@@ -183,7 +193,10 @@ def cmd_sweep(args) -> int:
         raise UsageError(f"--qp-solver = {args.qp_solver!r}: allowed values are {', '.join(qp_solvers())}")
     if args.grading is not None and not 0 < args.grading <= 1:
         raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
-    from .study import QUANTITIES, fitted_rates, sweep
+    _check_sizes(scene, {"--maxh": args.maxh, "--reference-maxh": args.reference_maxh, "--tip-h": args.tip_h,
+                         "--crack-h": args.crack_h})
+    _check_friction(scene, args)
+    from .sweeps import QUANTITIES, fitted_rates, sweep
 
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
     adaptive = {}
@@ -196,7 +209,7 @@ def cmd_sweep(args) -> int:
     df = sweep(scene, elements=args.element, maxh=args.maxh, nu=args.nu, friction=args.friction,
                reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
                solve_options=solve_options, max_dof=args.max_dof, **opts, **adaptive)
-    after = len(open(out).read().splitlines()) - 1
+    after = len(open(out).read().splitlines()) - 1 if out.exists() else 0
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["estimate", "time_total"]
     if args.friction is not None:
         cols[3:3] = ["friction", "n_stick", "kkt_friction"]
@@ -218,11 +231,7 @@ def cmd_sweep(args) -> int:
 
 def cmd_paper(args) -> int:
     opts = _sweep_options(args)
-    out = Path(args.out)
-    if not out.parent.exists():
-        raise UsageError(f"--out = {args.out!r}: the directory {str(out.parent)!r} does not exist")
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--out = {args.out!r}: exists and is not a directory")
+    out = check_output_folder(args.out, "--out")
     from .paper import run
 
     res = run(out, quick=args.quick, elements=args.element, maxh=args.maxh, reference_maxh=args.reference_maxh,
@@ -237,11 +246,7 @@ def cmd_paper(args) -> int:
 
 
 def cmd_stability(args) -> int:
-    out = Path(args.out)
-    if not out.parent.exists():
-        raise UsageError(f"--out = {args.out!r}: the directory {str(out.parent)!r} does not exist")
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"--out = {args.out!r}: exists and is not a directory")
+    out = check_output_folder(args.out, "--out")
     from .stability import run
 
     for what, path in run(quick=args.quick, out=out).items():
@@ -268,14 +273,23 @@ def _positive(text: str) -> float:
 
 
 def _count(text: str) -> int:
-    """A number of unknowns: an integer, also written like 2e6."""
+    """A number of unknowns: a whole number, also written like 2e6."""
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
     if not (math.isfinite(value) and value >= 1):
         raise argparse.ArgumentTypeError(f"{text!r}: must be a number of unknowns >= 1")
+    if value != math.floor(value):
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a whole number of unknowns")
     return int(value)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line (the usage is one `--help` away)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {_one_line(message)} (see {self.prog} --help)\n")
 
 
 MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
@@ -284,7 +298,9 @@ MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimate
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="ngcrack", description="Cracked elastic bodies with unilateral crack contact (NGSolve).")
+    parser = _Parser(prog="ngcrack", description="Cracked elastic bodies with unilateral crack contact (NGSolve).")
+    parser.add_argument("--debug", action="store_true",
+                        help="on an error, print the traceback too (also accepted after the command)")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("scenes", help="list the built-in scenes and the scene functions with their parameters")
     p.set_defaults(func=cmd_scenes)
@@ -292,10 +308,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="built-in scene name or TOML file")
     p.add_argument("--element", default="bdm",
                    help="bdm (default), peers, tdnns, h1p1 or h1p2 (README: \"Which element when\")")
-    p.add_argument("--order", type=int, help="polynomial order of elements that have one (tdnns: stress degree 1, 2 or 3)")
+    p.add_argument("--order", type=int, help="polynomial order of elements that have one (bdm, tdnns: 1, 2 or 3)")
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
+    p.add_argument("--hp", type=int, metavar="L",
+                   help="L layers of geometric refinement (ratio 0.2) towards every crack tip; with --order 2 or 3")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--friction", type=_positive, metavar="MU",
@@ -308,6 +326,7 @@ def build_parser() -> argparse.ArgumentParser:
                                   "kkt, kkt_sampled, tips, error_estimate, adapt (with --adapt) and one crack "
                                   "profile per crack (README: \"Command line\")")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
+    p.add_argument("--vtk", metavar="OUT", help="write ParaView files: OUT.vtu (mesh and fields), OUT_cracks.vtu (crack faces)")
     p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP)
     p.set_defaults(func=cmd_solve)
 
@@ -352,29 +371,98 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="the small study (about a minute and a half on 2 cores)")
     p.add_argument("--out", default="stability-results", help="output folder (default stability-results)")
     p.set_defaults(func=cmd_stability)
+
+    from .growth.cli import add_parser as add_grow_parser
+
+    add_grow_parser(sub, _positive, _count)
     return parser
 
 
+def _one_line(text) -> str:
+    return " ".join(str(text).split())
+
+
+def _causes(exc: BaseException):
+    """`exc` and the exceptions it was raised from (a SweepError wraps the run's own)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        seen.add(id(exc))
+        yield exc
+        exc = exc.__cause__ or exc.__context__
+
+
+def classify(exc: BaseException) -> tuple[int, str]:
+    """(exit code, one-line message) of an error that reached the command line."""
+    from .contact import ContactSolverError
+    from .schur import LinearSolverError
+    from .solve import SolveError
+
+    text = _one_line(exc)
+    for cause in _causes(exc):
+        netgen = type(cause).__name__ == "NgException"
+        if isinstance(cause, MemoryError) or (netgen and "allocate" in str(cause)):
+            return EXIT_SOLVE, (f"out of memory ({text or type(cause).__name__}); use a larger maxh or a smaller "
+                                f"--max-dof")
+        if isinstance(cause, (SolveError, ContactSolverError, LinearSolverError, NotSolvedError)):
+            return EXIT_SOLVE, text
+        if netgen and "singular" in str(cause):
+            where = text.split('in Assemble')[0].strip()
+            return EXIT_SOLVE, (f"the system is singular (netgen: {where}); is every part of the body held, and are the "
+                                f"material values and loads finite and of a sane size?")
+        if isinstance(cause, ValueError):  # SceneError, UsageError, every option the package refuses
+            return EXIT_INPUT, text
+        if isinstance(cause, ArithmeticError):
+            return EXIT_INPUT, (f"a value beyond what double precision holds ({type(cause).__name__}: {text}); "
+                                f"check the mesh sizes, the loads and the material values")
+        if isinstance(cause, OSError) and cause.filename is not None:
+            return EXIT_INPUT, f"cannot use {cause.filename!r}: {cause.strerror or cause}"
+    return EXIT_UNEXPECTED, (f"unexpected {type(exc).__name__}: {text} (run with --debug for the traceback)")
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"ngcrack: warning: {_one_line(message)}", file=sys.stderr if file is None else file)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
 def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    argv = [str(a) for a in argv]
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
     parser = build_parser()
     args = parser.parse_args(argv)
+    shown = warnings.showwarning
+    warnings.showwarning = _one_line_warning
+    on_term = None
+    if threading.current_thread() is threading.main_thread():
+        on_term = signal.signal(signal.SIGTERM, _terminate)
     try:
         return args.func(args)
-    except ValueError as exc:  # SceneError, UsageError and option errors are ValueErrors
-        print(f"ngcrack: error: {exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
+        what = "terminated" if isinstance(exc, Terminated) else "interrupted"
         if args.command in ("sweep", "paper"):
-            print("ngcrack: interrupted; finished runs are saved, run the same command again to resume",
+            print(f"ngcrack: {what}; finished runs are saved, run the same command again to resume",
                   file=sys.stderr)
-        return 130
-    except RuntimeError as exc:
-        from .study import SweepError
-
-        if not isinstance(exc, SweepError):
-            raise
-        print(f"ngcrack: error: {exc}", file=sys.stderr)
-        return 1
+        else:
+            print(f"ngcrack: {what}" + ("; nothing was written" if args.command == "solve" else ""), file=sys.stderr)
+        return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+    except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
+        code, message = classify(exc)
+        if debug:
+            traceback.print_exc()
+        print(f"ngcrack: error: {message}", file=sys.stderr)
+        return code
+    finally:
+        warnings.showwarning = shown
+        if on_term is not None:
+            signal.signal(signal.SIGTERM, on_term)
 
 
 if __name__ == "__main__":

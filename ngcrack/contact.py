@@ -59,14 +59,13 @@ from __future__ import annotations
 import contextlib
 import time
 import warnings
-import weakref
 from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
+
+from .constraints import ContactSolverError, _inverse_map, scaled_problem
 
 #: solvers reached without cvxpy
 NATIVE_SOLVERS = ("pdas", "uzawa")
@@ -86,8 +85,6 @@ UZAWA_TOL = 1e-10
 UZAWA_CHECK_EVERY = 25
 #: scaled KKT residual below which an answer counts as exact
 KKT_TOL = 1e-9
-#: G is inverted as a sparse matrix when at most this fraction of its entries is nonzero
-G_SPARSE_FILL = 0.1
 #: BLAS threads for the dense QP work. The matrices are m x m with m in the hundreds:
 #: a second thread gains little, and on a busy machine the threads' synchronisation
 #: made a 320-unknown pdas solve take up to 2 s instead of 0.02 s (measured)
@@ -107,10 +104,6 @@ def _limited_blas():
     """A context in which BLAS uses QP_BLAS_THREADS threads (no-op without threadpoolctl)."""
     pools = _threadpools()
     return pools.limit(limits=QP_BLAS_THREADS, user_api="blas") if pools is not None else contextlib.nullcontext()
-
-
-class ContactSolverError(RuntimeError):
-    """The QP solver failed or returned an answer that violates the KKT conditions."""
 
 
 @dataclass
@@ -267,74 +260,6 @@ def _cvxpy_solve(S: np.ndarray, b: np.ndarray, solver: str, options: dict, v0: n
     return out
 
 
-def _sparse_inverse(Gs) -> sp.csr_matrix:
-    """The inverse of a sparse block-diagonal G (blocks = its connected components).
-
-    Blocks of equal size are inverted together (numpy's batched inverse); G is read as
-    a dense array, which costs no more memory than the dense m x m Schur complement.
-    """
-    from scipy.sparse.csgraph import connected_components
-
-    m = Gs.shape[0]
-    n_blocks, label = connected_components(Gs, directed=False)
-    order = np.argsort(label, kind="stable")
-    bounds = np.searchsorted(label[order], np.arange(n_blocks + 1))
-    sizes = np.diff(bounds)
-    dense = Gs.toarray()
-    rows, cols, vals = [], [], []
-    for b in np.unique(sizes):
-        idx = np.stack([order[bounds[k]:bounds[k + 1]] for k in np.flatnonzero(sizes == b)])  # (blocks, b)
-        inv = np.linalg.inv(dense[idx[:, :, None], idx[:, None, :]])
-        rows.append(np.repeat(idx, b, axis=1).ravel())
-        cols.append(np.tile(idx, (1, b)).ravel())
-        vals.append(inv.ravel())
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(m, m))
-
-
-#: the last G inverted (a weak reference) and its inverse: one solve maps through the
-#: same G twice (the QP and the contact forces); the entry is dropped when G is
-_LAST_INVERSE: list = [None]  # one (weak reference to G, G^{-1}) pair, replaced as a whole
-
-
-def _forget_inverse(ref) -> None:
-    """Drop the cached pair of the G that `ref` referred to (not a newer one)."""
-    entry = _LAST_INVERSE[0]
-    if entry is not None and entry[0] is ref:
-        _LAST_INVERSE[0] = None
-
-
-def _inverse_map(G, m: int):
-    """G^{-1}: None for G = None or the identity, sparse where G is (block diagonal), else dense."""
-    if G is None:
-        return None
-    entry = _LAST_INVERSE[0]  # read once: another thread may replace it meanwhile
-    if entry is not None and entry[0]() is G:
-        return entry[1]
-    inv = _compute_inverse_map(G, m)
-    try:
-        ref = weakref.ref(G)
-    except TypeError:  # an object without weak references: no caching
-        return inv
-    _LAST_INVERSE[0] = (ref, inv)
-    weakref.finalize(G, _forget_inverse, ref)
-    return inv
-
-
-def _compute_inverse_map(G, m: int):
-    if sp.issparse(G):
-        Gs = sp.csc_matrix(G)
-    else:
-        G = np.asarray(G, dtype=float)
-        if G.shape != (m, m):
-            raise ValueError(f"G: a square matrix of size {m} (the number of crack unknowns) was expected, got {G.shape}")
-        if np.count_nonzero(G) == m and np.all(np.diag(G) == 1.0):  # the identity
-            return None
-        Gs = sp.csc_matrix(G)
-    if Gs.nnz > G_SPARSE_FILL * m * m:
-        return np.linalg.inv(Gs.toarray())
-    return _sparse_inverse(Gs)
-
-
 def _mask(active, m: int) -> np.ndarray | None:
     """A boolean mask of length m from indices or a mask (None stays None)."""
     if active is None:
@@ -388,18 +313,7 @@ def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, 
         z = np.zeros(0)
         return QPResult(z, z, z, np.zeros(0, dtype=int), solver, 0, _scaled_kkt(S, b, z), 0.0)
     Ginv = _inverse_map(G, m)
-    if Ginv is None:
-        S_w, b_w = S, b
-    else:  # S_w = Ginv' S Ginv; with a sparse (block-diagonal) Ginv this is O(m^2) work
-        S_w = (Ginv.T @ (Ginv.T @ S).T).T
-        b_w = Ginv.T @ b
-    diag = np.diag(S_w)
-    if np.any(diag <= 0.0):
-        raise ContactSolverError("the crack Schur complement is not positive definite: a part of the body is not held")
-    D = 1.0 / np.sqrt(diag)
-    S_s = D[:, None] * S_w * D[None, :]
-    S_s = 0.5 * (S_s + S_s.T)
-    b_s = D * b_w
+    S_s, b_s, D = scaled_problem(S, b, Ginv)
     beta = float(np.max(np.abs(b_s)))
     if beta == 0.0:
         z = np.zeros(m)
@@ -524,79 +438,3 @@ def warm_start_data(previous, crack: np.ndarray, s: np.ndarray) -> tuple[np.ndar
         active[new] = old_active[nearest]
         guess[new] = qp.w[nearest]
     return active, guess
-
-
-# ----------------------------------------------------------------------------- KKT residuals
-
-#: the keys of `kkt` and `kkt_sampled` (the `solve --json` contract)
-KKT_KEYS = ("max_penetration", "max_tension", "complementarity", "friction")
-#: a largest jump or force below this fraction of the body's own scale counts as zero
-#: (the residuals are then taken relative to that body scale)
-KKT_ZERO_RTOL = 1e-8
-
-
-def discrete_contact_forces(K, F: np.ndarray, y: np.ndarray, contact: np.ndarray, G) -> tuple[np.ndarray, np.ndarray]:
-    """The discrete contact forces lam at the QP's constraint points, and their rounding bound.
-
-    With y the recovered global vector, the rows of K y = F that belong to the crack
-    normal jumps j are the only ones not imposed: their residual is what the crack
-    faces exert, r = (K y - F)_c = S j - b. The forces on the constrained values
-    w = G j are lam = G^{-T} r (for a frictionless contact answer: lam >= 0, the QP's
-    multipliers, i.e. minus the normal traction integrated against each constraint
-    point's basis function; force per unit thickness). Computed from the system itself,
-    not taken from the QP solver, so they certify its answer.
-
-    In double precision r cannot be known better than its rounding-error bound
-    gamma_n (|K| |y| + |F|), gamma_n = n u / (1 - n u) (u the unit round-off, n the
-    nonzeros of the row plus one): y itself is only known to u |y|. Returned as
-    `bound` = |G^{-T}| times that, per constraint point.
-    """
-    contact = np.asarray(contact, dtype=int)
-    K_c = K[contact]
-    r = np.asarray(K_c @ y - F[contact])
-    n = np.diff(K_c.indptr) + 1 if sp.isspmatrix_csr(K_c) else np.full(len(r), K_c.shape[1] + 1)
-    u = np.finfo(float).eps / 2
-    gamma = n * u / (1.0 - n * u)
-    bound = gamma * (np.asarray(abs(K_c) @ np.abs(y)) + np.abs(F[contact]))
-    if G is None or not len(r):
-        return r, bound
-    Ginv = _inverse_map(G, len(r))
-    if Ginv is None:
-        return r, bound
-    return np.asarray(Ginv.T @ r).ravel(), np.asarray(abs(Ginv).T @ bound).ravel()
-
-
-def kkt_at_constraints(w: np.ndarray, lam: np.ndarray, jump_max: float, jump_scale: float = 0.0,
-                       force_scale: float = 0.0, friction: float = 0.0, lam_bound=0.0) -> dict:
-    """Relative residuals of the discrete Signorini conditions at the constraint points.
-
-    w >= 0 (constrained values: normal jumps), lam >= 0 (contact forces), w lam = 0.
-    With W = `jump_max` (the largest jump on the crack) and L = max lam:
-    max_penetration = max(0, -min w) / W, max_tension = max(0, -min lam) / L,
-    complementarity = max |w lam| / (W L). A force within its rounding-error bound
-    `lam_bound` (`discrete_contact_forces`) is indistinguishable from zero in double
-    precision and counts as zero: lam is moved towards zero by that bound first
-    (measured on paper-2, where L is 1e-4 of the body's force scale: the raw figures
-    are 1e-11 to 1.3e-10, at that bound). Where W (or L) is zero up to round-off
-    (below KKT_ZERO_RTOL times `jump_scale`, or `force_scale`: the body's own
-    displacement and force scales), that scale is used instead, or 1 (absolute) if it
-    is zero too. `friction`: the discrete Coulomb residual relative to L, computed by
-    the caller (0 without friction). No constraint point: all zero.
-    """
-    w = np.asarray(w, dtype=float)
-    lam = np.asarray(lam, dtype=float)
-    if not len(w):
-        return dict.fromkeys(KKT_KEYS, 0.0)
-    lam = np.sign(lam) * np.maximum(np.abs(lam) - np.asarray(lam_bound, dtype=float), 0.0)
-
-    def scale(value: float, body: float) -> float:
-        return value if value > KKT_ZERO_RTOL * body and value > 0.0 else (body or 1.0)
-
-    W = scale(float(jump_max), jump_scale)
-    L = scale(float(np.max(lam)), force_scale)
-    return {
-        "max_penetration": float(max(0.0, -w.min()) / W),
-        "max_tension": float(max(0.0, -lam.min()) / L),
-        "complementarity": float(np.max(np.abs(w * lam)) / (W * L)),
-        "friction": float(friction),
-    }

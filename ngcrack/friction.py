@@ -26,7 +26,8 @@ exerts on the - face; it points along the slip [u].t. The friction traction on t
 Solvers (interchangeable, the same CrackProblem in, the same FrictionResult out):
 
 - "pdas" (native): the problem is written in the point values w = (wn, wt), Jacobi
-  scaled to a unit diagonal and a unit right-hand side as in `contact.py`, and solved
+  scaled to a unit diagonal and a unit right-hand side as in `contact.py`
+  (`constraints.scaled_problem`), and solved
   by a primal-dual active set (semismooth Newton) method: each step fixes which points
   are in contact, which stick and which slip in which direction, solves the linear
   system of that guess (dense), and exchanges every point whose guess is violated.
@@ -42,7 +43,7 @@ itself (the slip rows read lam_t = mu lam_n sign(wt): a nonsymmetric linear solv
 which ends the iteration where all conditions hold. "newton" is that semismooth Newton
 method on the Coulomb law from the first step (Hueber, Stadler, Wohlmuth 2008), with
 nonsymmetric solves throughout. Either raises ContactSolverError when it does not
-converge.
+converge. The CrackProblem of a solve is built by `friction_setup.crack_problem`.
 """
 
 from __future__ import annotations
@@ -54,8 +55,8 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .contact import (FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_BACKUP, PDAS_MAX_ITER, ContactSolverError, QPResult,
-                      _inverse_map, _limited_blas)
+from .constraints import ContactSolverError, _inverse_map, scaled_problem
+from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_BACKUP, PDAS_MAX_ITER, QPResult, _limited_blas
 
 #: how Coulomb friction is solved (module docstring)
 FRICTION_METHODS = ("fixed-point", "newton")
@@ -111,7 +112,7 @@ class CrackProblem:
     def nn(self) -> int:
         return self.Gn.shape[1]
 
-    def point_form(self) -> "_PointForm":
+    def point_form(self) -> _PointForm:
         """The problem in the scaled point values (module docstring)."""
         m, mt = self.m, len(self.t_point)
         if self.Gn.shape != (m, m) or self.Gt.shape != (mt, mt) or self.S.shape != (m + mt, m + mt):
@@ -122,21 +123,13 @@ class CrackProblem:
             inv = _inverse_map(G, k) if k else None
             blocks.append(sp.identity(k, format="csr") if inv is None else sp.csr_matrix(inv))
         Ginv = sp.block_diag(blocks, format="csr")
-        A = (Ginv.T @ (Ginv.T @ self.S).T).T
-        c = Ginv.T @ self.b
-        diag = np.diag(A)
-        if np.any(diag <= 0.0):
-            raise ContactSolverError("the crack Schur complement is not positive definite: a part of the body is not held")
-        D = 1.0 / np.sqrt(diag)
-        A = D[:, None] * A * D[None, :]
-        A = 0.5 * (A + A.T)
-        c = D * c
+        A, c, D = scaled_problem(self.S, self.b, Ginv)
         beta = float(np.max(np.abs(c))) if len(c) else 0.0
         p = np.asarray(self.t_point, dtype=int)
         return _PointForm(A=A, c=c / beta if beta > 0 else c, D=D, beta=beta, m=m, p=p, Ginv=Ginv,
                           mu_s=self.mu[p] * D[m:] / D[p])
 
-    def scaled_threshold(self, pf: "_PointForm") -> np.ndarray:
+    def scaled_threshold(self, pf: _PointForm) -> np.ndarray:
         """Tresca: tau_i = g omega D_t / beta at the tangential values (scaled units)."""
         p = pf.p
         return np.asarray(self.threshold, dtype=float)[p] * self.weights[p] * pf.D[pf.m:] / pf.beta
@@ -408,7 +401,7 @@ def _solve(problem, solver, options, method, tol, max_iter, kkt_tol) -> Friction
         tau = np.zeros(mt)
         steps, iters = 0, 0
         prev_sets = None
-        for iters in range(1, max_iter + 1):
+        for iters in range(1, max_iter + 1):  # noqa: B007  (the count is reported after the loop)
             v, g, act, slip, s, raw = _tresca(pf, tau, act, slip, solver, options)
             steps += s
             lam = np.where(act, g[:m], 0.0)
@@ -491,120 +484,6 @@ def _result(problem, pf, v, g, act, slip, solver, iters, steps, method, raw, kkt
         z=z, jt=z[nn:], wt=wt, lam_t=lam_t, slip=slip.astype(int), t_point=pf.p, mu=problem.mu[pf.p],
         coulomb_iterations=iters, steps=steps, method=method, problem=problem,
     )
-
-
-# --------------------------------------------------------------------------- maps of the elements
-
-
-def constraint_points(disc, crack_mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(crack index, arc length s, quadrature weight) of every constrained value w_i.
-
-    Points are numbered like the normal jump space's dofs (the rows of its constraint
-    map). Facet P_p jumps: the p + 1 equispaced points of each edge, Newton-Cotes
-    weights. Displacement baselines: crack nodes (trapezoidal: half of each adjacent
-    edge, P1; Simpson: a sixth, P2) and, for P2, edge mid points (two thirds).
-    """
-    import ngsolve as ngs
-
-    space = disc.fes.components[disc.jn]
-    n = space.ndof
-    crack_of = np.full(n, -1, dtype=int)
-    s_of = np.zeros(n)
-    weight = np.zeros(n)
-    nodal = disc.constraint_map is not None
-    for k, crack in enumerate(crack_mesh.cracks):
-        for e in range(len(crack)):
-            L = crack.length[e]
-            edge_dofs = [d for d in space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(crack.edge[e])))]
-            if not nodal:
-                p = len(edge_dofs) - 1
-                for q, d in enumerate(edge_dofs):
-                    crack_of[d] = k
-                    s_of[d] = crack.s_mid[e] + ((q / p if p else 0.5) - 0.5) * L
-                    weight[d] += NEWTON_COTES[p][q] * L
-                continue
-            end_w = 0.5 if not edge_dofs else 1.0 / 6.0
-            for d in edge_dofs:
-                crack_of[d], s_of[d] = k, crack.s_mid[e]
-                weight[d] += (1.0 - 2 * end_w) * L
-            for v, sv in ((int(crack.va[e]), crack.s_mid[e] - 0.5 * L), (int(crack.vb[e]), crack.s_mid[e] + 0.5 * L)):
-                for d in space.GetDofNrs(ngs.NodeId(ngs.VERTEX, v)):
-                    if d >= 0:
-                        crack_of[d], s_of[d] = k, sv
-                        weight[d] += end_w * L
-    return crack_of, s_of, weight
-
-
-def tangential_point_map(disc, crack_mesh, normal_map: np.ndarray) -> np.ndarray:
-    """Gt_full: tangential jump dofs -> tangential values at the constraint points.
-
-    Where the tangential jump lives in the normal jump's space (peers, bdm, the
-    baselines) it is the normal map. TDNNS: the crack edges' HCurl copy u_e, whose
-    tangential trace on a crack edge is [u].t, a polynomial of degree k; it is
-    sampled at k + 1 Gauss points inside each edge (one side's evaluation: the trace
-    is single-valued) and extrapolated to the edge's k + 1 constraint points.
-    """
-    import ngsolve as ngs
-
-    if disc.jt is not None:
-        return normal_map
-    space_n = disc.fes.components[disc.jn]
-    space_t = disc.fes.components[disc.tangential]
-    mesh = crack_mesh.mesh
-    Gt = np.zeros((space_n.ndof, space_t.ndof))
-    gf = ngs.GridFunction(space_t)
-    for crack in crack_mesh.cracks:
-        dn = np.array([space_n.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))) for e in crack.edge], dtype=int)
-        dt = np.array([space_t.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))) for e in crack.edge], dtype=int)
-        p = dn.shape[1] - 1
-        if dt.shape[1] != p + 1:
-            raise ValueError(f"friction: element {disc.element!r}: {dt.shape[1]} tangential dofs per crack edge "
-                             f"against {p + 1} constraint points")
-        gauss = 0.5 * (np.polynomial.legendre.leggauss(p + 1)[0] + 1.0)
-        targets = np.linspace(0.0, 1.0, p + 1) if p else np.array([0.5])
-        # values at the Gauss points -> values at the targets (exact for degree p)
-        V = np.vander(gauss - 0.5, p + 1, increasing=True)
-        T = np.vander(targets - 0.5, p + 1, increasing=True)
-        extrap = T @ np.linalg.inv(V)  # (target, gauss)
-        pts = crack.a[:, None, :] + gauss[None, :, None] * (crack.b - crack.a)[:, None, :]  # (edge, gauss, 2)
-        flat = pts.reshape(-1, 2)
-        mp = mesh(flat[:, 0], flat[:, 1])
-        for j in range(p + 1):
-            vec = gf.vec.FV().NumPy()
-            vec[:] = 0.0
-            vec[dt[:, j]] = 1.0
-            vals = np.asarray(gf(mp)).reshape(len(crack), p + 1, 2)
-            tang = np.einsum("egi,ei->eg", vals, crack.tangent)  # (edge, gauss)
-            at_targets = tang @ extrap.T  # (edge, target)
-            for e in range(len(crack)):
-                Gt[dn[e], dt[e, j]] = at_targets[e]
-    return Gt
-
-
-def crack_problem(red, disc, crack_mesh, normal_map: np.ndarray, mu_per_crack, threshold=None) -> CrackProblem:
-    """The CrackProblem of a reduction with tangential unknowns (`condense(..., tangential=True)`).
-
-    `normal_map` is Gn (the QP's constraint map of the normal jumps), `mu_per_crack`
-    the Coulomb coefficients, `threshold` an optional Tresca threshold per crack
-    (stress units) instead of Coulomb.
-    """
-    system = red.system
-    if system.n_normal is None:
-        raise ValueError("crack_problem: the reduction has no tangential unknowns (condense with tangential=True)")
-    crack_of, s_of, weight = constraint_points(disc, crack_mesh)
-    Gt_full = tangential_point_map(disc, crack_mesh, normal_map)
-    cols = np.asarray(system.tangential_dofs, dtype=int)
-    sub = Gt_full[:, cols]
-    rows = np.flatnonzero(np.any(sub != 0.0, axis=1))
-    if len(rows) != len(cols):
-        raise ValueError(f"friction: element {disc.element!r}: the tangential jumps held at zero leave a non-square "
-                         "map to the constraint points")
-    mu = np.asarray(mu_per_crack, dtype=float)[np.maximum(crack_of, 0)]
-    g = None
-    if threshold is not None:
-        g = np.asarray(threshold, dtype=float)[np.maximum(crack_of, 0)]
-    return CrackProblem(S=red.S, b=red.b, Gn=np.asarray(normal_map, dtype=float), Gt=sub[rows], t_point=rows,
-                        weights=weight, mu=mu, threshold=g, crack=crack_of, s=s_of)
 
 
 def sample_states(normal_jump: np.ndarray, tangential_jump: np.ndarray, friction: float) -> np.ndarray:

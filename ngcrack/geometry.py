@@ -19,8 +19,8 @@ from collections import OrderedDict
 from contextlib import contextmanager
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 from netgen.geom2d import SplineGeometry
 from netgen.meshing import MeshingParameters
 
@@ -114,10 +114,6 @@ class CrackMesh:
         return self.mesh.Boundaries("|".join(crack_bc(c.index) for c in self.cracks))
 
 
-def _diameter(polygon: np.ndarray) -> float:
-    return float(np.max(np.linalg.norm(polygon[:, None, :] - polygon[None, :, :], axis=2)))
-
-
 def _param_on_edge(p, q, x, tol) -> float | None:
     """The parameter t in (0, 1) of x on the segment p-q, or None if x is not on it."""
     d = q - p
@@ -132,7 +128,7 @@ def _param_on_edge(p, q, x, tol) -> float | None:
 def normalizing_frame(scene: Scene) -> tuple[np.ndarray, float]:
     """(center, diameter) of the polygon: netgen meshes (x - center) / diameter."""
     poly = np.asarray(scene.polygon, dtype=float)
-    return 0.5 * (poly.min(axis=0) + poly.max(axis=0)), _diameter(poly)
+    return 0.5 * (poly.min(axis=0) + poly.max(axis=0)), scene.diameter
 
 
 def graded_polyline(pts: np.ndarray, tip_h: float, target_h: float, grading: float) -> np.ndarray:
@@ -180,7 +176,7 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
     crack_h = crack_h / scale if crack_h else crack_h
     scene_points = lambda pts: (np.asarray(pts, dtype=float) - center) / scale  # noqa: E731
     poly = scene_points(scene.polygon)
-    tol = ON_EDGE_RTOL * _diameter(poly)
+    tol = ON_EDGE_RTOL * scene.diameter / scale
     n = len(poly)
     # crack points that sit on the boundary are inserted into the polygon edges
     inserted: list[list[tuple[float, np.ndarray]]] = [[] for _ in range(n)]
@@ -320,7 +316,7 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     """
     maxh = maxh if maxh is not None else scene.maxh
     if maxh is None:
-        maxh = 0.1 * _diameter(np.asarray(scene.polygon, float))
+        maxh = 0.1 * scene.diameter
     tip_h = tip_h if tip_h is not None else scene.tip_h
     crack_h = crack_h if crack_h is not None else scene.crack_h
     grading = grading if grading is not None else (scene.grading or DEFAULT_GRADING)
@@ -378,7 +374,7 @@ def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> Cra
         cracks=cracks,
         tips=tips,
         polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
-        diameter=_diameter(np.asarray(scene.polygon, float)),
+        diameter=scene.diameter,
         maxh=float(maxh),
         tip_h=tip_h,
         quality=quality,
@@ -491,7 +487,7 @@ def crack_mesh_of(mesh: ngs.Mesh, scene: Scene, maxh: float, tip_h: float | None
     tips = frozenset(int(v) for c in cracks if len(c) for v in (c.va[0], c.vb[-1]) if int(v) not in bnd_vertices)
     return CrackMesh(mesh=mesh, points=points, triangles=triangles, cracks=cracks, tips=tips,
                      polylines=tuple(np.asarray(c.points, float) for c in scene.cracks),
-                     diameter=_diameter(np.asarray(scene.polygon, float)), maxh=float(maxh), tip_h=tip_h,
+                     diameter=scene.diameter, maxh=float(maxh), tip_h=tip_h,
                      quality=mesh_quality(points, triangles))
 
 

@@ -27,8 +27,8 @@ import dataclasses
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import scipy.sparse as sp
 
 from .elements import Discretization, Loads
@@ -95,7 +95,7 @@ class CondensedSystem:
     def n(self) -> int:
         return self.K.shape[0]
 
-    def without_contact(self) -> "CondensedSystem":
+    def without_contact(self) -> CondensedSystem:
         """The same system with the crack normal jumps treated as ordinary unknowns."""
         return CondensedSystem(
             disc=self.disc, K=self.K, F=self.F, contact=np.zeros(0, dtype=int), rest=np.arange(self.n),
@@ -103,7 +103,7 @@ class CondensedSystem:
             timings=dict(self.timings),
         )
 
-    def with_load(self, loads: Loads) -> "CondensedSystem":
+    def with_load(self, loads: Loads) -> CondensedSystem:
         """The same K with F rebuilt from `disc.f` as assembled now (a new load, same matrix).
 
         F = sign T^T (f_free + (E^T f)_free - A_fd x_fixed), as in `condense`, with E the
@@ -274,7 +274,7 @@ class ContactReduction:
             self._K_rc = sp.csr_matrix(sysm.K[sysm.rest][:, sysm.contact])
         return self._K_rc
 
-    def with_load(self, system: CondensedSystem) -> "ContactReduction":
+    def with_load(self, system: CondensedSystem) -> ContactReduction:
         """The reduction of `system` (same K, new F) from this one's factorization and S.
 
         One solve: x0 = K_rr^{-1} F_r and b = F_c - K_cr x0; S, the factorization and

@@ -6,10 +6,24 @@ here and as `nc.Study`, deprecated); the ipywidgets view is
 module still gives).
 """
 
-from .explorer import (FIELDS, LEVELS, SLIDERS, Drawing, ParameterLoads, Study, contact_length, draw, explore,
-                       friction_supported, geometry_key, load_structure, scaled_loads, stress_values)
-from .explorer.model import CLOSED_RTOL
+from .explorer import (
+    FIELDS,
+    LEVELS,
+    SLIDERS,
+    Drawing,
+    ParameterLoads,
+    Study,
+    contact_length,
+    draw,
+    explore,
+    friction_supported,
+    geometry_key,
+    load_structure,
+    scaled_loads,
+    stress_values,
+)
 from .explorer.figure import DEFORMED_FRACTION, FIGURE_DPI, FIGURE_SIZE, PROFILE_FLOOR, STATE_COLORS
+from .explorer.model import CLOSED_RTOL
 
 _ParameterLoads = ParameterLoads
 

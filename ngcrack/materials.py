@@ -32,18 +32,19 @@ class Compliance:
         """A(I) = spherical * I: zero for plane strain at nu = 1/2 (incompressible)."""
         return self.c_dev - 2.0 * self.c_tr
 
-    def with_spherical_floor(self, floor: float) -> "Compliance":
+    def with_spherical_floor(self, floor: float) -> Compliance:
         """The same compliance with A(I) at least `floor * c_dev` (see elements/base.py)."""
         if self.spherical >= floor * self.c_dev:
             return self
         return Compliance(c_dev=self.c_dev, c_tr=0.5 * (1.0 - floor) * self.c_dev)
 
     def apply(self, sigma):
-        """A sigma for an NGSolve 2x2 matrix CoefficientFunction (or a numpy 2x2 array)."""
+        """A sigma for an NGSolve 2x2 matrix CoefficientFunction, or a numpy array of 2x2
+        matrices (shape (..., 2, 2): one stress, or many at once)."""
         import ngsolve as ngs
 
         if isinstance(sigma, np.ndarray):
-            return self.c_dev * sigma - self.c_tr * np.trace(sigma) * np.eye(2)
+            return self.c_dev * sigma - self.c_tr * np.trace(sigma, axis1=-2, axis2=-1)[..., None, None] * np.eye(2)
         return self.c_dev * sigma - self.c_tr * ngs.Trace(sigma) * ngs.Id(2)
 
 

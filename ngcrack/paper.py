@@ -33,14 +33,16 @@ The paper stopped at 937 unknowns; the full study here reaches 3e5 in its rows (
 
 from __future__ import annotations
 
+import functools
 import math
+import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
-from .study import QUANTITIES, QUANTITY_LABELS, fitted_rates, markdown_table, sweep
+from .sweeps import QUANTITIES, QUANTITY_LABELS, check_sweep, fitted_rates, markdown_table, sweep
 
 #: (scene, Poisson ratio) of the paper's two examples
 PAPER_SCENES = (("paper-1", 0.29), ("paper-2", 0.49))
@@ -146,11 +148,23 @@ def _table(df, q: str):
     return df[list(cols)].rename(columns=cols).reset_index(drop=True)
 
 
+def _atomic(path: Path, write: Callable[[Path], object]) -> Path:
+    """Write `path` through a temporary file beside it renamed into place: never half-written."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
 def _write_table(t, stem: Path, heading: str, note: str) -> list[Path]:
-    t.to_csv(stem.with_suffix(".csv"), index=False, float_format="%.6g")
-    md = stem.with_suffix(".md")
-    md.write_text(f"## {heading}\n\n{note}\n\n" + markdown_table(t))
-    return [stem.with_suffix(".csv"), md]
+    csv = _atomic(stem.with_suffix(".csv"), lambda tmp: t.to_csv(tmp, index=False, float_format="%.6g"))
+    md = _atomic(stem.with_suffix(".md"), lambda tmp: tmp.write_text(f"## {heading}\n\n{note}\n\n" + markdown_table(t)))
+    return [csv, md]
 
 
 COMPARISON_NOTE = (
@@ -167,7 +181,7 @@ def comparison_table(elements, sizes, reference_maxh):
     """`study.comparison_errors` of paper-1 (nu = 0.29) for every element, stacked."""
     import pandas as pd
 
-    from .study import comparison_errors
+    from .sweeps import comparison_errors
 
     nu = dict(PAPER_SCENES)["paper-1"]
     frames = [comparison_errors("paper-1", e, sizes, reference_maxh, nu=nu) for e in elements]
@@ -199,6 +213,22 @@ def _adaptive_runs(out: Path, level: dict, elements, ref_h: float, jobs: int, da
     return df.assign(element=[f"{e} (adaptive)" for e in df["element"]])
 
 
+def _check_request(quick: bool, elements, sizes, ref_h: float, ref_given: bool, jobs) -> None:
+    """Refuse a bad request before anything is written, naming the option the user gave."""
+    from . import scenes
+
+    for name, nu in PAPER_SCENES:  # the rows' own checks (elements, sizes, size guard) first
+        check_sweep(scenes.load(name), elements=elements, maxh=sizes, nu=[nu], jobs=jobs)
+    finest = min(sizes)
+    if ref_h > finest * (1 + 1e-12):
+        if ref_given:
+            raise ValueError(f"reference_maxh = {ref_h:g}: must be at most the finest maxh ({finest:g})")
+        raise ValueError(f"maxh = {finest:g}: finer than the reference mesh of the {'quick' if quick else 'full'} "
+                         f"study (maxh {ref_h:g}); give reference_maxh (--reference-maxh) at most {finest:g} too")
+    for name, nu in PAPER_SCENES:
+        check_sweep(scenes.load(name), elements=elements, maxh=sizes, nu=[nu], reference_maxh=ref_h, jobs=jobs)
+
+
 def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, reference_maxh=None, jobs: int = 1,
         dask=None, progress: bool = True, log: Callable[[str], None] = print) -> PaperResult:
     """Run the study and write its tables and figures to `out` (created if missing).
@@ -218,7 +248,8 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
     sizes = tuple(maxh) if maxh is not None else level.maxh
     ref_h = reference_maxh if reference_maxh is not None else level.reference_maxh
     elements = list(elements) if elements is not None else mixed_elements()
-    out.mkdir(exist_ok=True)
+    _check_request(quick, elements, sizes, ref_h, reference_maxh is not None, jobs)
+    out.mkdir(exist_ok=True)  # only once the request is sound: a refusal leaves no folder
     files: dict[str, list[Path]] = {"sweeps": [], "tables": [], "figures": []}
 
     frames = []
@@ -263,8 +294,9 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
             path = out / f"fig{fig_no}_{name}_{kind}.png"
             pts = {q: (paper_triangles(PAPER_TABLES[q][0]), PAPER_TABLES[q][1]) for q in qs} if name == "paper-1" else None
             labels = " and ".join(QUANTITY_LABELS[q] for q in qs)
-            plots.plot_convergence(sub, qs, path, paper_points=pts, guides=guides, x="n_elements",
-                                   title=f"Figure {fig_no} analog: {labels}, {name} (Poisson ratio {nu:g})")
+            title = f"Figure {fig_no} analog: {labels}, {name} (Poisson ratio {nu:g})"
+            _atomic(path, functools.partial(plots.plot_convergence, sub, qs, paper_points=pts, guides=guides,
+                                            x="n_elements", title=title))
             files["figures"].append(path)
             fig_no += 1
 
@@ -273,8 +305,8 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
     for name, nu in PAPER_SCENES:
         sols = [solve(scenes.load(name).with_(nu=nu), element=e, maxh=h_iso) for e in elements]
         path = out / f"fig{fig_no}_{name}_sigma_nu.png"
-        plots.plot_sigma_nu_isolines(sols, path, title=rf"Figure {fig_no} analog: isolines of $\sigma_\nu$, {name} "
-                                                       rf"(Poisson ratio {nu:g})")
+        title = rf"Figure {fig_no} analog: isolines of $\sigma_\nu$, {name} (Poisson ratio {nu:g})"
+        _atomic(path, functools.partial(plots.plot_sigma_nu_isolines, sols, title=title))
         files["figures"].append(path)
         fig_no += 1
 
@@ -284,7 +316,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
     timed = pd.concat([df, adaptive], ignore_index=True) if adaptive is not None else df
     for q in QUANTITIES:
         path = out / f"time_{q}.png"
-        plots.plot_error_vs_time(timed, q, path)
+        _atomic(path, functools.partial(plots.plot_error_vs_time, timed, q))
         files["figures"].append(path)
 
     # the paper's Tables 1-4 on a common footing (paper-1)
@@ -294,12 +326,13 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
     comp = comparison_table(elements, comp_sizes, comp_ref)
     files["tables"] += _write_table(comp, out / "comparison", "paper-1 against the paper's Tables 1-4", COMPARISON_NOTE)
     path = out / "fig9_comparison.png"
-    plots.plot_paper_comparison(comp, {q: (paper_triangles(d), e) for q, (d, e) in PAPER_TABLES.items()}, path)
+    _atomic(path, lambda tmp: plots.plot_paper_comparison(
+        comp, {q: (paper_triangles(d), e) for q, (d, e) in PAPER_TABLES.items()}, tmp))
     files["figures"].append(path)
 
     log(f"paper study ({'quick' if quick else 'full'}): elements {', '.join(elements)}; maxh "
         f"{', '.join(f'{h:g}' for h in sizes)}; reference maxh {ref_h:g}")
-    for kind, paths in files.items():
+    for paths in files.values():
         for p in paths:
             log(f"wrote {p}")
     return PaperResult(rows=df, rates=rates, files=files)

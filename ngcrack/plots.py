@@ -65,8 +65,7 @@ def element_displacements(sol, sigma: np.ndarray | None = None) -> tuple[np.ndar
     sig = centroid_stress(sol, mp) if sigma is None else sigma
     mat = sol.scene.material
     A = compliance(mat.E, mat.nu, mat.plane)
-    tr = sig[:, 0, 0] + sig[:, 1, 1]
-    grad = A.c_dev * sig - A.c_tr * tr[:, None, None] * np.eye(2)[None]
+    grad = A.apply(sig)
     if sol.rotation is not None:
         r = np.asarray(sol.rotation(mp)).reshape(-1)
         grad = grad + r[:, None, None] * np.array([[0.0, -1.0], [1.0, 0.0]])[None]
@@ -202,7 +201,7 @@ def plot_convergence(df, quantities, path=None, title: str | None = None, paper_
     thin grey lines. x: the abscissa column, "ndof_total" (unknowns) or "n_elements"
     (triangles, a footing shared with other counts of unknowns).
     """
-    from .study import QUANTITY_LABELS, fitted_rates
+    from .sweeps import QUANTITY_LABELS, fitted_rates
 
     fig = None
     if ax is None:
@@ -248,7 +247,7 @@ def plot_convergence(df, quantities, path=None, title: str | None = None, paper_
 
 def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, time_column: str = "time_total"):
     """Log-log error of one quantity against wall-clock run time: one panel per scene, one line per element."""
-    from .study import QUANTITY_LABELS
+    from .sweeps import QUANTITY_LABELS
 
     scenes = list(dict.fromkeys(df["scene"]))
     fig, axes = _figure(path, nrows=1, ncols=len(scenes), figsize=(5.2 * len(scenes), 4.4), squeeze=False,
@@ -300,7 +299,7 @@ def plot_sigma_nu_isolines(solutions, path=None, levels: int = 24, title: str | 
     bounds = np.linspace(lo, hi, levels + 1)
     norm = TwoSlopeNorm(vmin=lo, vcenter=0.0, vmax=hi)
     cf = None
-    for ax, sol, (verts, tris, snn, nu) in zip(axes[:, 0], solutions, data):
+    for ax, sol, (verts, tris, snn, _nu) in zip(axes[:, 0], solutions, data):
         tri = Triangulation(verts[:, 0], verts[:, 1], tris)
         cf = ax.tricontourf(tri, snn, levels=bounds, cmap="RdBu_r", norm=norm, extend="both")
         ax.tricontour(tri, snn, levels=bounds, colors="k", linewidths=0.25)
@@ -332,7 +331,7 @@ def plot_paper_comparison(df, paper_points: dict, path=None, title: str | None =
     open markers); rows the element warned about are circled in red. paper_points:
     {quantity: (triangles, err)}, the paper's tables converted (grey crosses).
     """
-    from .study import QUANTITIES, QUANTITY_LABELS
+    from .sweeps import QUANTITIES, QUANTITY_LABELS
 
     fig, axes = _figure(path, nrows=2, ncols=2, figsize=(11, 8.5), constrained_layout=True)
     for ax, q in zip(axes.ravel(), QUANTITIES):

@@ -10,14 +10,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .friction import sample_states
 from .geometry import CrackEdges, CrackMesh
-
 
 
 def _local_coordinate(crack_mesh: CrackMesh) -> ngs.CoefficientFunction:
@@ -287,9 +286,9 @@ def component_forces(system, y: np.ndarray, comp: int, G) -> np.ndarray:
 
     For a jump component with nodal constraint points (the baselines), these are the
     forces that the crack faces exert at those points, in the direction the component
-    carries (as `contact.discrete_contact_forces` for the normal one).
+    carries (as `constraints.discrete_contact_forces` for the normal one).
     """
-    from .contact import _inverse_map
+    from .constraints import _inverse_map
 
     rng = system.disc.fes.Range(comp)
     dofs, rows = _component_rows(system, comp)
@@ -305,9 +304,9 @@ def tributary_lengths(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndar
     return np.linalg.solve(np.asarray(G, dtype=float).T, m)
 
 
-def lumped_normal_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndarray,
-                           forces: np.ndarray, w: np.ndarray | None = None) -> list[np.ndarray]:
-    """The crack-face normal stress at the edge mid points from the discrete contact forces.
+def lumped_traction(jump_space: ngs.FESpace, crack_mesh: CrackMesh, G: np.ndarray,
+                    forces: np.ndarray, w: np.ndarray | None = None) -> list[np.ndarray]:
+    """A crack-face traction component at the edge mid points from discrete nodal forces (normal or shear).
 
     For elements whose constraint points are nodes of the jump space (h1p1: the crack
     vertices; h1p2: vertices and edge mid points), each contact force lam_i acts on the

@@ -28,11 +28,10 @@ import math
 import warnings
 from pathlib import Path
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .elements import ELEMENTS, MIXED, Loads
-from .materials import compliance
 from .scene import BoundaryCondition, Crack, Material, Scene
 from .solve import solve
 
@@ -153,29 +152,15 @@ def locking_table(elements=ELEMENTS, nus=NUS, maxh: float = 0.1, paper_maxh: flo
 
 
 def scaled_scene(scene: Scene, E: float = 1.0, load: float = 1.0, size: float = 1.0) -> Scene:
-    """The scene with E, all loads and all lengths multiplied by the given factors.
-
-    Body forces are scaled by load / size so that stresses scale with `load`; the
-    displacements then scale with load * size / E.
-    """
-    bf = tuple(v * load / size for v in scene.body_force) if scene.body_force else None
-    boundary = {
-        k: BoundaryCondition(b.type, tuple(v * load for v in b.value)) if b.type == "traction" else
-        (BoundaryCondition(b.type, tuple(v * load * size / E for v in b.value)) if b.type == "displacement" else b)
-        for k, b in scene.boundary.items()
-    }
-    return scene.with_(
-        E=scene.material.E * E,
-        polygon=tuple((x * size, y * size) for x, y in scene.polygon),
-        cracks=tuple(Crack(tuple((x * size, y * size) for x, y in c.points)) for c in scene.cracks),
-        body_force=bf, boundary=boundary,
-        **{k: getattr(scene, k) * size for k in ("maxh", "tip_h", "crack_h") if getattr(scene, k)},
-    )
+    """The scene with E, all loads and all lengths multiplied by the given factors
+    (:meth:`Scene.scaled`: the displacements then scale with load * size / E)."""
+    return scene.scaled(E=E, load=load, size=size)
 
 
 def scale_table(elements=MIXED, scene_name: str = "paper-1", factors=None):
     """Deviation from the scaling laws, KKT residuals and condition estimates."""
     import pandas as pd
+
     from . import scenes
 
     base = scenes.load(scene_name)
@@ -222,6 +207,7 @@ def strip_scene(aspect: float = 100.0, p: float = 1.0) -> Scene:
 def extreme_table(elements=MIXED, aspect: float = 100.0, tip_ratio: float = 1e-4):
     """The 1:100 strip (exact uniform stress) and griffith with tip_h = tip_ratio * maxh."""
     import pandas as pd
+
     from . import scenes
 
     rows = []

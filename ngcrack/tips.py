@@ -1,6 +1,6 @@
 """Fracture parameters at the crack tips: K_I, K_II and G by the domain (equivalent-domain) integral.
 
-Frame (DESIGN.md section 3). At a crack end inside the body, e1 is the unit tangent of
+The tip frame. At a crack end inside the body, e1 is the unit tangent of
 the crack's tip segment pointing out of the crack, e2 is e1 turned by +90 degrees, and
 (r, theta) are polar coordinates about the tip in that frame (theta = +-pi on the crack
 faces, + on the side e2 points into). K_I and K_II are defined by
@@ -65,8 +65,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from .materials import compliance as _compliance
 
@@ -251,7 +251,7 @@ def tip_labels(scene) -> list[str]:
     from .geometry import ON_EDGE_RTOL
 
     poly = np.asarray(scene.polygon, dtype=float)
-    diameter = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
+    diameter = scene.diameter
     out = []
     for k, crack in enumerate(scene.cracks):
         pts = np.asarray(crack.points, dtype=float)
@@ -358,7 +358,7 @@ def _domain_terms(sol, tip: Tip, radius: float, A, kappa: float, mu: float, body
     for mode in (1, 2):
         s11, s22, s12 = williams_stress(r, theta, mode)
         sig_aux = np.stack([np.stack([s11, s12], -1), np.stack([s12, s22], -1)], -2)
-        eps_aux = A.c_dev * sig_aux - A.c_tr * (s11 + s22)[:, None, None] * np.eye(2)
+        eps_aux = A.apply(sig_aux)
         dua.append(np.column_stack(williams_dx1(r, theta, mode, kappa, mu)))
         terms.append((dua[-1] * sig_gq).sum(axis=1) + (du1 * (sig_aux @ gql[:, :, None])[:, :, 0]).sum(axis=1)
                      - (sig * eps_aux).sum(axis=(1, 2)) * gql[:, 0])

@@ -9,9 +9,9 @@
 #
 # **Setting.** `paper-1`: $\Omega = (0,4)\times(0,1)$ cut through by the crack $y = 1/2$,
 # $\nu = 0.29$; `paper-2`: the interior crack $(1,3)\times\{1/2\}$, $\nu = 0.49$; $E = 206900$,
-# plane strain, $f = (0,-1)$ (ngcrack's reading of the paper, see the README). Errors
+# plane strain, $f = (0,-1)$ (ngcrack's reading of the paper: the user guide, "Scenes"). Errors
 # against a finer reference mesh of the same element; rates as least-squares slopes
-# (`ngcrack.study`: `rate_dof` is the paper's convention, $e \sim \mathrm{dof}^{-r}$;
+# (`ngcrack.sweeps`: `rate_dof` is the paper's convention, $e \sim \mathrm{dof}^{-r}$;
 # `rate_h` has $e \sim h^r$, about twice as large).
 #
 # This is `ngcrack paper --quick` from Python. Set `NGCRACK_QUICK=1` for a smoke run on
@@ -75,7 +75,7 @@ for name in ("fig7_paper-1_sigma_nu", "fig8_paper-2_sigma_nu"):
 
 # %%
 from_tables = paper.paper_rates_from_tables()
-pivot = rates.pivot_table(index=["scene", "element"], columns="quantity", values="rate_dof")[list(nc.study.QUANTITIES)]
+pivot = rates.pivot_table(index=["scene", "element"], columns="quantity", values="rate_dof")[list(nc.sweeps.QUANTITIES)]
 pivot.loc[("paper (text)", "example 1"), :] = [paper.PAPER_RATES[q] for q in pivot.columns]
 pivot.loc[("paper (tables)", "example 1"), :] = [from_tables[q] for q in pivot.columns]
 pivot.round(2)

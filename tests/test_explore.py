@@ -421,13 +421,15 @@ def test_estimate_sums_in_numpy_as_ngsolve_integrates(monkeypatch, element, crac
     the point search (the path kept for curved meshes). paper-1: a body force, a clamped
     edge, a crack partly in contact."""
     from ngcrack import estimate as est
+    from ngcrack import local_fields
+    from ngcrack.pipeline import scene_loads
 
     model = nc.Explorer("paper-1", element, maxh=0.2, crack_model=crack_model)
-    sol, loads = model.solution, model._disc[2].loads
+    sol, loads = model.solution, scene_loads(model.scene)
     fast = est.estimate(sol, loads, crack_model)
     again = est.estimate(sol, loads, crack_model)  # the mesh's topology and quadrature kept
     monkeypatch.setattr(est, "_quadrature", lambda cmesh, top: None)
-    monkeypatch.setattr(est, "_element_mesh_points", lambda cmesh, top, lam: None)
+    monkeypatch.setattr(local_fields, "_element_mesh_points", lambda cmesh, top, lam: None)
     monkeypatch.setattr(est, "_topology", est._Topology.build)
     slow = est.estimate(sol, loads, crack_model)
     assert np.max(np.abs(fast.eta - slow.eta)) <= 1e-12 * np.max(slow.eta)

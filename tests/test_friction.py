@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -28,7 +28,7 @@ SHEAR_RTOL = {"peers": 0.01, "bdm": 0.01, "tdnns": 0.01, "h1p1": 0.1, "h1p2": 0.
 ROUND_OFF = 1e-10
 
 
-@lru_cache(maxsize=None)
+@cache
 def inclined(element: str, mu: float, load: float = -1.0):
     return nc.solve(inclined_crack(angle=ANGLE, load=load).with_(friction=mu), element=element)
 
@@ -261,12 +261,11 @@ def test_sweep_over_friction_resumes(tmp_path):
 def test_bad_friction_options_refused_before_meshing(options, field, monkeypatch):
     import importlib
 
-    solve_module = importlib.import_module("ngcrack.solve")  # the module (ngcrack.solve is also the function)
 
     def no_mesh(*args, **kwargs):
         raise AssertionError("meshed before the options were checked")
 
-    monkeypatch.setattr(solve_module, "make_mesh", no_mesh)
+    monkeypatch.setattr(importlib.import_module("ngcrack.pipeline"), "make_mesh", no_mesh)
     with pytest.raises(ValueError, match=field):
         nc.solve(nc.scenes.load("paper-1").with_(friction=0.5), element="bdm", **options)
 

@@ -30,6 +30,7 @@ NOTEBOOKS = [
     ("09-explore.py", "Unilateral contact: closed over", False),
     ("08-friction.py", "Friction: the inclined crack slips below", False),
     ("10-adaptivity.py", "Adaptive bdm: sliding error", False),
+    ("11-crack-growth.py", "Wing cracks: start at lambda within", False),
 ]
 
 

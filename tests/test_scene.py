@@ -5,8 +5,7 @@ import math
 import pytest
 
 from ngcrack import scenes
-from ngcrack.scene import (GEOMETRY_RTOL, BoundaryCondition, Crack, Material, Scene,
-                           SceneError)
+from ngcrack.scene import GEOMETRY_RTOL, BoundaryCondition, Crack, Material, Scene, SceneError
 
 SQUARE = [[0, 0], [4, 0], [4, 1], [0, 1]]
 LABELS = ["bottom", "right", "top", "left"]
@@ -413,3 +412,42 @@ def test_dataclasses_validate_on_construction():
     with pytest.raises(SceneError, match="zero length"):
         Crack([[0, 0], [0, 0]])
     assert GEOMETRY_RTOL < 1e-6
+
+
+def test_scaled_scene_keeps_friction_and_scales_every_length_and_load():
+    """Scene.scaled (one function, also behind stability.scaled_scene): lengths by size,
+    E by E, tractions by load, displacements by load*size/E, each crack's friction kept."""
+    from ngcrack.stability import scaled_scene
+
+    s = scenes.load("paper-2").with_(friction=0.4, maxh=0.1)
+    s = s.with_(boundary={**s.boundary, "bottom": {"type": "displacement", "value": [0.0, 1e-3]}})
+    t = s.scaled(E=2.0, load=3.0, size=5.0)
+    assert scaled_scene(s, E=2.0, load=3.0, size=5.0) == t
+    assert [c.friction for c in t.cracks] == [0.4] * len(s.cracks)
+    assert t.diameter == pytest.approx(5.0 * s.diameter, rel=1e-14)
+    assert t.maxh == pytest.approx(0.5, rel=1e-14)
+    assert t.material.E == pytest.approx(2.0 * s.material.E, rel=1e-14)
+    assert t.boundary["bottom"].value[1] == pytest.approx(1e-3 * 3.0 * 5.0 / 2.0, rel=1e-14)
+    for lab, bc in s.boundary.items():
+        if bc.type == "traction":
+            assert t.boundary[lab].value == pytest.approx(tuple(3.0 * v for v in bc.value), rel=1e-14)
+    with pytest.raises(SceneError, match=r"scaled\.size"):
+        s.scaled(size=0.0)
+
+
+def test_diameter_is_the_farthest_vertex_pair():
+    """The one polygon diameter (convex hull, chunked) against the plain pairwise maximum."""
+    import numpy as np
+
+    from ngcrack.scene import diameter
+
+    rng = np.random.default_rng(3)
+    for n in (3, 4, 17, 2500):
+        P = rng.normal(size=(n, 2))
+        brute = max(np.hypot(*(P[i] - P[j])) for i in range(min(n, 300)) for j in range(min(n, 300)))
+        if n <= 300:
+            assert diameter(P) == pytest.approx(brute, rel=1e-15)
+        else:
+            full = float(np.max(np.hypot(P[:, None, 0] - P[None, :, 0], P[:, None, 1] - P[None, :, 1])))
+            assert diameter(P) == pytest.approx(full, rel=1e-15)
+    assert scenes.load("paper-2").diameter == pytest.approx(math.hypot(4, 1), rel=1e-15)

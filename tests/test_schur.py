@@ -42,7 +42,7 @@ def report(*args):
     print("[schur]", *args)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def system(scene: str, element: str, maxh: float = 0.1, nu: float | None = None):
     sc = scenes.load(scene)
     if nu is not None:
@@ -54,7 +54,7 @@ def system(scene: str, element: str, maxh: float = 0.1, nu: float | None = None)
     return condense(disc, loads)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def reference(scene: str, element: str):
     sysm = system(scene, element)
     return schur_complement(sysm.K, sysm.F, sysm.rest, sysm.contact, linear_solver="superlu", method="columns")

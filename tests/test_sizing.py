@@ -19,7 +19,6 @@ import warnings
 from pathlib import Path
 
 import ngsolve as ngs
-import numpy as np
 import pytest
 
 import ngcrack as nc

@@ -11,7 +11,7 @@ What is checked, and against what:
 - the KKT conditions of the crack QP and of the crack profiles (paper-1, paper-2);
 - the QP solvers agree with each other and with an independent NNLS solve;
 - bad options are refused up front, scenes without a crack or body force build neither,
-  and the `solve --json` contract of DESIGN.md section 3.
+  and the `solve --json` contract.
 
 Run with `-s` to see the measured numbers (lines starting with "[solver]").
 The mixed elements of the paper (peers, bdm); tdnns and the baselines have test files of their own.
@@ -25,12 +25,11 @@ import json
 import math
 import time
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 import scipy.linalg as sla
 import scipy.optimize as sopt
-from netgen.meshing import NgException
 
 import ngcrack.scenes as scenes
 from ngcrack.contact import solve_qp
@@ -91,7 +90,7 @@ def fmt(v):
     return "[" + ", ".join(f"{x:.3g}" for x in v) + "]"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def cached(name, element, maxh=None, qp_solver="clarabel", crack_model="contact"):
     return solve(scenes.load(name), element=element, maxh=maxh, qp_solver=qp_solver, crack_model=crack_model)
 

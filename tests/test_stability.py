@@ -4,21 +4,21 @@ from __future__ import annotations
 
 import functools
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 
 import ngcrack.scenes as scenes
+from ngcrack import stability
 from ngcrack.contact import ContactSolverError
 from ngcrack.elements import MIXED, Loads
 from ngcrack.scene import SceneError
 from ngcrack.solve import SolveError, solve
-from ngcrack import stability
 
 NEAR_HALF = (0.49, 0.4999, 0.49999, 0.5 - 1e-8, 0.5)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def mms(element: str, nu: float) -> dict:
     return stability.manufactured_errors(element, nu, maxh=0.2)
 
@@ -28,7 +28,7 @@ def test_mixed_elements_are_flat_up_to_one_half(element):
     """Errors for nu in [0.49, 1/2] (1/2 included) stay within 10% of each other."""
     for key in ("error_u", "error_sigma"):
         errs = [mms(element, nu)[key] for nu in NEAR_HALF]
-        print(f"{element} {key}: {['%.4e' % e for e in errs]}")
+        print(f"{element} {key}: {[f'{e:.4e}' for e in errs]}")
         assert max(errs) <= 1.10 * min(errs)
         assert max(errs) <= 1.25 * mms(element, 0.3)[key]
 
@@ -97,7 +97,7 @@ def test_kkt_and_conditioning_across_scales(scale_rows):
     assert scale_rows["kkt_max_tension"].max() <= 1e-6
     assert scale_rows["qp_kkt"].max() <= 1e-9
     # the Jacobi-scaled condition numbers do not depend on E, load or size
-    for element, g in scale_rows.groupby("element"):
+    for _element, g in scale_rows.groupby("element"):
         for col in ("cond_K", "cond_S"):
             assert np.all(np.isfinite(g[col]))
             assert g[col].max() <= 2.0 * g[col].min()  # the estimator is randomized

@@ -22,8 +22,8 @@ import sys
 import time
 import warnings
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -271,6 +271,22 @@ def test_bad_sweep_inputs_are_refused(tmp_path):
     bad.write_text("a,b\n1,2\n")
     with pytest.raises(ValueError, match="columns"):
         sweep("paper-2", elements=["bdm"], maxh=[0.4], out=bad)
+
+
+def test_friction_is_never_dropped_silently(tmp_path):
+    """Asked for with a crack model that has none: refused; a scene's own: a warning, rows record 0."""
+    with pytest.raises(ValueError, match="friction = 0.5: friction acts only with crack_model = 'contact'"):
+        sweep("paper-2", maxh=[0.4], friction=[0.0, 0.5], solve_options={"crack_model": "free"})
+    rough = scenes.load("paper-2").with_(friction=0.3)
+    with pytest.warns(UserWarning, match=r"friction \(0.3\) is not applied with crack_model = 'bonded'"):
+        df = sweep(rough, maxh=[0.4], solve_options={"crack_model": "bonded"}, out=tmp_path / "b.csv")
+    assert list(df["friction"]) == [0.0] and list(df["crack_model"]) == ["bonded"]
+    assert list(study.read_results(tmp_path / "b.csv")["friction"]) == [0.0]
+    # with contact the same scene's friction is applied and recorded
+    closed = scenes.load("inclined-compression")  # closed under compression: the faces slide
+    df = sweep(closed, maxh=[8.0], friction=[0.0, 0.3]).set_index("friction")
+    assert df.loc[0.3, "max_slip"] < 0.7 * df.loc[0.0, "max_slip"]  # friction holds the faces back (0.48)
+    assert df.loc[0.3, "kkt_friction"] < 1e-10
 
 
 # ---------------------------------------------------------------------- resume

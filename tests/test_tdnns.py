@@ -9,8 +9,8 @@ from __future__ import annotations
 import functools
 import math
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 
 import ngcrack.scenes as scenes
@@ -28,7 +28,7 @@ def _l2(cf, mesh):
     return math.sqrt(ngs.Integrate(ngs.InnerProduct(cf, cf), mesh, order=8))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def manufactured(order: int, nu: float, maxh: float):
     u, sigma, f = _mms_fields(nu)
     scene = Scene(name="mms", polygon=((0, 0), (1, 0), (1, 1), (0, 1)), labels=("b", "r", "t", "l"),
@@ -67,7 +67,7 @@ def test_griffith_opening_within_5_percent(order):
     assert res["error_opening"] <= 0.05  # measured 1.0% (order 1), 1.0% (order 2)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def paper(name: str, element: str, order=None, maxh: float = 0.1):
     return solve(scenes.load(name), element=element, maxh=maxh, **({"order": order} if order else {}))
 

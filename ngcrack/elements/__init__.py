@@ -8,8 +8,8 @@ bilinear form is assembled with static condensation; `hybrid.py` takes it from t
 
 from __future__ import annotations
 
-from .base import Discretization, Loads
 from . import bdm, h1, peers, tdnns
+from .base import Discretization, Loads
 
 FAMILIES = {
     "peers": peers.build,
@@ -21,15 +21,16 @@ FAMILIES = {
 #: the locking-free mixed elements (the baselines h1p1, h1p2 are displacement elements)
 MIXED = ("peers", "bdm", "tdnns")
 ELEMENTS = tuple(FAMILIES)
-#: families that take an `order`
-ORDERED = ("tdnns",)
+#: families that take an `order`, and the orders each has
+ORDERS = {"bdm": bdm.ORDERS, "tdnns": tdnns.ORDERS}
+ORDERED = tuple(ORDERS)
 
 
 def build(name: str, crack_mesh, material, loads: Loads, order: int | None = None) -> Discretization:
     """Build the discretization of element family `name` (one of ELEMENTS).
 
-    `order` selects the polynomial order where a family has several (tdnns); the
-    families of fixed order (peers, bdm) accept only None.
+    `order` selects the polynomial order where a family has several (bdm, tdnns); the
+    families of fixed order (peers) accept only None.
     """
     try:
         family = FAMILIES[name]
@@ -42,4 +43,4 @@ def build(name: str, crack_mesh, material, loads: Loads, order: int | None = Non
     return family(crack_mesh, material, loads, order=order)
 
 
-__all__ = ["Discretization", "Loads", "ELEMENTS", "MIXED", "ORDERED", "build"]
+__all__ = ["Discretization", "Loads", "ELEMENTS", "MIXED", "ORDERED", "ORDERS", "build"]

@@ -1,8 +1,8 @@
 """The hybridized Hellinger-Reissner form with weakly imposed symmetry (PEERS and BDM).
 
 Unknowns on each triangle T (all element-local, removed by static condensation):
-stress rows sigma_1, sigma_2 (broken H(div)), displacement u (P0^2) and, for BDM, the
-rotation r (P0). Global unknowns: the facet displacement trace u_hat (one vector
+stress rows sigma_1, sigma_2 (broken H(div)), displacement u (P0^2; P_{k-1}^2 for BDM_k)
+and, for BDM, the rotation r (P0; P_{k-1} for BDM_k). Global unknowns: the facet displacement trace u_hat (one vector
 polynomial per edge), the PEERS rotation (continuous P1) and, on crack edges, the jump
 j = jn nu + jt t. The crack's minus side (the element whose outward normal is nu) sees
 the trace u_hat - j, so that j = u+ - u- = [u].
@@ -21,11 +21,11 @@ crack; the test function of jn, after the sign flip in `hybrid.py`, gives the mu
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
 from ..materials import Compliance
@@ -105,7 +105,7 @@ class Discretization:
     facet_order: int
     fields: Callable[[ngs.GridFunction], dict[str, ngs.CoefficientFunction]]
     built: list[str]
-    boundary_values: Callable[[ngs.GridFunction, "Loads"], None]
+    boundary_values: Callable[[ngs.GridFunction, Loads], None]
     roller_pairs: Callable[[frozenset], list]
     definite: bool = True
     sign: float = -1.0
@@ -174,6 +174,28 @@ def roller_edges(mesh: ngs.Mesh, roller):
             yield el, np.array([t[1], -t[0]])
 
 
+
+def load_vector(fes: ngs.FESpace, mesh: ngs.Mesh, loads: Loads, built: list[str],
+                body: Callable, traction: Callable) -> ngs.LinearForm:
+    """The assembled load vector of an element: int body(f) dx + sum over loaded edges of int traction(g) ds.
+
+    `body(f)` and `traction(g)` give the integrands of the element's test functions for
+    the body force f and an edge's traction g (signs and traces are the element's);
+    what is loaded is recorded in `built`.
+    """
+    f = ngs.LinearForm(fes)
+    if loads.body_force is not None:
+        f += body(loads.body_force) * ngs.dx
+        built.append("body force")
+    for label, g in sorted(loads.traction.items()):
+        f += traction(g) * ngs.ds(definedon=boundary_region(mesh, [label]))
+    if loads.traction:
+        built.append("traction load on " + ", ".join(sorted(loads.traction)))
+    with task_manager():
+        f.Assemble()
+    return f
+
+
 def displacement_data(mesh: ngs.Mesh, displacement: dict) -> tuple[ngs.CoefficientFunction, ngs.Region]:
     """One CoefficientFunction holding every prescribed displacement, and its region.
 
@@ -226,6 +248,7 @@ def weakly_symmetric_hybrid(
     facet_order: int,
     built: list[str],
     trace_rows: Callable[[tuple], tuple] | None = None,
+    displacement_order: int = 0,
 ) -> Discretization:
     """Assemble the hybrid form above for the given stress and rotation spaces.
 
@@ -234,7 +257,8 @@ def weakly_symmetric_hybrid(
     symbols to the scalar rotation r. `trace_rows(symbols)`, where given, maps them to
     two rows with the same normal traces on every element boundary as the stress rows
     (the parts with zero normal trace left out; PEERS: the curls of the bubbles), used in
-    the element-boundary terms.
+    the element-boundary terms. `displacement_order` is the degree of the discontinuous
+    displacement u (0 for PEERS and BDM_1; k - 1 for BDM_k).
 
     Incompressible limit (plane strain, nu -> 1/2): A annihilates the spherical stress
     c I, and c I with c constant on a triangle is divergence free and symmetric, so the
@@ -247,8 +271,9 @@ def weakly_symmetric_hybrid(
     """
     mesh = crack_mesh.mesh
     uhat_space = ngs.FacetFESpace(mesh, order=facet_order, dirichlet=boundary_regex(loads.dirichlet_labels))
-    spaces = list(stress_spaces) + [ngs.VectorL2(mesh, order=0)] + list(rotation_spaces) + [uhat_space, uhat_space]
-    built += ["u: P0^2", f"u_hat: P{facet_order} per edge, 2 components"]
+    spaces = list(stress_spaces) + [ngs.VectorL2(mesh, order=displacement_order)] + list(rotation_spaces) \
+        + [uhat_space, uhat_space]
+    built += [f"u: P{displacement_order}^2", f"u_hat: P{facet_order} per edge, 2 components"]
     has_crack = bool(crack_mesh.cracks)
     if has_crack:
         jump = crack_facet_space(crack_mesh, facet_order)
@@ -306,16 +331,7 @@ def weakly_symmetric_hybrid(
         a += ((tau * n) * (chi * (jn * nu + jt * t)) + (sig * n) * (chi * (kn * nu + kt * t))) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    f = ngs.LinearForm(fes)
-    if loads.body_force is not None:
-        f += -(loads.body_force * v) * ngs.dx
-        built.append("body force")
-    for label, g in sorted(loads.traction.items()):
-        f += -(g * muh) * ngs.ds(definedon=boundary_region(mesh, [label]))
-    if loads.traction:
-        built.append("traction load on " + ", ".join(sorted(loads.traction)))
-    with task_manager():
-        f.Assemble()
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=lambda g: -(g * muh))
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components

@@ -1,9 +1,22 @@
 """The BDM-based element (Brezzi, Douglas, Marini; Arnold, Falk, Winther), hybridized.
 
-Each stress row lies in BDM1 (full P1 vector fields), the displacement in P0^2 and the
-rotation in P0: the lowest-order stable element for weakly symmetric stress. The rows
-are broken; the facet trace u_hat is P1 per edge (the normal-trace space of BDM1), and
-so is the crack jump, as in the paper's section 3.2 (piecewise affine multipliers).
+Order k = 1, 2, 3 (`order`, default 1), the Arnold-Falk-Winther family for weakly
+symmetric stress (Arnold, Falk, Winther 2007, Math. Comp. 76; Boffi, Brezzi, Fortin
+2009, Comput. Methods Appl. Mech. Engrg. 198):
+- each stress row: BDM_k (full P_k vector fields, H(div)), broken;
+- displacement u: discontinuous P_{k-1}^2; rotation r (the multiplier of weak
+  symmetry): discontinuous P_{k-1};
+- facet trace u_hat: P_k per edge (the normal-trace space of BDM_k), two components;
+- crack jump (normal and tangential): P_k per crack edge, so the crack QP has
+  k + 1 unknowns per edge and per component; jn >= 0 is imposed at k + 1 equispaced
+  points of each edge, end points included (`post.endpoint_map`): exactly jn >= 0 on
+  the edge for k = 1, at the points for k >= 2.
+
+k = 1 is the paper's section 3.2 (piecewise affine multipliers). Expected rates for
+smooth solutions: ||sigma - sigma_h||_L2 and ||u - u_h||_L2 of order h^k, uniformly in
+nu up to 1/2 (the incompressible split of `base.py` needs only one pressure per
+triangle at every k: c I with c constant is the only local stress that A, div and as
+all annihilate).
 """
 
 from __future__ import annotations
@@ -14,26 +27,33 @@ from ..geometry import CrackMesh
 from ..materials import Compliance
 from .base import Discretization, Loads, weakly_symmetric_hybrid
 
+ORDERS = (1, 2, 3)
+DEFAULT_ORDER = 1
+
 
 def _rows(sym):
     s1, s2 = sym
     return (s1, s2), (ngs.div(s1), ngs.div(s2))
 
 
-def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discretization:
-    """The hybridized BDM1-P0-P0 discretization of one scene."""
+def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> Discretization:
+    """The hybridized BDM_k-P_{k-1}-P_{k-1} discretization of one scene, k = `order`."""
+    k = DEFAULT_ORDER if order is None else order
+    if isinstance(k, bool) or k not in ORDERS:
+        raise ValueError(f"order = {order!r}: allowed values for bdm are {', '.join(map(str, ORDERS))}")
     mesh = crack_mesh.mesh
-    bdm1 = ngs.HDiv(mesh, order=1, RT=False, discontinuous=True)
-    built = ["stress rows: BDM1, broken", "rotation: P0"]
+    bdm = ngs.HDiv(mesh, order=k, RT=False, discontinuous=True)
+    built = [f"stress rows: BDM{k}, broken", f"rotation: P{k - 1}"]
     return weakly_symmetric_hybrid(
         "bdm",
         crack_mesh,
         compliance,
         loads,
-        stress_spaces=[bdm1, bdm1],
+        stress_spaces=[bdm, bdm],
         rows=_rows,
-        rotation_spaces=[ngs.L2(mesh, order=0)],
+        rotation_spaces=[ngs.L2(mesh, order=k - 1)],
         rotation=lambda sym: sym[0],
-        facet_order=1,
+        facet_order=k,
         built=built,
+        displacement_order=k - 1,
     )

@@ -19,13 +19,13 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
 from ..materials import Compliance
 from ..parallel import task_manager
-from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data, roller_edges
+from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data, load_vector, roller_edges
 
 
 def _lame(compliance: Compliance) -> tuple[float, float]:
@@ -165,17 +165,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
               + ngs.InnerProduct(stress_of(eps_e), eps_e_test)) * ngs.dx(definedonelements=plus)
     with task_manager():
         a.Assemble()
-    f = ngs.LinearForm(fes)
     v = displacement(test)
-    if loads.body_force is not None:
-        f += (loads.body_force * v) * ngs.dx
-        built.append("body force")
-    for label, g in sorted(loads.traction.items()):
-        f += (g * v) * ngs.ds(definedon=boundary_region(mesh, [label]))
-    if loads.traction:
-        built.append("traction load on " + ", ".join(sorted(loads.traction)))
-    with task_manager():
-        f.Assemble()
+    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=lambda g: g * v)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components

@@ -5,6 +5,12 @@ bubble; the displacement is P0^2, the rotation (the multiplier of weak symmetry)
 continuous P1. The rows are broken (no normal continuity between triangles); the facet
 trace u_hat (P0 per edge) restores it, and the crack jump is P0 per crack edge.
 
+Only the lowest order. PEERS has a stable higher-order family (Arnold, Brezzi, Douglas
+1984: RT_k + curl(b_T P_k) rows, P_k displacement, continuous P_{k+1} rotation), but its
+continuous rotation is a global unknown that static condensation cannot remove, so the
+condensed system grows by the rotation's vertex, edge and interior dofs at every order;
+the Arnold-Falk-Winther family (`bdm` with `order=k`) reaches the same rates h^k with
+only the facet traces global. Use bdm for higher order.
 """
 
 from __future__ import annotations

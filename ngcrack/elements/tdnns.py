@@ -44,10 +44,10 @@ here. The "plus" bubbles are needed for the same reason at every order.
 
 from __future__ import annotations
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 
-from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
+from ..geometry import CrackMesh, boundary_regex, crack_frame_cf
 from ..materials import Compliance
 from ..parallel import task_manager
 from .base import (
@@ -58,6 +58,7 @@ from .base import (
     crack_boundary,
     crack_facet_space,
     displacement_data,
+    load_vector,
     on_crack_edges,
 )
 
@@ -155,18 +156,9 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         a += ((n * (tau * n)) * (chi * trial[idx_jn]) + (n * (sig * n)) * (chi * test[idx_jn])) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    f = ngs.LinearForm(fes)
-    if loads.body_force is not None:
-        f += -(loads.body_force * v) * ngs.dx
-        built.append("body force")
     t = ngs.specialcf.tangential(2)
-    for label, g in sorted(loads.traction.items()):
-        reg = boundary_region(mesh, [label])
-        f += -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t)) * ngs.ds(definedon=reg)
-    if loads.traction:
-        built.append("traction load on " + ", ".join(sorted(loads.traction)))
-    with task_manager():
-        f.Assemble()
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v),
+                    traction=lambda g: -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t)))
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components

@@ -10,7 +10,7 @@ and `update(**changes)` redoes only what a change invalidates:
 
 - a new load (``load`` multiplier, ``load_angle``, ``friction``) keeps the mesh, the
   assembled matrix, its factorization and S: the load vector is re-assembled (the loads
-  are NGSolve Parameters in the assembled linear form, `loads.ParameterLoads`), F is
+  are NGSolve Parameters in the assembled linear form, `pipeline.ParameterLoads`), F is
   rebuilt (`CondensedSystem.with_load`), one solve gives the new x0 and b
   (`ContactReduction.with_load`), and a new QP is solved (warm-started from the last
   contact zone); a friction coefficient turned on from zero (or back) needs the
@@ -20,16 +20,11 @@ and `update(**changes)` redoes only what a change invalidates:
 - a new geometry (a scene function's parameters, ``maxh``) remeshes;
 - ``field`` (the stress shown) only redraws.
 
-The stages are the library's own: `ngcrack.solve.solve` runs every stage, with the
-model's caches standing in for `make_mesh`, `elements.build`, `condense` and
-`reduce_to_contact` (bound in `ngcrack.solve` for the duration of the call, then
-restored). A cached answer is therefore the library's answer to round-off, with
-everything `solve` computes (crack profiles with their open / stick / slip states, KKT
-residuals, the tips' K_I, K_II, the error estimate). Each cache is keyed by its stage's
-arguments as bound to the stage's signature (defaults filled in: condense's
-``tangential``, reduce_to_contact's ``linear_solver`` and ``schur``, the element's
-material and order): a stage whose arguments differ from the cached ones, or cannot be
-compared, runs for real, so a cache can never give a stale answer.
+The stages are the library's own: the model keeps one `ngcrack.pipeline.Pipeline`, whose
+stages are cached under exactly what each depends on, and runs it for every update. A
+cached answer is therefore the library's answer to round-off, with everything `solve`
+computes (crack profiles with their open / stick / slip states, KKT residuals, the
+tips' K_I, K_II, the error estimate).
 
 A bad combination (nu = 1/2 with a displacement baseline, a crack moved out of the
 body, ...) never raises out of `update`: the message goes to `error`, the last good
@@ -38,29 +33,23 @@ solution stays. `Study` is the model's former name, kept as a deprecated alias.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import importlib
-import inspect
 import time
 import warnings
 from typing import Any
 
 import numpy as np
 
-from .. import elements as _elements
-from ..contact import DEFAULT_SOLVER
-from ..geometry import make_mesh as _make_mesh
-from ..hybrid import condense as _condense, reduce_to_contact as _reduce_to_contact
+from ..elements import ELEMENTS
+from ..options import CRACK_MODELS, SolveOptions
+from ..pipeline import Pipeline
 from ..scene import Crack, Scene
-from ..scenes import SCENE_FUNCTIONS, SceneFunction, load as _load_scene, scene_function
+from ..scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
+from ..scenes import load as _load_scene
 from ..scenes import names as _scene_names
 from .controls import FIXED, SCALES, Range, check_choice, e_range, mesh_size_range
 from .figure import FIELDS
-from .loads import ParameterLoads, load_structure, scaled_loads
-
-#: solve.py, whose stage functions the model stands in for (imported when first needed: no import cycle)
-_SOLVE_MODULE = "ngcrack.solve"
+from .loads import scaled_loads
 
 #: a crack edge counts as closed where its mid-point opening is below this fraction of the
 #: largest jump on the cracks (the QP gives exact zeros up to round-off where it is closed)
@@ -101,53 +90,6 @@ def _one_line(exc: BaseException) -> str:
     text = str(exc).strip().splitlines()
     return f"{type(exc).__name__}: {text[0] if text else 'no message'}"
 
-
-
-def geometry_key(scene: Scene) -> tuple:
-    """What the mesh depends on: the polygon, its labels, the cracks' points and the mesh sizes."""
-    return (scene.polygon, scene.labels, tuple(c.points for c in scene.cracks),
-            scene.maxh, scene.tip_h, scene.crack_h, scene.grading)
-
-
-#: the stages' signatures, read once (what a call's arguments are compared by)
-_MESH_SIGNATURE = inspect.signature(_make_mesh)
-_BUILD_SIGNATURE = inspect.signature(_elements.build)
-_CONDENSE_SIGNATURE = inspect.signature(_condense)
-_REDUCE_SIGNATURE = inspect.signature(_reduce_to_contact)
-
-
-def _options_key(signature: inspect.Signature, skip: tuple[str, ...], args: tuple, kwargs: dict) -> tuple | None:
-    """The arguments of a call of a stage with `signature` other than those named in `skip`, defaults filled
-    in, as a hashable key (so that positional and keyword spellings of one call agree);
-    None where they cannot be bound or compared: then the stage runs for real."""
-    try:
-        bound = signature.bind(*args, **kwargs)
-    except TypeError:
-        return None
-    bound.apply_defaults()
-    items = []
-    for name, value in bound.arguments.items():
-        if name in skip:
-            continue
-        if isinstance(value, dict):  # **kwargs
-            value = tuple(sorted(value.items()))
-        items.append((name, value))
-    key = tuple(items)
-    try:
-        hash(key)
-    except TypeError:
-        return None
-    return key
-
-
-class _ElementsView:
-    """`ngcrack.elements` with `build` replaced by the model's cached stage."""
-
-    def __init__(self, build):
-        self.build = build
-
-    def __getattr__(self, name):
-        return getattr(_elements, name)
 
 
 class Explorer:
@@ -214,7 +156,7 @@ class Explorer:
         if friction_supported():
             self.state.setdefault("friction", float(getattr(ref.cracks[0], "friction", 0.0) or 0.0) if ref.cracks else 0.0)
         # every value checked before anything is built: ValueError naming the control and what it allows
-        check_choice("element", element, _elements.ELEMENTS)
+        check_choice("element", element, ELEMENTS)
         self.ranges: dict[str, Range] = dict(FIXED)
         self.ranges["E"] = e_range(self.state["E"])
         self.ranges["maxh"], self.start_maxh = mesh_size_range(ref, element, maxh, self.solve_options)
@@ -230,11 +172,7 @@ class Explorer:
         self.error: str | None = None
         self.redone: list[str] = []
         self.latency = 0.0
-        self.counts = {"mesh": 0, "assemble": 0, "factorize": 0, "load": 0}
-        self._mesh = None  # (key, CrackMesh)
-        self._disc = None  # (key, Discretization, _ParameterLoads)
-        self._systems: dict = {}  # condense options -> CondensedSystem of the current discretization
-        self._reductions: dict = {}  # options -> ContactReduction on the current matrix
+        self.pipeline = Pipeline()
         if solve_now:
             self.update()
 
@@ -252,9 +190,9 @@ class Explorer:
         if name in self.ranges:
             return self.ranges[name].check(name, value)
         if name == "element":
-            return check_choice(name, value, _elements.ELEMENTS)
+            return check_choice(name, value, ELEMENTS)
         if name == "crack_model":
-            return check_choice(name, value, importlib.import_module(_SOLVE_MODULE).CRACK_MODELS)
+            return check_choice(name, value, CRACK_MODELS)
         if name == "field":
             return check_choice(name, value, FIELDS)
         if name == "scales":
@@ -313,98 +251,21 @@ class Explorer:
             self.latency = time.perf_counter() - t0
 
     def _solve(self, scene: Scene):
-        solve_mod = importlib.import_module(_SOLVE_MODULE)
         st = self.state
-        self._scene_in_flight = scene
         options = dict(self.solve_options)
-        if self.solution is not None and self.solution.qp is not None and "warm_start" not in options:
-            options["warm_start"] = self.solution
-        with self._stages(solve_mod):
-            sol = solve_mod.solve(scene, element=st["element"], maxh=st["maxh"], crack_model=st["crack_model"],
-                                  qp_solver=options.pop("qp_solver", DEFAULT_SOLVER), **options)
+        warm = options.pop("warm_start", None)
+        if warm is None and self.solution is not None and self.solution.qp is not None:
+            warm = self.solution
+        opts = SolveOptions.of(**options, element=st["element"], maxh=st["maxh"], crack_model=st["crack_model"])
+        sol = self.pipeline.run(scene, opts, warm_start=warm)
+        self.redone.extend(self.pipeline.redone)
         self.scene = scene
         return sol
 
-    @contextlib.contextmanager
-    def _stages(self, solve_mod):
-        """Bind solve.py's four expensive stages to this model's caches for one call."""
-        names = ("make_mesh", "_elements", "condense", "reduce_to_contact")
-        saved = {n: getattr(solve_mod, n) for n in names}
-        solve_mod.make_mesh = self._mesh_stage
-        solve_mod._elements = _ElementsView(self._build_stage)
-        solve_mod.condense = self._condense_stage
-        solve_mod.reduce_to_contact = self._reduce_stage
-        try:
-            yield
-        finally:
-            for n, v in saved.items():
-                setattr(solve_mod, n, v)
-
-    def _mesh_stage(self, scene, *args, **kwargs):
-        options = _options_key(_MESH_SIGNATURE, ("scene",), (scene,) + args, kwargs)
-        if options is None:  # arguments the model cannot compare: the real stage, no cache
-            return _make_mesh(scene, *args, **kwargs)
-        key = (geometry_key(scene), options)
-        if self._mesh is None or self._mesh[0] != key:
-            self._mesh = (key, _make_mesh(scene, *args, **kwargs))
-            self._disc = None
-            self._systems, self._reductions = {}, {}
-            self.counts["mesh"] += 1
-            self.redone.append("mesh")
-        return self._mesh[1]
-
-    def _build_stage(self, name, crack_mesh, material, loads, *args, **kwargs):
-        scene = self._scene_in_flight
-        options = _options_key(_BUILD_SIGNATURE, ("crack_mesh", "loads"), (name, crack_mesh, material, loads) + args, kwargs)
-        key = (options, load_structure(scene))
-        if options is not None and self._disc is not None and self._disc[0] == key \
-                and self._disc[1].crack_mesh is crack_mesh:
-            _, disc, ploads = self._disc
-            ploads.set(scene)
-            disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
-            self.counts["load"] += 1
-            self.redone.append("load vector")
-            return disc
-        if options is None:  # arguments the model cannot compare: the real stage, no cache
-            return _elements.build(name, crack_mesh, material, loads, *args, **kwargs)
-        ploads = ParameterLoads(scene)
-        disc = _elements.build(name, crack_mesh, material, ploads.loads, *args, **kwargs)
-        self._disc = (key, disc, ploads)
-        self._systems = {}
-        self._reductions = {}
-        self.counts["assemble"] += 1
-        self.redone.append("assembly")
-        return disc
-
-    def _condense_stage(self, disc, loads, *args, **kwargs):
-        ploads = self._disc[2] if self._disc is not None and self._disc[1] is disc else None
-        options = _options_key(_CONDENSE_SIGNATURE, ("disc", "loads"), (disc, loads) + args, kwargs)
-        if ploads is None or options is None:  # not built by this model, or arguments it cannot compare
-            return _condense(disc, loads, *args, **kwargs)
-        cached = self._systems.get(options)
-        if cached is not None:
-            system = cached.with_load(ploads.loads)
-        else:
-            system = _condense(disc, ploads.loads, *args, **kwargs)
-            self.redone.append("condensation")
-        self._systems[options] = system
-        return system
-
-    def _reduce_stage(self, system, *args, **kwargs):
-        options = _options_key(_REDUCE_SIGNATURE, ("system",), (system,) + args, kwargs)
-        if options is None:
-            return _reduce_to_contact(system, *args, **kwargs)
-        key = (options, len(system.contact), system.n_normal)
-        cached = self._reductions.get(key)
-        if cached is not None and cached.system.K is system.K \
-                and np.array_equal(cached.system.contact, system.contact):
-            self.redone.append("one solve (factorization and S reused)")
-            return cached.with_load(system)
-        red = _reduce_to_contact(system, *args, **kwargs)
-        self._reductions[key] = red
-        self.counts["factorize"] += 1
-        self.redone.append("factorization and S")
-        return red
+    @property
+    def counts(self) -> dict[str, int]:
+        """How often each stage of the model's pipeline ran for real, or was reused for a load."""
+        return self.pipeline.counts
 
     # ------------------------------------------------------------------ readouts
     def readouts(self) -> dict[str, Any]:

@@ -24,11 +24,12 @@ from typing import Any
 import ngsolve as ngs
 
 from .. import elements as _elements
+from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
 from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, HOLD_ON, LABELS, SCALES
 from .figure import FIELDS, Drawing
-from .model import _SOLVE_MODULE, Explorer, _one_line
+from .model import Explorer, _one_line
 
 #: the page's style: the busy figure greyed, the refusals red
 STYLE = """<style>
@@ -141,10 +142,7 @@ class _ExplorerView:
         menu = {"style": style, "layout": w.Layout(width="300px")}
         self.controls["element"] = w.Dropdown(options=list(_elements.ELEMENTS), value=st["element"],
                                               description="element", **menu)
-        import importlib
-
-        crack_models = importlib.import_module(_SOLVE_MODULE).CRACK_MODELS
-        self.controls["crack_model"] = w.Dropdown(options=[(CRACK_MODEL_LABELS.get(c, c), c) for c in crack_models],
+        self.controls["crack_model"] = w.Dropdown(options=[(CRACK_MODEL_LABELS.get(c, c), c) for c in CRACK_MODELS],
                                                   value=st["crack_model"], description="crack model", **menu)
         self.controls["field"] = w.Dropdown(options=[("σ_νν (normal to the crack)", "sigma_nu"),
                                                      ("von Mises", "von_mises")],

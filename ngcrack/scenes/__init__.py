@@ -15,9 +15,17 @@ from importlib import resources
 from pathlib import Path
 
 from ngcrack.scene import Scene, SceneError
-from ngcrack.scenes.parametric import (SCENE_FUNCTIONS, Parameter, SceneFunction, cracked_beam, griffith_plate,
-                                       inclined_closed_form, inclined_crack, scene_function)
-from ngcrack.scenes import handbook  # noqa: E402  finite cracked strips with handbook K (Tada-Paris-Irwin)
+from ngcrack.scenes import handbook  # noqa: F401  finite cracked strips with handbook K (Tada-Paris-Irwin)
+from ngcrack.scenes.parametric import (
+    SCENE_FUNCTIONS,
+    Parameter,
+    SceneFunction,
+    cracked_beam,
+    griffith_plate,
+    inclined_closed_form,
+    inclined_crack,
+    scene_function,
+)
 
 __all__ = ["names", "load", "describe", "paper_example", "resolve", "inclined_crack", "inclined_closed_form",
            "griffith_plate", "cracked_beam", "SCENE_FUNCTIONS", "SceneFunction", "Parameter", "scene_function"]
@@ -31,7 +39,7 @@ def names() -> list[str]:
                   if f.name.endswith(_SUFFIX))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def load(name: str) -> Scene:
     """The built-in scene ``name`` (scenes are immutable, so the result is shared)."""
     if name not in names():

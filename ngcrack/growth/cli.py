@@ -1,0 +1,90 @@
+"""`ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts] [solve options] --json OUT
+[--csv OUT] [--gif OUT] [--png OUT]`: grow the scene's cracks and write the result."""
+
+from __future__ import annotations
+
+import json
+
+
+def add_parser(subparsers, positive, count):
+    """Register `grow` on the ngcrack command's subparsers (`positive`, `count`: its number parsers)."""
+    from .criteria import CRITERIA
+    from .loop import MAX_STEPS
+
+    p = subparsers.add_parser("grow", help="grow the cracks quasi-statically (MTS or PLS kinks, load factors); JSON, CSV, GIF")
+    p.add_argument("scene", help="built-in scene name or TOML file")
+    p.add_argument("--da", required=True, type=positive, help="length of each growth segment")
+    p.add_argument("--steps", required=True, type=int, help=f"number of growth steps, 1 to {MAX_STEPS}")
+    p.add_argument("--K-Ic", dest="K_Ic", type=positive,
+                   help="fracture toughness (default: load factors relative to the first step)")
+    p.add_argument("--criterion", default="pls", help=f"kink criterion: {', '.join(CRITERIA)} (default pls)")
+    p.add_argument("--element", default="bdm", help="bdm (default), peers, tdnns, h1p1 or h1p2")
+    p.add_argument("--order", type=int, help="polynomial order of elements that have one")
+    p.add_argument("--maxh", type=positive, help="global mesh size (overrides the scene)")
+    p.add_argument("--tip-h", dest="tip_h", type=positive, help="mesh size at the crack tips")
+    p.add_argument("--crack-h", dest="crack_h", type=positive, help="mesh size along the cracks")
+    p.add_argument("--nu", type=positive, help="Poisson ratio (overrides the scene)")
+    p.add_argument("--E", type=positive, help="Young's modulus (overrides the scene)")
+    p.add_argument("--friction", type=positive, metavar="MU", help="Coulomb coefficient of every crack")
+    p.add_argument("--qp-solver", dest="qp_solver", help="the crack QP's solver (default: solve's)")
+    p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
+    p.add_argument("--max-dof", dest="max_dof", type=count, help="largest number of unknowns of each solve")
+    p.add_argument("--json", required=True, help="write the result here: scene, element, criterion, da, K_Ic, "
+                                                 "stopped, steps (with their tips) and the final cracks")
+    p.add_argument("--csv", help="write the table (one row per step and tip) here")
+    p.add_argument("--gif", help="write an animation of the deformed body and the crack faces here")
+    p.add_argument("--png", help="write the paths and the load factors against crack length here")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    from ngcrack import scenes
+    from ngcrack.outputs import StagedWrites, check_finite, check_output
+
+    from .loop import check_growth_options, grow
+
+    json_path = check_output(args.json, "--json")
+    csv_path = check_output(args.csv, "--csv", ".csv")
+    gif_path = check_output(args.gif, "--gif", ".gif")
+    png_path = check_output(args.png, "--png", ".png")
+    scene = scenes.resolve(args.scene)
+    changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
+    if changes:
+        scene = scene.with_(**changes)
+    options = {k: v for k, v in (("element", args.element), ("order", args.order), ("maxh", args.maxh),
+                                 ("tip_h", args.tip_h), ("crack_h", args.crack_h), ("qp_solver", args.qp_solver),
+                                 ("crack_model", args.crack_model), ("max_dof", args.max_dof)) if v is not None}
+    check_growth_options(scene, args.da, args.steps, args.K_Ic, args.criterion, options)  # before any work
+
+    def progress(n, result):
+        step = result.steps[-1]
+        lam = step["load_factor"]
+        print(f"step {n}: load factor {lam:.4g}, {step['ndof']} dofs, {step['time_s']:.2f} s"
+              if lam is not None else f"step {n}", flush=True)
+
+    result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion,
+                  frames=gif_path is not None, progress=progress, **options)
+    data = result.to_json_dict()
+    check_finite(data)
+
+    def write_json(tmp):
+        with open(tmp, "w") as fh:
+            json.dump(data, fh, indent=1)
+
+    written = [json_path]
+    with StagedWrites() as staged:  # every output or none; existing files untouched on failure
+        staged.write(json_path, write_json)
+        if csv_path is not None:
+            staged.write(csv_path, lambda tmp: result.table.to_csv(tmp, index=False))
+            written.append(csv_path)
+        if png_path is not None:
+            staged.write(png_path, lambda tmp: result.plot(tmp))
+            written.append(png_path)
+        if gif_path is not None:
+            staged.write(gif_path, lambda tmp: result.animate(tmp))
+            written.append(gif_path)
+    print(f"{scene.name}: {len(result.steps)} steps, stopped: {result.stopped}")
+    for path in written:
+        print(f"wrote {path}")
+    return 0

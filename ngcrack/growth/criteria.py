@@ -1,0 +1,114 @@
+"""Kink criteria of quasi-static crack growth: pure functions of the stress intensity factors.
+
+Frame and signs. The angles are measured in the tip frame of ngcrack.tips: e1 the unit
+tangent of the tip segment pointing out of the crack, e2 = e1 turned by +90 degrees, so
+a positive kink angle turns the crack counter-clockwise (towards e2). K_I > 0 opens the
+faces; K_II > 0 is the shear sigma_12 > 0 ahead of the tip in that frame. With K_II > 0
+the crack kinks clockwise (theta < 0), with K_II < 0 counter-clockwise.
+
+Maximum tangential stress (Erdogan and Sih 1963, `mts`). The hoop stress of the
+singular field, sigma_tt ~ cos(theta/2) [K_I cos^2(theta/2) - 3/2 K_II sin(theta)] /
+sqrt(2 pi r), is largest at
+
+    theta = 2 atan((K_I - sqrt(K_I^2 + 8 K_II^2)) / (4 K_II))
+          = -2 atan(2 K_II / (K_I + sqrt(K_I^2 + 8 K_II^2)))        (the form used: no 0/0 at K_II = 0)
+
+and the crack grows when K_eq = cos^3(theta/2) K_I - 3/2 cos(theta/2) sin(theta) K_II
+reaches the toughness K_Ic. Pure mode I: theta = 0, K_eq = K_I. Pure mode II:
+theta = -sign(K_II) 2 atan(1/sqrt 2) = -sign(K_II) 70.53 degrees, K_eq = (2/sqrt 3) |K_II|.
+Where the faces at the tip are closed the crack cannot open there: K_I is taken as 0
+(`effective_K_I`), a closed sliding crack kinks at the pure mode II angle.
+
+Principle of local symmetry (Goldstein and Salganik 1974, `pls`): the kink is the one
+that makes K_II vanish at the new tip. It has no closed form for a finite extension;
+ngcrack.growth.loop finds it by trial extensions, solving for K_II at the new tip and
+taking secant steps in the angle (`secant_angle`). To first order in the kink angle both
+criteria agree (Cotterell and Rice 1980: k_2(theta) ~ K_II + theta K_I / 2 at the tip of
+a small kink, zero at theta ~ -2 K_II / K_I, MTS's small-angle limit).
+"""
+
+from __future__ import annotations
+
+import math
+
+#: the kink criteria
+CRITERIA = ("mts", "pls")
+
+
+def check_criterion(criterion) -> str:
+    if criterion not in CRITERIA:
+        raise ValueError(f"criterion = {criterion!r}: allowed values are {', '.join(CRITERIA)}")
+    return criterion
+
+
+def effective_K_I(K_I: float, closed: bool) -> float:
+    """K_I as the criteria use it: 0 where the faces at the tip are closed (they touch and
+    cannot open there), else K_I; a negative K_I (interpenetration, which contact rules out)
+    counts as 0 too."""
+    return 0.0 if closed else max(float(K_I), 0.0)
+
+
+def mts_angle(K_I: float, K_II: float) -> float:
+    """The maximum tangential stress kink angle theta in radians (tip frame, counter-clockwise
+    positive), in [-70.53, 70.53] degrees for K_I >= 0. K_I = K_II = 0: 0 (no direction)."""
+    K_I, K_II = float(K_I), float(K_II)
+    root = math.sqrt(K_I * K_I + 8.0 * K_II * K_II)
+    den = K_I + root
+    if den <= 0.0:  # K_II = 0 and K_I <= 0: no driving force, no kink
+        return 0.0
+    return -2.0 * math.atan(2.0 * K_II / den)
+
+
+def hoop_factor(theta: float, K_I: float, K_II: float) -> float:
+    """sqrt(2 pi r) sigma_thetatheta of the singular field in the direction theta:
+    cos(theta/2) [K_I cos^2(theta/2) - 3/2 K_II sin(theta)]."""
+    c = math.cos(0.5 * theta)
+    return c * (K_I * c * c - 1.5 * K_II * math.sin(theta))
+
+
+def mts_keq(K_I: float, K_II: float, theta: float | None = None) -> float:
+    """K_eq = cos^3(theta/2) K_I - 3/2 cos(theta/2) sin(theta) K_II at theta (default: the MTS angle)."""
+    if theta is None:
+        theta = mts_angle(K_I, K_II)
+    return hoop_factor(theta, K_I, K_II)
+
+
+def load_factor(K_Ic: float, K_eq: float) -> float:
+    """lambda = K_Ic / K_eq: the load factor at which the tip grows (inf where K_eq <= 0).
+
+    The static problem with unilateral contact and Coulomb friction under one proportional
+    load is positively homogeneous of degree one in the load, so K scales with lambda.
+    """
+    return float(K_Ic) / float(K_eq) if K_eq > 0 else math.inf
+
+
+def secant_angle(theta0: float, g0: float, theta1: float, g1: float, limit: float) -> float:
+    """The secant step for g(theta) = 0 from (theta0, g0), (theta1, g1), the step kept within
+    +-limit of theta1 (a flat secant would jump far)."""
+    if g1 == g0 or theta1 == theta0:
+        return theta1
+    step = -g1 * (theta1 - theta0) / (g1 - g0)
+    return theta1 + max(-limit, min(limit, step))
+
+
+#: dk_2/dtheta at the tip of a grown segment of length da, in units of its K_I: measured
+#: 1.46 to 1.60 on wing cracks (da = a/10; three times the small-kink value 1/2)
+PLS_SLOPE = 1.5
+
+
+def newton_angle(theta: float, K_II_new: float, K_I_new: float, limit: float, slope: float = PLS_SLOPE) -> float:
+    """A PLS correction from one trial: theta - K_II / (slope K_I) at the trial tip, kept
+    within +-limit; K_I <= 0 leaves theta."""
+    if K_I_new <= 0:
+        return theta
+    step = -K_II_new / (slope * K_I_new)
+    return theta + max(-limit, min(limit, step))
+
+
+def pls_predictor(K_I: float, K_II: float, previous: float | None) -> float:
+    """The first trial angle of a PLS step. At a tip's first kink (previous None) or where its
+    faces are closed: the MTS angle. At a grown tip: its previous kink (the path's curvature
+    carried on) corrected by -K_II / (PLS_SLOPE K_I) for the K_II left at its tip."""
+    if previous is None or K_I <= 0:
+        return mts_angle(K_I, K_II)
+    return float(previous) - float(K_II) / (PLS_SLOPE * float(K_I))

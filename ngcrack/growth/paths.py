@@ -1,0 +1,116 @@
+"""Crack paths: the body's region, and extending a crack tip by one segment.
+
+A tip at p grows to q = p + da (cos phi, sin phi). Where that segment, lengthened by
+SNAP_FRACTION da, reaches the body's boundary (its outer polygon or a hole), the tip is
+taken onto the boundary at the crossing and stops there: the crack then cuts through
+(the end point lies on the boundary and is no longer a tip inside the body). Where the
+segment would cross another crack, or come closer to it than CRACK_CLEARANCE da, or
+cross its own crack, the tip stops where it is (junctions are not supported).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+#: a new segment that reaches the boundary within (1 + SNAP_FRACTION) da ends on the
+#: boundary: no sliver of body thinner than about da / 2 is left ahead of a tip
+SNAP_FRACTION = 0.5
+#: a new segment closer than this fraction of da to another crack (or to its own crack
+#: beyond the tip segment) would meet it: the tip stops
+CRACK_CLEARANCE = 0.25
+
+
+def body_region(scene) -> shapely.Polygon:
+    """The body as a shapely Polygon: the scene's `region()` where it has one (holes
+    included), else its outer polygon."""
+    region = getattr(scene, "region", None)
+    if callable(region):
+        return region()
+    return shapely.Polygon(scene.polygon)
+
+
+@dataclass(frozen=True)
+class Extension:
+    """The outcome of extending one tip: the new end point (None: the tip stops where it is)
+    and what happened: "grew", "boundary" (the new end lies on the boundary) or "crack"."""
+
+    crack: int
+    end: str
+    point: tuple[float, float] | None
+    outcome: str
+    reason: str = ""
+
+
+def tip_point(crack, end: str) -> np.ndarray:
+    return np.asarray(crack.points[0] if end == "first" else crack.points[-1], dtype=float)
+
+
+def tip_direction(crack, end: str) -> float:
+    """The angle (radians, from the x axis) of the tip's e1: the tip segment's tangent pointing out of the crack."""
+    pts = np.asarray(crack.points, dtype=float)
+    d = pts[0] - pts[1] if end == "first" else pts[-1] - pts[-2]
+    return math.atan2(d[1], d[0])
+
+
+def _others(scene, k: int, end: str, new_segments) -> list[tuple[str, shapely.LineString]]:
+    """The crack lines a new segment of tip (k, end) must not meet: every other crack, its own
+    crack without the tip segment, and the segments already added in this step."""
+    out = []
+    for j, c in enumerate(scene.cracks):
+        pts = list(c.points)
+        if j == k:
+            pts = pts[:-1] if end == "last" else pts[1:]
+            if len(pts) < 2:
+                continue
+        out.append((f"crack {j}", shapely.LineString(pts)))
+    out += [(f"the new segment of tip {lab}", seg) for lab, seg in new_segments]
+    return out
+
+
+def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da: float,
+               new_segments=()) -> Extension:
+    """Extend tip (k, end) of `scene` by da in the direction phi (radians from the x axis)."""
+    crack = scene.cracks[k]
+    p = tip_point(crack, end)
+    d = np.array([math.cos(phi), math.sin(phi)])
+    q = p + da * d
+    reach = shapely.LineString([p, p + (1.0 + SNAP_FRACTION) * da * d])
+    label = f"{k},{end}"
+    outcome = "grew"
+    hit = reach.intersection(region.boundary)
+    if not hit.is_empty:  # points, or a piece along the boundary: every coordinate it has
+        pts = np.array([c for g in getattr(hit, "geoms", [hit]) for c in g.coords], dtype=float)
+        dist = np.linalg.norm(pts - p, axis=1)
+        ok = dist > 1e-9 * da
+        if np.any(ok):
+            q = pts[ok][np.argmin(dist[ok])]
+            outcome = "boundary"
+    seg = shapely.LineString([p, q])
+    for name, line in _others(scene, k, end, new_segments):
+        if seg.distance(line) < CRACK_CLEARANCE * da:
+            meets = "cross" if seg.intersects(line) else "come within " + f"{CRACK_CLEARANCE:g} da of"
+            return Extension(k, end, None, "crack",
+                             f"tip {label} would {meets} {name} (junctions are not supported)")
+    if outcome == "boundary":
+        return Extension(k, end, (float(q[0]), float(q[1])), "boundary",
+                         f"tip {label} reached the body's boundary at ({q[0]:.4g}, {q[1]:.4g})")
+    return Extension(k, end, (float(q[0]), float(q[1])), "grew")
+
+
+def extended_cracks(scene, extensions) -> list:
+    """The scene's cracks with the new end points of `extensions` (a list of Extension) added."""
+    from ngcrack.scene import Crack
+
+    pts = [list(c.points) for c in scene.cracks]
+    for ext in extensions:
+        if ext.point is None:
+            continue
+        if ext.end == "last":
+            pts[ext.crack].append(ext.point)
+        else:
+            pts[ext.crack].insert(0, ext.point)
+    return [Crack(tuple(p), c.friction) for p, c in zip(pts, scene.cracks)]

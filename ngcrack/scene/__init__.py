@@ -1,0 +1,74 @@
+"""Scenes: the geometry, material, loads and supports of one cracked 2D body.
+
+Domain: a simple polygon Omega (vertices listed counter-clockwise) holding zero or more
+cracks Gamma_c, each a polyline inside Omega whose end points may lie on the boundary.
+PDE (solved elsewhere): 2D linear elasticity, -div sigma = f, with unilateral
+contact on every crack, frictionless or with Coulomb friction (README, the introduction).
+
+A :class:`Scene` is plain, immutable data. It is validated completely when it is built,
+before any meshing, so no invalid Scene can exist: every bad field raises
+:class:`SceneError` (a ``ValueError``) with a one-line message naming the field and
+what is allowed. The package is pure geometry (its predicates and distances are
+shapely's): it imports neither ngsolve nor netgen.
+
+Modules, lowest first (each imports only those above it):
+
+``measures``  plane measures: diameter, area, distances (imports nothing of ngcrack)
+``fields``    SceneError and the coercions that name a bad field
+``planar``    simple polylines, cracks inside the polygon and apart from each other
+``types``     Material, BoundaryCondition, Crack and the allowed values
+``topology``  the parts the through cracks cut, the rigid-motion (held) check
+``toml``      reading and writing scene files
+``body``      the Scene itself
+
+Conventions
+-----------
+* Edge ``i`` of the polygon runs from vertex ``i`` to vertex ``i + 1`` (cyclically) and
+  carries ``labels[i]``; several edges may share a label.
+* A crack's unit tangent ``t`` points from its first towards its last point along each
+  segment; its normal is ``nu = (-t_y, t_x)`` (``t`` turned by +90 degrees). The ``+``
+  face is the side ``nu`` points into, and the jump is ``[u] = u+ - u-``.
+* Boundary conditions, by label: ``clamped`` (u = 0), ``displacement`` (u = value),
+  ``roller`` (u.n = 0 and zero tangential traction), ``traction`` (sigma n = value).
+  Edges whose label is not named are traction-free.
+* Units are the user's, but consistent: E and tractions in stress units, body force in
+  force per unit volume (per unit area of the plane, unit thickness).
+
+Geometric comparisons use the absolute tolerance ``GEOMETRY_RTOL * diameter`` where
+``diameter`` is the largest distance between two polygon vertices.
+"""
+
+from .body import MAX_POLYGON_VERTICES, Scene
+from .fields import FrozenMap, SceneError
+from .measures import Point, diameter, polygon_area
+from .topology import HELD_RANK_RTOL, Part
+from .types import (
+    BOUNDARY_TYPES,
+    EXACT_KINDS,
+    GEOMETRY_RTOL,
+    MAX_CRACK_POINTS,
+    PLANE_TYPES,
+    BoundaryCondition,
+    Crack,
+    Material,
+)
+
+__all__ = [
+    "BOUNDARY_TYPES",
+    "EXACT_KINDS",
+    "GEOMETRY_RTOL",
+    "HELD_RANK_RTOL",
+    "MAX_CRACK_POINTS",
+    "MAX_POLYGON_VERTICES",
+    "PLANE_TYPES",
+    "BoundaryCondition",
+    "Crack",
+    "FrozenMap",
+    "Material",
+    "Part",
+    "Point",
+    "Scene",
+    "SceneError",
+    "diameter",
+    "polygon_area",
+]

@@ -1,0 +1,347 @@
+"""The Scene: one cracked 2D elastic body as plain, immutable, validated data.
+
+A :class:`Scene` holds the polygon and its edge labels, the cracks, the material, the
+loads, the supports and the optional mesh sizes. It is validated completely when it is
+built (``__post_init__``): the fields one by one (``fields``, ``types``), the polylines
+against each other (``planar``), then the supports against rigid motion (``topology``),
+so no invalid Scene can exist. Its geometric queries (tips, through cracks, edge
+pieces, parts) are what the mesher and the solver read.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from . import toml as _toml
+from .fields import (
+    FrozenMap,
+    SceneError,
+    check_keys,
+    fmt,
+    pair,
+    points,
+    positive,
+    short,
+    unique,
+)
+from .measures import (
+    Point,
+    boundary_distance,
+    diameter,
+    dist,
+    dot,
+    point_segment_distance,
+    signed_area,
+    sub,
+)
+from .planar import check_crack_in_domain, check_cracks_disjoint, check_polyline_simple
+from .topology import Part, check_held, parts
+from .types import (
+    GEOMETRY_RTOL,
+    BoundaryCondition,
+    Crack,
+    Material,
+    check_exact,
+    crack_points,
+    friction_coefficient,
+)
+
+__all__ = ["MAX_POLYGON_VERTICES", "Scene"]
+
+#: The most vertices a polygon may have (validation and meshing stay fast below it).
+MAX_POLYGON_VERTICES = 2000
+
+
+@dataclass(frozen=True, kw_only=True)
+class Scene:
+    """A cracked 2D elastic body: polygon, cracks, material, loads, supports, mesh sizes.
+
+    Fields (all validated on construction; lists and tables are accepted and stored as
+    tuples, :class:`Crack`, :class:`Material`, :class:`BoundaryCondition`):
+
+    ``name``; ``polygon`` the vertices, counter-clockwise; ``labels`` one per edge
+    (edge i runs from vertex i to vertex i+1; default ``e0, e1, ...``); ``cracks``;
+    ``material``; ``body_force`` f = (fx, fy) or None; ``boundary`` label -> condition
+    (unnamed edges are traction-free); ``maxh`` global mesh size, ``crack_h`` size along
+    the cracks, ``grading`` how fast sizes grow (netgen, 0.3 default) and ``tip_h`` local
+    size at crack tips (None: the solver decides); ``description`` one line;
+    ``exact`` closed-form metadata (see :data:`EXACT_KINDS`) or None.
+    """
+
+    name: str
+    polygon: tuple[tuple[float, float], ...]
+    material: Material
+    labels: tuple[str, ...] = ()
+    cracks: tuple[Crack, ...] = ()
+    body_force: tuple[float, float] | None = None
+    boundary: Mapping[str, BoundaryCondition] = field(default_factory=FrozenMap)
+    maxh: float | None = None
+    tip_h: float | None = None
+    crack_h: float | None = None
+    grading: float | None = None
+    description: str = ""
+    exact: Mapping[str, Any] | None = None
+
+    # ---------------------------------------------------------------- validation
+    def __post_init__(self) -> None:
+        set_ = functools.partial(object.__setattr__, self)
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise SceneError(f"name = {self.name!r}: must be a non-empty string")
+        if not isinstance(self.description, str) or "\n" in self.description:
+            raise SceneError(f"description = {short(self.description)}: must be a "
+                             f"one-line string")
+
+        # domain.polygon
+        poly = points(self.polygon, "domain.polygon", 3,
+                      "a list of 3 or more vertices [[x0, y0], [x1, y1], ...], "
+                      "counter-clockwise", MAX_POLYGON_VERTICES)
+        set_("polygon", poly)
+        diam = diameter(poly)
+        if diam == 0.0:
+            raise SceneError("domain.polygon: all vertices coincide; give 3 or more "
+                             "distinct vertices, counter-clockwise")
+        self.__dict__["diameter"] = diam  # the cached property, computed once
+        tol = GEOMETRY_RTOL * diam
+        check_polyline_simple(poly, "domain.polygon", tol, closed=True, what="edge")
+        area = signed_area(poly)
+        if area <= tol * diam:
+            if area < -tol * diam:
+                raise SceneError("domain.polygon: is clockwise; list the vertices "
+                                 "counter-clockwise")
+            raise SceneError("domain.polygon: has zero area; give a simple polygon with "
+                             "its vertices counter-clockwise")
+
+        # domain.labels
+        n = len(poly)
+        labels = self.labels
+        if labels is None or (isinstance(labels, Sequence) and len(labels) == 0):
+            labels = tuple(f"e{i}" for i in range(n))
+        if isinstance(labels, (str, bytes)) or not isinstance(labels, Sequence):
+            raise SceneError(f"domain.labels = {short(labels)}: must be a list of "
+                             f"{n} strings, one per edge")
+        if len(labels) != n:
+            raise SceneError(f"domain.labels: {len(labels)} labels for {n} edges; give "
+                             f"one label per edge (edge i runs from vertex i to vertex "
+                             f"i+1)")
+        for i, lab in enumerate(labels):
+            if not isinstance(lab, str) or not lab:
+                raise SceneError(f"domain.labels[{i}] = {lab!r}: must be a non-empty "
+                                 f"string")
+        set_("labels", tuple(labels))
+
+        # material, load, mesh
+        set_("material", Material.from_dict(self.material))
+        if self.body_force is not None:
+            set_("body_force", pair(self.body_force, "load.body_force",
+                                    "a list of 2 finite numbers [fx, fy]"))
+        for key in ("maxh", "tip_h", "crack_h"):
+            if getattr(self, key) is not None:
+                set_(key, positive(getattr(self, key), f"mesh.{key}"))
+        if self.grading is not None:
+            g = positive(self.grading, "mesh.grading")
+            if g > 1.0:
+                raise SceneError(f"mesh.grading = {fmt(g)}: must lie in (0, 1] (netgen's "
+                                 f"default is 0.3)")
+            set_("grading", g)
+
+        # cracks
+        raw = self.cracks
+        if isinstance(raw, (str, bytes, Mapping)) or not isinstance(raw, Sequence):
+            raise SceneError(f"crack = {short(raw)}: must be a list of cracks "
+                             f"([[crack]] tables with points = [[x, y], ...] and "
+                             f"optionally friction = mu)")
+        cracks = []
+        for i, c in enumerate(raw):
+            fld = f"crack[{i}]"
+            pts_raw = c.points if isinstance(c, Crack) else c
+            mu = c.friction if isinstance(c, Crack) else 0.0
+            if isinstance(pts_raw, Mapping):
+                check_keys(pts_raw, ("points", "friction"), fld)
+                if "points" not in pts_raw:
+                    raise SceneError(f"{fld}.points: missing; give a polyline "
+                                     f"[[x0, y0], [x1, y1], ...]")
+                mu = friction_coefficient(pts_raw.get("friction", 0.0), f"{fld}.friction")
+                pts_raw = pts_raw["points"]
+            pts = crack_points(pts_raw, fld, tol)
+            check_crack_in_domain(poly, self.labels, pts, fld, tol)
+            for j, other in enumerate(cracks):
+                check_cracks_disjoint(pts, other.points, i, j, tol)
+            cracks.append(c if isinstance(c, Crack) else Crack(pts, mu))
+        set_("cracks", tuple(cracks))
+
+        # boundary
+        bnd = self.boundary
+        if not isinstance(bnd, Mapping):
+            raise SceneError(f"boundary = {short(bnd)}: must be a table of "
+                             f"[boundary.<label>] tables")
+        allowed = unique(self.labels)
+        conds = {}
+        for lab, cond in bnd.items():
+            if lab not in allowed:
+                raise SceneError(f"boundary.{lab}: unknown edge label; allowed labels: "
+                                 f"{', '.join(allowed)}")
+            conds[lab] = BoundaryCondition.from_dict(cond, f"boundary.{lab}")
+        set_("boundary", FrozenMap(conds))
+
+        # exact
+        if self.exact is not None:
+            set_("exact", check_exact(self.exact))
+
+        self.check_held()
+
+    # ---------------------------------------------------------------- geometry
+    @functools.cached_property
+    def diameter(self) -> float:
+        """Largest distance between two polygon vertices (computed once)."""
+        return diameter(self.polygon)
+
+    @property
+    def tol(self) -> float:
+        """Absolute geometric tolerance, ``GEOMETRY_RTOL * diameter``."""
+        return GEOMETRY_RTOL * self.diameter
+
+    def edges(self) -> list[tuple[str, Point, Point]]:
+        """The polygon edges ``(label, p, q)``, edge i from vertex i to vertex i+1."""
+        n = len(self.polygon)
+        return [(self.labels[i], self.polygon[i], self.polygon[(i + 1) % n])
+                for i in range(n)]
+
+    def on_boundary(self, x: Sequence[float]) -> bool:
+        """True if ``x`` lies on the polygon's boundary (within :attr:`tol`)."""
+        return boundary_distance((float(x[0]), float(x[1])), self.polygon) <= self.tol
+
+    def crack_end_on_boundary(self, i: int) -> tuple[bool, bool]:
+        """Whether the first and the last point of crack ``i`` lie on the boundary."""
+        pts = self.cracks[i].points
+        return self.on_boundary(pts[0]), self.on_boundary(pts[-1])
+
+    def crack_tips(self) -> list[tuple[int, Point]]:
+        """Crack end points strictly inside the domain, as ``(crack index, point)``."""
+        out = []
+        for i, c in enumerate(self.cracks):
+            for k, on in zip((0, -1), self.crack_end_on_boundary(i)):
+                if not on:
+                    out.append((i, c.points[k]))
+        return out
+
+    def through_cracks(self) -> list[int]:
+        """Indices of the cracks with both ends on the boundary (they cut a part in two)."""
+        return [i for i in range(len(self.cracks)) if all(self.crack_end_on_boundary(i))]
+
+    def edge_pieces(self) -> list[tuple[str, Point, Point]]:
+        """The polygon edges split at every crack end point lying on them, as
+        ``(label, p, q)`` in counter-clockwise order."""
+        tol = self.tol
+        ends = [c.points[k] for i, c in enumerate(self.cracks)
+                for k, on in zip((0, -1), self.crack_end_on_boundary(i)) if on]
+        out = []
+        for lab, p, q in self.edges():
+            d = sub(q, p)
+            cuts = sorted(dot(sub(x, p), d) / dot(d, d) for x in ends
+                          if point_segment_distance(x, p, q) <= tol
+                          and dist(x, p) > tol and dist(x, q) > tol)
+            pts = [p] + [(p[0] + t * d[0], p[1] + t * d[1]) for t in cuts] + [q]
+            out += [(lab, pts[k], pts[k + 1]) for k in range(len(pts) - 1)]
+        return out
+
+    def parts(self) -> tuple[Part, ...]:
+        """The connected pieces of the body after the through cracks cut it."""
+        return self._parts
+
+    @functools.cached_property
+    def _parts(self) -> tuple[Part, ...]:
+        return parts(self)
+
+    def check_held(self) -> None:
+        """Refuse a scene in which some part can move rigidly (see :func:`topology.check_held`)."""
+        check_held(self)
+
+    # ---------------------------------------------------------------- I/O
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any], name: str | None = None) -> Scene:
+        """Build from the TOML structure (a dict as ``tomllib`` returns it).
+
+        ``name``, if given, overrides ``d["name"]``; one of the two is required.
+        """
+        return _toml.scene_from_dict(cls, d, name)
+
+    @classmethod
+    def from_toml_string(cls, text: str, name: str | None = None,
+                         source: str = "scene") -> Scene:
+        """Parse TOML text; ``name`` as in :meth:`from_dict`; ``source`` names the text
+        in the message of a TOML syntax error."""
+        return cls.from_dict(_toml.parse_toml(text, source), name=name)
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Scene:
+        """Read a scene file; without a ``name`` key the file's stem is the name."""
+        return _toml.scene_from_file(cls, path)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The TOML structure (plain dicts, lists, floats, strings); inverse of
+        :meth:`from_dict`. Empty optional sections are left out."""
+        return _toml.scene_to_dict(self)
+
+    def to_toml_string(self) -> str:
+        """The scene as TOML text; ``Scene.from_toml_string`` of it gives an equal scene."""
+        return _toml.dump_toml(self.to_dict())
+
+    # ---------------------------------------------------------------- new scenes
+    def with_(self, **changes: Any) -> Scene:
+        """A new, validated scene with some fields replaced.
+
+        Accepts any field (``name``, ``polygon``, ``labels``, ``cracks``, ``material``,
+        ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``)
+        and the material's ``E``, ``nu``, ``plane``. ``boundary`` replaces the whole
+        mapping (label -> BoundaryCondition or {"type": ..., "value": ...}).
+        ``friction`` sets the Coulomb coefficient of every crack.
+        """
+        names = [f.name for f in dataclasses.fields(self)]
+        mat_keys = ("E", "nu", "plane")
+        if "friction" in changes:
+            mu = friction_coefficient(changes.pop("friction"), "friction")
+            cracks = changes.get("cracks", self.cracks)
+            if isinstance(cracks, (str, bytes, Mapping)) or not isinstance(cracks, Sequence):
+                raise SceneError(f"crack = {short(cracks)}: must be a list of cracks")
+            changes["cracks"] = tuple(
+                dataclasses.replace(c, friction=mu) if isinstance(c, Crack)
+                else {**c, "friction": mu} if isinstance(c, Mapping) else {"points": c, "friction": mu}
+                for c in cracks)
+        unknown = [k for k in changes if k not in names and k not in mat_keys]
+        if unknown:
+            allowed = ", ".join(names + list(mat_keys))
+            raise SceneError(f"with_: unknown field{'s' if len(unknown) > 1 else ''} "
+                             f"{', '.join(unknown)}; allowed: {allowed}")
+        mat = {k: changes.pop(k) for k in mat_keys if k in changes}
+        if mat:
+            base = Material.from_dict(changes.get("material", self.material))
+            changes["material"] = dataclasses.replace(base, **mat)
+        return dataclasses.replace(self, **changes)
+
+    def scaled(self, E: float = 1.0, load: float = 1.0, size: float = 1.0) -> Scene:
+        """The scene with E, all loads and all lengths multiplied by the given factors.
+
+        Lengths (polygon, cracks, mesh sizes) scale by ``size``, E by ``E``, tractions by
+        ``load``, body forces by ``load / size`` (so that stresses scale with ``load``)
+        and prescribed displacements by ``load * size / E``: the displacements of the
+        scaled scene are those of this one times ``load * size / E``. Each crack keeps
+        its friction coefficient; the ``[exact]`` metadata is kept as it is.
+        """
+        for v, fld in ((E, "E"), (load, "load"), (size, "size")):
+            positive(v, f"scaled.{fld}")
+        factor = {"traction": load, "displacement": load * size / E}
+        boundary = {k: b.scaled(factor[b.type]) if b.type in factor else b
+                    for k, b in self.boundary.items()}
+        bf = tuple(v * load / size for v in self.body_force) if self.body_force else None
+        return self.with_(
+            E=self.material.E * E,
+            polygon=tuple((x * size, y * size) for x, y in self.polygon),
+            cracks=tuple(c.scaled(size) for c in self.cracks),
+            body_force=bf, boundary=boundary,
+            **{k: getattr(self, k) * size for k in ("maxh", "tip_h", "crack_h") if getattr(self, k)},
+        )

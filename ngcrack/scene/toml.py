@@ -1,0 +1,175 @@
+"""Scene files: reading the TOML structure into a scene and writing it back.
+
+The reader checks the document's shape (known keys, tables where tables belong) and
+hands the fields to the scene's constructor, which validates their values; the writer
+is a small TOML emitter for exactly the structure :func:`scene_to_dict` produces, so
+that ``Scene.from_toml_string(scene.to_toml_string()) == scene``. The functions take
+the scene class as an argument and import nothing of it: the scene type calls down
+into this module, never the other way.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from .fields import SceneError, check_keys, short, table
+
+try:  # Python >= 3.11
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib  # type: ignore[no-redef]
+
+#: the top-level keys of a scene file
+TOP_KEYS = ("name", "description", "domain", "crack", "material", "load", "boundary",
+            "mesh", "exact")
+#: the keys of its [mesh] table
+MESH_KEYS = ("maxh", "tip_h", "crack_h", "grading")
+
+
+def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
+    """A ``cls`` (the Scene type) from the TOML structure; ``name`` overrides ``d["name"]``."""
+    if not isinstance(d, Mapping):
+        raise SceneError(f"scene = {short(d)}: must be a table (the TOML document)")
+    check_keys(d, TOP_KEYS, "")
+    if name is None:
+        if "name" not in d:
+            raise SceneError("name: missing; give the scene a name (a non-empty string)")
+        name = d["name"]
+    domain = table(d, "domain", "domain")
+    check_keys(domain, ("polygon", "labels"), "domain")
+    if "polygon" not in domain:
+        raise SceneError("domain.polygon: missing; give 3 or more vertices "
+                         "[[x0, y0], [x1, y1], ...], counter-clockwise")
+    cracks = d.get("crack", [])
+    if isinstance(cracks, (Mapping, str, bytes)) or not isinstance(cracks, Sequence):
+        raise SceneError(f"crack = {short(cracks)}: must be an array of tables "
+                         f"([[crack]] with points = [[x, y], ...])")
+    for i, c in enumerate(cracks):
+        if not isinstance(c, Mapping):
+            raise SceneError(f"crack[{i}] = {short(c)}: must be a table with key "
+                             f"points ([[crack]] in TOML)")
+    if "material" not in d:
+        raise SceneError("material: missing; give a [material] table with E, nu and "
+                         "optionally plane")
+    load = table(d, "load", "load")
+    check_keys(load, ("body_force",), "load")
+    boundary = table(d, "boundary", "boundary")
+    mesh = table(d, "mesh", "mesh")
+    check_keys(mesh, MESH_KEYS, "mesh")
+    return cls(
+        name=name,
+        description=d.get("description", ""),
+        polygon=domain["polygon"],
+        labels=domain.get("labels", ()),
+        cracks=tuple(cracks),
+        material=d["material"],
+        body_force=load.get("body_force"),
+        boundary=boundary,
+        maxh=mesh.get("maxh"),
+        tip_h=mesh.get("tip_h"),
+        crack_h=mesh.get("crack_h"),
+        grading=mesh.get("grading"),
+        exact=d.get("exact"),
+    )
+
+
+def parse_toml(text: str, source: str) -> dict[str, Any]:
+    """The TOML document as a dict; a syntax error is a SceneError naming ``source``."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise SceneError(f"{source}: not valid TOML: {err}") from err
+
+
+def scene_from_file(cls, path: str | Path):
+    """Read a scene file; without a ``name`` key the file's stem is the name."""
+    path = Path(path)
+    d = parse_toml(path.read_text(encoding="utf-8"), str(path))
+    return scene_from_dict(cls, d, name=None if "name" in d else path.stem)
+
+
+def scene_to_dict(scene) -> dict[str, Any]:
+    """The TOML structure of a scene (plain dicts, lists, floats, strings)."""
+    d: dict[str, Any] = {"name": scene.name}
+    if scene.description:
+        d["description"] = scene.description
+    d["domain"] = {"polygon": [list(p) for p in scene.polygon], "labels": list(scene.labels)}
+    if scene.cracks:
+        d["crack"] = [c.to_dict() for c in scene.cracks]
+    d["material"] = scene.material.to_dict()
+    if scene.body_force is not None:
+        d["load"] = {"body_force": list(scene.body_force)}
+    if scene.boundary:
+        d["boundary"] = {lab: bc.to_dict() for lab, bc in scene.boundary.items()}
+    mesh = {k: getattr(scene, k) for k in MESH_KEYS if getattr(scene, k) is not None}
+    if mesh:
+        d["mesh"] = mesh
+    if scene.exact is not None:
+        d["exact"] = {k: list(v) if isinstance(v, tuple) else v for k, v in scene.exact.items()}
+    return d
+
+
+# --------------------------------------------------------------------------------------
+# a small TOML writer for the scene structure
+# --------------------------------------------------------------------------------------
+
+_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def _toml_key(k: str) -> str:
+    return k if _BARE_KEY.match(k) else _toml_value(k)
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if not math.isfinite(v):
+            raise SceneError(f"cannot write {v!r} to TOML")  # excluded by validation
+        return repr(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {type(v).__name__} to TOML")
+
+
+def _is_table_array(v: Any) -> bool:
+    return isinstance(v, list) and bool(v) and all(isinstance(x, Mapping) for x in v)
+
+
+def dump_toml(d: Mapping[str, Any]) -> str:
+    """TOML text of a structure of tables, arrays of tables and plain values."""
+    lines: list[str] = []
+
+    def scalars(t: Mapping[str, Any]) -> None:
+        for k, v in t.items():
+            if not isinstance(v, Mapping) and not _is_table_array(v):
+                lines.append(f"{_toml_key(k)} = {_toml_value(v)}")
+
+    def tables(path: list[str], t: Mapping[str, Any]) -> None:
+        for k, v in t.items():
+            sub = path + [_toml_key(k)]
+            if isinstance(v, Mapping):
+                has_scalars = any(not isinstance(x, Mapping) and not _is_table_array(x)
+                                  for x in v.values())
+                if has_scalars or not v:
+                    lines.extend(["", f"[{'.'.join(sub)}]"])
+                    scalars(v)
+                tables(sub, v)
+            elif _is_table_array(v):
+                for item in v:
+                    lines.extend(["", f"[[{'.'.join(sub)}]]"])
+                    scalars(item)
+                    tables(sub, item)
+
+    scalars(d)
+    tables([], d)
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,197 @@
+"""The body's topology: its connected parts after through cracks cut it, and whether
+each part is held against rigid motion.
+
+A crack with both ends on the boundary cuts the part it crosses in two. Each part gets
+its loop of outer-boundary pieces and crack faces (:class:`Part`); :func:`check_held`
+then asks, per part, whether its supports remove all three rigid motions (two
+translations, one rotation) and refuses the scene by name when they do not: the answer
+would not be unique. Contact on crack faces is unilateral and holds nothing.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .fields import SceneError, fmt_pt, unique
+from .measures import (
+    Point,
+    boundary_distance,
+    diameter,
+    dist,
+    inside,
+    interior_point,
+    mid,
+    point_segment_distance,
+    signed_area,
+)
+from .types import GEOMETRY_RTOL
+
+__all__ = ["HELD_RANK_RTOL", "Part", "check_held", "parts"]
+
+#: Relative threshold on singular values in the rigid-motion rank check of
+#: :func:`check_held`: the 3 constraint columns (two translations, one rotation
+#: about a point inside the part, lengths scaled by the diameter) are O(1), so a
+#: singular value below ``HELD_RANK_RTOL`` times the largest one counts as zero.
+HELD_RANK_RTOL = 1e-8
+
+
+@dataclass(frozen=True)
+class Part:
+    """One connected piece of the body after the through cracks have cut it.
+
+    ``loop``: its boundary vertices, counter-clockwise (outer edges and crack faces).
+    ``pieces``: its pieces of the outer boundary, ``(label, p, q)``, counter-clockwise.
+    ``crack_faces``: ``(crack index, p, q)`` for each crack segment on its boundary, in
+    the loop's direction. ``cracks``: indices of the cracks inside or bounding it.
+    ``point``: a point strictly inside it (used to name it in messages).
+    """
+
+    loop: tuple[Point, ...]
+    pieces: tuple[tuple[str, Point, Point], ...]
+    crack_faces: tuple[tuple[int, Point, Point], ...]
+    cracks: tuple[int, ...]
+    point: Point
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        """Distinct labels of its outer-boundary pieces, in loop order."""
+        return tuple(unique([lab for lab, _, _ in self.pieces]))
+
+    @property
+    def area(self) -> float:
+        return signed_area(self.loop)
+
+    def contains(self, x: Sequence[float]) -> bool:
+        """True if ``x`` lies strictly inside (points on the loop are not inside)."""
+        p = (float(x[0]), float(x[1]))
+        tol = GEOMETRY_RTOL * diameter(self.loop)
+        return boundary_distance(p, self.loop) > tol and inside(p, self.loop)
+
+
+def _insert_on_loop(V: list[Point], T: list[Any], x: Point, tol: float) -> int:
+    """Index of ``x`` among the loop's vertices, inserting it on its edge if needed."""
+    for i, v in enumerate(V):
+        if dist(v, x) <= tol:
+            return i
+    m = len(V)
+    for i in range(m):
+        if point_segment_distance(x, V[i], V[(i + 1) % m]) <= tol:
+            V.insert(i + 1, x)
+            T.insert(i + 1, T[i])
+            return i + 1
+    raise AssertionError(f"{fmt_pt(x)} is not on the loop")  # excluded by validation
+
+
+def parts(scene) -> tuple[Part, ...]:
+    """The connected pieces of ``scene``'s body after its through cracks cut it."""
+    tol = scene.tol
+    n = len(scene.polygon)
+    # a loop: vertices V and tags T, T[i] for the edge V[i] -> V[i+1]
+    loops: list[tuple[list[Point], list[tuple[str, Any]]]] = [
+        (list(scene.polygon), [("edge", scene.labels[i]) for i in range(n)])]
+    through = scene.through_cracks()
+    for c in through:
+        P = scene.cracks[c].points
+        m0 = mid(P[0], P[1])
+        li = next(k for k, (V, _) in enumerate(loops) if inside(m0, V))
+        V, T = list(loops[li][0]), list(loops[li][1])
+        _insert_on_loop(V, T, P[0], tol)
+        _insert_on_loop(V, T, P[-1], tol)
+        i0 = _insert_on_loop(V, T, P[0], tol)  # index again after the 2nd insertion
+        i1 = _insert_on_loop(V, T, P[-1], tol)
+        m = len(V)
+
+        def arc(a: int, b: int, m: int = m) -> list[int]:
+            return [(a + k) % m for k in range((b - a) % m + 1)]
+
+        inner = list(P[1:-1])
+        ia, ib = arc(i0, i1), arc(i1, i0)
+        crack_tags = [("crack", c)] * (len(P) - 1)
+        # a: boundary from the crack's first to its last point, back along the crack
+        loop_a = ([V[k] for k in ia] + inner[::-1],
+                  [T[k] for k in ia[:-1]] + crack_tags)
+        # b: boundary from the crack's last to its first point, on along the crack
+        loop_b = ([V[k] for k in ib] + inner, [T[k] for k in ib[:-1]] + crack_tags)
+        loops[li:li + 1] = [loop_a, loop_b]
+
+    out = []
+    for V, T in loops:
+        m = len(V)
+        pieces, faces, ids = [], [], []
+        for k in range(m):
+            p, q = V[k], V[(k + 1) % m]
+            kind, tag = T[k]
+            if kind == "edge":
+                pieces.append((tag, p, q))
+            else:
+                faces.append((tag, p, q))
+                ids.append(tag)
+        for i, crack in enumerate(scene.cracks):
+            if i not in through and inside(mid(crack.points[0], crack.points[1]), V):
+                ids.append(i)
+        out.append(Part(loop=tuple(V), pieces=tuple(pieces), crack_faces=tuple(faces),
+                        cracks=tuple(sorted(set(ids))), point=interior_point(V)))
+    return tuple(out)
+
+
+def _direction(a: float, b: float) -> Point:
+    """The unit vector along (a, b), signed so that its larger component is positive,
+    with round-off components set to zero (for messages)."""
+    h = math.hypot(a, b)
+    a, b = a / h, b / h
+    if (a if abs(a) >= abs(b) else b) < 0:
+        a, b = -a, -b
+    return (0.0 if abs(a) < HELD_RANK_RTOL else a, 0.0 if abs(b) < HELD_RANK_RTOL else b)
+
+
+def check_held(scene) -> None:
+    """Refuse a scene in which some part can move rigidly (the answer is not unique).
+
+    Rigid motions are v(x) = a + theta (-y, x). Each clamped or displacement piece
+    imposes v = 0 at its two end points, each roller piece v.n = 0 there; a part is
+    held when these constraints have rank 3. Contact on crack faces is unilateral
+    and holds nothing.
+    """
+    L, tol = scene.diameter, scene.tol
+    for part in scene.parts():
+        c = part.point
+        rows, rollers = [], []
+        for lab, p, q in part.pieces:
+            cond = scene.boundary.get(lab)
+            length = dist(p, q)
+            if cond is None or cond.holds == "none" or length <= tol:
+                continue
+            n_out = ((q[1] - p[1]) / length, -(q[0] - p[0]) / length)
+            if cond.holds == "normal":
+                rollers.append(lab)
+            for x in (p, q):
+                X, Y = (x[0] - c[0]) / L, (x[1] - c[1]) / L
+                if cond.holds == "all":
+                    rows += [[1.0, 0.0, -Y], [0.0, 1.0, X]]
+                else:
+                    rows.append([n_out[0], n_out[1], -n_out[0] * Y + n_out[1] * X])
+        where = f"boundary: the part of the body containing point {fmt_pt(c)}"
+        if not rows:
+            raise SceneError(
+                f"{where} is held by nothing (no clamped, displacement or roller "
+                f"edge), so the answer is not unique; add a clamped/displacement/"
+                f"roller edge to it")
+        _, s, vt = np.linalg.svd(np.array(rows), full_matrices=True)
+        rank = int(np.sum(s > HELD_RANK_RTOL * s[0]))
+        if rank < 3:
+            a1, a2, th = vt[-1]
+            if abs(th) <= HELD_RANK_RTOL * math.hypot(a1, a2):
+                free = f"the translation along {fmt_pt(_direction(a1, a2))}"
+            else:
+                free = ("the rotation about "
+                        f"{fmt_pt((c[0] - L * a2 / th, c[1] + L * a1 / th))}")
+            raise SceneError(
+                f"{where} is held only by roller edges "
+                f"({', '.join(unique(rollers))}) that leave {free} free, so the answer "
+                f"is not unique; add a clamped/displacement edge or a roller with a "
+                f"non-parallel normal to it")

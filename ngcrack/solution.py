@@ -1,0 +1,133 @@
+"""The answer of one solve: `Solution`, what every stage of the pipeline hands to the user.
+
+It holds the scene, the mesh, the discretization and its GridFunction, the fields, the
+crack profiles, the KKT residuals, the tips' fracture parameters, the error estimate and
+the timings; `to_json_dict` is the `solve --json` contract. NGSolve users find NGSolve's
+names on it: `sol.gfu` (the GridFunction), `sol.fes` (its space), `sol.mesh`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import ngsolve as ngs
+import numpy as np
+
+from .constraints import KKT_KEYS
+from .contact import QPResult
+from .elements import Discretization
+from .geometry import CrackMesh
+from .post import CrackProfile
+from .scene import Scene
+
+
+@dataclass
+class Solution:
+    """The answer of one solve.
+
+    `u`, `sigma`, `rotation` are NGSolve CoefficientFunctions (u is P0 per triangle,
+    sigma the weakly symmetric 2x2 stress); `gf` is the full GridFunction. `profiles`
+    holds one CrackProfile per crack (with its open / stick / slip `state`), `qp` the QP's
+    answer (None without a crack; a friction.FrictionResult with friction).
+
+    `kkt`: the relative residuals of the discrete Signorini conditions where the QP's
+    constraints live (edge mid points for P0 jumps, edge end points for P1 jumps, crack
+    nodes for h1p1/h1p2), with the constrained values w = G j of the answer and the
+    discrete contact forces `forces` computed from the solved system
+    (`constraints.discrete_contact_forces`, `constraints.kkt_at_constraints`): round-off small for
+    crack_model "contact"; under "friction", the discrete Coulomb law's residual at the
+    same points (0 without friction). For "free" and "bonded" they measure the same
+    conditions on that model's answer: max_penetration > 0 where free faces
+    interpenetrate, max_tension > 0 where bonded faces pull on each other. `kkt_sampled`:
+    the same figures from the edge mid-point samples of the crack profiles (a diagnostic:
+    a P1 jump sampled on the edge where contact ends carries both a small opening and a
+    small pressure). No crack: all zero. `timings` in seconds, `ndof` counts (total,
+    global after condensation, contact), `built` lists what was built.
+    """
+
+    scene: Scene
+    element: str
+    crack_mesh: CrackMesh
+    disc: Discretization
+    gf: ngs.GridFunction
+    fields: dict
+    profiles: list[CrackProfile]
+    kkt: dict
+    qp: QPResult | None
+    timings: dict
+    ndof: dict
+    built: list[str]
+    options: dict = field(default_factory=dict)
+    conditioning: dict = field(default_factory=dict)
+    #: K_I, K_II, G at every crack end inside the body (tips.py; the tip frame is in its docstring)
+    tips: list = field(default_factory=list)
+    kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
+    forces: np.ndarray | None = None
+    #: the a posteriori estimate of the stress error (estimate.py), None where none exists
+    error_estimate: object = None
+    #: with adapt=TOL: one row per refinement step (adapt.py), a pandas DataFrame
+    adapt_history: object = None
+
+    @property
+    def mesh(self) -> ngs.Mesh:
+        return self.crack_mesh.mesh
+
+    @property
+    def gfu(self) -> ngs.GridFunction:
+        """The GridFunction of every unknown (NGSolve's name; also `gf`)."""
+        return self.gf
+
+    @property
+    def fes(self) -> ngs.FESpace:
+        """The (compound) finite element space of `gfu`."""
+        return self.gf.space
+
+    @property
+    def u(self):
+        return self.fields["u"]
+
+    @property
+    def sigma(self):
+        return self.fields["sigma"]
+
+    @property
+    def rotation(self):
+        return self.fields.get("rotation")
+
+    @property
+    def maxh(self) -> float:
+        return self.crack_mesh.maxh
+
+    def crack_profiles(self) -> list[CrackProfile]:
+        """Per crack: s, x, y, jumps and crack-face stresses at the edge mid points."""
+        return self.profiles
+
+    def save_vtk(self, path, **kwargs):
+        """Write the fields and the crack faces for ParaView (ngcrack.vtk.save_vtk)."""
+        from .vtk import save_vtk
+
+        return save_vtk(self, path, **kwargs)
+
+    def to_json_dict(self) -> dict:
+        """The result as the `solve --json` dictionary (README, "Command line")."""
+        t = self.timings
+        return {
+            "scene": self.scene.name,
+            "element": self.element,
+            "maxh": float(self.maxh),
+            "nu": float(self.scene.material.nu),
+            "E": float(self.scene.material.E),
+            "ndof": {k: int(self.ndof[k]) for k in ("total", "global", "contact")},
+            "time_s": {k: float(t[k]) for k in ("total", "mesh", "assemble", "linear", "contact")},
+            "kkt": {k: float(self.kkt[k]) for k in KKT_KEYS},
+            "kkt_sampled": {k: float(self.kkt_sampled[k]) for k in KKT_KEYS},
+            "tips": [tip.to_dict() for tip in self.tips],
+            "cracks": [p.to_dict() for p in self.profiles],
+            **({"error_estimate": self.error_estimate.to_dict()} if self.error_estimate is not None else {}),
+            # each adaptive step: its unknowns, its relative estimate, and its seconds (solve,
+            # estimate and the refinement that made its mesh); time_s.total is the whole run
+            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate),
+                           "time_s": float(r.time_solve + r.time_estimate + r.time_refine)}
+                          for r in self.adapt_history.itertuples()]}
+               if self.adapt_history is not None else {}),
+        }

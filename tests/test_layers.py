@@ -1,0 +1,167 @@
+"""The package's architecture as data: imports run down the layers, nothing patches a module.
+
+The layer order is written once, here (CONTRIBUTING.md explains it). Every module of
+ngcrack belongs to the layer of the longest prefix that names it; a module may import
+from its own layer or any layer below, never above, and the import graph (imports at
+module level and inside functions alike) has no cycle. A new module must be placed in
+LAYERS, so that its place in the architecture is a decision, not an accident.
+"""
+
+from __future__ import annotations
+
+import ast
+import pathlib
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
+
+#: low to high: data flows from the scene to the studies and views
+LAYERS: list[tuple[str, tuple[str, ...]]] = [
+    ("foundations", ("materials", "parallel", "quadrature", "planar", "schur", "constraints", "contact", "outputs")),
+    ("scene", ("scene", "scenes", "references", "sizing")),
+    ("mesh", ("geometry",)),
+    ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
+    ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk")),
+    ("options and solution", ("options", "solution")),
+    ("pipeline and hp meshes", ("pipeline", "hp")),
+    ("loops over the pipeline", ("adapt",)),
+    ("one-shot solve", ("solve",)),
+    ("studies", ("study", "sweeps", "stability", "growth", "paper", "plots")),
+    ("views", ("explorer", "interactive", "cli", "growth.cli", "__main__", "")),
+]
+
+#: the largest module, in lines (the aim is about 500: one idea a module)
+MAX_LINES = 600
+
+
+def _module_name(path: pathlib.Path) -> str:
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def _modules() -> dict[str, pathlib.Path]:
+    return {_module_name(p): p for p in sorted(ROOT.rglob("*.py"))}
+
+
+def _layer(name: str) -> int:
+    best, best_len = None, -1
+    for k, (_, prefixes) in enumerate(LAYERS):
+        for prefix in prefixes:
+            if (name == prefix or name.startswith(prefix + ".") or prefix == "" and name == "") and len(prefix) > best_len:
+                best, best_len = k, len(prefix)
+    if best is None:
+        raise AssertionError(f"module ngcrack.{name} is in no layer: add it to LAYERS in {__file__}")
+    return best
+
+
+def _imports(name: str, path: pathlib.Path) -> set[str]:
+    """The ngcrack modules that `path` imports anywhere (module level or inside functions)."""
+    modules = _modules()
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    out: set[str] = set()
+
+    def add(target: str) -> None:
+        # the longest prefix of `target` that is a module (a from-import may name a function);
+        # a module that does not exist (an optional import) is no edge
+        while target and target not in modules:
+            target = target.rpartition(".")[0]
+            if not target:
+                return
+        if target in modules and target != name:
+            out.add(target)
+
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".") if package else []
+                base = base[:len(base) - (node.level - 1)] if node.level > 1 else base
+                target = ".".join([*base, *([node.module] if node.module else [])])
+            elif node.module and (node.module == "ngcrack" or node.module.startswith("ngcrack.")):
+                target = node.module[len("ngcrack."):] if node.module != "ngcrack" else ""
+            else:
+                continue
+            for alias in node.names:  # `from . import elements` imports the module ngcrack.elements
+                full = f"{target}.{alias.name}" if target else alias.name
+                add(full if full in modules else target)
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.startswith("ngcrack."):
+                    add(alias.name[len("ngcrack."):])
+    return out
+
+
+def _graph() -> dict[str, set[str]]:
+    return {name: _imports(name, path) for name, path in _modules().items()}
+
+
+def test_every_module_has_a_layer():
+    for name in _modules():
+        _layer(name)
+
+
+def test_no_import_runs_up_the_layers():
+    upward = []
+    for name, deps in _graph().items():
+        for dep in deps:
+            if _layer(dep) > _layer(name):
+                upward.append(f"ngcrack.{name} ({LAYERS[_layer(name)][0]}) imports ngcrack.{dep} "
+                              f"({LAYERS[_layer(dep)][0]})")
+    assert not upward, "imports up the layers:\n" + "\n".join(sorted(upward))
+
+
+def test_no_import_cycle():
+    graph = _graph()
+    # a package's __init__ re-exports its modules: importing a package is not a cycle with them
+    state: dict[str, int] = {}
+    cycles = []
+
+    def visit(node: str, stack: list[str]) -> None:
+        state[node] = 1
+        for dep in sorted(graph[node]):
+            if dep == "" or node.startswith(dep + ".") or dep.startswith(node + ".") and node == "":
+                continue
+            if state.get(dep) == 1:
+                cycles.append(" -> ".join(stack[stack.index(dep):] + [dep]) if dep in stack else f"{node} -> {dep}")
+            elif state.get(dep) is None:
+                visit(dep, stack + [dep])
+        state[node] = 2
+
+    for name in sorted(graph):
+        if state.get(name) is None:
+            visit(name, [name])
+    assert not cycles, "import cycles:\n" + "\n".join(cycles)
+
+
+def test_no_module_is_patched_at_run_time():
+    """No assignment to an attribute of an imported ngcrack module, no setattr on one."""
+    found = []
+    for name, path in _modules().items():
+        tree = ast.parse(path.read_text())
+        imported = set()  # the names bound to ngcrack's own modules
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                imported |= {a.asname or a.name for a in node.names if a.name.startswith("ngcrack")}
+            elif isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("ngcrack")):
+                imported |= {a.asname or a.name for a in node.names}
+        for node in ast.walk(tree):
+            targets = node.targets if isinstance(node, ast.Assign) else \
+                [node.target] if isinstance(node, (ast.AugAssign, ast.AnnAssign)) else []
+            for t in targets:
+                if isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id in imported:
+                    found.append(f"ngcrack.{name}:{node.lineno}: {t.value.id}.{t.attr} = ...")
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr" \
+                    and node.args and isinstance(node.args[0], ast.Name) and node.args[0].id in imported:
+                found.append(f"ngcrack.{name}:{node.lineno}: setattr({node.args[0].id}, ...)")
+    assert not found, "modules patched at run time:\n" + "\n".join(found)
+
+
+@pytest.mark.parametrize("name", sorted(_modules()))
+def test_module_size_and_docstring(name):
+    path = _modules()[name]
+    text = path.read_text()
+    lines = text.count("\n")
+    assert lines <= MAX_LINES, f"ngcrack.{name} has {lines} lines (at most {MAX_LINES}: split it by idea)"
+    assert ast.get_docstring(ast.parse(text)), f"ngcrack.{name} has no module docstring saying what it holds"
