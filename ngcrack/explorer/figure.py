@@ -27,8 +27,7 @@ import math
 
 import numpy as np
 
-from .fields import (FIELDS, K_DIGITS, crack_faces, field_label, load_magnitude, significant, stress_values, tip_value,
-                     units)
+from .fields import FIELDS, K_DIGITS, crack_faces, field_label, load_magnitude, significant, stress_values, tip_value, units
 
 #: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
 DEFORMED_FRACTION = 0.08
