@@ -137,20 +137,22 @@ def _hybrid_traces(sol, top: _Topology) -> tuple[np.ndarray, int]:
     table = _facet_dof_table(disc.fes.components[disc.uhat[0]], ned, p)
     uh = np.stack([np.where(table >= 0, comps[c].vec.FV().NumPy()[np.maximum(table, 0)], 0.0)
                    for c in disc.uhat], axis=-1)  # (ned, p+1, 2)
-    minus: dict[int, np.ndarray] = {}  # crack edge -> the trace u_hat - j its minus side sees
+    minus_edges, minus = [], []  # crack edges, and the traces u_hat - j their minus sides see
     if disc.jn is not None and cmesh.cracks:
         for c in cmesh.cracks:
-            jn = _facet_values(comps[disc.jn], p, c.edge)
-            jt = _facet_values(comps[disc.jt], p, c.edge)
+            jn = _facet_values(comps[disc.jn], p, c.edge, (disc.fes, disc.jn))
+            jt = _facet_values(comps[disc.jt], p, c.edge, (disc.fes, disc.jt))
             jump = jn[:, :, None] * c.normal[:, None, :] + jt[:, :, None] * c.tangent[:, None, :]
-            minus.update({int(e): m for e, m in zip(c.edge, uh[c.edge] - jump)})
+            minus_edges.append(np.asarray(c.edge, dtype=int))
+            minus.append(uh[c.edge] - jump)
     ne = len(top.T)
     # trace seen by each element on the edge opposite each of its vertices
     tr = uh[top.opp_edge]  # (ne, 3, p+1, 2)
     if minus:
         rows, slots = np.nonzero(top.crack_edge[top.opp_edge] & (top.side[:, None] < 0))
-        for r, s in zip(rows, slots):
-            tr[r, s] = minus[int(top.opp_edge[r, s])]
+        at = np.full(ned, -1)
+        at[np.concatenate(minus_edges)] = np.arange(sum(len(e) for e in minus_edges))
+        tr[rows, slots] = np.concatenate(minus)[at[top.opp_edge[rows, slots]]]
     if p == 0:  # Crouzeix-Raviart: w(v_i) = sum_k t_k - 2 t_i
         t = tr[:, :, 0, :]
         return (t.sum(axis=1, keepdims=True) - 2.0 * t), 1
@@ -270,28 +272,46 @@ def _admissible_crack(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degree: i
             push(pm, nu, 0.0 if crack_model == "bonded" else 0.25 * (ja + jb))
 
 
-def _crack_jump_quadrature(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degree: int):
-    """Gauss points on the crack edges, their weights, [w].nu there, and the edge ids."""
+def _crack_node_arrays(cmesh: CrackMesh, top: _Topology, c) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """`_crack_node_pairs` of one crack as arrays (len(c), 2): (minus, plus) of vertex a,
+    vertex b and the mid point of each edge."""
+    nv, ned = len(top.P), cmesh.mesh.nedge
+    tips = np.array(sorted(cmesh.tip_vertices), dtype=int)
+    va, vb, e = (np.asarray(v, dtype=int) for v in (c.va, c.vb, c.edge))
+    pa = np.column_stack([va, np.where(np.isin(va, tips), va, va + nv)])
+    pb = np.column_stack([vb, np.where(np.isin(vb, tips), vb, vb + nv)])
+    pm = np.column_stack([2 * nv + e, 2 * nv + e + ned])
+    return pa, pb, pm
+
+
+def _crack_jump_quadrature(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degree: int) -> dict | None:
+    """Gauss points on the crack edges (edge, point, 2), their weights, [w].nu there, the
+    normals, edge ids and lengths (one row per crack edge, all cracks); None without cracks."""
     g, wg = np.polynomial.legendre.leggauss(CRACK_GAUSS_POINTS)
     t = 0.5 * (g + 1.0)
-    rows = []
-    lengths = {id(c): c.length for c in cmesh.cracks}  # (a property: computed once per crack)
-    for c, k, pa, pb, pm in _crack_node_pairs(cmesh, top, degree):
-        nu = c.normal[k]
-        ja, jb = (float(np.dot(W[p[1]] - W[p[0]], nu)) for p in (pa, pb))
+    parts = []
+    for c in cmesh.cracks:
+        if not len(c):
+            continue
+        pa, pb, pm = _crack_node_arrays(cmesh, top, c)
+        nu = np.asarray(c.normal, float)
+        ja = np.sum((W[pa[:, 1]] - W[pa[:, 0]]) * nu, axis=1)[:, None]
+        jb = np.sum((W[pb[:, 1]] - W[pb[:, 0]]) * nu, axis=1)[:, None]
         if degree == 1:
             j = (1 - t) * ja + t * jb
         else:
-            jm = float(np.dot(W[pm[1]] - W[pm[0]], nu))
+            jm = np.sum((W[pm[:, 1]] - W[pm[:, 0]]) * nu, axis=1)[:, None]
             j = ja * (1 - t) * (1 - 2 * t) + jb * t * (2 * t - 1) + jm * 4 * t * (1 - t)
-        x = c.a[k][None, :] + t[:, None] * (c.b[k] - c.a[k])[None, :]
-        L = lengths[id(c)][k]
-        rows.append((x, 0.5 * wg * L, j, nu, int(c.edge[k]), L))
-    return rows
+        x = c.a[:, None, :] + t[None, :, None] * (c.b - c.a)[:, None, :]
+        L = c.length
+        parts.append({"x": x, "w": 0.5 * wg[None, :] * L[:, None], "j": j, "nu": nu,
+                      "edge": np.asarray(c.edge, dtype=int), "L": L})
+    if not parts:
+        return None
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
 
 
 # ---------------------------------------------------------------------- estimate
-
 
 def _zz_recovery(sol, top: _Topology, A, quad=None) -> tuple[dict[str, np.ndarray], np.ndarray | None]:
     """eta_T^2 = ||sigma* - sigma_h||_A,T^2, sigma* the node-averaged stress (per crack
@@ -334,23 +354,22 @@ def _contact_term(sol, W: np.ndarray, top: _Topology, degree: int) -> tuple[np.n
     cmesh = sol.crack_mesh
     mesh = cmesh.mesh
     out = np.zeros(mesh.ne)
-    rows = _crack_jump_quadrature(W, cmesh, top, degree)
-    if not rows:
+    q = _crack_jump_quadrature(W, cmesh, top, degree)
+    if q is None:
         return out, 0.0
     # sigma_h nu . nu is single-valued on the crack for the mixed elements: sample the minus side
-    pts = np.concatenate([x - INWARD * L * nu[None, :] for x, _, _, nu, _, L in rows])
-    sig = np.asarray(sol.sigma(mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 2, 2)
-    q, min_jump = 0, 0.0
-    edge_elements = top.__dict__.setdefault("_edge_elements", {})  # mesh data: kept with the topology
-    for _x, w, j, nu, e, _L in rows:
-        sn = np.einsum("i,pij,j->p", nu, sig[q:q + len(w)], nu)
-        q += len(w)
-        els = edge_elements.get(e)
+    pts = (q["x"] - INWARD * q["L"][:, None, None] * q["nu"][:, None, :]).reshape(-1, 2)
+    sig = np.asarray(sol.sigma(mesh(pts[:, 0], pts[:, 1]))).reshape(len(q["edge"]), -1, 2, 2)
+    nu = q["nu"]
+    sn = np.einsum("ei,epij,ej->ep", nu, sig, nu)
+    per_edge = 2.0 * np.sum(q["w"] * np.abs(sn) * q["j"], axis=1)
+    kept = top.__dict__.setdefault("_edge_elements", {})  # mesh data: kept with the topology
+    for e, value in zip(q["edge"], per_edge):
+        els = kept.get(int(e))
         if els is None:
-            els = edge_elements[e] = [el.nr for el in mesh.edges[e].elements]
-        out[els] += 2.0 * float(np.sum(w * np.abs(sn) * j)) / len(els)
-        min_jump = min(min_jump, float(j.min()))
-    return out, min_jump
+            els = kept[int(e)] = [el.nr for el in mesh.edges[int(e)].elements]
+        out[els] += value / len(els)
+    return out, min(0.0, float(q["j"].min()))
 
 
 def _oscillation(mesh, top: _Topology, f, A) -> np.ndarray:
@@ -372,11 +391,16 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
     mesh = sol.crack_mesh.mesh
     W, nodes, degree = _admissible_displacement(sol, loads, crack_model, top)
     if quad is not None:
-        # (grad w)_ij = d w_i / d x_j = sum_k W_k,i d phi_k / d x_j
-        g = np.matmul(np.swapaxes(W[nodes], 1, 2)[:, None], quad.basis_gradient(top, degree))
-        eps = 0.5 * (g + np.swapaxes(g, -1, -2))
-        tr = eps[..., 0, 0] + eps[..., 1, 1]
-        d = sig_q - (2 * mu * eps + lam * tr[..., None, None] * np.eye(2))
+        # (grad w)_ij = d w_i / d x_j = sum_k W_k,i d phi_k / d x_j, component by component
+        G, Wn = quad.basis_gradient(top, degree), W[nodes]  # (ne, nq, nk, 2), (ne, nk, 2)
+        g = [[np.einsum("ek,eqk->eq", Wn[:, :, i], G[:, :, :, j]) for j in range(2)] for i in range(2)]
+        e01 = 0.5 * (g[0][1] + g[1][0])
+        tr = g[0][0] + g[1][1]
+        d = np.empty_like(sig_q)
+        d[..., 0, 0] = sig_q[..., 0, 0] - (2 * mu * g[0][0] + lam * tr)
+        d[..., 1, 1] = sig_q[..., 1, 1] - (2 * mu * g[1][1] + lam * tr)
+        d[..., 0, 1] = sig_q[..., 0, 1] - 2 * mu * e01
+        d[..., 1, 0] = sig_q[..., 1, 0] - 2 * mu * e01
         parts = {"stress": quad.energy(d, A)}
     else:
         lag = _Lagrange(mesh, top, degree, 2)

@@ -64,7 +64,11 @@ w
 #    displacement element not take $\nu = 1/2$? Type 0.7 into the box next to *nu*: why
 #    is it refused?
 # 6. **Geometry.** Change the *crack angle*: at which angle does the crack slide most
-#    under compression? (The shear on the crack line is $p\sin\beta\cos\beta$.)
+#    under compression? (The shear on the crack line is $p\sin\beta\cos\beta$.) Set
+#    *scales* to *hold always* first, so that 30° and 60° are drawn on one colour scale:
+#    how does $\sigma_n$ on the faces change ($-p\cos^2\beta$)?
+# 7. **Stiffness.** With *scales* on *hold always*, multiply *E* by 10: what happens to
+#    the deformation, and to the stresses? Why?
 #
 # The cells below do experiments 2 and 3 with `nc.Explorer`, the model behind the widget
 # (`w.model`) without the widget, so that the numbers are on the page; `update(**changes)`

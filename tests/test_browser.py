@@ -259,8 +259,6 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             page.wait_for_selector("text=Unilateral contact: closed over", timeout=RUN_TIMEOUT * 1000)
             _wait_idle(page, RUN_TIMEOUT)
             page.screenshot(path=str(shots / "2-run.png"), full_page=True)
-            print("[browser] output types:", page.evaluate(
-                "() => Array.from(document.querySelectorAll('[data-mime-type]')).map(e => e.getAttribute('data-mime-type'))"))
             page.wait_for_selector(ERROR_OUTPUT, state="attached", timeout=RUN_TIMEOUT * 1000)
             _dismiss_dialogs(page)
             figure = page.locator("img.ngcrack-figure").first
@@ -311,7 +309,7 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             # 4. compression with crack model free: the faces overlap
             _type(page, "load", "1")
             _wait_data(page, "d.state.load === 1.0 && d.max_gap === 0", MOVE_TIMEOUT)
-            page.locator(".widget-dropdown:has(label:text-is('crack model')) select").first.select_option("free")
+            page.locator(".widget-dropdown:has(label:text-is('crack model')) select").first.select_option(label="free (no contact)")
             seen["free"] = _wait_data(page, "d.state.crack_model === 'free' && d.error === null", MOVE_TIMEOUT)
             page.wait_for_timeout(300)
             page.screenshot(path=str(shots / "6-free-compression.png"))

@@ -479,6 +479,9 @@ def test_figure_faces_show_gap_overlap_and_closure():
     w.controls["crack_model"].value = "free"
     d = w.drawing.data
     assert d["max_gap"] == 0.0 and d["max_overlap"] > 0.0
+    r = w.model.readouts()
+    assert r["contact_length"] == 0.0 and r["overlap_length"] == pytest.approx(r["crack_length"], rel=1e-12)
+    assert "faces pass through each other" in w.readout.value
     assert d["max_overlap"] == pytest.approx(-jn().min(), rel=0.1)  # the faces' vertices vs the edge mid points
     for f in d["faces"]:  # the drawn faces: the + face moved by its displacement, the overlap is on the figure
         plus, minus = np.asarray(f["plus"]), np.asarray(f["minus"])
@@ -535,3 +538,9 @@ def test_webgui_field_is_the_figure_field():
         vals = np.asarray(cf(sol.mesh(cent[:, 0], cent[:, 1]))).reshape(-1)
         assert np.allclose(vals, ex.stress_values(sol, field), rtol=1e-12, atol=1e-12 * np.abs(vals).max())
     assert sol.scene.material.plane == "strain" and "plane strain" in webgui_field(sol, "von_mises")[1]
+    # plane stress: sigma_zz = 0, as the figure
+    stress = nc.Explorer(nc.scenes.load("griffith").with_(plane="stress"), maxh=MAXH).solution
+    cent = stress.crack_mesh.centroids
+    cf, name = webgui_field(stress, "von_mises")
+    vals = np.asarray(cf(stress.mesh(cent[:, 0], cent[:, 1]))).reshape(-1)
+    assert "plane stress" in name and np.allclose(vals, ex.stress_values(stress, "von_mises"), rtol=1e-12)

@@ -45,9 +45,11 @@ CRACK_MODEL_HELP = {
               "contact closes the crack too, so the two look alike unless the faces slide",
 }
 
-#: the scales of the figure: held (while only the load, friction or crack model change,
-#: or always) or fitted to every frame
-SCALES = {"auto": "hold while only the load changes", "hold": "hold", "fit": "fit every frame"}
+#: the scales of the figure: held while only the load, load angle, friction or crack model
+#: change ("auto"), held always, or fitted to every frame
+SCALES = {"auto": "hold for load changes", "hold": "hold always", "fit": "fit every frame"}
+#: the crack models as their menu shows them
+CRACK_MODEL_LABELS = {"contact": "contact (Signorini)", "free": "free (no contact)", "bonded": "bonded (faces glued)"}
 
 #: controls whose change keeps the held scales in "auto" (the rest re-fit them)
 HOLD_ON = frozenset({"load", "load_angle", "friction", "crack_model", "magnification", "scales"})

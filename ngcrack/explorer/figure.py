@@ -1,8 +1,8 @@
 """The explorer's figure: the deformed body, its crack faces, the loads and supports, the profiles.
 
 `Drawing` keeps one matplotlib figure (Agg canvas, no pyplot state) and redraws it for a
-solution (`render` returns PNG bytes); `draw` is the one-off; `stress_values` the stress
-field shown, per triangle; `crack_faces` the two faces of each crack as drawn.
+solution (`render` returns PNG bytes); `draw` is the one-off. What it draws is computed
+in `fields` (the stress field, the crack faces, units and labels).
 
 What a student should read off the picture is drawn, not left to the colours:
 
@@ -27,10 +27,14 @@ import math
 
 import numpy as np
 
-#: stress fields the figure can show: the crack-normal stress (sigma nu).nu and von Mises
-FIELDS = ("sigma_nu", "von_mises")
+from .fields import FIELDS, K_DIGITS, crack_faces, field_label, load_magnitude, significant, stress_values, tip_value, units
+
 #: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
 DEFORMED_FRACTION = 0.08
+
+#: a held magnification is given up where it would draw a displacement larger than this
+#: fraction of the body's diameter (the figure re-fits it)
+MAX_DEFORMED_FRACTION = 0.25
 
 #: shading of the crack profiles by the faces' state, where the solution reports one
 STATE_COLORS = {"stick": "0.85", "slip": "#fde0b0"}
@@ -60,88 +64,7 @@ FACE_COLORS = {"+": "#1f3b8c", "-": "#c2410c"}
 #: the faces count as closed where |opening| is below this fraction of the largest
 #: displacement (the post-processed displacements differ from the QP's jumps at 1e-5)
 FACE_RTOL = 1e-3
-#: significant digits of the K values
-K_DIGITS = 3
-
 _TIP_NAMES = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
-
-
-def _tip_value(tip, key):
-    return tip.get(key) if isinstance(tip, dict) else getattr(tip, key, None)
-
-
-def _sig(value: float, digits: int = K_DIGITS) -> str:
-    """`value` at `digits` significant digits, trailing zeros kept (0.500, 1.20e-05)."""
-    return f"{value:#.{digits}g}".rstrip(".")
-
-
-def units(scene) -> tuple[str, str]:
-    """(stress unit, length unit) of a scene: its own where it names them, else "E units", "length units"."""
-    u = getattr(scene, "units", None) or {}
-    return (u.get("stress") or "E units", u.get("length") or "length units")
-
-
-def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarray:
-    """Per triangle (at its centroid): sigma_nu = (sigma nu).nu with nu the first crack's
-    normal ((0, 1) without a crack), or the von Mises stress of the symmetric part (with
-    sigma_zz = nu (sigma_xx + sigma_yy) in plane strain, 0 in plane stress). `sigma`:
-    the stress at the centroids (plots.centroid_stress), if the caller has it."""
-    from ..plots import centroid_stress
-
-    cm = sol.crack_mesh
-    sig = centroid_stress(sol) if sigma is None else sigma
-    sig = 0.5 * (sig + np.transpose(sig, (0, 2, 1)))
-    if field == "sigma_nu":
-        nu = cm.cracks[0].normal[0] if cm.cracks else np.array([0.0, 1.0])
-        return np.einsum("i,eij,j->e", nu, sig, nu)
-    mat = sol.scene.material
-    sxx, syy, sxy = sig[:, 0, 0], sig[:, 1, 1], sig[:, 0, 1]
-    szz = mat.nu * (sxx + syy) if mat.plane == "strain" else 0.0 * sxx
-    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
-
-
-def field_label(field: str, scene) -> str:
-    """The colour bar's label: the field, its formula and its unit (mathtext, no literal underscores)."""
-    stress = units(scene)[0]
-    if field == "sigma_nu":
-        return rf"$\sigma_{{\nu\nu}} = (\sigma\nu)\cdot\nu$  [{stress}]"
-    plane = "plane strain" if scene.material.plane == "strain" else "plane stress"
-    return f"von Mises stress ({plane})  [{stress}]"
-
-
-def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | None = None) -> list[dict]:
-    """Per crack: its vertices' points, the displacement of each face there (the mean of
-    the corner displacements of the triangles on that side; a tip inside the body, where
-    the faces meet, takes the mean of all), the normals, and the opening [u].nu = (u+ - u-).nu."""
-    from ..geometry import crack_side
-
-    cm = sol.crack_mesh
-    if not cm.cracks:
-        return []
-    if side is None:
-        side = crack_side(cm)
-    nv = len(cm.points)
-    acc = {s: np.zeros((nv, 2)) for s in (1.0, -1.0)}
-    cnt = {s: np.zeros(nv) for s in (1.0, -1.0)}
-    tris = cm.triangles
-    for s in (1.0, -1.0):
-        rows = np.flatnonzero(side == s)
-        np.add.at(acc[s], tris[rows].ravel(), disp[rows].reshape(-1, 2))
-        np.add.at(cnt[s], tris[rows].ravel(), 1.0)
-    faces = []
-    for crack in cm.cracks:
-        vs = crack.vertices()
-        n_edge = crack.normal
-        normal = np.vstack([n_edge[:1], 0.5 * (n_edge[1:] + n_edge[:-1]), n_edge[-1:]])
-        normal /= np.linalg.norm(normal, axis=1)[:, None]
-        up = acc[1.0][vs] / np.maximum(cnt[1.0][vs], 1.0)[:, None]
-        um = acc[-1.0][vs] / np.maximum(cnt[-1.0][vs], 1.0)[:, None]
-        tip = np.array([int(v) in cm.tip_vertices for v in vs])
-        mean = (acc[1.0][vs] + acc[-1.0][vs]) / np.maximum(cnt[1.0][vs] + cnt[-1.0][vs], 1.0)[:, None]
-        up[tip], um[tip] = mean[tip], mean[tip]
-        faces.append({"crack": crack.index, "points": cm.points[vs], "plus": up, "minus": um, "normal": normal,
-                      "opening": np.einsum("ij,ij->i", up - um, normal)})
-    return faces
 
 
 def draw(sol, field: str = "sigma_nu", title: str = "") -> bytes:
@@ -183,7 +106,7 @@ class Drawing:
         aspect = w / h if h > 0 else 1.0
         wide = aspect >= WIDE
         if wide:
-            body_h = FIGURE_WIDTH * 0.86 / aspect
+            body_h = min(3.6, 1.5 * FIGURE_WIDTH * 0.86 / aspect)  # (room for the axes labels and arrows)
             height = body_h + 3.6
             fig = Figure(figsize=(FIGURE_WIDTH, height), dpi=FIGURE_DPI)
             gs = fig.add_gridspec(2, 2, height_ratios=[body_h, 2.4], width_ratios=[1.0, 1.5], hspace=0.55,
@@ -255,7 +178,7 @@ class Drawing:
             "clim": float(np.percentile(np.abs(vals), 99)) if field == "sigma_nu" else float(np.percentile(vals, 99)),
             "jump": jmax,
             "traction": max(tmax, PROFILE_FLOOR * stress_scale),
-            "load": _load_magnitude(sol.scene),
+            "load": load_magnitude(sol.scene),
         }
         held = self._held if hold and self._held is not None and self._held.get("field") == field else None
         if held is None:
@@ -265,6 +188,8 @@ class Drawing:
                 held[k] = v
         for k in ("jump", "traction"):  # the profile axes only grow while held: no curve leaves them
             held[k] = max(held[k], fresh[k])
+        if held["scale"] * umax > MAX_DEFORMED_FRACTION * diam:  # a held magnification that would explode the body
+            held["scale"] = fresh["scale"]
         self._held = held
         scale = float(magnification) if magnification and magnification > 0 else held["scale"]
         clim = held["clim"] or 1.0
@@ -284,7 +209,8 @@ class Drawing:
             self.body.set_antialiased(False)
         else:  # edges on the triangles large enough to show them; the small ones edged in their own colour
             px = _pixels_per_unit(ax, poly)
-            size = np.sqrt(0.5 * np.abs(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])))
+            a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+            size = np.sqrt(0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
             big = size * px >= EDGE_PIXELS
             colors = self.body.cmap(self.body.norm(vals))
             colors[big] = (0.0, 0.0, 0.0, 0.2)
@@ -317,12 +243,12 @@ class Drawing:
                     poly_o = np.vstack([plus, minus[::-1]])
                     self._temporary += a.fill(*poly_o.T, color="#d00000", alpha=0.35, lw=0, zorder=3)
         # the tips, named A, B, ... in both panels
-        tips = [t for t in (getattr(sol, "tips", None) or []) if _tip_value(t, "K_I") is not None]
+        tips = [t for t in (getattr(sol, "tips", None) or []) if tip_value(t, "K_I") is not None]
         tip_text = []
         cm = sol.crack_mesh
         for k, tip in enumerate(tips):
             name = _TIP_NAMES[k % len(_TIP_NAMES)]
-            x, y = _tip_value(tip, "x"), _tip_value(tip, "y")
+            x, y = tip_value(tip, "x"), tip_value(tip, "y")
             if x is not None:
                 at = np.array([x, y], float)
                 nearest = int(np.argmin(np.linalg.norm(cm.points - at, axis=1)))
@@ -332,11 +258,11 @@ class Drawing:
                     self._temporary += a.plot([p[0]], [p[1]], "k*", ms=8, zorder=5)
                     self._temporary.append(a.annotate(name, p, xytext=(4, 4), textcoords="offset points",
                                                       fontsize=FONT_SIZE + 1, weight="bold", zorder=6))
-                where = f"({_sig(x)}, {_sig(y)})"
+                where = f"({significant(x)}, {significant(y)})"
             else:
                 where = ""
-            tip_text.append(f"tip {name} {where}: K_I = {_sig(_tip_value(tip, 'K_I'))}, "
-                            f"K_II = {_sig(_tip_value(tip, 'K_II'))}")
+            tip_text.append(f"tip {name} {where}: K_I = {significant(tip_value(tip, 'K_I'))}, "
+                            f"K_II = {significant(tip_value(tip, 'K_II'))}")
         # nu and t on each crack (undeformed directions, at the crack's middle edge)
         arrow = 0.07 * diam
         for crack, f in zip(cm.cracks, faces):
@@ -360,11 +286,10 @@ class Drawing:
             load_txt = f", load factor {load_factor:+.2f}"
         ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt}): "
                      f"displacements × {scale:.3g}", fontsize=FONT_SIZE + 1, pad=12)
-        legend = [("red arrows: traction", "#b91c1c")] if any(bc.type == "traction" for bc in sol.scene.boundary.values()) else []
-        legend += [("purple arrows: prescribed u", "#6d28d9")] if any(bc.type == "displacement"
-                                                                     for bc in sol.scene.boundary.values()) else []
-        legend += [("f: body force", "0.2")] if sol.scene.body_force is not None else []
         kinds = {bc.type for bc in sol.scene.boundary.values()}
+        legend = [("red arrows: traction", "#b91c1c")] if "traction" in kinds else []
+        legend += [("purple arrows: prescribed u", "#6d28d9")] if "displacement" in kinds else []
+        legend += [("f: body force", "0.2")] if sol.scene.body_force is not None else []
         legend += [("hatched: clamped", "k")] if "clamped" in kinds else []
         legend += [("circles: roller", "k")] if "roller" in kinds else []
         legend += [("blue / orange: + / - face (ν points into +)", FACE_COLORS["+"])] if cm.cracks else []
@@ -531,8 +456,8 @@ class Drawing:
         axz.set_xlim(lo[0], hi[0])
         axz.set_ylim(lo[1], hi[1])
         axz.set_xlabel(f"x [{length_unit}]", fontsize=FONT_SIZE)
-        state = (f"faces overlap (up to {_sig(overlap)})" if overlap > 0
-                 else f"crack open (gap up to {_sig(gap)})" if gap > 0 else "faces closed")
+        state = (f"faces overlap (up to {significant(overlap)})" if overlap > 0
+                 else f"crack open (gap up to {significant(gap)})" if gap > 0 else "faces closed")
         axz.set_title(f"zoom{where}: {state}", fontsize=FONT_SIZE)
 
 
@@ -555,12 +480,7 @@ def _times(power: float) -> str:
     return "" if power == 1.0 else f"$10^{{{int(round(math.log10(power)))}}}$ "
 
 
-def _load_magnitude(scene) -> float:
-    """The largest load vector of a scene (traction, displacement, body force): the arrows' scale."""
-    mags = [float(np.hypot(*bc.value)) for bc in scene.boundary.values() if bc.type in ("traction", "displacement")]
-    if scene.body_force is not None:
-        mags.append(float(np.hypot(*scene.body_force)))
-    return max(mags, default=0.0) or 0.0
 
 
-__all__ = ["DEFORMED_FRACTION", "Drawing", "FIELDS", "crack_faces", "draw", "field_label", "stress_values", "units"]
+__all__ = ["DEFORMED_FRACTION", "Drawing", "FIELDS", "K_DIGITS", "crack_faces", "draw", "field_label", "stress_values",
+           "units"]

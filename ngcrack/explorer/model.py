@@ -101,8 +101,14 @@ class Explorer:
     multiplier of every load of the scene, 1 = as given, negative reverses it),
     ``load_angle`` (degrees, turns every load vector), ``E``, ``nu``, ``friction``
     (where supported), ``maxh``, ``element``, ``crack_model``, ``field`` (the stress shown,
-    one of FIELDS) and the scene function's parameters. ``solve_options`` go to
+    one of FIELDS), ``scales`` (the figure's: "auto", "hold", "fit"), ``magnification``
+    (0: automatic) and the scene function's parameters. ``solve_options`` go to
     `ngcrack.solve` unchanged (qp_solver, linear_solver, tip_h, ...).
+
+    Every value is checked (`check`, `ranges`: controls.py) when the model is made and
+    on every `update`: a bad argument to the constructor raises a ValueError naming the
+    control and what it allows, before anything is built; a value out of range later is
+    refused (`error`) and not kept. ``name`` is the scene's name as given (for titles).
 
     After each `update`: ``solution`` the last good `Solution`, ``error`` the one-line
     message of the last failure (None after a success), ``redone`` what the last update
@@ -276,22 +282,33 @@ class Explorer:
             "redone": list(self.redone),
             "kkt": max((float(v) for v in sol.kkt.values() if isinstance(v, (int, float))), default=0.0),
             "contact_length": contact_length(sol),
+            "overlap_length": overlap_length(sol),
             "crack_length": float(sum(np.sum(c.length) for c in sol.crack_mesh.cracks)),
         }
 
 
 
 def contact_length(sol) -> float:
-    """Total length of the crack edges that are closed (mid-point opening below
-    CLOSED_RTOL times the largest jump on the cracks; all of them if nothing moves)."""
+    """Total length of the crack edges that are closed: faces touching, |mid-point
+    opening| below CLOSED_RTOL times the largest jump on the cracks (all of them if
+    nothing moves); faces that pass through each other (crack model free) are not."""
+    return _length_where(sol, lambda jn, tol: np.abs(jn) <= tol)
+
+
+def overlap_length(sol) -> float:
+    """Total length of the crack edges whose faces pass through each other (opening below
+    -CLOSED_RTOL times the largest jump: only without the contact condition)."""
+    return _length_where(sol, lambda jn, tol: jn < -tol)
+
+
+def _length_where(sol, test) -> float:
     profiles = sol.crack_profiles()
     if not profiles:
         return 0.0
     J = max(float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0)) for p in profiles)
     total = 0.0
     for p, crack in zip(profiles, sol.crack_mesh.cracks):
-        closed = p.normal_jump <= CLOSED_RTOL * J
-        total += float(np.sum(crack.length[closed]))
+        total += float(np.sum(crack.length[test(np.asarray(p.normal_jump), CLOSED_RTOL * J)]))
     return total
 
 

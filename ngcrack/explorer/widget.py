@@ -27,7 +27,7 @@ from .. import elements as _elements
 from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
-from .controls import CRACK_MODEL_HELP, HELP, HOLD_ON, LABELS, SCALES
+from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, HOLD_ON, LABELS, SCALES
 from .figure import FIELDS, Drawing
 from .model import Explorer, _one_line
 
@@ -40,7 +40,10 @@ STYLE = """<style>
 </style>"""
 
 #: the load factor's meaning, under the controls
-LOAD_HELP = "multiplies every load of the scene: +1 as the scene gives it, -1 reversed, 0 unloaded"
+LOAD_HELP = "+1: the loads as the scene gives them, -1: reversed, 0: unloaded"
+#: what the scales menu does
+SCALES_HELP = ("hold for load changes: colour limits, profile axes and magnification stay while only the load, "
+               "load angle, friction or crack model change; hold always; or fit every frame")
 
 #: the slider ranges of older imports (the model's `ranges` are what counts)
 SLIDERS = {"load": (-2.0, 2.0, 0.1), "load_angle": (-180.0, 180.0, 5.0), "nu": (0.0, 0.5, 0.01),
@@ -139,14 +142,13 @@ class _ExplorerView:
         menu = {"style": style, "layout": w.Layout(width="300px")}
         self.controls["element"] = w.Dropdown(options=list(_elements.ELEMENTS), value=st["element"],
                                               description="element", **menu)
-        crack_models = CRACK_MODELS
-        self.controls["crack_model"] = w.Dropdown(options=list(crack_models), value=st["crack_model"],
-                                                  description="crack model", **menu)
+        self.controls["crack_model"] = w.Dropdown(options=[(CRACK_MODEL_LABELS.get(c, c), c) for c in CRACK_MODELS],
+                                                  value=st["crack_model"], description="crack model", **menu)
         self.controls["field"] = w.Dropdown(options=[("σ_νν (normal to the crack)", "sigma_nu"),
                                                      ("von Mises", "von_mises")],
                                             value=st["field"], description="stress shown", **menu)
         self.controls["scales"] = w.Dropdown(options=[(v, k) for k, v in SCALES.items()], value=st["scales"],
-                                             description="scales", **menu)
+                                             description="scales", tooltip=SCALES_HELP, **menu)
         self.controls["magnification"] = w.FloatText(value=float(st["magnification"]), description="magnification",
                                                      tooltip=HELP["magnification"], style=style,
                                                      layout=w.Layout(width="300px"))
@@ -244,8 +246,8 @@ class _ExplorerView:
         self.status.value = ("" if m.error is None else
                              f"<span>&#9888; {_escape(m.error)} ({kept})</span>")
         self.help.value = (f"<div style='line-height:1.35'><b>crack model</b> "
-                           f"{_escape(CRACK_MODEL_HELP.get(m.state['crack_model'], ''))}<br><b>load factor</b> "
-                           f"{_escape(LOAD_HELP)}</div>")
+                           f"{_escape(CRACK_MODEL_HELP.get(m.state['crack_model'], ''))}. <b>load factor</b> "
+                           f"{_escape(LOAD_HELP)}.</div>")
         if m.error is None:  # (after a failure the readout stays that of the figure shown)
             self._readout(draw_s)
         self._data()
@@ -275,6 +277,8 @@ class _ExplorerView:
             f"<b>time</b> {total:.2f} s = {parts} s ({_escape(', '.join(r['redone']) or '-')})"
             f"<br><b>KKT residual</b> {r['kkt']:.1e} &nbsp; <b>contact length</b> {r['contact_length']:.3g} "
             f"of {r['crack_length']:.3g}"
+            + (f" &nbsp; <b>faces pass through each other</b> over {r['overlap_length']:.3g}"
+               if r["overlap_length"] > 0 else "")
             + (f"<br>{_escape(';  '.join(tips))}" if tips else "") + "</div>")
 
     def _data(self) -> None:

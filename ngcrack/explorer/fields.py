@@ -1,0 +1,103 @@
+"""What the explorer's figure shows, computed (no matplotlib): stress fields, crack faces, units, labels.
+
+`stress_values` the stress field shown, per triangle; `crack_faces` the two faces of each
+crack, each with its own side's displacement, and the opening between them; `units` the
+scene's stress and length units; `field_label` the colour bar's label; `significant` a
+number at fixed significant digits (the tips' K values); `load_magnitude` the largest load
+vector (the scale of the load arrows).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: stress fields the figure can show: the crack-normal stress (sigma nu).nu and von Mises
+FIELDS = ("sigma_nu", "von_mises")
+#: significant digits of the K values
+K_DIGITS = 3
+
+
+def tip_value(tip, key):
+    return tip.get(key) if isinstance(tip, dict) else getattr(tip, key, None)
+
+
+def significant(value: float, digits: int = K_DIGITS) -> str:
+    """`value` at `digits` significant digits, trailing zeros kept (0.500, 1.20e-05)."""
+    return f"{value:#.{digits}g}".rstrip(".")
+
+
+def units(scene) -> tuple[str, str]:
+    """(stress unit, length unit) of a scene: its own where it names them, else "E units", "length units"."""
+    u = getattr(scene, "units", None) or {}
+    return (u.get("stress") or "E units", u.get("length") or "length units")
+
+
+def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarray:
+    """Per triangle (at its centroid): sigma_nu = (sigma nu).nu with nu the first crack's
+    normal ((0, 1) without a crack), or the von Mises stress of the symmetric part (with
+    sigma_zz = nu (sigma_xx + sigma_yy) in plane strain, 0 in plane stress). `sigma`:
+    the stress at the centroids (plots.centroid_stress), if the caller has it."""
+    from ..plots import centroid_stress
+
+    cm = sol.crack_mesh
+    sig = centroid_stress(sol) if sigma is None else sigma
+    sig = 0.5 * (sig + np.transpose(sig, (0, 2, 1)))
+    if field == "sigma_nu":
+        nu = cm.cracks[0].normal[0] if cm.cracks else np.array([0.0, 1.0])
+        return np.einsum("i,eij,j->e", nu, sig, nu)
+    mat = sol.scene.material
+    sxx, syy, sxy = sig[:, 0, 0], sig[:, 1, 1], sig[:, 0, 1]
+    szz = mat.nu * (sxx + syy) if mat.plane == "strain" else 0.0 * sxx
+    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
+
+
+def field_label(field: str, scene) -> str:
+    """The colour bar's label: the field, its formula and its unit (mathtext, no literal underscores)."""
+    stress = units(scene)[0]
+    if field == "sigma_nu":
+        return rf"$\sigma_{{\nu\nu}} = (\sigma\nu)\cdot\nu$  [{stress}]"
+    plane = "plane strain" if scene.material.plane == "strain" else "plane stress"
+    return f"von Mises stress ({plane})  [{stress}]"
+
+
+def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | None = None) -> list[dict]:
+    """Per crack: its vertices' points, the displacement of each face there (the mean of
+    the corner displacements of the triangles on that side; a tip inside the body, where
+    the faces meet, takes the mean of all), the normals, and the opening [u].nu = (u+ - u-).nu."""
+    from ..geometry import crack_side
+
+    cm = sol.crack_mesh
+    if not cm.cracks:
+        return []
+    if side is None:
+        side = crack_side(cm)
+    nv = len(cm.points)
+    acc = {s: np.zeros((nv, 2)) for s in (1.0, -1.0)}
+    cnt = {s: np.zeros(nv) for s in (1.0, -1.0)}
+    tris = cm.triangles
+    for s in (1.0, -1.0):
+        rows = np.flatnonzero(side == s)
+        np.add.at(acc[s], tris[rows].ravel(), disp[rows].reshape(-1, 2))
+        np.add.at(cnt[s], tris[rows].ravel(), 1.0)
+    faces = []
+    for crack in cm.cracks:
+        vs = crack.vertices()
+        n_edge = crack.normal
+        normal = np.vstack([n_edge[:1], 0.5 * (n_edge[1:] + n_edge[:-1]), n_edge[-1:]])
+        normal /= np.linalg.norm(normal, axis=1)[:, None]
+        up = acc[1.0][vs] / np.maximum(cnt[1.0][vs], 1.0)[:, None]
+        um = acc[-1.0][vs] / np.maximum(cnt[-1.0][vs], 1.0)[:, None]
+        tip = np.array([int(v) in cm.tip_vertices for v in vs])
+        mean = (acc[1.0][vs] + acc[-1.0][vs]) / np.maximum(cnt[1.0][vs] + cnt[-1.0][vs], 1.0)[:, None]
+        up[tip], um[tip] = mean[tip], mean[tip]
+        faces.append({"crack": crack.index, "points": cm.points[vs], "plus": up, "minus": um, "normal": normal,
+                      "opening": np.einsum("ij,ij->i", up - um, normal)})
+    return faces
+
+
+def load_magnitude(scene) -> float:
+    """The largest load vector of a scene (traction, displacement, body force): the arrows' scale."""
+    mags = [float(np.hypot(*bc.value)) for bc in scene.boundary.values() if bc.type in ("traction", "displacement")]
+    if scene.body_force is not None:
+        mags.append(float(np.hypot(*scene.body_force)))
+    return max(mags, default=0.0) or 0.0
