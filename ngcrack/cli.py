@@ -134,6 +134,10 @@ def cmd_solve(args) -> int:
     k, t, n = result["kkt"], result["time_s"], result["ndof"]
     print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
+    if not options.hp:
+        from .sizing import describe_mesh_sizes
+
+        print(describe_mesh_sizes(scene, args.maxh, args.tip_h, args.crack_h))
     ks = result["kkt_sampled"]
     print(f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
           f"complementarity {k['complementarity']:.1e}, friction {k['friction']:.1e}")

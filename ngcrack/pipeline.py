@@ -156,7 +156,7 @@ def check_pressure_determined(scene: Scene, loads: Loads | None = None) -> None:
         held = {lab for lab, bc in scene.boundary.items() if bc.type in ("clamped", "roller", "displacement")}
     else:
         held = set(loads.clamped) | set(loads.roller) | set(loads.displacement)
-    if set(scene.labels) <= held:
+    if set(scene.boundary_labels) <= held:
         raise ValueError(
             "material.nu = 0.5 (incompressible, plane strain) with every edge clamped, displaced or on rollers: "
             "the pressure is undetermined; leave at least one edge traction-free or loaded by a traction, "
