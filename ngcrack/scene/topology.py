@@ -32,13 +32,21 @@ from .measures import (
 )
 from .types import GEOMETRY_RTOL
 
-__all__ = ["HELD_RANK_RTOL", "Part", "check_held", "parts"]
+__all__ = ["HELD_MARGIN_RTOL", "HELD_RANK_RTOL", "Part", "check_held", "parts"]
 
 #: Relative threshold on singular values in the rigid-motion rank check of
 #: :func:`check_held`: the 3 constraint columns (two translations, one rotation
 #: about a point inside the part, lengths scaled by the diameter) are O(1), so a
 #: singular value below ``HELD_RANK_RTOL`` times the largest one counts as zero.
 HELD_RANK_RTOL = 1e-8
+#: A part held with rank 3 but whose smallest singular value of the same constraints is
+#: below ``HELD_MARGIN_RTOL`` times the largest is held only marginally (supports a
+#: tiny fraction of the body apart): refused for every element alike. Measured on a unit
+#: square clamped on one bottom edge of length s and pulled at the top: bdm, tdnns, h1p1
+#: and h1p2 solve it down to s = 1e-6 (ratio 2.8e-7), peers's condensed system is
+#: singular to working precision up to s = 4e-5 (ratio 1.1e-5) and solves it from
+#: s = 5e-5 (1.4e-5) on.
+HELD_MARGIN_RTOL = 2e-5
 
 
 @dataclass(frozen=True)
@@ -239,3 +247,9 @@ def check_held(scene) -> None:
                 f"{where} is held only by {' and '.join(pieces)} that leave{'s' if len(pieces) == 1 and not rollers else ''} "
                 f"{free} free, so the "
                 f"answer is not unique; {advice}")
+        if s[-1] < HELD_MARGIN_RTOL * s[0]:
+            supports = ", ".join(f"{typ} edge {lab!r} ({fmt(length)} long)" for (typ, lab), length in held.items())
+            raise SceneError(
+                f"{where} is held only marginally by {supports}: its rigid motions are fixed with a "
+                f"conditioning of {s[-1] / s[0]:.1e}, below the {HELD_MARGIN_RTOL:g} that every element "
+                f"solves reliably (peers fails first); lengthen the supports, or add one farther away")
