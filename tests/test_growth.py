@@ -259,6 +259,17 @@ def test_tip_that_would_cross_another_crack_stops():
     assert np.allclose(res.paths[0], [[0, 0.5], [1.0, 0.5]])
 
 
+def test_tip_that_would_reach_a_hole_stops_before_it():
+    """The hole-crack plate with the crack pointed at the hole: the near tip stops before
+    the hole (the reason kept), never closer than the scene checks allow; the far tip grows on."""
+    scene = nc.scenes.load("hole-crack").with_(cracks=[nc.Crack(points=((12.6, 10.0), (15.0, 10.0)))])
+    res = nc.grow(scene, da=0.25, steps=3, K_Ic=1.0, criterion="mts", maxh=2.0)
+    assert "reached hole[0]" in res.frozen["0,first"]
+    near = np.asarray(res.paths[0][0])
+    assert 0.002 * scene.diameter < np.hypot(*(near - (10.0, 10.0))) - 2.0 < 0.25 * 1.6
+    assert res.paths[0][-1][0] > 15.0 + 1.5 * 0.25  # the far tip grew on once the near one had stopped
+
+
 # ---------------------------------------------------------------------- command
 def test_grow_command(tmp_path, capsys):
     out = tmp_path / "g.json"

@@ -274,7 +274,7 @@ def _extend(scene, region, angles: dict, growing: list[dict], da: float, frozen:
         if v["label"] in frozen:
             continue
         ext = extend_tip(scene, region, v["crack"], v["end"], angles[v["label"]], da, new_segments)
-        if ext.outcome == "crack":
+        if ext.outcome in ("crack", "hole"):
             frozen[v["label"]] = ext.reason
             continue
         p = (v["x"], v["y"])

@@ -24,6 +24,12 @@ SNAP_FRACTION = 0.5
 CRACK_CLEARANCE = 0.25
 
 
+#: a new segment that would come closer to a hole than this fraction of the body's
+#: diameter stops its tip (the scene checks refuse a crack that near a hole: 1e-3 of the
+#: diameter, scene.planar.MIN_GAP_RTOL, with a margin)
+HOLE_CLEARANCE_RTOL = 2e-3
+
+
 def body_region(scene) -> shapely.Polygon:
     """The body as a shapely Polygon: the scene's `region()` where it has one (holes
     included), else its outer polygon."""
@@ -36,7 +42,9 @@ def body_region(scene) -> shapely.Polygon:
 @dataclass(frozen=True)
 class Extension:
     """The outcome of extending one tip: the new end point (None: the tip stops where it is)
-    and what happened: "grew", "boundary" (the new end lies on the boundary) or "crack"."""
+    and what happened: "grew", "boundary" (the new end lies on the outer boundary: the crack
+    cuts through), "hole" (the segment would reach a hole, or come closer to it than the
+    scene checks allow: the tip stops where it is) or "crack"."""
 
     crack: int
     end: str
@@ -81,7 +89,12 @@ def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da:
     reach = shapely.LineString([p, p + (1.0 + SNAP_FRACTION) * da * d])
     label = f"{k},{end}"
     outcome = "grew"
-    hit = reach.intersection(region.boundary)
+    gap = HOLE_CLEARANCE_RTOL * scene.diameter
+    for i, ring in enumerate(region.interiors):
+        if reach.distance(ring) < gap:
+            return Extension(k, end, None, "hole", f"tip {label} reached hole[{i}] (a crack ending on a hole is not "
+                                                   "supported: the tip stops before it)")
+    hit = reach.intersection(region.exterior)
     if not hit.is_empty:  # points, or a piece along the boundary: every coordinate it has
         pts = np.array([c for g in getattr(hit, "geoms", [hit]) for c in g.coords], dtype=float)
         dist = np.linalg.norm(pts - p, axis=1)
