@@ -79,7 +79,7 @@ def sweep(
     The reference is then the finest tolerance's run or a fixed mesh at reference_maxh.
 
     scene: a Scene, a built-in scene name or a TOML path. elements: element families
-    (default: bdm alone, as in `solve`). nu: Poisson ratios (default:
+    (default: tdnns alone, as in `solve`). nu: Poisson ratios (default:
     the scene's). friction: Coulomb coefficients, each set on every crack (default: the
     scene's own; the `friction` column holds the cracks' largest). reference_maxh: the reference mesh size (default: the finest maxh,
     whose row is then the reference); reference_element: measure every element against
