@@ -7,7 +7,7 @@
                         [--hp L] [--json OUT] [--plot OUT.png] [--vtk OUT]
     ngcrack sweep SCENE [--element E ...] (--maxh H [H ...] | --adapt TOL [TOL ...]) [--nu NU ...]
                         [--friction MU ...] --out results.csv [--reference-maxh H] [--reference-element E]
-                        [--jobs N] [--dask ADDRESS] [--max-dof N]
+                        [--jobs N] [--dask ADDRESS] [--max-dof N] [--vtk OUT]
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
     ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts] [solve options] --json OUT
                        [--csv OUT] [--gif OUT] [--png OUT]
@@ -226,7 +226,7 @@ def cmd_sweep(args) -> int:
 
     df = sweep(scene, elements=args.element or [DEFAULT_ELEMENT], maxh=args.maxh, nu=args.nu, friction=args.friction,
                reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
-               solve_options=solve_options, max_dof=args.max_dof, **opts, **adaptive)
+               solve_options=solve_options, max_dof=args.max_dof, vtk=args.vtk, **opts, **adaptive)
     after = len(open(out).read().splitlines()) - 1 if out.exists() else 0
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["estimate", "time_total"]
     if args.friction is not None:
@@ -364,6 +364,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--friction", nargs="+", type=_positive, metavar="MU",
                    help="Coulomb coefficients, each on every crack (default: the scene's); a key column of the rows")
     p.add_argument("--out", required=True, help="CSV file; rerunning skips the rows already in it")
+    p.add_argument("--vtk", metavar="OUT", help="ParaView: OUT_<scene>-<element>-h<maxh>-nu<nu>.vtu (and _cracks.vtu) "
+                                                "per run, and their collection OUT.pvd")
     p.add_argument("--reference-maxh", dest="reference_maxh", type=_positive,
                    help="mesh size of a separate reference run (default: the finest --maxh is the reference)")
     p.add_argument("--reference-element", dest="reference_element",

@@ -223,3 +223,18 @@ def test_growth_writes_one_file_per_step_through_its_progress_callback(tmp_path)
     ext = [np.abs(g.points[:, :2]).max() for g in grids]
     assert ext[1] > ext[0] + 0.4
     assert res.table["grew"].any()
+
+
+def test_sweep_writes_one_file_pair_per_run_and_their_collection(tmp_path):
+    """sweep(vtk=OUT): each run's crack file holds that run's crack profile (its largest
+    opening is the row's max_opening to round-off), and OUT.pvd lists every run."""
+    out = tmp_path / "runs"
+    df = nc.sweep("paper-2", elements=["bdm"], maxh=[0.5, 0.35], vtk=out)
+    pvd = ET.parse(str(out) + ".pvd").getroot()
+    names = [d.get("file") for d in pvd.iter("DataSet")]
+    assert len(names) == 2 * len(df)
+    for row in df.itertuples():
+        stem = f"runs_paper-2-bdm-h{row.maxh:g}-nu{row.nu:g}"
+        assert f"{stem}.vtu" in names and f"{stem}_cracks.vtu" in names
+        cracks = meshio.read(tmp_path / f"{stem}_cracks.vtu")
+        assert abs(float(np.max(cracks.cell_data["opening"][0])) - row.max_opening) <= 1e-12 * abs(row.max_opening)

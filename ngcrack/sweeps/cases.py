@@ -82,6 +82,7 @@ class Case:
     setup: dict = field(default_factory=dict)
     friction: float | None = None  # None: the scene's own coefficients
     adapt_maxh: float | None = None  # adaptive run from this mesh size; maxh is then the tolerance
+    vtk: str | None = None  # the ParaView files' stem of this run (ngcrack.vtk.save_vtk), or None
 
     @property
     def cost(self) -> float:
@@ -120,6 +121,8 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
         with reuse_meshes():  # the elements and Poisson ratios of a sweep share each size's mesh
             sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
     _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
+    if case.vtk is not None and case.row:
+        sol.save_vtk(case.vtk)
     t0 = time.perf_counter()
     ref = Reference.from_solution(sol) if case.make_reference else None
     row = None

@@ -78,6 +78,7 @@ class _Grid:
     solve_options: dict
     setup: dict              # the _SETUP_COLUMNS values of every row
     adapt_maxh: float | None = None  # adaptive runs (sizes are tolerances) from this mesh size
+    vtk: str | None = None           # every row's ParaView files go to this stem (sweep's vtk=)
 
     @classmethod
     def checked(cls, scene, elements, maxh, nu, reference_maxh, reference_element, jobs, solve_options,
@@ -197,8 +198,15 @@ class _Grid:
         adaptive = self.adapt_maxh is not None and (kw.get("row", True) or not self.separate)
         fixed_ref = self.adapt_maxh is not None and not adaptive
         options = {k: v for k, v in self.solve_options.items() if k != "max_dof"} if fixed_ref else self.solve_options
+        vtk = self.vtk_name(element, h, nu, self.friction_value(f)) if self.vtk and kw.get("row", True) else None
         return Case(self.scene, element, h, nu, options, setup=dict(self.setup), friction=f,
-                    adapt_maxh=self.adapt_maxh if adaptive else None, **kw)
+                    adapt_maxh=self.adapt_maxh if adaptive else None, vtk=vtk, **kw)
+
+    def vtk_name(self, element: str, h: float, nu: float, friction: float) -> str:
+        """The ParaView files' stem of a row: OUT_<scene>-<element>-h<maxh>-nu<nu>[-mu<friction>]."""
+        mu = f"-mu{friction:.{KEY_DIGITS}g}" if friction else ""
+        return (f"{self.vtk}_{file_name_part(self.scene.name)}-{element}-h{h:.{KEY_DIGITS}g}"
+                f"-nu{nu:.{KEY_DIGITS}g}{mu}")
 
 
 def _same(a: float, b: float) -> bool:

@@ -69,6 +69,7 @@ def sweep(
     max_dof: int | None = None,
     adapt: Iterable[float] | float | None = None,
     adapt_maxh: float | None = None,
+    vtk=None,
 ):
     """Run every (element, maxh, nu, friction) of `scene`; one row per run as a pandas DataFrame.
 
@@ -90,6 +91,9 @@ def sweep(
     progress: a tqdm bar with ETA on stderr. solve_options go to `solve` unchanged
     (tip_h, crack_h, grading, qp_solver, crack_model, ...). max_dof: as in `solve`; every
     case (and reference) is checked against it (ngcrack.sizing) before any run starts.
+    vtk: a file stem OUT: every run writes its ParaView files OUT_<scene>-<element>-h<maxh>-nu<nu>
+    (ngcrack.vtk.save_vtk, in the process that ran it) and the sweep their collection OUT.pvd
+    (one entry per row, in the table's order; a resumed sweep lists the runs whose files exist).
 
     Returns the rows of this grid (from the CSV where already there), ordered by
     element, nu and decreasing maxh, with ROW_COLUMNS and the rate columns of `with_rates`.
@@ -100,6 +104,10 @@ def sweep(
                        reference_element=reference_element, jobs=jobs, solve_options=solve_options,
                        max_dof=max_dof, adapt=adapt, adapt_maxh=adapt_maxh)
     scene = grid.scene
+    if vtk is not None:
+        from ..vtk import vtk_stem
+
+        grid.vtk = str(vtk_stem(vtk))  # refuses a bad place before any run
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
     bar = None
@@ -138,7 +146,24 @@ def sweep(
     order = {el: i for i, el in enumerate(grid.elements)}
     df = df.assign(_o=df["element"].map(order)).sort_values(["_o", "nu", "friction", "maxh"],
                                                                 ascending=[True, True, True, False])
-    return with_rates(df.drop(columns="_o").reset_index(drop=True))
+    df = with_rates(df.drop(columns="_o").reset_index(drop=True))
+    if vtk is not None:
+        _write_vtk_collection(grid, df)
+    return df
+
+
+def _write_vtk_collection(grid: _Grid, df) -> None:
+    """OUT.pvd over the rows' ParaView files that exist, one entry per row in the table's order."""
+    from ..vtk import write_collection
+
+    files = []
+    for row in df.itertuples():
+        stem = Path(grid.vtk_name(row.element, row.maxh, row.nu, row.friction))
+        parts = [p for p in (stem.with_name(stem.name + ".vtu"), stem.with_name(stem.name + "_cracks.vtu")) if p.exists()]
+        if parts:
+            files.append(parts)
+    if files:
+        write_collection(files, [float(k) for k in range(len(files))], grid.vtk + ".pvd")
 
 
 
