@@ -9,34 +9,23 @@ from __future__ import annotations
 import functools
 import math
 
-import ngsolve as ngs
 import numpy as np
 import pytest
 
 import ngcrack.scenes as scenes
-from ngcrack.elements import Loads
-from ngcrack.scene import BoundaryCondition, Material, Scene
 from ngcrack.solve import solve
-from ngcrack.stability import _mms_fields, griffith_error
+from ngcrack.stability import griffith_error, manufactured_errors
 
 #: expected L2 rates of u and sigma for stress degree k: h^(k+1) (see elements/tdnns.py)
 RATES = {1: 2.0, 2: 3.0}
 MAXH = (0.2, 0.1, 0.05)
 
 
-def _l2(cf, mesh):
-    return math.sqrt(ngs.Integrate(ngs.InnerProduct(cf, cf), mesh, order=8))
-
-
 @functools.cache
 def manufactured(order: int, nu: float, maxh: float):
-    u, sigma, f = _mms_fields(nu)
-    scene = Scene(name="mms", polygon=((0, 0), (1, 0), (1, 1), (0, 1)), labels=("b", "r", "t", "l"),
-                  material=Material(E=1.0, nu=nu), boundary={lab: BoundaryCondition("clamped") for lab in "brl"})
-    loads = Loads(body_force=f, clamped=frozenset("brl"), traction={"t": sigma * ngs.CF((0.0, 1.0))})
-    sol = solve(scene, element="tdnns", order=order, maxh=maxh, loads=loads)
-    h = 1.0 / math.sqrt(sol.mesh.ne)
-    return h, _l2(sol.u - u, sol.mesh), _l2(sol.sigma - sigma, sol.mesh)
+    """(h, L2 error of u, L2 error of sigma) of tdnns of `order` on the manufactured solution."""
+    r = manufactured_errors("tdnns", nu, maxh, order=order, quadrature=8)
+    return r["h"], r["abs_error_u"], r["abs_error_sigma"]
 
 
 @pytest.mark.parametrize("order", [1, 2])
