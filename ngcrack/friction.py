@@ -174,7 +174,7 @@ class FrictionResult(QPResult):
     problem: CrackProblem | None = None
 
     def point_states(self) -> np.ndarray:
-        """open / stick / slip at every constraint point (as `sample_states`, STATE_RTOL).
+        """open / stick / slip at every constraint point (STATE_RTOL, as post.profile_states).
 
         Open where wn > 0; closed points stick where their tangential value is held
         (slip 0, or no tangential unknown) and the crack carries friction, else slip.
@@ -484,17 +484,3 @@ def _result(problem, pf, v, g, act, slip, solver, iters, steps, method, raw, kkt
         z=z, jt=z[nn:], wt=wt, lam_t=lam_t, slip=slip.astype(int), t_point=pf.p, mu=problem.mu[pf.p],
         coulomb_iterations=iters, steps=steps, method=method, problem=problem,
     )
-
-
-def sample_states(normal_jump: np.ndarray, tangential_jump: np.ndarray, friction: float) -> np.ndarray:
-    """open / stick / slip per sample (STATE_RTOL of the crack's largest jump).
-
-    Open where [u].nu > 0; closed faces stick where they carry friction and do not
-    slide, else slip (a frictionless closed crack slides: "slip").
-    """
-    jn = np.asarray(normal_jump, dtype=float)
-    jt = np.asarray(tangential_jump, dtype=float)
-    W = float(np.max(np.hypot(jn, jt), initial=0.0))
-    tol = STATE_RTOL * W if W > 0 else 0.0
-    closed_state = np.where((friction > 0) & (np.abs(jt) <= tol), "stick", "slip")
-    return np.where(jn > tol, "open", closed_state)

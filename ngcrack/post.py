@@ -15,6 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .friction import STATE_RTOL
 from .geometry import CrackEdges, CrackMesh
 
 
@@ -91,9 +92,9 @@ def endpoint_map(space: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.nd
     return G
 
 
-#: a sample is "open" where [u].nu exceeds this fraction of the crack's largest jump and
-#: sigma_n is not below -STATE_RTOL times the stress scale (compressed beyond round-off)
-STATE_RTOL = 1e-8
+# a sample is "open" where [u].nu exceeds STATE_RTOL (friction.py: the same tolerance as the
+# crack problem's point states) times the crack's largest jump and sigma_n is not below
+# -STATE_RTOL times the stress scale (compressed beyond round-off)
 
 
 def profile_states(normal_jump, tangential_jump, normal_stress, friction: float = 0.0,
