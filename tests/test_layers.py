@@ -21,7 +21,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "planar", "schur", "constraints", "contact",
                      "files")),
     ("scene", ("scene", "scenes", "references", "sizing")),
-    ("mesh", ("crack_sides", "geometry")),
+    ("mesh", ("crack_sides", "crack_loads", "geometry")),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
     ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk")),
     ("options and solution", ("options", "solution")),
