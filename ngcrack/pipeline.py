@@ -58,6 +58,7 @@ from .post import (
     tributary_lengths,
 )
 from .scene import BoundaryCondition, Scene
+from .scene.points import held_directions
 from .sizing import check_request
 from .solution import Solution
 from .tips import tip_parameters
@@ -81,7 +82,8 @@ class SolveError(RuntimeError):
 def load_structure(scene: Scene) -> tuple:
     """What the assembled forms depend on besides the load values: the supports and
     which labels carry loads."""
-    return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None)
+    return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None,
+            tuple((pc.label, pc.type) for pc in getattr(scene, "points", ())))
 
 
 def geometry_key(scene: Scene) -> tuple:
@@ -117,7 +119,8 @@ class ParameterLoads:
             self.params[("body", "")] = p
             body = ngs.CF(p)
         self.loads = Loads(body_force=body, traction=traction, displacement=displacement,
-                           clamped=frozenset(clamped), roller=frozenset(roller))
+                           clamped=frozenset(clamped), roller=frozenset(roller),
+                           held_mean=held_directions(scene.polygon, scene.labels, getattr(scene, "points", ())))
         self.set(scene)
 
     def set(self, scene: Scene) -> None:

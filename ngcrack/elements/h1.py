@@ -166,7 +166,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     with task_manager():
         a.Assemble()
     v = displacement(test)
-    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=lambda g: g * v)
+    traction = lambda g: g * v  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=traction)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
@@ -234,6 +235,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
 
     return Discretization(
         element=name,
+        traction=traction,
         crack_mesh=crack_mesh,
         fes=fes,
         a=a,
