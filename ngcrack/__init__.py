@@ -14,6 +14,7 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 from . import references, scenes
 from .constraints import ContactSolverError
 from .elements import ELEMENTS, Loads
+from .errors import InputError
 from .explorer import Explorer, Study, explore, explore_growth
 from .growth import GrowthResult, grow
 from .options import CRACK_MODELS, SolveOptions
@@ -33,5 +34,5 @@ __all__ = [
     "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
     "grow", "references", "scenes", "solve", "sweep",
     # the errors and warnings a script may catch
-    "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
+    "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
 ]

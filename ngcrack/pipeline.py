@@ -39,6 +39,7 @@ from . import elements as _elements
 from .constraints import discrete_contact_forces, kkt_at_constraints
 from .contact import constraint_positions, solve_qp, warm_start_data
 from .elements import Discretization, Loads
+from .errors import InputError
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
 from .geometry import CrackMesh, make_mesh
@@ -160,7 +161,7 @@ def check_pressure_determined(scene: Scene, loads: Loads | None = None) -> None:
     else:
         held = set(loads.clamped) | set(loads.roller) | set(loads.displacement)
     if set(scene.boundary_labels) <= held:
-        raise ValueError(
+        raise InputError(
             "material.nu = 0.5 (incompressible, plane strain) with every edge clamped, displaced or on rollers: "
             "the pressure is undetermined; leave at least one edge traction-free or loaded by a traction, "
             "or use nu < 0.5"
@@ -511,7 +512,7 @@ def _estimate(sol: Solution, loads: Loads, crack_model: str):
 
     try:
         est = estimate(sol, loads, crack_model)
-    except ValueError as exc:
+    except InputError as exc:
         sol.options["error_estimate"] = str(exc)
         return None
     sol.timings["estimate"] = est.time
