@@ -60,6 +60,7 @@ from .post import (
     tributary_lengths,
 )
 from .scene import BoundaryCondition, Scene
+from .scene.points import held_directions
 from .scene.pressure import pressure_kind, pressure_values
 from .sizing import check_request
 from .solution import Solution
@@ -85,6 +86,7 @@ def load_structure(scene: Scene) -> tuple:
     """What the assembled forms depend on besides the load values: the supports and
     which labels carry loads."""
     return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None,
+            tuple((pc.label, pc.type) for pc in getattr(scene, "points", ())),
             tuple(pressure_kind(c.pressure) for c in scene.cracks))
 
 
@@ -131,7 +133,8 @@ class ParameterLoads:
             crack_pressure[k] = pressure_cf(crack.pressure, np.asarray(crack.points), scene.diameter,
                                             parameter=self.pressures.get(k))
         self.loads = Loads(body_force=body, traction=traction, displacement=displacement,
-                           clamped=frozenset(clamped), roller=frozenset(roller), crack_pressure=crack_pressure)
+                           clamped=frozenset(clamped), roller=frozenset(roller), crack_pressure=crack_pressure,
+                           held_mean=held_directions(scene.polygon, scene.labels, getattr(scene, "points", ())))
         self.set(scene)
 
     def set(self, scene: Scene) -> None:

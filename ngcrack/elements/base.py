@@ -59,6 +59,9 @@ class Loads:
     #: crack index -> the pressure p on its faces (a CoefficientFunction of position,
     #: evaluated on the crack's edges; ngcrack.crack_loads), for the cracks that carry one
     crack_pressure: dict[int, ngs.CoefficientFunction] = field(default_factory=dict)
+    #: label -> unit directions d along which the mean of u.d over the label's edges is held
+    #: at zero (the pin and roller points of the scene; hybrid.condense imposes them)
+    held_mean: dict[str, tuple[tuple[float, float], ...]] = field(default_factory=dict)
 
     @property
     def dirichlet_labels(self) -> frozenset[str]:
@@ -119,6 +122,10 @@ class Discretization:
     fixed_dofs: tuple[int, ...] = ()
     traction_rows: tuple[int | None, int | None] = (None, None)
     tangential: int | None = None
+    #: traction(g): the element's integrand of a boundary traction g (what `load_vector`
+    #: integrates over a loaded edge, with the element's sign): the work of g on u_hat is
+    #: sign times its assembled form applied to the solution vector
+    traction: Callable[[ngs.CoefficientFunction], ngs.CoefficientFunction] | None = None
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -341,7 +348,8 @@ def weakly_symmetric_hybrid(
         a += ((tau * n) * (chi * (jn * nu + jt * t)) + (sig * n) * (chi * (kn * nu + kt * t))) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=lambda g: -(g * muh),
+    traction = lambda g: -(g * muh)  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction,
                     crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
@@ -368,4 +376,5 @@ def weakly_symmetric_hybrid(
         fields=fields,
         built=built,
         definite=not split,
+        traction=traction,
     )

@@ -174,7 +174,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         def crack_load(p):
             # [v] = u_e = jn nu_h + jt t_h, its normal part against the edge's own normal
             return p * ((test[2] * nu_cf + test[3] * t_cf) * seg_normal)
-    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=lambda g: g * v, crack=crack_load)
+    traction = lambda g: g * v  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=traction, crack=crack_load)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
@@ -242,6 +243,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
 
     return Discretization(
         element=name,
+        traction=traction,
         crack_mesh=crack_mesh,
         fes=fes,
         a=a,
