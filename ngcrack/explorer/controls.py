@@ -16,6 +16,8 @@ from dataclasses import dataclass
 from numbers import Real
 from typing import Any
 
+from ..errors import InputError
+
 #: the names the widget shows (the keyword is what `nc.explore` and `update` take)
 LABELS = {
     "load": "load factor", "load_angle": "load angle", "E": "Young's modulus", "nu": "Poisson's ratio",
@@ -60,7 +62,7 @@ MAX_UNKNOWNS = 2.0e5
 E_DECADES = 2.0
 
 
-class ControlRefused(ValueError):
+class ControlRefused(InputError):
     """A control's value refused: the technical line (the keyword, the value, what it allows)
     as the message, and `sentence`, the same in plain words for a student."""
 
@@ -128,7 +130,7 @@ FIXED = {
 def e_range(E: float) -> Range:
     """E_DECADES decades either side of the starting E (which must be > 0)."""
     if isinstance(E, bool) or not isinstance(E, Real) or not math.isfinite(E) or E <= 0:
-        raise ValueError(f"E (Young's modulus) = {E!r} refused: it must be a number > 0")
+        raise InputError(f"E (Young's modulus) = {E!r} refused: it must be a number > 0")
     E = float(E)
     return Range(E * 10 ** -E_DECADES, E * 10 ** E_DECADES, 0.1, log=True)
 
@@ -141,16 +143,13 @@ def mesh_size_range(scene, element: str, maxh: float | None, solve_options: dict
     kw = {k: solve_options.get(k) for k in ("tip_h", "crack_h", "grading")}
     if maxh is not None:
         if isinstance(maxh, bool) or not isinstance(maxh, Real) or not math.isfinite(maxh) or maxh <= 0:
-            raise ValueError(f"maxh (mesh size) = {maxh!r} refused: it must be a number > 0 (or None: the scene's)")
+            raise InputError(f"maxh (mesh size) = {maxh!r} refused: it must be a number > 0 (or None: the scene's)")
         maxh = float(maxh)
     h0 = mesh_sizes(scene, maxh, **kw)[0]
     high = h0 * 10 ** 0.5
 
-    def unknowns(h):
-        try:
-            return estimate_size(scene, element, maxh=h, **kw).unknowns
-        except Exception:  # noqa: BLE001  (an element the estimate does not know: no bound from it)
-            return 0.0
+    def unknowns(h):  # (every element of the explorer has its size estimate)
+        return estimate_size(scene, element, maxh=h, **kw).unknowns
 
     lo, hi = h0 * 1e-3, high
     if unknowns(lo) <= MAX_UNKNOWNS:

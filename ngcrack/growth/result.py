@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
+
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
            "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "error_estimate", "kkt")
@@ -215,7 +217,7 @@ def frame_view(result: GrowthResult) -> tuple[float, np.ndarray, np.ndarray]:
     """(magnification, lower-left, upper-right) shared by every frame of `result`: the
     largest displacement drawn as 4% of the body's diameter, the view around the crack faces."""
     if not result.frames:
-        raise ValueError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
+        raise InputError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
     diam = result.scene.diameter
     umax = max(float(np.max(np.linalg.norm(f["disp"], axis=2))) for f in result.frames)
     scale = 0.04 * diam / umax if umax > 0 else 0.0
