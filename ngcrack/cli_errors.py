@@ -1,7 +1,8 @@
 """How the command line reports what went wrong: one line, and an exit code that says whose problem it is.
 
     2  bad input (a ValueError of the package: SceneError, option errors, the size guard;
-       a number beyond double precision; a path that cannot be used), named in the line
+       a number beyond double precision; a path that cannot be used), named in the line;
+       or an optional package that the command needs is not installed (the line names the extra)
     3  a system that cannot be solved (singular, a failed crack QP, out of memory)
     1  anything unexpected: the line ends with the advice to run again with --debug
 
@@ -38,11 +39,14 @@ def _causes(exc: BaseException):
 def classify(exc: BaseException) -> tuple[int, str]:
     """(exit code, one-line message) of an error that reached the command line."""
     from .contact import ContactSolverError
+    from .extras import missing_extra
     from .schur import LinearSolverError
     from .solve import SolveError
 
     text = one_line(exc)
     for cause in _causes(exc):
+        if missing_extra(cause):  # an optional package not installed: what to install
+            return EXIT_INPUT, missing_extra(cause)
         netgen = type(cause).__name__ == "NgException"
         if isinstance(cause, MemoryError) or (netgen and "allocate" in str(cause)):
             return EXIT_SOLVE, (f"out of memory ({text or type(cause).__name__}); use a larger maxh or a smaller "

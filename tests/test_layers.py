@@ -19,7 +19,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "planar", "schur", "constraints", "contact",
-                     "files")),
+                     "files", "extras")),
     ("scene", ("scene", "scenes", "references", "sizing")),
     ("mesh", ("crack_sides", "geometry")),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
