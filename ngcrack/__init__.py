@@ -29,11 +29,13 @@ _EXPORTS = {
     "references": ".references", "scenes": ".scenes",
     "ContactSolverError": ".constraints",
     "ELEMENTS": ".elements", "Loads": ".elements",
+    "InputError": ".errors",
     "Explorer": ".explorer", "Study": ".explorer", "explore": ".explorer", "explore_growth": ".explorer",
     "GrowthResult": ".growth", "grow": ".growth",
     "CRACK_MODELS": ".options", "SolveOptions": ".options",
     "Pipeline": ".pipeline",
-    "BoundaryCondition": ".scene", "Crack": ".scene", "Material": ".scene", "Scene": ".scene", "SceneError": ".scene",
+    "BoundaryCondition": ".scene", "Crack": ".scene", "Material": ".scene", "PointCondition": ".scene", "Scene": ".scene",
+    "SceneError": ".scene",
     "LinearSolverError": ".schur",
     "CoarseMeshWarning": ".sizing",
     "Solution": ".solution",
@@ -43,10 +45,11 @@ _EXPORTS = {
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
-    "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
+    "Pipeline", "PointCondition",
+    "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
     "grow", "references", "scenes", "solve", "sweep",
     # the errors and warnings a script may catch
-    "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
+    "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
 ]
 
 
@@ -92,11 +95,12 @@ if TYPE_CHECKING:  # what type checkers and editors see: the names above, eagerl
     from . import references, scenes
     from .constraints import ContactSolverError
     from .elements import ELEMENTS, Loads
+    from .errors import InputError
     from .explorer import Explorer, Study, explore, explore_growth
     from .growth import GrowthResult, grow
     from .options import CRACK_MODELS, SolveOptions
     from .pipeline import Pipeline
-    from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
+    from .scene import BoundaryCondition, Crack, Material, PointCondition, Scene, SceneError
     from .schur import LinearSolverError
     from .sizing import CoarseMeshWarning
     from .solution import Solution
