@@ -19,7 +19,7 @@ from .explorer import Explorer, Study, explore, explore_growth
 from .growth import GrowthResult, grow
 from .options import CRACK_MODELS, SolveOptions
 from .pipeline import Pipeline
-from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
+from .scene import BoundaryCondition, Crack, Material, PointCondition, Scene, SceneError
 from .schur import LinearSolverError
 from .sizing import CoarseMeshWarning
 from .solution import Solution
@@ -30,7 +30,8 @@ __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
-    "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
+    "Pipeline", "PointCondition",
+    "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
     "grow", "references", "scenes", "solve", "sweep",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",

@@ -158,8 +158,9 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     with task_manager():
         a.Assemble()
     t = ngs.specialcf.tangential(2)
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v),
-                    traction=lambda g: -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t)))
+    traction = lambda g: -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t))  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction,
+                    crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
@@ -172,6 +173,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
 
     return Discretization(
         element="tdnns",
+        traction=traction,
         crack_mesh=crack_mesh,
         fes=fes,
         a=a,
