@@ -41,13 +41,14 @@ _EXPORTS = {
     "Solution": ".solution",
     "SolveError": ".solve", "solve": ".solve",
     "SweepError": ".sweeps", "fitted_rates": ".sweeps", "sweep": ".sweeps",
+    "crack_volume": ".volume", "solve_volume": ".volume",
 }
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
     "Pipeline", "PointCondition",
     "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
-    "grow", "references", "scenes", "solve", "sweep",
+    "grow", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
 ]
@@ -106,3 +107,4 @@ if TYPE_CHECKING:  # what type checkers and editors see: the names above, eagerl
     from .solution import Solution
     from .solve import SolveError, solve
     from .sweeps import SweepError, fitted_rates, sweep
+    from .volume import crack_volume, solve_volume

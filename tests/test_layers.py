@@ -27,7 +27,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("options and solution", ("options", "solution")),
     ("pipeline and hp meshes", ("pipeline", "hp")),
     ("loops over the pipeline", ("adapt",)),
-    ("one-shot solve", ("solve",)),
+    ("one-shot solve", ("solve", "volume")),
     ("studies", ("study", "sweeps", "stability", "growth", "paper", "plots")),
     ("views", ("explorer", "interactive", "cli", "cli_errors", "growth.cli", "__main__", "")),
 ]
