@@ -39,6 +39,7 @@ from . import elements as _elements
 from .constraints import discrete_contact_forces, kkt_at_constraints
 from .contact import constraint_positions, solve_qp, warm_start_data
 from .elements import Discretization, Loads
+from .errors import InputError
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
 from .geometry import CrackMesh, make_mesh
@@ -58,6 +59,7 @@ from .post import (
     tributary_lengths,
 )
 from .scene import BoundaryCondition, Scene
+from .scene.points import held_directions
 from .sizing import check_request
 from .solution import Solution
 from .tips import tip_parameters
@@ -81,7 +83,8 @@ class SolveError(RuntimeError):
 def load_structure(scene: Scene) -> tuple:
     """What the assembled forms depend on besides the load values: the supports and
     which labels carry loads."""
-    return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None)
+    return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None,
+            tuple((pc.label, pc.type) for pc in getattr(scene, "points", ())))
 
 
 def geometry_key(scene: Scene) -> tuple:
@@ -117,7 +120,8 @@ class ParameterLoads:
             self.params[("body", "")] = p
             body = ngs.CF(p)
         self.loads = Loads(body_force=body, traction=traction, displacement=displacement,
-                           clamped=frozenset(clamped), roller=frozenset(roller))
+                           clamped=frozenset(clamped), roller=frozenset(roller),
+                           held_mean=held_directions(scene.polygon, scene.labels, getattr(scene, "points", ())))
         self.set(scene)
 
     def set(self, scene: Scene) -> None:
@@ -157,7 +161,7 @@ def check_pressure_determined(scene: Scene, loads: Loads | None = None) -> None:
     else:
         held = set(loads.clamped) | set(loads.roller) | set(loads.displacement)
     if set(scene.boundary_labels) <= held:
-        raise ValueError(
+        raise InputError(
             "material.nu = 0.5 (incompressible, plane strain) with every edge clamped, displaced or on rollers: "
             "the pressure is undetermined; leave at least one edge traction-free or loaded by a traction, "
             "or use nu < 0.5"
@@ -508,7 +512,7 @@ def _estimate(sol: Solution, loads: Loads, crack_model: str):
 
     try:
         est = estimate(sol, loads, crack_model)
-    except ValueError as exc:
+    except InputError as exc:
         sol.options["error_estimate"] = str(exc)
         return None
     sol.timings["estimate"] = est.time

@@ -68,6 +68,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
+from .errors import InputError
 from .materials import compliance as _compliance
 
 #: the integration radius as a fraction of the tip's clearance (distance to the boundary,
@@ -107,7 +108,7 @@ def kolosov(nu: float, plane: str) -> float:
         return 3.0 - 4.0 * nu
     if plane == "stress":
         return (3.0 - nu) / (1.0 + nu)
-    raise ValueError(f"material.plane = {plane!r}: allowed values are strain, stress")
+    raise InputError(f"material.plane = {plane!r}: allowed values are strain, stress")
 
 
 def effective_modulus(E: float, nu: float, plane: str) -> float:
@@ -116,7 +117,7 @@ def effective_modulus(E: float, nu: float, plane: str) -> float:
         return E / (1.0 - nu * nu)
     if plane == "stress":
         return E
-    raise ValueError(f"material.plane = {plane!r}: allowed values are strain, stress")
+    raise InputError(f"material.plane = {plane!r}: allowed values are strain, stress")
 
 
 # ----------------------------------------------------------- auxiliary Williams fields
@@ -132,7 +133,7 @@ def williams_stress(r, theta, mode: int, m=np):
         return k * c * (1.0 - s * s3), k * c * (1.0 + s * s3), k * c * s * c3
     if mode == 2:
         return -k * s * (2.0 + c * c3), k * s * c * c3, k * c * (1.0 - s * s3)
-    raise ValueError(f"mode = {mode!r}: allowed values are 1, 2")
+    raise InputError(f"mode = {mode!r}: allowed values are 1, 2")
 
 
 def williams_displacement(r, theta, mode: int, kappa: float, mu: float, m=np):
@@ -168,7 +169,7 @@ def _angular(theta, mode: int, kappa: float, m):
         g1 = 0.5 * c * (kappa + 1.0 + 2.0 * c * c) - s * sin_t
         g2 = 0.5 * s * (kappa - 1.0 - 2.0 * s * s) + c * sin_t
     else:
-        raise ValueError(f"mode = {mode!r}: allowed values are 1, 2")
+        raise InputError(f"mode = {mode!r}: allowed values are 1, 2")
     return f1, f2, g1, g2
 
 
@@ -465,7 +466,7 @@ def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParame
     the scene's own.
     """
     if not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
-        raise ValueError(f"radius = {radius!r}: must be a finite number > 0")
+        raise InputError(f"radius = {radius!r}: must be a finite number > 0")
     mat = sol.scene.material
     E, nu, plane = mat.E, mat.nu, mat.plane
     mu = E / (2.0 * (1.0 + nu))
@@ -507,8 +508,8 @@ def tip_parameters(sol, radius: float | None = None, body_force=SCENE) -> list[T
     for tip in crack_tips(sol.scene, sol.crack_mesh):
         R = default_radius(tip) if radius is None else radius
         if R >= tip.clearance:
-            raise ValueError(f"radius = {R!r}: must be below the clearance {tip.clearance:.4g} of tip "
-                             f"{tip.label} (its distance to the boundary, other cracks, or its crack's kink)")
+            raise InputError(f"radius = {R!r}: must be below the clearance {tip.clearance:.4g} of tip "
+                              f"{tip.label} (its distance to the boundary, other cracks, or its crack's kink)")
         res = domain_integral(sol, tip, R, body_force=body_force)
         out.append(res)
     return out

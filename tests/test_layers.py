@@ -19,11 +19,11 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "planar", "schur", "constraints", "contact",
-                     "files", "solid", "solid.contact")),
+                     "files", "errors", "solid", "solid.contact")),
     ("scene", ("scene", "scenes", "references", "sizing", "solid.scene")),
     ("mesh", ("crack_sides", "geometry", "solid.geometry")),
-    ("discretization", ("elements", "hybrid", "friction", "friction_setup", "solid.element")),
-    ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk", "solid.front")),
+    ("discretization", ("elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element")),
+    ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk", "load_points", "solid.front")),
     ("options and solution", ("options", "solution", "solid.output")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
     ("loops over the pipeline", ("adapt",)),

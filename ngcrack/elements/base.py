@@ -56,6 +56,9 @@ class Loads:
     displacement: dict[str, ngs.CoefficientFunction] = field(default_factory=dict)
     clamped: frozenset[str] = frozenset()
     roller: frozenset[str] = frozenset()
+    #: label -> unit directions d along which the mean of u.d over the label's edges is held
+    #: at zero (the pin and roller points of the scene; hybrid.condense imposes them)
+    held_mean: dict[str, tuple[tuple[float, float], ...]] = field(default_factory=dict)
 
     @property
     def dirichlet_labels(self) -> frozenset[str]:
@@ -116,6 +119,10 @@ class Discretization:
     fixed_dofs: tuple[int, ...] = ()
     traction_rows: tuple[int | None, int | None] = (None, None)
     tangential: int | None = None
+    #: traction(g): the element's integrand of a boundary traction g (what `load_vector`
+    #: integrates over a loaded edge, with the element's sign): the work of g on u_hat is
+    #: sign times its assembled form applied to the solution vector
+    traction: Callable[[ngs.CoefficientFunction], ngs.CoefficientFunction] | None = None
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -331,7 +338,8 @@ def weakly_symmetric_hybrid(
         a += ((tau * n) * (chi * (jn * nu + jt * t)) + (sig * n) * (chi * (kn * nu + kt * t))) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=lambda g: -(g * muh))
+    traction = lambda g: -(g * muh)  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
@@ -357,4 +365,5 @@ def weakly_symmetric_hybrid(
         fields=fields,
         built=built,
         definite=not split,
+        traction=traction,
     )

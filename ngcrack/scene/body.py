@@ -51,6 +51,7 @@ from .planar import (
     check_gaps,
     check_polyline_simple,
 )
+from .points import PointCondition, coerce_points, force_conditions, from_tractions, insert_points, strip_points
 from .topology import Part, check_held, parts
 from .types import (
     GEOMETRY_RTOL,
@@ -89,7 +90,10 @@ class Scene:
     (unnamed edges are traction-free); ``maxh`` global mesh size, ``crack_h`` size along
     the cracks, ``grading`` how fast sizes grow (netgen, 0.3 default) and ``tip_h`` local
     size at crack tips (None: the solver decides); ``description`` one line;
-    ``exact`` closed-form metadata (see :data:`EXACT_KINDS`) or None.
+    ``exact`` closed-form metadata (see :data:`EXACT_KINDS`) or None; ``points``
+    loads and supports at points of the outer boundary (:class:`PointCondition`, the
+    ``[[point]]`` tables): their segments are inserted into ``polygon`` and ``labels``, a
+    force is stored as a traction on its label in ``boundary`` (``points.py``).
     """
 
     name: str
@@ -106,6 +110,7 @@ class Scene:
     grading: float | None = None
     description: str = ""
     exact: Mapping[str, Any] | None = None
+    points: tuple[PointCondition, ...] = ()
 
     # ---------------------------------------------------------------- validation
     def __post_init__(self) -> None:
@@ -193,6 +198,14 @@ class Scene:
                                  f"default is 0.3)")
             set_("grading", g)
 
+        # points: their segments inserted into the polygon, forces as tractions
+        pconds = coerce_points(self.points, self.maxh, diam)
+        if pconds:
+            poly, labels = insert_points(poly, self.labels, pconds, (), diam, tol)
+            set_("polygon", poly)
+            set_("labels", labels)
+        set_("points", pconds)
+
         # cracks
         raw = self.cracks
         if isinstance(raw, (str, bytes, Mapping)) or not isinstance(raw, Sequence):
@@ -202,6 +215,10 @@ class Scene:
         outer = Walls([(poly, self.labels, "domain.polygon")])
         holes = check_holes(self.holes, outer, diam, tol)
         set_("holes", holes)
+        for k, pc in enumerate(pconds):
+            if any(pc.label in h.labels for h in holes):
+                raise SceneError(f"point[{k}].label = {pc.label!r}: already the label of a hole's edge; choose "
+                                 f"another label")
         walls = Walls([(poly, self.labels, "domain.polygon")]
                       + [(h.loop(), h.edge_labels(), f"hole[{k}]") for k, h in enumerate(holes)])
         self.__dict__["_walls"] = outer  # the cache of the outer boundary (on_boundary)
@@ -244,8 +261,10 @@ class Scene:
             raise SceneError(f"boundary = {short(bnd)}: must be a table of "
                              f"[boundary.<label>] tables")
         allowed = self.boundary_labels
-        conds = {}
+        conds = force_conditions(pconds, bnd)
         for lab, cond in bnd.items():
+            if lab in conds:
+                continue
             if lab not in allowed:
                 raise SceneError(f"boundary.{lab}: unknown edge label; allowed labels: "
                                  f"{', '.join(allowed)}")
@@ -409,9 +428,11 @@ class Scene:
         """A new, validated scene with some fields replaced.
 
         Accepts any field (``name``, ``polygon``, ``labels``, ``cracks``, ``holes``, ``material``,
-        ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``)
+        ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``, ``points``)
         and the material's ``E``, ``nu``, ``plane``. ``boundary`` replaces the whole
-        mapping (label -> BoundaryCondition or {"type": ..., "value": ...}).
+        mapping (label -> BoundaryCondition or {"type": ..., "value": ...}); a traction it gives
+        on a force point's label sets that point's force (value = traction times width).
+        New ``points`` replace the old ones, their segments and forces.
         ``friction`` sets the Coulomb coefficient of every crack.
         """
         names = [f.name for f in dataclasses.fields(self)]
@@ -430,6 +451,16 @@ class Scene:
             allowed = ", ".join(names + list(mat_keys))
             raise SceneError(f"with_: unknown field{'s' if len(unknown) > 1 else ''} "
                              f"{', '.join(unknown)}; allowed: {allowed}")
+        if self.points and "points" in changes:
+            # new points: the old ones' segments and forces leave the polygon and the boundary
+            if "polygon" not in changes and "labels" not in changes:
+                changes["polygon"], changes["labels"] = strip_points(self.polygon, self.labels, self.points)
+            if "boundary" not in changes:
+                forces = {pc.label for pc in self.points if pc.type == "force"}
+                changes["boundary"] = {k: v for k, v in self.boundary.items() if k not in forces}
+        elif self.points and isinstance(changes.get("boundary"), Mapping):
+            # a new boundary mapping carries the forces of the points (a scaled or turned load)
+            changes["points"] = from_tractions(self.points, changes["boundary"])
         mat = {k: changes.pop(k) for k in mat_keys if k in changes}
         if mat:
             base = Material.from_dict(changes.get("material", self.material))
@@ -451,7 +482,10 @@ class Scene:
         boundary = {k: b.scaled(factor[b.type]) if b.type in factor else b
                     for k, b in self.boundary.items()}
         bf = tuple(v * load / size for v in self.body_force) if self.body_force else None
+        forces = {pc.label for pc in self.points if pc.type == "force"}
+        boundary = {k: b for k, b in boundary.items() if k not in forces}
         return self.with_(
+            points=tuple(pc.scaled(size, load * size) for pc in self.points),
             E=self.material.E * E,
             polygon=tuple((x * size, y * size) for x, y in self.polygon),
             cracks=tuple(c.scaled(size) for c in self.cracks),

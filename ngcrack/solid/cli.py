@@ -13,7 +13,9 @@ def solve_command(scene, args, json_path) -> int:
     """Run `ngcrack solve` for a 3D scene; both outputs or neither (files.Staged)."""
     for key, flag in UNSUPPORTED:
         if getattr(args, key, None) is not None:
-            raise ValueError(f"{flag}: not available for a 3D scene yet")
+            from ..errors import InputError
+
+            raise InputError(f"{flag}: not available for a 3D scene yet")
     from ..cli_errors import check_finite
     from ..files import Staged
     from .solve import check_options, solve_solid

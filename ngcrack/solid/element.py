@@ -37,6 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..elements.base import Discretization, Loads
+from ..errors import InputError
 from ..geometry import boundary_regex
 from ..parallel import task_manager
 from .geometry import SolidMesh
@@ -133,7 +134,7 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
     """The hybridized TDNNS discretization of stress degree `order` (1, 2 or 3; default 1)."""
     k = DEFAULT_ORDER if order is None else order
     if k not in ORDERS:
-        raise ValueError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
     mesh = smesh.mesh
     dirichlet = boundary_regex(loads.dirichlet_labels)
     normal_fixed = boundary_regex(set(loads.dirichlet_labels) | set(loads.roller))

@@ -27,7 +27,7 @@ from .scene import Box, PlanarCrack, SolidScene
 CURVE_ORDER = 2
 
 
-class MeshError(ValueError):
+class MeshError(RuntimeError):
     """The mesher produced a mesh the solver cannot use (a crack face without two tetrahedra)."""
 
 

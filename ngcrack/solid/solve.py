@@ -15,6 +15,7 @@ import ngsolve as ngs
 import numpy as np
 
 from ..elements.base import Loads
+from ..errors import InputError
 from ..hybrid import condense
 from ..parallel import task_manager
 from ..schur import Factorization
@@ -52,23 +53,23 @@ def check_options(options: dict) -> dict:
     """The 3D solve's options, each refused by name before any meshing."""
     unknown = [k for k in options if k not in OPTIONS]
     if unknown:
-        raise ValueError(f"{unknown[0]}: not an option of a 3D solve; allowed: {', '.join(OPTIONS)}")
+        raise InputError(f"{unknown[0]}: not an option of a 3D solve; allowed: {', '.join(OPTIONS)}")
     element = options.get("element") or "tdnns"
     if element != "tdnns":
-        raise ValueError(f"element = {element!r}: 3D scenes are solved with tdnns (allowed values: tdnns)")
+        raise InputError(f"element = {element!r}: 3D scenes are solved with tdnns (allowed values: tdnns)")
     order = options.get("order") or 1
     if order not in ORDERS:
-        raise ValueError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
     model = options.get("crack_model") or "contact"
     if model not in CRACK_MODELS:
-        raise ValueError(f"crack_model = {model!r}: allowed values in 3D are {', '.join(CRACK_MODELS)}")
+        raise InputError(f"crack_model = {model!r}: allowed values in 3D are {', '.join(CRACK_MODELS)}")
     qp = options.get("qp_solver") or "pdas"
     if qp != "pdas":
-        raise ValueError(f"qp_solver = {qp!r}: 3D contact is solved by the sparse active set (allowed values: pdas)")
+        raise InputError(f"qp_solver = {qp!r}: 3D contact is solved by the sparse active set (allowed values: pdas)")
     for key in ("maxh", "crack_h", "front_h", "grading"):
         v = options.get(key)
         if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
-            raise ValueError(f"{key} = {v!r}: must be a finite number > 0")
+            raise InputError(f"{key} = {v!r}: must be a finite number > 0")
     return {"element": element, "order": int(order), "crack_model": model,
             "linear_solver": options.get("linear_solver") or "auto",
             "fronts": options.get("fronts", False), "front_points": options.get("front_points")}
@@ -79,7 +80,7 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
     opts = check_options(options)
     for i, c in enumerate(scene.cracks):
         if c.friction > 0 and opts["crack_model"] == "contact":
-            raise ValueError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
+            raise InputError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
                              "(frictionless contact only); set friction = 0")
     t0 = time.perf_counter()
     timings = {}
