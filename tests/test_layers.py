@@ -21,7 +21,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "planar", "schur", "constraints", "contact",
                      "files", "errors")),
     ("scene", ("scene", "scenes", "references", "sizing")),
-    ("mesh", ("crack_sides", "geometry")),
+    ("mesh", ("crack_sides", "crack_loads", "geometry")),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup", "held_means")),
     ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk", "load_points")),
     ("options and solution", ("options", "solution")),

@@ -23,7 +23,7 @@ import ngsolve as ngs
 import numpy as np
 
 from ..errors import InputError
-from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
+from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf, crack_side
 from ..materials import Compliance
 from ..parallel import task_manager
 from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data, load_vector, roller_edges
@@ -167,8 +167,15 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     with task_manager():
         a.Assemble()
     v = displacement(test)
+    crack_load = None
+    if has_crack:
+        seg_normal, _ = crack_frame_cf(crack_mesh)
+
+        def crack_load(p):
+            # [v] = u_e = jn nu_h + jt t_h, its normal part against the edge's own normal
+            return p * ((test[2] * nu_cf + test[3] * t_cf) * seg_normal)
     traction = lambda g: g * v  # noqa: E731
-    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=traction)
+    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=traction, crack=crack_load)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components

@@ -159,7 +159,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         a.Assemble()
     t = ngs.specialcf.tangential(2)
     traction = lambda g: -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t))  # noqa: E731
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction)
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction,
+                    crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components

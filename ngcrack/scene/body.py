@@ -52,6 +52,7 @@ from .planar import (
     check_polyline_simple,
 )
 from .points import PointCondition, coerce_points, force_conditions, from_tractions, insert_points, strip_points
+from .pressure import check_pressure
 from .topology import Part, check_held, parts
 from .types import (
     GEOMETRY_RTOL,
@@ -227,12 +228,14 @@ class Scene:
             fld = f"crack[{i}]"
             pts_raw = c.points if isinstance(c, Crack) else c
             mu = c.friction if isinstance(c, Crack) else 0.0
+            pressure = c.pressure if isinstance(c, Crack) else None
             if isinstance(pts_raw, Mapping):
-                check_keys(pts_raw, ("points", "friction"), fld)
+                check_keys(pts_raw, ("points", "friction", "pressure"), fld)
                 if "points" not in pts_raw:
                     raise SceneError(f"{fld}.points: missing; give a polyline "
                                      f"[[x0, y0], [x1, y1], ...]")
                 mu = friction_coefficient(pts_raw.get("friction", 0.0), f"{fld}.friction")
+                pressure = check_pressure(pts_raw.get("pressure"), f"{fld}.pressure")
                 pts_raw = pts_raw["points"]
             pts = crack_points(pts_raw, fld, tol)
             check_crack_in_domain(walls, pts, fld, tol)
@@ -244,7 +247,13 @@ class Scene:
                             f"{fld}.points[{k}] = {fmt_pt(pts[k])} lies on hole[{walls.owner[e][0] - 1}]; "
                             f"a crack may not touch a hole (end it inside the body, at least "
                             f"{fmt(MIN_GAP_RTOL * diam)} away)")
-            cracks.append(c if isinstance(c, Crack) else Crack(pts, mu))
+            if not isinstance(c, Crack):
+                try:
+                    c = Crack(pts, mu, pressure)
+                except SceneError as exc:  # the pressure's checks, under this crack's name
+                    raise SceneError(str(exc).replace("crack.pressure", f"{fld}.pressure")) from None
+            check_crack_pressure(c.pressure, E, diam, f"{fld}.pressure")
+            cracks.append(c)
         total = (len(poly) + sum(len(h.polygon) for h in holes if not h.is_circle)
                  + 2 * sum(len(c.points) for c in cracks))
         if total > MAX_BOUNDARY_POINTS:
@@ -426,7 +435,8 @@ class Scene:
         mapping (label -> BoundaryCondition or {"type": ..., "value": ...}); a traction it gives
         on a force point's label sets that point's force (value = traction times width).
         New ``points`` replace the old ones, their segments and forces.
-        ``friction`` sets the Coulomb coefficient of every crack.
+        ``friction`` sets the Coulomb coefficient of every crack, ``pressure`` the face
+        pressure of every crack (``ngcrack.scene.pressure``).
         """
         names = [f.name for f in dataclasses.fields(self)]
         mat_keys = ("E", "nu", "plane")
@@ -438,6 +448,15 @@ class Scene:
             changes["cracks"] = tuple(
                 dataclasses.replace(c, friction=mu) if isinstance(c, Crack)
                 else {**c, "friction": mu} if isinstance(c, Mapping) else {"points": c, "friction": mu}
+                for c in cracks)
+        if "pressure" in changes:
+            p = check_pressure(changes.pop("pressure"), "pressure")
+            cracks = changes.get("cracks", self.cracks)
+            if isinstance(cracks, (str, bytes, Mapping)) or not isinstance(cracks, Sequence):
+                raise SceneError(f"crack = {short(cracks)}: must be a list of cracks")
+            changes["cracks"] = tuple(
+                dataclasses.replace(c, pressure=p) if isinstance(c, Crack)
+                else {**c, "pressure": p} if isinstance(c, Mapping) else {"points": c, "pressure": p}
                 for c in cracks)
         unknown = [k for k in changes if k not in names and k not in mat_keys]
         if unknown:
@@ -467,7 +486,8 @@ class Scene:
         ``load``, body forces by ``load / size`` (so that stresses scale with ``load``)
         and prescribed displacements by ``load * size / E``: the displacements of the
         scaled scene are those of this one times ``load * size / E``. Each crack keeps
-        its friction coefficient; the ``[exact]`` metadata is kept as it is.
+        its friction coefficient, its pressure scales by ``load`` (a table's arc lengths by
+        ``size``); the ``[exact]`` metadata is kept as it is.
         """
         for v, fld in ((E, "E"), (load, "load"), (size, "size")):
             positive(v, f"scaled.{fld}")
@@ -481,8 +501,21 @@ class Scene:
             points=tuple(pc.scaled(size, load * size) for pc in self.points),
             E=self.material.E * E,
             polygon=tuple((x * size, y * size) for x, y in self.polygon),
-            cracks=tuple(c.scaled(size) for c in self.cracks),
+            cracks=tuple(c.scaled(size, load) for c in self.cracks),
             holes=tuple(h.scaled(size) for h in self.holes),
             body_force=bf, boundary=boundary,
             **{k: getattr(self, k) * size for k in ("maxh", "tip_h", "crack_h") if getattr(self, k)},
         )
+
+
+def check_crack_pressure(p, E: float, diam: float, fld: str) -> None:
+    """Refuse a crack pressure whose nonzero values leave the range of the scene's loads
+    (as strains p / E, and in size, between 1/MAX_SCALE and MAX_SCALE)."""
+    if p is None:
+        return
+    vals = [p] if isinstance(p, float) else [v for _, v in p] if isinstance(p, tuple) else []
+    for v in vals:
+        if v != 0.0 and not (1.0 / MAX_SCALE <= abs(v) / E <= MAX_SCALE and 1.0 / MAX_SCALE <= abs(v) <= MAX_SCALE):
+            raise SceneError(f"{fld} = {short(p)}: out of range ({fmt(v)}, as a strain p / E "
+                             f"{abs(v) / E:.3g}); each nonzero value must lie, in size and over E, "
+                             f"between {1.0 / MAX_SCALE:g} and {MAX_SCALE:g} (change the units)")
