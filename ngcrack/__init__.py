@@ -25,6 +25,7 @@ from .sizing import CoarseMeshWarning
 from .solution import Solution
 from .solve import SolveError, solve
 from .sweeps import SweepError, fitted_rates, sweep
+from .volume import crack_volume, solve_volume
 
 __version__ = "0.1.0"
 
@@ -32,7 +33,7 @@ __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
     "Pipeline", "PointCondition",
     "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
-    "grow", "references", "scenes", "solve", "sweep",
+    "grow", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
 ]
