@@ -14,11 +14,12 @@ Locking-free hybridized mixed elements (PEERS, BDM) after Belhachmi et al.,
 from . import references, scenes
 from .constraints import ContactSolverError
 from .elements import ELEMENTS, Loads
+from .errors import InputError
 from .explorer import Explorer, Study, explore, explore_growth
 from .growth import GrowthResult, grow
 from .options import CRACK_MODELS, SolveOptions
 from .pipeline import Pipeline
-from .scene import BoundaryCondition, Crack, Material, Scene, SceneError
+from .scene import BoundaryCondition, Crack, Material, PointCondition, Scene, SceneError
 from .schur import LinearSolverError
 from .sizing import CoarseMeshWarning
 from .solution import Solution
@@ -29,8 +30,9 @@ __version__ = "0.1.0"
 
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
-    "Pipeline", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
+    "Pipeline", "PointCondition",
+    "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
     "grow", "references", "scenes", "solve", "sweep",
     # the errors and warnings a script may catch
-    "CoarseMeshWarning", "ContactSolverError", "LinearSolverError", "SweepError",
+    "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
 ]

@@ -15,8 +15,9 @@
 SCENE is a built-in scene name or a TOML file. No command shows a traceback: bad input
 exits with code 2 and one line on stderr naming the field, before any meshing; a system
 that cannot be solved (singular, a failed crack QP, out of memory) exits with code 3
-and one line naming the cause; anything unexpected exits with code 1, one line and
-the advice to run again with --debug (which prints the traceback). Warnings are one
+and one line naming the cause; anything else is a fault of ngcrack: exit code 3 too, one
+line naming the command and asking for a report, with the advice to run again with
+--debug (which prints the traceback). Warnings are one
 line each. Output files are written only after a successful solve, atomically (a
 temporary file renamed into place), so none is left half-written and an existing one
 is untouched on failure; an output that cannot be written is refused before the solve.
@@ -36,6 +37,7 @@ import traceback
 import warnings
 
 from .cli_errors import EXIT_INPUT, Terminated, check_finite, classify, one_line, one_line_warning
+from .errors import InputError
 from .files import PathError, check_distinct, check_output, check_output_folder, check_output_stem
 from .interrupts import Interrupts
 from .interrupts import check as check_interrupt
@@ -48,7 +50,7 @@ SIZE_RANGE = (1e-100, 1e100)
 VTK_PARTS = (".vtu", "_cracks.vtu")
 
 
-class UsageError(ValueError):
+class UsageError(InputError):
     """Bad command-line input (exit code 2)."""
 
 
@@ -480,7 +482,7 @@ def main(argv=None) -> int:
         except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
             if interrupts.signum is not None:  # the signal came back as a library's exception
                 return _interrupted(args, interrupts, interrupts.signum, exc)
-            code, message = classify(exc)
+            code, message = classify(exc, args.command)
             if debug:
                 traceback.print_exc()
             print(f"ngcrack: error: {message}", file=sys.stderr)

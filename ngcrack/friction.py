@@ -57,6 +57,7 @@ import scipy.sparse as sp
 
 from .constraints import ContactSolverError, _inverse_map, scaled_problem
 from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_BACKUP, PDAS_MAX_ITER, QPResult, _limited_blas
+from .errors import InputError
 
 #: how Coulomb friction is solved (module docstring)
 FRICTION_METHODS = ("fixed-point", "newton")
@@ -291,8 +292,8 @@ def tresca_cvxpy(pf: _PointForm, tau: np.ndarray, solver: str, options: dict | N
 
     name = solver.upper()
     if name not in cp.installed_solvers():
-        raise ValueError(f"qp_solver = {solver!r}: allowed values are pdas or an installed cvxpy solver: "
-                         + ", ".join(s.lower() for s in cp.installed_solvers()))
+        raise InputError(f"qp_solver = {solver!r}: allowed values are pdas or an installed cvxpy solver: "
+                          + ", ".join(s.lower() for s in cp.installed_solvers()))
     v = cp.Variable(len(pf.c))
     energy = 0.5 * cp.quad_form(v, cp.psd_wrap(pf.A)) - pf.c @ v
     problem = cp.Problem(cp.Minimize(energy + tau @ cp.abs(v[pf.m:])), [v[:pf.m] >= 0])
@@ -337,15 +338,15 @@ def coulomb_residual(wn, lam_n, wt, lam_t, t_point, bound) -> dict:
 def check_friction_options(scene, qp_solver: str, method: str, tangential) -> None:
     """Refuse, before any meshing, friction options that cannot work for `scene`."""
     if method not in FRICTION_METHODS:
-        raise ValueError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
+        raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
     if tangential is not None and not isinstance(tangential, bool):
-        raise ValueError(f"tangential = {tangential!r}: must be None, True or False")
+        raise InputError(f"tangential = {tangential!r}: must be None, True or False")
     if not (tangential or any(c.friction > 0 for c in scene.cracks)):
         return
     if qp_solver in NATIVE_SOLVERS and qp_solver != "pdas":
-        raise ValueError(f"qp_solver = {qp_solver!r}: with friction the allowed values are pdas or a cvxpy solver")
+        raise InputError(f"qp_solver = {qp_solver!r}: with friction the allowed values are pdas or a cvxpy solver")
     if qp_solver != "pdas" and method == "newton":
-        raise ValueError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
+        raise InputError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
 
 
 def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_options: dict | None = None,
@@ -359,15 +360,15 @@ def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_opti
     converge in `max_iter` steps, or the answer's residuals exceed `kkt_tol`.
     """
     if method not in FRICTION_METHODS:
-        raise ValueError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
+        raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
     if solver in NATIVE_SOLVERS and solver != "pdas":
-        raise ValueError(f"qp_solver = {solver!r}: with friction the allowed values are pdas or a cvxpy solver")
+        raise InputError(f"qp_solver = {solver!r}: with friction the allowed values are pdas or a cvxpy solver")
     if solver != "pdas" and method == "newton":
-        raise ValueError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
+        raise InputError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
     if not (np.all(np.isfinite(problem.S)) and np.all(np.isfinite(problem.b))):
         raise ContactSolverError("the crack problem has non-finite entries (S or b): the linear system is singular")
     if np.any(problem.mu < 0) or not np.all(np.isfinite(problem.mu)):
-        raise ValueError("friction: the Coulomb coefficients must be finite numbers >= 0")
+        raise InputError("friction: the Coulomb coefficients must be finite numbers >= 0")
     with _limited_blas():
         return _solve(problem, solver, dict(solver_options or {}), method, tol, max_iter, kkt_tol)
 

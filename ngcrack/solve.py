@@ -12,6 +12,7 @@ import numpy as np
 
 from .adapt import check_adapt_options, solve_adaptive
 from .elements import Loads
+from .errors import InputError
 from .geometry import CrackMesh
 from .options import CRACK_MODELS, SolveOptions, qp_solvers
 from .pipeline import Pipeline, SolveError, scene_loads
@@ -89,8 +90,8 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     if opts.adapt is None:
         return pipeline.run(scene, opts, loads=loads, warm_start=warm_start, crack_mesh=crack_mesh)
     if crack_mesh is not None:
-        raise ValueError("crack_mesh: adapt=TOL makes its own first mesh from maxh, tip_h, crack_h and grading; "
-                         "give either adapt or crack_mesh")
+        raise InputError("crack_mesh: adapt=TOL makes its own first mesh from maxh, tip_h, crack_h and grading; "
+                          "give either adapt or crack_mesh")
     check_adapt_options(opts, scene)
     opts.check_for(scene)
     check_request(scene, opts.element, opts.maxh, opts.tip_h, opts.crack_h, opts.grading, order=opts.order,

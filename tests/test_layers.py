@@ -19,11 +19,11 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "planar", "schur", "constraints", "contact",
-                     "files")),
+                     "files", "errors")),
     ("scene", ("scene", "scenes", "references", "sizing")),
-    ("mesh", ("crack_sides", "geometry")),
-    ("discretization", ("elements", "hybrid", "friction", "friction_setup")),
-    ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk")),
+    ("mesh", ("crack_sides", "crack_loads", "geometry")),
+    ("discretization", ("elements", "hybrid", "friction", "friction_setup", "held_means")),
+    ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk", "load_points")),
     ("options and solution", ("options", "solution")),
     ("pipeline and hp meshes", ("pipeline", "hp")),
     ("loops over the pipeline", ("adapt",)),

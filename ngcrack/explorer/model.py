@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from ..elements import ELEMENTS
+from ..errors import InputError
 from ..options import CRACK_MODELS, SolveOptions
 from ..pipeline import Pipeline
 from ..scene import Crack, Scene
@@ -131,8 +132,8 @@ class Explorer:
         elif isinstance(scene, Scene):
             self.base = scene
         else:
-            raise ValueError(f"scene = {scene!r}: a Scene, or one of the scene functions "
-                             f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
+            raise InputError(f"scene = {scene!r}: a Scene, or one of the scene functions "
+                              f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
         #: the scene's name as given (a scene function's or built-in scene's name), for titles
         self.name = scene.name if isinstance(scene, (Scene, SceneFunction)) else scene
         self.solve_options = dict(solve_options or {})
@@ -142,8 +143,8 @@ class Explorer:
             self.state.update({p.name: p.default for p in self.function.parameters if p.kind == "geometry"})
         unknown = [k for k in params if k not in self.state and k not in ("E", "nu", "friction")]
         if unknown:
-            raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
-                             f"allowed: {', '.join(self.controls())}")
+            raise InputError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                              f"allowed: {', '.join(self.controls())}")
         self.state.update(params)
         # the friction control overrides the scene's per-crack coefficients only once it is set
         self._friction_set = "friction" in params
@@ -231,8 +232,8 @@ class Explorer:
         try:
             unknown = [k for k in changes if k not in self.controls()]
             if unknown:
-                raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
-                                 f"allowed: {', '.join(self.controls())}")
+                raise InputError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                                  f"allowed: {', '.join(self.controls())}")
             # a refused value is not kept: the state stays as it was
             changes = {k: self.check(k, v) for k, v in changes.items()}
             self.state.update(changes)

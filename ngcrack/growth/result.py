@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
+
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
            "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "error_estimate", "kkt")
@@ -148,16 +150,6 @@ def _frame(sol) -> dict:
     return {"corners": corners.astype(np.float32), "disp": disp.astype(np.float32), "faces": faces}
 
 
-def _pyplot(path):
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def _draw_body(ax, scene, **kw):
     from .paths import body_region
 
@@ -168,13 +160,17 @@ def _draw_body(ax, scene, **kw):
 
 
 def plot_growth(result: GrowthResult, path=None):
-    plt = _pyplot(path)
+    from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
     from matplotlib.collections import LineCollection
+    from matplotlib.colors import Normalize
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+    from ..plots import new_figure
+
+    fig, (ax, bx) = new_figure(path, nrows=1, ncols=2, figsize=(12, 5), constrained_layout=True)
     _draw_body(ax, result.scene)
     n_steps = max(len(result.scenes) - 1, 1)
-    cmap = plt.get_cmap("viridis")
+    cmap = colormaps["viridis"]
     first = result.scenes[0]
     for c in first.cracks:
         p = np.asarray(c.points)
@@ -190,7 +186,7 @@ def plot_growth(result: GrowthResult, path=None):
             segs += [(pn[i], pn[i + 1]) for i in range(k + len(po) - 1, len(pn) - 1)]
         if segs:
             ax.add_collection(LineCollection(segs, colors=[cmap(n / n_steps)], linewidths=2.0))
-    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, n_steps))
+    sm = ScalarMappable(cmap=cmap, norm=Normalize(0, n_steps))
     fig.colorbar(sm, ax=ax, label="step")
     xy = np.concatenate([np.asarray(c.points) for c in result.final_scene.cracks])
     lo, hi = xy.min(axis=0), xy.max(axis=0)
@@ -214,7 +210,6 @@ def plot_growth(result: GrowthResult, path=None):
     bx.set_title(r"$\lambda = K_{Ic} / K_{eq}$ at each step")
     if path is not None:
         fig.savefig(path, dpi=130)
-        plt.close(fig)
     return fig
 
 
@@ -222,7 +217,7 @@ def frame_view(result: GrowthResult) -> tuple[float, np.ndarray, np.ndarray]:
     """(magnification, lower-left, upper-right) shared by every frame of `result`: the
     largest displacement drawn as 4% of the body's diameter, the view around the crack faces."""
     if not result.frames:
-        raise ValueError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
+        raise InputError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
     diam = result.scene.diameter
     umax = max(float(np.max(np.linalg.norm(f["disp"], axis=2))) for f in result.frames)
     scale = 0.04 * diam / umax if umax > 0 else 0.0
@@ -260,18 +255,16 @@ def draw_frame(ax, result: GrowthResult, n: int, view=None) -> None:
 
 def animate_growth(result: GrowthResult, path, fps: int = 4):
     """Write a GIF of `draw_frame` for every step."""
+    from matplotlib.animation import PillowWriter
+
+    from ..plots import new_figure
+
     view = frame_view(result)
-    plt = _pyplot(path)
-    from matplotlib.animation import FuncAnimation, PillowWriter
-
-    fig, ax = plt.subplots(figsize=(6, 6), constrained_layout=True)
-
-    def draw(n):
-        ax.clear()
-        draw_frame(ax, result, n, view)
-        return []
-
-    anim = FuncAnimation(fig, draw, frames=len(result.frames), blit=False)
-    anim.save(str(path), writer=PillowWriter(fps=fps))
-    plt.close(fig)
+    fig, ax = new_figure(path, figsize=(6, 6), constrained_layout=True)  # (its own canvas: pyplot untouched)
+    writer = PillowWriter(fps=fps)
+    with writer.saving(fig, str(path), dpi=fig.dpi):
+        for n in range(len(result.frames)):
+            ax.clear()
+            draw_frame(ax, result, n, view)
+            writer.grab_frame()
     return path
