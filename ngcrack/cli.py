@@ -106,6 +106,10 @@ def cmd_solve(args) -> int:
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
+    if getattr(scene, "dimension", 2) == 3:  # a 3D body (ngcrack.solid)
+        from .solid.cli import solve_command
+
+        return solve_command(scene, args, json_path)
     _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
     _check_friction(scene, args)
     if args.hp:
@@ -366,6 +370,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
+    p.add_argument("--front-h", dest="front_h", type=_positive, help="mesh size at crack fronts (3D scenes)")
     p.add_argument("--hp", type=_layers, metavar="L",
                    help="L layers of geometric refinement (ratio 0.2) towards every crack tip; with --order 2 or 3")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")

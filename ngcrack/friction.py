@@ -55,7 +55,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .constraints import ContactSolverError, _inverse_map, scaled_problem
+from .constraints import ContactSolverError, _inverse_map, faces_closed, scaled_problem
 from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_BACKUP, PDAS_MAX_ITER, QPResult, _limited_blas
 from .errors import InputError
 
@@ -71,9 +71,6 @@ COULOMB_MAX_ITER = 200
 #: Newton-Cotes weights of the p + 1 equispaced points of an edge (times its length):
 #: the nodal quadrature of P_p jumps, used for a Tresca threshold given in stress units
 NEWTON_COTES = {0: (1.0,), 1: (0.5, 0.5), 2: (1 / 6, 4 / 6, 1 / 6), 3: (1 / 8, 3 / 8, 3 / 8, 1 / 8)}
-#: a sample is "open" where [u].nu exceeds this fraction of the crack's largest jump,
-#: "stick" where the faces are closed, carry friction and |[u].t| is below it
-STATE_RTOL = 1e-8
 #: the values of CrackProfile.state
 STATES = ("open", "stick", "slip")
 
@@ -175,19 +172,18 @@ class FrictionResult(QPResult):
     problem: CrackProblem | None = None
 
     def point_states(self) -> np.ndarray:
-        """open / stick / slip at every constraint point (STATE_RTOL, as post.profile_states).
+        """open / stick / slip at every constraint point (constraints.faces_closed, as post.profile_states).
 
         Open where wn > 0; closed points stick where their tangential value is held
         (slip 0, or no tangential unknown) and the crack carries friction, else slip.
         """
         W = float(max(np.max(np.abs(self.w), initial=0.0), np.max(np.abs(self.wt), initial=0.0)))
-        tol = STATE_RTOL * W
         moving = np.zeros(len(self.w), dtype=bool)
         moving[self.t_point[self.slip != 0]] = True
         rough = np.zeros(len(self.w), dtype=bool)
         rough[self.t_point[self.mu > 0]] = True
         closed = np.where(rough & ~moving, "stick", "slip")
-        return np.where(self.w > tol, "open", closed)
+        return np.where(faces_closed(self.w, W), closed, "open")
 
 
 # --------------------------------------------------------------------------- the native method

@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .friction import STATE_RTOL
+from .constraints import CLOSED_RTOL, faces_closed
 from .geometry import CrackEdges, CrackMesh
 
 
@@ -92,23 +92,27 @@ def endpoint_map(space: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.nd
     return G
 
 
-# a sample is "open" where [u].nu exceeds STATE_RTOL (friction.py: the same tolerance as the
-# crack problem's point states) times the crack's largest jump and sigma_n is not below
-# -STATE_RTOL times the stress scale (compressed beyond round-off)
+# a sample is "open" where its faces are not closed (constraints.faces_closed: the same rule
+# as the crack problem's point states) and sigma_n is not below -CLOSED_RTOL times the
+# stress scale (compressed beyond round-off)
 
 
 def profile_states(normal_jump, tangential_jump, normal_stress, friction: float = 0.0,
                    stress_scale: float = 0.0, face_pressure=None) -> np.ndarray:
     """open / stick / slip per sample, from that sample's own jump and stress.
 
-    A sample is open where its faces separate, [u].nu > STATE_RTOL W (W the crack's
-    largest |[u]|), and carry no compression, sigma_n >= -STATE_RTOL S (S the stress
+    A sample is open where its faces separate, [u].nu > CLOSED_RTOL W (W the crack's
+    largest |[u]|: constraints.faces_closed), and carry no compression, sigma_n >= -CLOSED_RTOL S (S the stress
     scale: in `crack_profile` the largest |sigma|, Frobenius, at the crack's samples): a
     sample with a small positive jump that is pressed together (the edge next to a tip,
     partly in contact) is closed. Closed samples stick where the crack carries friction
+<<<<<<< HEAD
+    and |[u].t| <= CLOSED_RTOL W, else slip (a frictionless closed crack slides: "slip").
+=======
     and |[u].t| <= STATE_RTOL W, else slip (a frictionless closed crack slides: "slip").
     With a crack-face pressure p (`face_pressure`), the compression is the net one,
     sigma_n + p (the contact's part of the face traction).
+>>>>>>> main
     """
     jn = np.asarray(normal_jump, dtype=float)
     jt = np.asarray(tangential_jump, dtype=float)
@@ -116,9 +120,8 @@ def profile_states(normal_jump, tangential_jump, normal_stress, friction: float 
     if face_pressure is not None:
         sn = sn + np.asarray(face_pressure, dtype=float)
     W = float(np.max(np.hypot(jn, jt), initial=0.0))
-    tol = STATE_RTOL * W
-    closed = np.where((friction > 0) & (np.abs(jt) <= tol), "stick", "slip")
-    return np.where((jn > tol) & (sn >= -STATE_RTOL * stress_scale), "open", closed)
+    closed = np.where((friction > 0) & (np.abs(jt) <= CLOSED_RTOL * W), "stick", "slip")
+    return np.where(~faces_closed(jn, W) & (sn >= -CLOSED_RTOL * stress_scale), "open", closed)
 
 
 @dataclass(frozen=True)

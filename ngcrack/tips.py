@@ -69,6 +69,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
+from .constraints import faces_closed
 from .errors import InputError
 from .materials import compliance as _compliance
 from .scene.pressure import pressure_values
@@ -91,9 +92,6 @@ QUADRATURE_ORDER = 6
 #: r below this fraction of R is floored (no quadrature point sits at a tip; this only
 #: keeps r^(-1/2) finite in the expression)
 R_FLOOR = 1e-12
-#: a crack edge whose mid-point opening is at most this fraction of the crack's largest
-#: jump counts as closed (its faces touch and may carry a normal traction)
-CLOSED_RTOL = 1e-6
 #: a crack end closer than this fraction of the body's diameter to another crack is a
 #: junction, not a tip: it gets no fracture parameters
 JUNCTION_RTOL = 1e-6
@@ -396,7 +394,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     (sigma_n = -p, `ngcrack.scene.pressure`; 0 without one) where the crack is open or
     its faces pass (crack_model "free"), no shear without friction
     (a crack's `friction` coefficient, where the scene gives one, > 0 keeps the sampled
-    shear). Where the faces touch (jn <= CLOSED_RTOL of the crack's largest jump) the
+    shear). Where the faces touch (constraints.faces_closed at the edges' mid points) the
     sampled normal stress is kept. Applying the law rather than the raw samples matters
     for the elements whose stress has no single-valued face traction: the TDNNS shear and
     the baselines' post-computed stress near the tip, which are far from zero on an
@@ -411,7 +409,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
         return applied_p, np.zeros_like(sn)
     jn, jt = np.asarray(prof.normal_jump), np.asarray(prof.tangential_jump)
     scale = float(np.max(np.hypot(jn, jt))) if len(jn) else 0.0
-    closed = jn <= CLOSED_RTOL * scale
+    closed = faces_closed(jn, scale)
     sn = np.where(closed, sn, applied_p)
     # friction acts only where the solve applied it (unilateral contact with the tangential jumps kept)
     applied = bool(sol.options.get("tangential"))
