@@ -17,6 +17,7 @@ from .elements import ELEMENTS, Loads
 from .errors import InputError
 from .explorer import Explorer, Study, explore, explore_growth
 from .growth import GrowthResult, grow
+from .hydrofrac import HydrofracResult, hydrofrac
 from .options import CRACK_MODELS, SolveOptions
 from .pipeline import Pipeline
 from .scene import BoundaryCondition, Crack, Material, PointCondition, Scene, SceneError
@@ -33,7 +34,7 @@ __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
     "Pipeline", "PointCondition",
     "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
-    "grow", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume",
+    "grow", "hydrofrac", "HydrofracResult", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
 ]
