@@ -23,7 +23,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("scene", ("scene", "scenes", "references", "sizing", "solid.scene")),
     ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
     ("discretization", ("elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element")),
-    ("post-processing", ("post", "tips", "local_fields", "estimate", "vtk", "load_points", "solid.front")),
+    ("post-processing", ("post", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front")),
     ("options and solution", ("options", "solution", "solid.output")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
     ("loops over the pipeline", ("adapt",)),
