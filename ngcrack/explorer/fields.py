@@ -1,8 +1,8 @@
 """What the explorer's figure shows, computed (no matplotlib): stress fields, crack faces, units, labels.
 
 `stress_values` the stress field shown, per triangle; `crack_faces` the two faces of each
-crack, each with its own side's displacement, and the opening between them; `units` the
-scene's stress and length units; `field_label` the colour bar's label; `significant` a
+crack, each with its own side's displacement, and the opening between them; `STRESS_UNIT` and
+`LENGTH_UNIT` the units of the figure; `field_label` the colour bar's label; `significant` a
 number at fixed significant digits (the tips' K values); `load_magnitude` the largest load
 vector (the scale of the load arrows).
 """
@@ -28,10 +28,8 @@ def significant(value: float, digits: int = K_DIGITS) -> str:
     return f"{value:#.{digits}g}".rstrip(".")
 
 
-def units(scene) -> tuple[str, str]:
-    """(stress unit, length unit) of a scene: its own where it names them, else "E units", "length units"."""
-    u = getattr(scene, "units", None) or {}
-    return (u.get("stress") or "E units", u.get("length") or "length units")
+#: the units of the figure's stresses and lengths: a scene's numbers carry no unit of their own
+STRESS_UNIT, LENGTH_UNIT = "E units", "length units"
 
 
 def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarray:
@@ -55,7 +53,7 @@ def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarra
 
 def field_label(field: str, scene) -> str:
     """The colour bar's label: the field, its formula and its unit (mathtext, no literal underscores)."""
-    stress = units(scene)[0]
+    stress = STRESS_UNIT
     if field == "sigma_nu":
         return rf"$\sigma_{{\nu\nu}} = (\sigma\nu)\cdot\nu$  [{stress}]"
     plane = "plane strain" if scene.material.plane == "strain" else "plane stress"

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from .fields import FIELDS, K_DIGITS, crack_faces, field_label, load_magnitude, significant, stress_values, tip_value, units
+from .fields import FIELDS, K_DIGITS, LENGTH_UNIT, STRESS_UNIT, crack_faces, field_label, load_magnitude, significant, stress_values, tip_value
 
 #: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
 DEFORMED_FRACTION = 0.08
@@ -160,7 +160,7 @@ class Drawing:
             artist.remove()
         self._temporary = []
         ax, axz, axp, axt = self.ax, self.axz, self.axp, self.axt
-        stress_unit, length_unit = units(sol.scene)
+        stress_unit, length_unit = STRESS_UNIT, LENGTH_UNIT
         model = (getattr(sol, "options", None) or {}).get("crack_model")
         sigma = centroid_stress(sol)
         corners, disp = element_displacements(sol, sigma)
@@ -482,5 +482,4 @@ def _times(power: float) -> str:
 
 
 
-__all__ = ["DEFORMED_FRACTION", "Drawing", "FIELDS", "K_DIGITS", "crack_faces", "draw", "field_label", "stress_values",
-           "units"]
+__all__ = ["DEFORMED_FRACTION", "Drawing", "FIELDS", "K_DIGITS", "crack_faces", "draw", "field_label", "stress_values"]

@@ -18,6 +18,7 @@ from typing import Any
 
 from ..errors import InputError
 from ..growth.result import GrowthResult, draw_frame, frame_view
+from ..scene import tip_label
 
 #: figure size in inches and resolution of a step's picture
 FIGURE_SIZE = (10.0, 4.6)
@@ -33,7 +34,7 @@ def render_step(result: GrowthResult, n: int, view=None) -> bytes:
     draw_frame(ax, result, n, view)
     table = result.table
     for label, rows in table.groupby(["crack", "end"]):
-        bx.plot(rows["crack_length"], rows["load_factor"], ".-", label=f"tip {label[0]},{label[1]}")
+        bx.plot(rows["crack_length"], rows["load_factor"], ".-", label=f"tip {tip_label(*label)}")
         here = rows[rows["step"] == n]
         bx.plot(here["crack_length"], here["load_factor"], "o", ms=9, mfc="none", mec="k")
     bx.set_xlabel("crack length")
@@ -52,7 +53,7 @@ def step_readout(result: GrowthResult, n: int) -> str:
     lines = [f"step {n} of {len(result.steps) - 1}: load factor " + (f"{lam:.4g}" if lam is not None else "none")]
     for t in step["tips"]:
         kink = "" if t["kink_deg"] is None else f", kink {t['kink_deg']:+.1f} deg"
-        lines.append(f"tip {t['crack']},{t['end']} ({t['x']:.4g}, {t['y']:.4g}): K_I = {t['K_I']:.4g}, "
+        lines.append(f"tip {tip_label(t['crack'], t['end'])} ({t['x']:.4g}, {t['y']:.4g}): K_I = {t['K_I']:.4g}, "
                      f"K_II = {t['K_II']:.4g}, K_eq = {t['K_eq']:.4g}{kink}" + (" (grew)" if t["grew"] else ""))
     return "\n".join(lines)
 

@@ -9,12 +9,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..scene import tip_label
 
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
            "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "error_estimate", "kkt")
-#: the largest crack-face opening drawn in the animation, as a fraction of the body's diameter
-FACE_FRACTION = 0.03
 
 
 def _finite_or_none(x):
@@ -200,7 +199,7 @@ def plot_growth(result: GrowthResult, path=None):
     lam_name = "load factor" + ("" if result.K_Ic is not None else " (relative to step 0)")
     for (k, end), g in df.groupby(["crack", "end"]):
         ok = np.isfinite(g["tip_load_factor"])
-        bx.plot(g["crack_length"][ok], g["tip_load_factor"][ok], "o-", ms=3, label=f"tip {k},{end}")
+        bx.plot(g["crack_length"][ok], g["tip_load_factor"][ok], "o-", ms=3, label=f"tip {tip_label(k, end)}")
     steps = df.groupby("step").first()
     bx.plot(steps["crack_length"], steps["load_factor"], "k:", lw=1, label="step (smallest)")
     bx.set_xlabel("crack length of the tip's crack")
