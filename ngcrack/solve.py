@@ -74,6 +74,20 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     it); `pipeline`: a Pipeline whose cached stages this solve may reuse (the explorer,
     a growth path, a user's own loop); None: a fresh one.
     """
+    if isinstance(scene, str):
+        from .scenes import load
+
+        scene = load(scene)
+    if getattr(scene, "dimension", 2) == 3:  # a 3D body: the solid pipeline (ngcrack.solid)
+        from .solid.solve import solve_solid
+
+        given = [k for k, v in (("options", options), ("loads", loads), ("warm_start", warm_start),
+                                ("pipeline", pipeline)) if v is not None]
+        if given:
+            raise InputError(f"{given[0]}: not available for a 3D scene yet; give the options as keywords")
+        if crack_mesh is not None:
+            changes["smesh"] = crack_mesh
+        return solve_solid(scene, element=element, **changes)
     if element is not None:
         changes["element"] = element
     opts = SolveOptions.of(options, **changes)

@@ -135,7 +135,8 @@ def test_json_contract(tension_mts):
     assert d["stopped"].startswith("steps")
     assert [s["step"] for s in d["steps"]] == [0, 1]
     for s in d["steps"]:
-        assert list(s) == ["step", "load_factor", "ndof", "time_s", "kkt", "error_estimate", "tips"]
+        assert list(s) == ["step", "load_factor", "ndof", "time_s", "kkt", "error_estimate", "tips", "force",
+                           "displacement"]
         for t in s["tips"]:
             assert list(t) == ["crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "grew"]
         assert max(s["kkt"].values()) < 1e-8

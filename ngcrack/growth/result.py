@@ -10,10 +10,12 @@ import numpy as np
 
 from ..errors import InputError
 from ..scene import tip_label
+from .records import step_loads
 
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
-           "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "error_estimate", "kkt")
+           "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "error_estimate", "kkt",
+           "force", "displacement", "compliance")
 
 
 def _finite_or_none(x):
@@ -31,7 +33,9 @@ class GrowthResult:
     counter-clockwise positive; load_factor the step's (the smallest among the tips that
     grow), tip_load_factor the tip's own K_Ic / K_eq; closed whether the faces at the tip
     touch; grew whether the tip advanced after this step; solves the solves that made the
-    step (more than one: PLS trials); kkt the largest of the solve's KKT residuals.
+    step (more than one: PLS trials); kkt the largest of the solve's KKT residuals; force and
+    displacement the primary load's P and delta at the step's load factor (records.py: the
+    P-delta record; None where the load factor is infinite), compliance delta / P.
     `scenes[n]`: the scene of step n (one more at the end if the last growth cut through
     the body); `stopped`: why the run ended; `events`: (step, tip, what) as tips reached the
     boundary; `frozen`: tip -> why it stopped inside the body; `solution`: the last solve.
@@ -51,6 +55,8 @@ class GrowthResult:
     frozen: dict = field(default_factory=dict)
     stopped: str = ""
     solution: object = None
+    #: the load whose P and delta the table's force and displacement columns hold (records.py)
+    primary_load: str | None = None
 
     # ------------------------------------------------------------------ filling
     def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True) -> None:
@@ -58,6 +64,8 @@ class GrowthResult:
         kkt = {k: float(v) for k, v in sol.kkt.items()}
         est = None if sol.error_estimate is None else float(sol.error_estimate.relative)
         tips = []
+        rec = step_loads(sol, lam_step)
+        self.primary_load = self.primary_load or rec.primary
         for v in values:
             kink = math.degrees(v.get("kink", v["theta"])) + 0.0  # no -0.0
             did = v["label"] in grew
@@ -66,11 +74,13 @@ class GrowthResult:
                               "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink,
                               "load_factor": lam_step, "tip_load_factor": v["lambda"], "crack_length": length,
                               "closed": v["closed"], "grew": did, "ndof": ndof, "solves": int(solves),
-                              "time_s": float(time_s), "error_estimate": est, "kkt": max(kkt.values(), default=0.0)})
+                              "time_s": float(time_s), "error_estimate": est, "kkt": max(kkt.values(), default=0.0),
+                              "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
                          "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
-                           "kkt": kkt, "error_estimate": est, "tips": tips})
+                           "kkt": kkt, "error_estimate": est, "tips": tips,
+                           "force": rec.force, "displacement": rec.displacement})
         self.scenes.append(scene)
         self.profiles.append(list(sol.profiles))
         if frames:
@@ -114,8 +124,16 @@ class GrowthResult:
         return "\n".join(lines)
 
     # ------------------------------------------------------------------ pictures
-    def plot(self, path=None):
-        """The paths over the body coloured by step, beside the load factor against crack length."""
+    def plot(self, path=None, curve: str = "load-factor"):
+        """The paths over the body coloured by step, beside the load factor against crack length
+        (``curve="load-factor"``), or the load-displacement (P-delta) curve of the primary load alone
+        (``curve="P-delta"``)."""
+        if curve == "P-delta":
+            from .records import plot_load_displacement
+
+            return plot_load_displacement(self, path=path)
+        if curve != "load-factor":
+            raise InputError(f"curve = {curve!r}: allowed values are load-factor, P-delta")
         return plot_growth(self, path)
 
     def animate(self, path, fps: int = 4):

@@ -404,6 +404,13 @@ class Scene:
         """
         return _toml.scene_from_dict(cls, d, name)
 
+    @staticmethod
+    def solid_from_dict(d: Mapping[str, Any], name: str | None = None):
+        """A 3D scene (its ``[domain]`` is a box or a cylinder): ngcrack.solid.scene.SolidScene."""
+        from ..solid.scene import SolidScene
+
+        return SolidScene.from_dict(d, name)
+
     @classmethod
     def from_toml_string(cls, text: str, name: str | None = None,
                          source: str = "scene") -> Scene:

@@ -35,6 +35,9 @@ def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
     """A ``cls`` (the Scene type) from the TOML structure; ``name`` overrides ``d["name"]``."""
     if not isinstance(d, Mapping):
         raise SceneError(f"scene = {short(d)}: must be a table (the TOML document)")
+    dom = d.get("domain")
+    if isinstance(dom, Mapping) and any(k in dom for k in ("box", "cylinder", "step")):
+        return cls.solid_from_dict(d, name)  # a 3D body: its own scene type (ngcrack.solid.scene)
     check_keys(d, TOP_KEYS, "")
     if name is None:
         if "name" not in d:
