@@ -1,7 +1,9 @@
 """How the command line reports what went wrong: one line, and an exit code that says whose problem it is.
 
     2  bad input: an `ngcrack.InputError` (SceneError, PathError, MeshingError, the
-       command line's UsageError, every option the package refuses), named in the line
+       command line's UsageError, every option the package refuses), named in the line;
+       or an optional package that the command needs is not installed (the line names
+       the extra that brings it, `ngcrack.extras`)
     3  not the input: a system that cannot be solved (singular, a failed crack QP, out of
        memory), or a fault of ngcrack itself (any other exception, a plain ValueError from
        numpy included): then the line names the command, asks for a report and points
@@ -40,17 +42,21 @@ def _causes(exc: BaseException):
 def classify(exc: BaseException, command: str | None = None) -> tuple[int, str]:
     """(exit code, one-line message) of an error that reached the command line from `command`.
 
-    Only an `InputError` in the cause chain is the user's input (exit 2); everything else
+    Only an `InputError` in the cause chain is the user's input (exit 2; so is an optional
+    package that is not installed: the line names its extra); everything else
     exits with 3: with a hint where the cause is known (memory, a singular system, a
     failed solve, an overflow, a file the system refuses), otherwise as a fault of ngcrack
     that names the command and asks for a report."""
     from .contact import ContactSolverError
     from .errors import InputError
+    from .extras import missing_extra
     from .schur import LinearSolverError
     from .solve import SolveError
 
     text = one_line(exc)
     for cause in _causes(exc):
+        if missing_extra(cause):  # an optional package not installed: what to install
+            return EXIT_INPUT, missing_extra(cause)
         netgen = type(cause).__name__ == "NgException"
         if isinstance(cause, InputError):  # SceneError, UsageError, PathError, every option the package refuses
             return EXIT_INPUT, text
