@@ -98,6 +98,9 @@ R_FLOOR = 1e-12
 #: a crack end closer than this fraction of the body's diameter to another crack is a
 #: junction, not a tip: it gets no fracture parameters
 JUNCTION_RTOL = 1e-6
+#: consecutive crack segments whose unit tangents' cross product is at most this are one straight
+#: line (a path grown without a kink): the domain integral's radius may reach past their joints
+STRAIGHT_RTOL = 1e-9
 #: `body_force` default of the domain integral: the scene's body force
 SCENE = "scene"
 
@@ -205,20 +208,34 @@ class Tip:
         return tip_label(self.crack, self.end)
 
 
+def _straight_run(pts: np.ndarray, end: str) -> int:
+    """How many segments at the `end` of the polyline continue the tip segment in a straight line
+    (a path grown without kinks): the faces are straight over all of them."""
+    q = pts if end == "last" else pts[::-1]
+    t = np.diff(q, axis=0)
+    t = t / np.linalg.norm(t, axis=1)[:, None]
+    n = 1
+    while n < len(t) and t[-1 - n] @ t[-1] > 0 and abs(t[-1 - n, 0] * t[-1, 1] - t[-1 - n, 1] * t[-1, 0]) <= STRAIGHT_RTOL:
+        n += 1
+    return n
+
+
 def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
     """Distance from the tip p of crack k to the boundary, the other cracks, crack k beyond its
-    tip segment and the far end of the tip segment (a kink or the crack's other end)."""
+    straight tip run (the tip segment and the segments continuing it in a straight line) and the
+    far end of that run (a kink or the crack's other end)."""
     poly = np.asarray(scene.polygon, dtype=float)
     segs = [(poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly))]
     segs += [(np.asarray(a, float), np.asarray(b, float)) for _, a, b in scene.hole_pieces()]  # holes too
-    for j, crack in enumerate(scene.cracks):
-        pts = np.asarray(crack.points, dtype=float)
-        pairs = list(zip(pts[:-1], pts[1:]))
-        if j == k:
-            pairs = pairs[1:] if end == "first" else pairs[:-1]
-        segs += pairs
     pts = np.asarray(scene.cracks[k].points, dtype=float)
-    segment = float(np.linalg.norm(pts[1] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-2]))
+    run = _straight_run(pts, end)
+    for j, crack in enumerate(scene.cracks):
+        cp = np.asarray(crack.points, dtype=float)
+        pairs = list(zip(cp[:-1], cp[1:]))
+        if j == k:
+            pairs = pairs[run:] if end == "first" else pairs[:-run]
+        segs += pairs
+    segment = float(np.linalg.norm(pts[run] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-1 - run]))
     return min([segment] + [point_segment_distance(p, a, b) for a, b in segs])
 
 
