@@ -317,18 +317,8 @@ class TipParameters:
 
 def displacement_gradient(sol):
     """grad u (row i: grad u_i) as the domain integral uses it (see the module docstring)."""
-    fields = sol.fields
     mat = sol.scene.material
-    A = _compliance(mat.E, mat.nu, mat.plane)
-    sig = fields["sigma"]
-    eps = A.apply(0.5 * (sig + sig.trans))
-    if fields.get("rotation") is not None:  # peers, bdm
-        r = fields["rotation"]
-        return eps + ngs.CF((0.0, -r, r, 0.0), dims=(2, 2))
-    grad = fields["grad_u"]
-    if sol.element == "tdnns":
-        return eps + 0.5 * (grad - grad.trans)
-    return grad
+    return sol.disc.traits.displacement_gradient(sol.fields, _compliance(mat.E, mat.nu, mat.plane))
 
 
 def _quadrature(sol, tip: Tip, radius: float):
