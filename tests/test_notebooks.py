@@ -31,6 +31,7 @@ NOTEBOOKS = [
     ("08-friction.py", "Friction: the inclined crack slips below", False),
     ("10-adaptivity.py", "Adaptive bdm: sliding error", False),
     ("11-crack-growth.py", "Wing cracks: start at lambda within", False),
+    ("12-penny.py", "Penny: K_I within", True),
 ]
 
 #: how many figures a notebook shows (a figure saved to a file must not switch the backend
