@@ -71,8 +71,6 @@ COULOMB_MAX_ITER = 200
 #: Newton-Cotes weights of the p + 1 equispaced points of an edge (times its length):
 #: the nodal quadrature of P_p jumps, used for a Tresca threshold given in stress units
 NEWTON_COTES = {0: (1.0,), 1: (0.5, 0.5), 2: (1 / 6, 4 / 6, 1 / 6), 3: (1 / 8, 3 / 8, 3 / 8, 1 / 8)}
-#: the values of CrackProfile.state
-STATES = ("open", "stick", "slip")
 
 
 # --------------------------------------------------------------------------- the problem
@@ -331,14 +329,13 @@ def coulomb_residual(wn, lam_n, wt, lam_t, t_point, bound) -> dict:
     }
 
 
-def check_friction_options(scene, qp_solver: str, method: str, tangential) -> None:
-    """Refuse, before any meshing, friction options that cannot work for `scene`."""
+def check_friction_solver(qp_solver: str, method: str) -> None:
+    """The one check of how a crack problem with friction is solved: `method` one of
+    FRICTION_METHODS; the Tresca steps by pdas or a cvxpy solver (not uzawa); newton only
+    with pdas. `SolveOptions.check_for` calls it before any meshing, `solve_crack_problem`
+    for a direct call."""
     if method not in FRICTION_METHODS:
         raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
-    if tangential is not None and not isinstance(tangential, bool):
-        raise InputError(f"tangential = {tangential!r}: must be None, True or False")
-    if not (tangential or any(c.friction > 0 for c in scene.cracks)):
-        return
     if qp_solver in NATIVE_SOLVERS and qp_solver != "pdas":
         raise InputError(f"qp_solver = {qp_solver!r}: with friction the allowed values are pdas or a cvxpy solver")
     if qp_solver != "pdas" and method == "newton":
@@ -355,12 +352,7 @@ def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_opti
     Raises ContactSolverError if a solver fails, the Coulomb iteration does not
     converge in `max_iter` steps, or the answer's residuals exceed `kkt_tol`.
     """
-    if method not in FRICTION_METHODS:
-        raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
-    if solver in NATIVE_SOLVERS and solver != "pdas":
-        raise InputError(f"qp_solver = {solver!r}: with friction the allowed values are pdas or a cvxpy solver")
-    if solver != "pdas" and method == "newton":
-        raise InputError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
+    check_friction_solver(solver, method)
     if not (np.all(np.isfinite(problem.S)) and np.all(np.isfinite(problem.b))):
         raise ContactSolverError("the crack problem has non-finite entries (S or b): the linear system is singular")
     if np.any(problem.mu < 0) or not np.all(np.isfinite(problem.mu)):

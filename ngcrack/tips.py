@@ -72,6 +72,8 @@ import numpy as np
 from .constraints import faces_closed
 from .errors import InputError
 from .materials import compliance as _compliance
+from .scene import tip_label
+from .scene.measures import point_segment_distance
 from .scene.pressure import pressure_values
 from .tstress import interaction_integrand as _t_integrand
 
@@ -98,8 +100,6 @@ R_FLOOR = 1e-12
 JUNCTION_RTOL = 1e-6
 #: `body_force` default of the domain integral: the scene's body force
 SCENE = "scene"
-#: crack ends
-ENDS = ("first", "last")
 
 
 # ------------------------------------------------------------------ material constants
@@ -201,14 +201,8 @@ class Tip:
 
     @property
     def label(self) -> str:
-        """`crack,end`, e.g. `0,last`: how tables and columns name the tip."""
-        return f"{self.crack},{self.end}"
-
-
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    d = b - a
-    t = float(np.clip(np.dot(p - a, d) / np.dot(d, d), 0.0, 1.0))
-    return float(np.linalg.norm(a + t * d - p))
+        """`crack,end`, e.g. `0,last`: how tables and columns name the tip (`tip_label`)."""
+        return tip_label(self.crack, self.end)
 
 
 def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
@@ -225,7 +219,7 @@ def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
         segs += pairs
     pts = np.asarray(scene.cracks[k].points, dtype=float)
     segment = float(np.linalg.norm(pts[1] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-2]))
-    return min([segment] + [_segment_distance(p, a, b) for a, b in segs])
+    return min([segment] + [point_segment_distance(p, a, b) for a, b in segs])
 
 
 def crack_tips(scene, crack_mesh) -> list[Tip]:
@@ -259,9 +253,9 @@ def tip_labels(scene) -> list[str]:
     for k, crack in enumerate(scene.cracks):
         pts = np.asarray(crack.points, dtype=float)
         for end, p in (("first", pts[0]), ("last", pts[-1])):
-            on_boundary = min(_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
+            on_boundary = min(point_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
             if on_boundary > ON_EDGE_RTOL * diameter and _clearance(scene, k, end, p) > JUNCTION_RTOL * diameter:
-                out.append(f"{k},{end}")
+                out.append(tip_label(k, end))
     return out
 
 
@@ -295,7 +289,8 @@ class TipParameters:
 
     @property
     def label(self) -> str:
-        return f"{self.crack},{self.end}"
+        """`crack,end` (`tip_label`)."""
+        return tip_label(self.crack, self.end)
 
     def to_dict(self) -> dict:
         """The `tips` entry of the JSON contract."""
