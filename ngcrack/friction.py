@@ -56,7 +56,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from .constraints import ContactSolverError, _inverse_map, faces_closed, scaled_problem
-from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_BACKUP, PDAS_MAX_ITER, QPResult, _limited_blas
+from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_MAX_ITER, ExchangeRule, QPResult, _limited_blas, spd_solve
 from .errors import InputError
 
 #: how Coulomb friction is solved (module docstring)
@@ -203,11 +203,7 @@ def _linear_step(pf: _PointForm, act: np.ndarray, slip: np.ndarray, tau: np.ndar
     if tau is not None:
         r = c.copy()
         r[m:] -= slip * tau
-        AFF = A[np.ix_(F, F)]
-        try:
-            v[F] = sla.cho_solve(sla.cho_factor(AFF, check_finite=False), r[F], check_finite=False)
-        except np.linalg.LinAlgError:
-            v[F] = sla.solve(AFF, r[F], assume_a="sym")
+        v[F] = spd_solve(A[np.ix_(F, F)], r[F])
         return v
     M = A[np.ix_(F, F)].copy()
     r = c[F].copy()
@@ -224,12 +220,13 @@ def _active_set(pf: _PointForm, act: np.ndarray, slip: np.ndarray, tau: np.ndarr
                 max_iter: int = PDAS_MAX_ITER):
     """Primal-dual active set for Tresca (tau given) or Coulomb (tau None) in scaled point values.
 
-    Returns (v, g = A v - c, act, slip, steps, converged). After PDAS_BACKUP steps
-    without fewer violations only the largest violation is exchanged (as in contact.py).
+    Returns (v, g = A v - c, act, slip, steps, converged). Which violations a step
+    exchanges is contact.ExchangeRule's (the QP's safeguard), over the normal values
+    followed by the tangential ones.
     """
     m = pf.m
     act, slip = act.copy(), slip.copy()
-    best, budget = len(pf.c) + 1, PDAS_BACKUP
+    exchange = ExchangeRule(len(pf.c))
     v = g = np.zeros(len(pf.c))
     for it in range(1, max_iter + 1):
         v = _linear_step(pf, act, slip, tau)
@@ -243,20 +240,11 @@ def _active_set(pf: _PointForm, act: np.ndarray, slip: np.ndarray, tau: np.ndarr
         viol_n = np.where(act, -lam - tol_g, -vn - tol_v)
         stick = slip == 0
         viol_t = np.where(stick, np.abs(y) - thr - tol_g, -slip * vt - tol_v)
-        bad_n, bad_t = viol_n > 0, viol_t > 0
-        nbad = int(np.count_nonzero(bad_n) + np.count_nonzero(bad_t))
-        if nbad == 0:
+        bad = np.concatenate([viol_n > 0, viol_t > 0])
+        if not bad.any():
             return v, g, act, slip, it, True
-        if nbad < best:
-            best, budget = nbad, PDAS_BACKUP
-        elif budget > 0:
-            budget -= 1
-        else:  # exchange the largest violation only
-            viol = np.concatenate([np.where(bad_n, viol_n, -np.inf), np.where(bad_t, viol_t, -np.inf)])
-            k = int(np.argmax(viol))
-            bad_n[:] = False
-            bad_t[:] = False
-            (bad_n if k < m else bad_t)[k if k < m else k - m] = True
+        flip = exchange(bad)
+        bad_n, bad_t = flip[:m], flip[m:]
         act[bad_n] = ~act[bad_n]
         # a value that slips against its friction force sticks; a stuck value whose
         # force exceeds the threshold slips along that force (the semismooth Newton

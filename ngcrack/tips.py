@@ -98,6 +98,9 @@ R_FLOOR = 1e-12
 #: a crack end closer than this fraction of the body's diameter to another crack is a
 #: junction, not a tip: it gets no fracture parameters
 JUNCTION_RTOL = 1e-6
+#: consecutive crack segments whose unit tangents' cross product is at most this are one straight
+#: line (a path grown without a kink): the domain integral's radius may reach past their joints
+STRAIGHT_RTOL = 1e-9
 #: `body_force` default of the domain integral: the scene's body force
 SCENE = "scene"
 
@@ -205,20 +208,34 @@ class Tip:
         return tip_label(self.crack, self.end)
 
 
+def _straight_run(pts: np.ndarray, end: str) -> int:
+    """How many segments at the `end` of the polyline continue the tip segment in a straight line
+    (a path grown without kinks): the faces are straight over all of them."""
+    q = pts if end == "last" else pts[::-1]
+    t = np.diff(q, axis=0)
+    t = t / np.linalg.norm(t, axis=1)[:, None]
+    n = 1
+    while n < len(t) and t[-1 - n] @ t[-1] > 0 and abs(t[-1 - n, 0] * t[-1, 1] - t[-1 - n, 1] * t[-1, 0]) <= STRAIGHT_RTOL:
+        n += 1
+    return n
+
+
 def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
     """Distance from the tip p of crack k to the boundary, the other cracks, crack k beyond its
-    tip segment and the far end of the tip segment (a kink or the crack's other end)."""
+    straight tip run (the tip segment and the segments continuing it in a straight line) and the
+    far end of that run (a kink or the crack's other end)."""
     poly = np.asarray(scene.polygon, dtype=float)
     segs = [(poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly))]
     segs += [(np.asarray(a, float), np.asarray(b, float)) for _, a, b in scene.hole_pieces()]  # holes too
-    for j, crack in enumerate(scene.cracks):
-        pts = np.asarray(crack.points, dtype=float)
-        pairs = list(zip(pts[:-1], pts[1:]))
-        if j == k:
-            pairs = pairs[1:] if end == "first" else pairs[:-1]
-        segs += pairs
     pts = np.asarray(scene.cracks[k].points, dtype=float)
-    segment = float(np.linalg.norm(pts[1] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-2]))
+    run = _straight_run(pts, end)
+    for j, crack in enumerate(scene.cracks):
+        cp = np.asarray(crack.points, dtype=float)
+        pairs = list(zip(cp[:-1], cp[1:]))
+        if j == k:
+            pairs = pairs[run:] if end == "first" else pairs[:-run]
+        segs += pairs
+    segment = float(np.linalg.norm(pts[run] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-1 - run]))
     return min([segment] + [point_segment_distance(p, a, b) for a, b in segs])
 
 
@@ -300,18 +317,8 @@ class TipParameters:
 
 def displacement_gradient(sol):
     """grad u (row i: grad u_i) as the domain integral uses it (see the module docstring)."""
-    fields = sol.fields
     mat = sol.scene.material
-    A = _compliance(mat.E, mat.nu, mat.plane)
-    sig = fields["sigma"]
-    eps = A.apply(0.5 * (sig + sig.trans))
-    if fields.get("rotation") is not None:  # peers, bdm
-        r = fields["rotation"]
-        return eps + ngs.CF((0.0, -r, r, 0.0), dims=(2, 2))
-    grad = fields["grad_u"]
-    if sol.element == "tdnns":
-        return eps + 0.5 * (grad - grad.trans)
-    return grad
+    return sol.disc.traits.displacement_gradient(sol.fields, _compliance(mat.E, mat.nu, mat.plane))
 
 
 def _quadrature(sol, tip: Tip, radius: float):
@@ -403,7 +410,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     open crack's faces.
     """
     prof = sol.profiles[k]
-    model = sol.options.get("crack_model", "contact")
+    model = sol.crack_model
     sn = np.asarray(prof.normal_stress, dtype=float)
     # the crack-face pressure p loads the open faces: sigma_n = -p there
     applied_p = -pressure_values(getattr(sol.scene.cracks[k], "pressure", None), prof.s)
@@ -414,7 +421,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     closed = faces_closed(jn, scale)
     sn = np.where(closed, sn, applied_p)
     # friction acts only where the solve applied it (unilateral contact with the tangential jumps kept)
-    applied = bool(sol.options.get("tangential"))
+    applied = sol.friction_applied
     friction = float(getattr(sol.scene.cracks[k], "friction", 0.0) or 0.0) if applied else 0.0
     tau = np.where(closed, np.asarray(prof.shear_stress, dtype=float), 0.0) if friction > 0 else np.zeros_like(sn)
     return sn, tau
