@@ -131,3 +131,16 @@ def test_pressure_round_trips_through_toml():
     assert Scene.from_toml_string(half_plate(10.0, 2.5).to_toml_string()).cracks[0].pressure == 2.5
     with pytest.raises(SceneError, match="callable cannot be written"):
         half_plate(10.0, lambda s: 1.0).to_toml_string()
+
+
+def test_explorer_pressure_control():
+    model = nc.Explorer("griffith", "tdnns", maxh=2.0, solve_options=dict(tip_h=0.02, crack_h=0.1))
+    K_tension = model.solution.tips[0].K_I
+    model.update(pressure=1.0)  # the remote tension and the pressure add up
+    assert abs(model.solution.tips[0].K_I / K_tension - 2) < 1e-8
+    factorized = model.counts["factorize"]
+    model.update(load=0.0)  # the pressure alone: Griffith's answer, one more solve on the same factorization
+    assert abs(model.solution.tips[0].K_I / K_tension - 1) < 1e-8
+    assert model.counts["factorize"] == factorized
+    model.update(pressure=1e9)
+    assert model.error is not None and "pressure" in model.error and model.state["pressure"] == 1.0
