@@ -72,7 +72,10 @@ import numpy as np
 from .constraints import faces_closed
 from .errors import InputError
 from .materials import compliance as _compliance
+from .scene import tip_label
+from .scene.measures import point_segment_distance
 from .scene.pressure import pressure_values
+from .tstress import interaction_integrand as _t_integrand
 
 #: the integration radius as a fraction of the tip's clearance (distance to the boundary,
 #: other cracks, the crack beyond its tip segment): 1/2 leaves room for elements
@@ -95,10 +98,11 @@ R_FLOOR = 1e-12
 #: a crack end closer than this fraction of the body's diameter to another crack is a
 #: junction, not a tip: it gets no fracture parameters
 JUNCTION_RTOL = 1e-6
+#: consecutive crack segments whose unit tangents' cross product is at most this are one straight
+#: line (a path grown without a kink): the domain integral's radius may reach past their joints
+STRAIGHT_RTOL = 1e-9
 #: `body_force` default of the domain integral: the scene's body force
 SCENE = "scene"
-#: crack ends
-ENDS = ("first", "last")
 
 
 # ------------------------------------------------------------------ material constants
@@ -200,31 +204,39 @@ class Tip:
 
     @property
     def label(self) -> str:
-        """`crack,end`, e.g. `0,last`: how tables and columns name the tip."""
-        return f"{self.crack},{self.end}"
+        """`crack,end`, e.g. `0,last`: how tables and columns name the tip (`tip_label`)."""
+        return tip_label(self.crack, self.end)
 
 
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    d = b - a
-    t = float(np.clip(np.dot(p - a, d) / np.dot(d, d), 0.0, 1.0))
-    return float(np.linalg.norm(a + t * d - p))
+def _straight_run(pts: np.ndarray, end: str) -> int:
+    """How many segments at the `end` of the polyline continue the tip segment in a straight line
+    (a path grown without kinks): the faces are straight over all of them."""
+    q = pts if end == "last" else pts[::-1]
+    t = np.diff(q, axis=0)
+    t = t / np.linalg.norm(t, axis=1)[:, None]
+    n = 1
+    while n < len(t) and t[-1 - n] @ t[-1] > 0 and abs(t[-1 - n, 0] * t[-1, 1] - t[-1 - n, 1] * t[-1, 0]) <= STRAIGHT_RTOL:
+        n += 1
+    return n
 
 
 def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
     """Distance from the tip p of crack k to the boundary, the other cracks, crack k beyond its
-    tip segment and the far end of the tip segment (a kink or the crack's other end)."""
+    straight tip run (the tip segment and the segments continuing it in a straight line) and the
+    far end of that run (a kink or the crack's other end)."""
     poly = np.asarray(scene.polygon, dtype=float)
     segs = [(poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly))]
     segs += [(np.asarray(a, float), np.asarray(b, float)) for _, a, b in scene.hole_pieces()]  # holes too
-    for j, crack in enumerate(scene.cracks):
-        pts = np.asarray(crack.points, dtype=float)
-        pairs = list(zip(pts[:-1], pts[1:]))
-        if j == k:
-            pairs = pairs[1:] if end == "first" else pairs[:-1]
-        segs += pairs
     pts = np.asarray(scene.cracks[k].points, dtype=float)
-    segment = float(np.linalg.norm(pts[1] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-2]))
-    return min([segment] + [_segment_distance(p, a, b) for a, b in segs])
+    run = _straight_run(pts, end)
+    for j, crack in enumerate(scene.cracks):
+        cp = np.asarray(crack.points, dtype=float)
+        pairs = list(zip(cp[:-1], cp[1:]))
+        if j == k:
+            pairs = pairs[run:] if end == "first" else pairs[:-run]
+        segs += pairs
+    segment = float(np.linalg.norm(pts[run] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-1 - run]))
+    return min([segment] + [point_segment_distance(p, a, b) for a, b in segs])
 
 
 def crack_tips(scene, crack_mesh) -> list[Tip]:
@@ -258,16 +270,16 @@ def tip_labels(scene) -> list[str]:
     for k, crack in enumerate(scene.cracks):
         pts = np.asarray(crack.points, dtype=float)
         for end, p in (("first", pts[0]), ("last", pts[-1])):
-            on_boundary = min(_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
+            on_boundary = min(point_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
             if on_boundary > ON_EDGE_RTOL * diameter and _clearance(scene, k, end, p) > JUNCTION_RTOL * diameter:
-                out.append(f"{k},{end}")
+                out.append(tip_label(k, end))
     return out
 
 
 # ---------------------------------------------------------------- the domain integral
 @dataclass(frozen=True)
 class TipParameters:
-    """K_I, K_II and G at one tip, and how they were computed.
+    """K_I, K_II, G and the T-stress at one tip, and how they were computed.
 
     `radius` R of the domain (q = 1 for r <= R/2, 0 for r >= R), `rings` the number of
     element rings across the annulus where grad q is nonzero, `J` the J-integral (= G),
@@ -289,10 +301,13 @@ class TipParameters:
     face_J: float
     face_I: tuple[float, float]
     elements: int
+    #: the T-stress (sigma_11 - its singular part at the tip, tip frame), tstress.py
+    T: float = 0.0
 
     @property
     def label(self) -> str:
-        return f"{self.crack},{self.end}"
+        """`crack,end` (`tip_label`)."""
+        return tip_label(self.crack, self.end)
 
     def to_dict(self) -> dict:
         """The `tips` entry of the JSON contract."""
@@ -341,8 +356,9 @@ def _quadrature(sol, tip: Tip, radius: float):
 
 
 def _domain_terms(sol, tip: Tip, radius: float, A, kappa: float, mu: float, body_force) -> np.ndarray:
-    """The area parts of (J, I_1, I_2): the fields sampled at quadrature points of the
-    triangles where q_h != 0 (vectorized NGSolve evaluations), the rest in numpy."""
+    """The area parts of (J, I_1, I_2, I_T): the fields sampled at quadrature points of the
+    triangles where q_h != 0 (vectorized NGSolve evaluations), the rest in numpy; I_T the
+    interaction with the point-force field (tstress.py)."""
     mp, flat, w, qp, gq = _quadrature(sol, tip, radius)
     Q = np.array([tip.e1, (-tip.e1[1], tip.e1[0])])  # rows e1, e2: local = Q global
     sig = Q @ np.asarray(sol.sigma(mp)).reshape(-1, 2, 2) @ Q.T
@@ -364,6 +380,9 @@ def _domain_terms(sol, tip: Tip, radius: float, A, kappa: float, mu: float, body
         dua.append(np.column_stack(williams_dx1(r, theta, mode, kappa, mu)))
         terms.append((dua[-1] * sig_gq).sum(axis=1) + (du1 * (sig_aux @ gql[:, :, None])[:, :, 0]).sum(axis=1)
                      - (sig * eps_aux).sum(axis=(1, 2)) * gql[:, 0])
+    t_val, t_dua = _t_integrand(sig, du1, gql, r, theta, A, kappa, mu)
+    terms.append(t_val)
+    dua.append(t_dua)
     integrand = np.stack(terms, axis=1)
     if body_force is not None:
         f = np.asarray(body_force(mp)).reshape(-1, 2) @ Q.T
@@ -490,10 +509,10 @@ def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParame
         f = sol.scene.body_force
         body_force = ngs.CF(tuple(float(v) for v in f)) if f is not None and any(v != 0.0 for v in f) else None
 
-    vals = _domain_terms(sol, tip, radius, A, kappa, mu, body_force)
+    *vals, I_T = _domain_terms(sol, tip, radius, A, kappa, mu, body_force)
     face = _face_terms(sol, tip, radius, face_opening_factor(kappa, mu))
-    J, I_1, I_2 = vals + np.asarray(face)
-    if not np.all(np.isfinite([J, I_1, I_2])):
+    J, I_1, I_2 = np.asarray(vals) + np.asarray(face)  # the point-force field has no face term
+    if not np.all(np.isfinite([J, I_1, I_2, I_T])):
         raise RuntimeError(f"tip {tip.label}: the domain integral gave non-finite values (radius {radius:g})")
     rings, n_el = _rings(sol, tip, radius)
     return TipParameters(
@@ -501,6 +520,7 @@ def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParame
         K_I=0.5 * e_prime * I_1, K_II=0.5 * e_prime * I_2, G=float(J),
         radius=float(radius), rings=float(rings), J=float(J), I=(float(I_1), float(I_2)),
         face_J=float(face[0]), face_I=(float(face[1]), float(face[2])), elements=n_el,
+        T=float(e_prime * I_T),
     )
 
 

@@ -47,12 +47,15 @@ import shapely
 
 from ngcrack.options import SolveOptions
 from ngcrack.pipeline import Pipeline, SolveError
-from ngcrack.scene import SceneError
+from ngcrack.scene import SceneError, tip_label
 
 from ..errors import InputError
 from .criteria import (
     check_criterion,
+    check_r_c,
     effective_K_I,
+    gmts_angle,
+    gmts_keq,
     load_factor,
     mts_angle,
     mts_keq,
@@ -171,8 +174,9 @@ def _closed_at(sol, tip) -> bool:
     return str(prof.state[i]) != "open"
 
 
-def tip_values(sol) -> list[dict]:
-    """Per tip inside the body: K_I, K_II, G, closed, the MTS angle and K_eq at the scene's load."""
+def tip_values(sol, criterion: str = "mts", r_c: float | None = None) -> list[dict]:
+    """Per tip inside the body: K_I, K_II, G, T, closed, the kink angle and K_eq at the scene's load
+    (MTS; with criterion "gmts" the generalized MTS at the critical distance r_c, with T)."""
     out = []
     for t in sol.tips:
         closed = _closed_at(sol, t)
@@ -180,29 +184,28 @@ def tip_values(sol) -> list[dict]:
         K_II = float(t.K_II)
         if abs(K_II) <= KINK_NOISE_RTOL * abs(mts_keq(k1, K_II)):
             K_II = 0.0  # noise: no kink
-        theta = mts_angle(k1, K_II)
+        T = float(getattr(t, "T", 0.0))
+        if criterion == "gmts":
+            theta = gmts_angle(k1, K_II, T, r_c)
+            K_eq = gmts_keq(k1, K_II, T, r_c, theta)
+        else:
+            theta = mts_angle(k1, K_II)
+            K_eq = mts_keq(k1, K_II, theta)
         out.append({"label": t.label, "crack": int(t.crack), "end": t.end, "x": float(t.x), "y": float(t.y),
-                    "K_I": float(t.K_I), "K_II": float(t.K_II), "G": float(t.G), "closed": bool(closed),
-                    "theta": theta, "K_eq": float(mts_keq(k1, K_II, theta)), "K_II_kink": K_II})
+                    "K_I": float(t.K_I), "K_II": float(t.K_II), "G": float(t.G), "T": T, "closed": bool(closed),
+                    "theta": theta, "K_eq": float(K_eq), "K_II_kink": K_II})
     return out
 
 
-def _kkt_max(sol) -> float:
-    return float(max(sol.kkt.values())) if sol.kkt else 0.0
-
-
-def _relative_estimate(sol):
-    est = sol.error_estimate
-    return None if est is None else float(est.relative)
-
-
 def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str = "pls", *,
-         together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, **solve_options):
+         together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, r_c: float | None = None,
+         **solve_options):
     """Grow the cracks of `scene` quasi-statically by segments of length `da`; a GrowthResult.
 
     criterion: "pls" (principle of local symmetry by trial extensions, the default: smooth
-    paths) or "mts" (maximum tangential stress, one solve per step; zig-zags where the path
-    curves, see the module docstring). K_Ic: the fracture toughness (None: load factors relative
+    paths), "mts" (maximum tangential stress, one solve per step; zig-zags where the path
+    curves, see the module docstring) or "gmts" (the generalized MTS with the T-stress at the
+    critical distance r_c, a material length: criteria.gmts_angle; one solve per step). K_Ic: the fracture toughness (None: load factors relative
     to the first step). steps: at most MAX_STEPS. together: tips whose load factor lies
     within this fraction of the step's smallest grow together. frames: keep the deformed
     body of every step for `GrowthResult.animate`. progress: called as progress(step,
@@ -224,13 +227,14 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         raise InputError(f"progress = {progress!r}: must be None or a callable, called as progress(step, result) "
                          f"after every step")
     check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
+    r_c = check_r_c(r_c, criterion)
     if not (isinstance(together, (int, float)) and 0 <= together < 1):
         raise InputError(f"together = {together!r}: must be a number in [0, 1)")
     da, steps = float(da), int(steps)
     region = body_region(scene)
     options = Solver(SolveOptions.of(**solve_options))
     result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
-                          K_Ic=None if K_Ic is None else float(K_Ic))
+                          K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c)
     t0 = time.perf_counter()
     sol = solve_step(scene, None, options)
     elapsed = time.perf_counter() - t0
@@ -240,7 +244,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     K_ref = K_Ic
     stopped = ""
     for n in range(steps + 1):
-        values = tip_values(sol)
+        values = tip_values(sol, criterion, r_c)
         if K_ref is None:
             drive = [v["K_eq"] for v in values if v["K_eq"] > 0]
             K_ref = max(drive) if drive else None
@@ -268,7 +272,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                     continue
                 extensions, next_scene, next_sol, tried = step
                 break
-        grew = {f"{e.crack},{e.end}": e for e in extensions if e.point is not None}
+        grew = {tip_label(e.crack, e.end): e for e in extensions if e.point is not None}
         if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
             for v in values:
                 if v["label"] not in grew:
@@ -285,7 +289,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             progress(n, result)
         for e in extensions:
             if e.outcome == "boundary":
-                result.events.append((n, f"{e.crack},{e.end}", e.reason))
+                result.events.append((n, tip_label(e.crack, e.end), e.reason))
         if n == steps:
             stopped = f"steps: {steps} of {steps} steps done"
             break
@@ -358,7 +362,7 @@ def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=
         if not extensions:
             return None
         for e in extensions:
-            v = next(v for v in growing if v["label"] == f"{e.crack},{e.end}")
+            v = next(v for v in growing if v["label"] == tip_label(e.crack, e.end))
             v["kink"] = theta[v["label"]]
         new = _grown(scene, extensions)
         if isinstance(new, str):
@@ -372,7 +376,7 @@ def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=
         new_tips = {t.label: t for t in new_sol.tips}
         done = True
         for e in extensions:
-            lab = f"{e.crack},{e.end}"
+            lab = tip_label(e.crack, e.end)
             t = new_tips.get(lab)
             if e.outcome != "grew" or t is None:
                 continue

@@ -9,10 +9,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from .figures import animate_growth, draw_frame, frame_view, plot_growth  # noqa: F401  (the pictures)
 from .records import step_loads
 
 #: the tidy table's columns, in order (one row per step and tip)
-COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
+COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "T", "K_eq", "kink_deg", "load_factor",
            "tip_load_factor", "crack_length", "closed", "grew", "stopped", "ndof", "solves", "time_s", "error_estimate", "kkt",
            "force", "displacement", "compliance")
 #: the largest crack-face opening drawn in the animation, as a fraction of the body's diameter
@@ -28,7 +29,7 @@ class GrowthResult:
     """What `nc.grow` returns.
 
     `table`: a pandas DataFrame, one row per step and tip inside the body (COLUMNS):
-    K_I, K_II, G and K_eq at the scene's load; kink_deg the kink the tip takes (for a tip
+    K_I, K_II, G, the T-stress T and K_eq at the scene's load; kink_deg the kink the tip takes (for a tip
     that does not grow: the MTS kink of its K, or with PLS the first trial's angle,
     criteria.pls_predictor) relative to its current direction,
     counter-clockwise positive; load_factor the step's (the smallest among the tips that
@@ -58,6 +59,8 @@ class GrowthResult:
     frozen: dict = field(default_factory=dict)
     stopped: str = ""
     solution: object = None
+    #: the critical distance of criterion "gmts" (None for the others)
+    r_c: float | None = None
     #: the load whose P and delta the table's force and displacement columns hold (records.py)
     primary_load: str | None = None
 
@@ -74,7 +77,8 @@ class GrowthResult:
             did = v["label"] in grew
             length = float(scene.cracks[v["crack"]].length)
             self.rows.append({"step": n, "crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"],
-                              "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink,
+                              "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "T": v.get("T"), "K_eq": v["K_eq"],
+                              "kink_deg": kink,
                               "load_factor": _finite_or_none(lam_step), "tip_load_factor": _finite_or_none(v["lambda"]),
                               "crack_length": length, "closed": v["closed"], "grew": did,
                               "stopped": v.get("stopped", ""), "ndof": ndof, "solves": int(solves),
@@ -82,7 +86,7 @@ class GrowthResult:
                               "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
                          "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did,
-                         "stopped": v.get("stopped", "")})
+                         "T": v.get("T"), "stopped": v.get("stopped", "")})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
                            "kkt": kkt, "error_estimate": est, "tips": tips,
                            "force": rec.force, "displacement": rec.displacement})
@@ -116,8 +120,9 @@ class GrowthResult:
 
     def to_json_dict(self) -> dict:
         """The `ngcrack grow --json` dictionary (README, "Crack growth")."""
-        return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, "da": float(self.da),
-                "K_Ic": self.K_Ic, "stopped": self.stopped, "steps": self.steps,
+        r_c = {} if self.r_c is None else {"r_c": float(self.r_c)}  # the gmts criterion's critical distance
+        return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, **r_c,
+                "da": float(self.da), "K_Ic": self.K_Ic, "stopped": self.stopped, "steps": self.steps,
                 "cracks": [{"points": [[float(x), float(y)] for x, y in c.points]} for c in self.final_scene.cracks]}
 
     def summary(self) -> str:
@@ -170,123 +175,3 @@ def _frame(sol) -> dict:
         faces.append({"mid": mid.astype(np.float32), "plus": side[0].astype(np.float32),
                       "minus": side[1].astype(np.float32), "open": np.asarray(prof.state) == "open"})
     return {"corners": corners.astype(np.float32), "disp": disp.astype(np.float32), "faces": faces}
-
-
-def _draw_body(ax, scene, **kw):
-    from .paths import body_region
-
-    region = body_region(scene)
-    for ring in [region.exterior, *region.interiors]:
-        xy = np.asarray(ring.coords)
-        ax.plot(xy[:, 0], xy[:, 1], **{"color": "k", "lw": 1.0, **kw})
-
-
-def plot_growth(result: GrowthResult, path=None):
-    from matplotlib import colormaps
-    from matplotlib.cm import ScalarMappable
-    from matplotlib.collections import LineCollection
-    from matplotlib.colors import Normalize
-
-    from ..plots import new_figure
-
-    fig, (ax, bx) = new_figure(path, nrows=1, ncols=2, figsize=(12, 5), constrained_layout=True)
-    _draw_body(ax, result.scene)
-    n_steps = max(len(result.scenes) - 1, 1)
-    cmap = colormaps["viridis"]
-    first = result.scenes[0]
-    for c in first.cracks:
-        p = np.asarray(c.points)
-        ax.plot(p[:, 0], p[:, 1], color="k", lw=2.5, solid_capstyle="round")
-    # each step's new segments, coloured by the step that added them
-    for n in range(1, len(result.scenes)):
-        old, new = result.scenes[n - 1], result.scenes[n]
-        segs = []
-        for co, cn in zip(old.cracks, new.cracks):
-            po, pn = list(co.points), list(cn.points)
-            k = pn.index(po[0]) if po[0] in pn else 0  # points added at the first end
-            segs += [(pn[i], pn[i + 1]) for i in range(k)]
-            segs += [(pn[i], pn[i + 1]) for i in range(k + len(po) - 1, len(pn) - 1)]
-        if segs:
-            ax.add_collection(LineCollection(segs, colors=[cmap(n / n_steps)], linewidths=2.0))
-    sm = ScalarMappable(cmap=cmap, norm=Normalize(0, n_steps))
-    fig.colorbar(sm, ax=ax, label="step")
-    xy = np.concatenate([np.asarray(c.points) for c in result.final_scene.cracks])
-    lo, hi = xy.min(axis=0), xy.max(axis=0)
-    pad = 0.25 * max(hi - lo) + 2 * result.da
-    poly = np.asarray(result.scene.polygon)
-    ax.set_xlim(max(lo[0] - pad, poly[:, 0].min() - result.da), min(hi[0] + pad, poly[:, 0].max() + result.da))
-    ax.set_ylim(max(lo[1] - pad, poly[:, 1].min() - result.da), min(hi[1] + pad, poly[:, 1].max() + result.da))
-    ax.set_aspect("equal")
-    ax.set_title(f"crack paths, {result.criterion}, da = {result.da:g}: {result.scene.name}")
-    df = result.table
-    lam_name = "load factor" + ("" if result.K_Ic is not None else " (relative to step 0)")
-    for (k, end), g in df.groupby(["crack", "end"]):
-        ok = np.isfinite(g["tip_load_factor"])
-        bx.plot(g["crack_length"][ok], g["tip_load_factor"][ok], "o-", ms=3, label=f"tip {k},{end}")
-    steps = df.groupby("step").first()
-    bx.plot(steps["crack_length"], steps["load_factor"], "k:", lw=1, label="step (smallest)")
-    bx.set_xlabel("crack length of the tip's crack")
-    bx.set_ylabel(lam_name)
-    bx.legend(fontsize=8)
-    bx.grid(alpha=0.3)
-    bx.set_title(r"$\lambda = K_{Ic} / K_{eq}$ at each step")
-    if path is not None:
-        fig.savefig(path, dpi=130)
-    return fig
-
-
-def frame_view(result: GrowthResult) -> tuple[float, np.ndarray, np.ndarray]:
-    """(magnification, lower-left, upper-right) shared by every frame of `result`: the
-    largest displacement drawn as 4% of the body's diameter, the view around the crack faces."""
-    if not result.frames:
-        raise InputError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
-    diam = result.scene.diameter
-    umax = max(float(np.max(np.linalg.norm(f["disp"], axis=2))) for f in result.frames)
-    scale = 0.04 * diam / umax if umax > 0 else 0.0
-    xy = np.concatenate([face["mid"] + scale * u for f in result.frames for face in f["faces"]
-                         for u in (face["plus"], face["minus"])] +
-                        [np.asarray(c.points) for c in result.final_scene.cracks])
-    lo, hi = xy.min(axis=0), xy.max(axis=0)
-    pad = 0.3 * max(hi - lo) + 2 * result.da
-    return scale, lo - pad, hi + pad
-
-
-def draw_frame(ax, result: GrowthResult, n: int, view=None) -> None:
-    """Step `n` on `ax`: the magnified deformed body (each triangle moved by its
-    post-processed displacement) and the crack faces (open in red, closed in blue)."""
-    from matplotlib.collections import PolyCollection
-
-    scale, lo, hi = view if view is not None else frame_view(result)
-    f = result.frames[n]
-    ax.add_collection(PolyCollection(f["corners"] + scale * f["disp"], facecolors="0.82", edgecolors="0.6",
-                                     linewidths=0.15))
-    for face in f["faces"]:
-        is_open = face["open"]
-        for u in (face["plus"], face["minus"]):
-            p = face["mid"] + scale * u
-            ax.plot(np.where(is_open, p[:, 0], np.nan), np.where(is_open, p[:, 1], np.nan), "r-", lw=1.2)
-            ax.plot(np.where(~is_open, p[:, 0], np.nan), np.where(~is_open, p[:, 1], np.nan), "b-", lw=1.2)
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
-    ax.set_aspect("equal")
-    lam = result.steps[n]["load_factor"]
-    ax.set_title(f"step {n}: load factor {lam:.3g}" if lam is not None else f"step {n}", fontsize=10)
-    ax.text(0.02, 0.02, f"displacement x {scale:.3g}; faces: red open, blue closed", transform=ax.transAxes,
-            fontsize=8)
-
-
-def animate_growth(result: GrowthResult, path, fps: int = 4):
-    """Write a GIF of `draw_frame` for every step."""
-    from matplotlib.animation import PillowWriter
-
-    from ..plots import new_figure
-
-    view = frame_view(result)
-    fig, ax = new_figure(path, figsize=(6, 6), constrained_layout=True)  # (its own canvas: pyplot untouched)
-    writer = PillowWriter(fps=fps)
-    with writer.saving(fig, str(path), dpi=fig.dpi):
-        for n in range(len(result.frames)):
-            ax.clear()
-            draw_frame(ax, result, n, view)
-            writer.grab_frame()
-    return path
