@@ -21,7 +21,10 @@ line naming the command and asking for a report, with the advice to run again wi
 --debug (which prints the traceback). Warnings are one
 line each. Output files are written only after a successful solve, atomically (a
 temporary file renamed into place), so none is left half-written and an existing one
-is untouched on failure; an output that cannot be written is refused before the solve.
+is untouched on failure; an output that cannot be written, or two outputs on one file,
+are refused before the solve. SIGTERM and SIGINT act within about a second in every stage
+(ngcrack.interrupts: netgen's mesher is stopped, a long C call ended): exit code 128 + the
+signal and one line saying what was written (`grow` writes the steps it finished).
 `sweep` writes its CSV one complete line per finished run and resumes (ngcrack.sweeps);
 `paper` runs the paper's study (ngcrack.paper).
 """
@@ -62,7 +65,7 @@ SIZE_RANGE = (1e-100, 1e100)
 #: 1.1 GB of address space with one thread and 1.55 GB with two; importing them alone takes 0.7-0.9 GB)
 MIN_ADDRESS_SPACE = 2**30
 #: the commands that solve (and load the numerical libraries)
-SOLVING = ("solve", "sweep", "paper", "grow", "stability")
+SOLVING = ("solve", "sweep", "paper", "grow", "stability", "hydrofrac")
 #: the files of `solve --vtk OUT`: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
 VTK_PARTS = (".vtu", "_cracks.vtu")
 
