@@ -317,18 +317,8 @@ class TipParameters:
 
 def displacement_gradient(sol):
     """grad u (row i: grad u_i) as the domain integral uses it (see the module docstring)."""
-    fields = sol.fields
     mat = sol.scene.material
-    A = _compliance(mat.E, mat.nu, mat.plane)
-    sig = fields["sigma"]
-    eps = A.apply(0.5 * (sig + sig.trans))
-    if fields.get("rotation") is not None:  # peers, bdm
-        r = fields["rotation"]
-        return eps + ngs.CF((0.0, -r, r, 0.0), dims=(2, 2))
-    grad = fields["grad_u"]
-    if sol.element == "tdnns":
-        return eps + 0.5 * (grad - grad.trans)
-    return grad
+    return sol.disc.traits.displacement_gradient(sol.fields, _compliance(mat.E, mat.nu, mat.plane))
 
 
 def _quadrature(sol, tip: Tip, radius: float):
@@ -420,7 +410,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     open crack's faces.
     """
     prof = sol.profiles[k]
-    model = sol.options.get("crack_model", "contact")
+    model = sol.crack_model
     sn = np.asarray(prof.normal_stress, dtype=float)
     # the crack-face pressure p loads the open faces: sigma_n = -p there
     applied_p = -pressure_values(getattr(sol.scene.cracks[k], "pressure", None), prof.s)
@@ -431,7 +421,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     closed = faces_closed(jn, scale)
     sn = np.where(closed, sn, applied_p)
     # friction acts only where the solve applied it (unilateral contact with the tangential jumps kept)
-    applied = bool(sol.options.get("tangential"))
+    applied = sol.friction_applied
     friction = float(getattr(sol.scene.cracks[k], "friction", 0.0) or 0.0) if applied else 0.0
     tau = np.where(closed, np.asarray(prof.shear_stress, dtype=float), 0.0) if friction > 0 else np.zeros_like(sn)
     return sn, tau

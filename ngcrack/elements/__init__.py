@@ -13,7 +13,7 @@ import numbers
 
 from ..errors import InputError
 from . import bdm, h1, peers, tdnns
-from .base import Discretization, Loads
+from .base import Discretization, ElementTraits, Loads
 
 FAMILIES = {
     "peers": peers.build,
@@ -28,6 +28,8 @@ ELEMENTS = tuple(FAMILIES)
 #: families that take an `order`, and the orders each has
 ORDERS = {"bdm": bdm.ORDERS, "tdnns": tdnns.ORDERS}
 ORDERED = tuple(ORDERS)
+#: what the post-processing asks of each family (ElementTraits), known before anything is built
+TRAITS = {"peers": peers.TRAITS, "bdm": bdm.TRAITS, "tdnns": tdnns.TRAITS, "h1p1": h1.TRAITS[1], "h1p2": h1.TRAITS[2]}
 
 
 def check_element(name: str, order=None) -> int | None:
@@ -62,4 +64,5 @@ def build(name: str, crack_mesh, material, loads: Loads, order: int | None = Non
     return FAMILIES[name](crack_mesh, material, loads, order=order)
 
 
-__all__ = ["Discretization", "Loads", "ELEMENTS", "MIXED", "ORDERED", "ORDERS", "build", "check_element"]
+__all__ = ["Discretization", "ElementTraits", "Loads", "ELEMENTS", "MIXED", "ORDERED", "ORDERS", "TRAITS", "build",
+           "check_element"]
