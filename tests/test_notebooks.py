@@ -31,6 +31,7 @@ NOTEBOOKS = [
     ("08-friction.py", "Friction: the inclined crack slips below", False),
     ("10-adaptivity.py", "Adaptive bdm: sliding error", False),
     ("11-crack-growth.py", "Wing cracks: start at lambda within", False),
+    ("12-penny.py", "Penny: K_I within", True),
     ("13-hydraulic-fracture.py", "KGD: l, p and w0 within", False),
     ("14-bending-and-holes.py", "Bending and holes: the reactions balance the load", False),
 ]
