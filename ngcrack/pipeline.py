@@ -30,7 +30,9 @@ data. `nc.solve` is the one-shot use: a fresh Pipeline, one run.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
+import weakref
 
 import ngsolve as ngs
 import numpy as np
@@ -266,6 +268,15 @@ class Pipeline:
         self._disc: tuple | None = None  # (key, Discretization, ParameterLoads | None, Loads)
         self._systems: dict = {}  # tangential -> CondensedSystem of the current discretization
         self._reductions: dict = {}  # (reduction key, layout) -> ContactReduction
+        self._pending: list = []  # weak references to solutions whose error estimate is still to be computed
+
+    def settle_estimates(self) -> None:
+        """Compute the pending error estimates of this pipeline's solutions (before their loads change)."""
+        pending, self._pending = self._pending, []
+        for ref in pending:
+            sol = ref()
+            if sol is not None and sol.estimate_pending:
+                sol.error_estimate  # noqa: B018 -- computed now, kept by the solution
 
     def clear(self) -> None:
         """Forget every cached stage (the counts stay)."""
@@ -304,6 +315,7 @@ class Pipeline:
                 and (loads is None or cached[3] is loads):
             _, disc, ploads, held = cached
             if ploads is not None:
+                self.settle_estimates()  # before the loads' Parameters change under them
                 ploads.set(scene)
                 disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
                 self.counts["load"] += 1
@@ -462,6 +474,7 @@ class Pipeline:
             conditioning=conditioning, kkt_sampled=kkt_sampled, forces=forces,
         )
         self.post_process(sol, loads)
+        self._pending = [r for r in self._pending if r() is not None and r().estimate_pending] + [weakref.ref(sol)]
         return sol
 
     @staticmethod
@@ -471,7 +484,9 @@ class Pipeline:
         sol.tips = tip_parameters(sol, body_force=loads.body_force)
         sol.timings["tips"] = time.perf_counter() - t0
         sol.timings["total"] += sol.timings["tips"]
-        sol.error_estimate = _estimate(sol, loads, sol.crack_model)
+        # computed when first asked for; the Parameters of `loads` change with the next load value,
+        # so a pending estimate is settled before that (Pipeline.discretization)
+        sol.defer_estimate(functools.partial(_estimate, sol, loads, sol.crack_model))
 
 
 def crack_profiles(disc: Discretization, cmesh: CrackMesh, gf: ngs.GridFunction, fields: dict,

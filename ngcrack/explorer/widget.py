@@ -144,7 +144,7 @@ class _ExplorerView:
         self.drawing = Drawing()
         style = {"description_width": "125px"}
         rows = []
-        numeric = ["load", "load_angle", "E", "nu"] + (["friction"] if "friction" in st else []) + ["maxh"]
+        numeric = ["load", "load_angle", "E", "nu"] + [k for k in ("friction", "pressure") if k in st] + ["maxh"]
         if model.function is not None:
             numeric += [p.name for p in model.function.geometry()]
         for name in numeric:
