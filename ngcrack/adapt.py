@@ -61,7 +61,7 @@ def solve_step(pipeline: Pipeline, scene, crack_mesh: CrackMesh, options: SolveO
 def estimate_step(sol):
     """The solve's error estimate (every solve computes one)."""
     if sol.error_estimate is None:
-        raise InputError(f"element = {sol.element!r}: this solve has no error estimate ({sol.options.get('error_estimate')})")
+        raise InputError(f"element = {sol.element!r}: this solve has no error estimate ({sol.no_estimate})")
     return sol.error_estimate
 
 

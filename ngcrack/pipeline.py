@@ -30,7 +30,9 @@ data. `nc.solve` is the one-shot use: a fresh Pipeline, one run.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
+import weakref
 
 import ngsolve as ngs
 import numpy as np
@@ -63,7 +65,7 @@ from .scene import BoundaryCondition, Scene
 from .scene.points import held_directions
 from .scene.pressure import pressure_kind, pressure_values
 from .sizing import check_request
-from .solution import Solution
+from .solution import Backend, Solution
 from .tips import tip_parameters
 
 #: scaled forward residual of the condensed solve above which a definite system counts
@@ -266,6 +268,15 @@ class Pipeline:
         self._disc: tuple | None = None  # (key, Discretization, ParameterLoads | None, Loads)
         self._systems: dict = {}  # tangential -> CondensedSystem of the current discretization
         self._reductions: dict = {}  # (reduction key, layout) -> ContactReduction
+        self._pending: list = []  # weak references to solutions whose error estimate is still to be computed
+
+    def settle_estimates(self) -> None:
+        """Compute the pending error estimates of this pipeline's solutions (before their loads change)."""
+        pending, self._pending = self._pending, []
+        for ref in pending:
+            sol = ref()
+            if sol is not None and sol.estimate_pending:
+                sol.error_estimate  # noqa: B018 -- computed now, kept by the solution
 
     def clear(self) -> None:
         """Forget every cached stage (the counts stay)."""
@@ -304,6 +315,7 @@ class Pipeline:
                 and (loads is None or cached[3] is loads):
             _, disc, ploads, held = cached
             if ploads is not None:
+                self.settle_estimates()  # before the loads' Parameters change under them
                 ploads.set(scene)
                 disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
                 self.counts["load"] += 1
@@ -413,9 +425,10 @@ class Pipeline:
             else:
                 positions = constraint_positions(disc, cmesh)
                 initial_active, initial_guess = warm_start_data(warm_start, *positions)
-                qp = solve_qp(red.S, red.b, G=G, solver=o.qp_solver, solver_options=o.qp_options,
-                              initial_active=initial_active, initial_guess=initial_guess)
-                qp.crack, qp.s = positions
+                qp = dataclasses.replace(
+                    solve_qp(red.S, red.b, G=G, solver=o.qp_solver, solver_options=o.qp_options,
+                             initial_active=initial_active, initial_guess=initial_guess),
+                    crack=positions[0], s=positions[1])
                 jn = qp.j
         else:  # no crack, or a bonded crack: jn = 0
             jn = np.zeros(len(system.contact))
@@ -450,18 +463,18 @@ class Pipeline:
         timings["linear"] = timings["factorize"] + timings["solve"] + timings["recover"]
         timings["contact"] = timings["schur"] + timings["qp"]
         timings["total"] = time.perf_counter() - t_start
+        backend = Backend(qp_solver=o.qp_solver, linear_solver=red.factorization.backend, schur=red.method,
+                          largest_dense=red.largest_dense, tangential=bool(tangential),
+                          friction=tuple(float(f) if o.crack_model == "contact" else 0.0 for f in mu))
         sol = Solution(
             scene=scene, element=o.element, crack_mesh=cmesh, disc=disc, gf=gf, fields=fields, profiles=profiles,
             kkt=kkt, qp=qp, timings=timings, ndof={"total": disc.fes.ndof, "global": system.n, "contact": m},
             built=list(disc.built) + [_built_line(qp, m, o, disc)],
-            options={"qp_solver": o.qp_solver, "linear_solver": red.factorization.backend, "schur": red.method,
-                     "largest_dense": red.largest_dense, "tip_h": o.tip_h, "crack_model": o.crack_model,
-                     "order": o.order, "friction": [float(f) if o.crack_model == "contact" else 0.0 for f in mu],
-                     "friction_method": o.friction_method,
-                     "tangential": tangential, "hp": o.hp or 0},
+            options=backend.report(o), solve_options=o, backend=backend,
             conditioning=conditioning, kkt_sampled=kkt_sampled, forces=forces,
         )
         self.post_process(sol, loads)
+        self._pending = [r for r in self._pending if r() is not None and r().estimate_pending] + [weakref.ref(sol)]
         return sol
 
     @staticmethod
@@ -471,7 +484,9 @@ class Pipeline:
         sol.tips = tip_parameters(sol, body_force=loads.body_force)
         sol.timings["tips"] = time.perf_counter() - t0
         sol.timings["total"] += sol.timings["tips"]
-        sol.error_estimate = _estimate(sol, loads, sol.options["crack_model"])
+        # computed when first asked for; the Parameters of `loads` change with the next load value,
+        # so a pending estimate is settled before that (Pipeline.discretization)
+        sol.defer_estimate(functools.partial(_estimate, sol, loads, sol.crack_model))
 
 
 def crack_profiles(disc: Discretization, cmesh: CrackMesh, gf: ngs.GridFunction, fields: dict,
@@ -529,13 +544,13 @@ def _built_line(qp, m: int, o: SolveOptions, disc: Discretization) -> str:
 
 def _estimate(sol: Solution, loads: Loads, crack_model: str):
     """The solve's error estimate (estimate.py), or None where none exists (with the reason
-    in sol.options["error_estimate"])."""
+    in sol.no_estimate)."""
     from .estimate import estimate
 
     try:
         est = estimate(sol, loads, crack_model)
     except InputError as exc:
-        sol.options["error_estimate"] = str(exc)
+        sol.no_estimate = str(exc)
         return None
     sol.timings["estimate"] = est.time
     return est
