@@ -29,7 +29,9 @@ data. `nc.solve` is the one-shot use: a fresh Pipeline, one run.
 
 from __future__ import annotations
 
+import functools
 import time
+import weakref
 
 import ngsolve as ngs
 import numpy as np
@@ -206,6 +208,15 @@ class Pipeline:
         self._disc: tuple | None = None  # (key, Discretization, ParameterLoads | None, Loads)
         self._systems: dict = {}  # tangential -> CondensedSystem of the current discretization
         self._reductions: dict = {}  # (reduction key, layout) -> ContactReduction
+        self._pending: list = []  # weak references to solutions whose error estimate is still to be computed
+
+    def settle_estimates(self) -> None:
+        """Compute the pending error estimates of this pipeline's solutions (before their loads change)."""
+        pending, self._pending = self._pending, []
+        for ref in pending:
+            sol = ref()
+            if sol is not None and sol.estimate_pending:
+                sol.error_estimate  # noqa: B018 -- computed now, kept by the solution
 
     def clear(self) -> None:
         """Forget every cached stage (the counts stay)."""
@@ -250,6 +261,7 @@ class Pipeline:
                 and (loads is None or cached[3] is loads):
             _, disc, ploads, held = cached
             if ploads is not None:
+                self.settle_estimates()  # before the loads' Parameters change under them
                 ploads.set(scene)
                 disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
                 self.counts["load"] += 1
@@ -369,6 +381,7 @@ class Pipeline:
             conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces,
         )
         self.post_process(sol, loads)
+        self._pending = [r for r in self._pending if r() is not None and r().estimate_pending] + [weakref.ref(sol)]
         return sol
 
     def _reduce(self, system: CondensedSystem, options: SolveOptions, case: str) -> ContactReduction:
@@ -392,4 +405,6 @@ class Pipeline:
     def post_process(sol: Solution, loads: Loads) -> None:
         """The tips' K_I, K_II, G and the error estimate of a solved `sol` (their times in sol.timings)."""
         tips_stage(sol, loads)
-        sol.error_estimate = estimate_stage(sol, loads, sol.crack_model)
+        # computed when first asked for; the Parameters of `loads` change with the next load value,
+        # so a pending estimate is settled before that (Pipeline.discretization)
+        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model))

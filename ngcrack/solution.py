@@ -93,15 +93,51 @@ class Solution:
     tips: list = field(default_factory=list)
     kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
     forces: np.ndarray | None = None
-    #: the a posteriori estimate of the stress error (estimate.py), None where none exists
-    error_estimate: object = None
     #: with adapt=TOL: one row per refinement step (adapt.py), a pandas DataFrame
     adapt_history: object = None
     #: the options the solve was asked for, and what it chose where they left it open
     solve_options: SolveOptions | None = None
     backend: Backend | None = None
-    #: why the solve has no error estimate ("" where it has one)
-    no_estimate: str = ""
+    #: the error estimate once computed, why there is none, and the computation a solve
+    #: leaves pending (`error_estimate`, `no_estimate`)
+    _estimate: object = field(default=None, repr=False)
+    _no_estimate: str = field(default="", repr=False)
+    _pending_estimate: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def error_estimate(self):
+        """The a posteriori estimate of the stress error (estimate.py), None where none exists.
+
+        Computed on first access (a run that does not ask for it skips its cost, about a
+        tenth of a small solve); `sol.timings["estimate"]` is its time from then on."""
+        if self._pending_estimate is not None:
+            pending, self._pending_estimate = self._pending_estimate, None
+            self._estimate = pending()
+        return self._estimate
+
+    @error_estimate.setter
+    def error_estimate(self, value) -> None:
+        self._pending_estimate = None
+        self._estimate = value
+
+    @property
+    def no_estimate(self) -> str:
+        """Why the solve has no error estimate ("" where it has one)."""
+        self.error_estimate  # noqa: B018 -- a pending estimate decides
+        return self._no_estimate
+
+    @no_estimate.setter
+    def no_estimate(self, value: str) -> None:
+        self._no_estimate = value
+
+    def defer_estimate(self, compute) -> None:
+        """`compute()` gives the error estimate (or None, setting `no_estimate`) when first asked for."""
+        self._estimate, self._pending_estimate = None, compute
+
+    @property
+    def estimate_pending(self) -> bool:
+        """True while the error estimate is still to be computed."""
+        return self._pending_estimate is not None
 
     @property
     def crack_model(self) -> str:

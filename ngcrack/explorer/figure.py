@@ -37,6 +37,7 @@ from .fields import (
     fit_scales,
     significant,
     stress_values,
+    tip_closed,
     tip_value,
     units,
 )
@@ -278,8 +279,8 @@ class Drawing:
                 where = f"({significant(x)}, {significant(y)})"
             else:
                 where = ""
-            tip_text.append(f"{name} {where}: K_I = {significant(tip_value(tip, 'K_I'))}, "
-                            f"K_II = {significant(tip_value(tip, 'K_II'))}")
+            k1 = "0 (faces closed)" if tip_closed(sol, tip) else significant(tip_value(tip, "K_I"))
+            tip_text.append(f"{name} {where}: K_I = {k1}, K_II = {significant(tip_value(tip, 'K_II'))}")
         # nu and t on each crack (undeformed directions, at the crack's middle edge)
         arrow = 0.07 * diam
         for crack, f in zip(cm.cracks, faces):

@@ -144,7 +144,7 @@ class _ExplorerView:
         self.drawing = Drawing()
         style = {"description_width": "125px"}
         rows = []
-        numeric = ["load", "load_angle", "E", "nu"] + (["friction"] if "friction" in st else []) + ["maxh"]
+        numeric = ["load", "load_angle", "E", "nu"] + [k for k in ("friction", "pressure") if k in st] + ["maxh"]
         if model.function is not None:
             numeric += [p.name for p in model.function.geometry()]
         for name in numeric:
@@ -328,9 +328,14 @@ class _ExplorerView:
             return
         with self.webgui:
             try:
-                show_webgui(*webgui_field(self.model.solution, self.model.state["field"]), self.model.solution.mesh)
+                from .webgui import webgui_scene
+
+                d = self.drawing.data
+                cf, name = webgui_field(self.model.solution, self.model.state["field"])
+                show_webgui(cf, name, self.model.solution.mesh,
+                            **webgui_scene(self.model.solution, d.get("magnification") or 0.0, d.get("clim"), name))
             except Exception as exc:  # noqa: BLE001
-                print(_one_line(exc))
+                print("The 3D view could not be drawn: " + _one_line(exc))
 
 
 def webgui_field(sol, field: str) -> tuple[Any, str]:
@@ -351,14 +356,20 @@ def webgui_field(sol, field: str) -> tuple[Any, str]:
     return vm, f"von Mises (plane {mat.plane})"
 
 
-def show_webgui(cf, name: str, mesh) -> None:
+def show_webgui(cf, name: str, mesh, deformation=None, objects=None, settings=None, caption: str = "") -> None:
     """NGSolve's webgui view of `cf` on `mesh`, displayed: through webgui_jupyter_widgets
     where it is installed (its JavaScript ships with it, so the view works offline), else
-    through ngsolve.webgui's own widget (anywidget; it loads its JavaScript from a CDN)."""
-    from IPython.display import display
+    through ngsolve.webgui's own widget (anywidget; it loads its JavaScript from a CDN).
+    ``deformation`` (a 3-vector CoefficientFunction), ``objects`` (lines, text) and
+    ``settings`` (the colour map's limits) go to `Draw`; ``caption`` is shown above it."""
+    from IPython.display import HTML, display
     from ngsolve.webgui import Draw
 
-    scene = Draw(cf, mesh, name, show=False)
+    if caption:
+        display(HTML(f"<div class='ngcrack-webgui-caption' style='font-size:13px'>{_escape(caption)}</div>"))
+    kw = {k: v for k, v in (("deformation", deformation), ("objects", objects), ("settings", settings))
+          if v is not None}
+    scene = Draw(cf, mesh, name, show=False, **kw)
     try:
         import ipywidgets
         from webgui_jupyter_widgets import WebGuiWidget
