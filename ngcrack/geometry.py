@@ -17,7 +17,6 @@ from __future__ import annotations
 import re
 import threading
 import warnings
-from collections import OrderedDict
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -373,36 +372,6 @@ def mesh_quality(P: np.ndarray, T: np.ndarray) -> float:
     return float(np.min(4.0 * np.sqrt(3.0) * area / sides))
 
 
-#: how many meshes `reuse_meshes` keeps (the most recently used ones)
-MESH_CACHE_SIZE = 2
-_mesh_cache: OrderedDict = OrderedDict()
-_reusing = 0
-
-
-@contextmanager
-def reuse_meshes():
-    """Inside this context, `make_mesh` reuses the meshes of earlier calls.
-
-    A mesh depends on the scene's geometry (polygon, labels, crack polylines) and the
-    mesh sizes only, not on the material or the loads: a sweep over elements or Poisson
-    ratios meshes each size once. The last MESH_CACHE_SIZE meshes are kept between
-    contexts (a sweep worker enters it for every case); outside the context nothing is
-    reused or stored, so code that changes a mesh (refinement) gets a fresh one.
-    """
-    global _reusing
-    _reusing += 1
-    try:
-        yield
-    finally:
-        _reusing -= 1
-
-
-def _mesh_key(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> tuple:
-    return (tuple(map(tuple, np.asarray(scene.polygon, float).tolist())), tuple(scene.labels),
-            tuple(tuple(map(tuple, np.asarray(c.points, float).tolist())) for c in scene.cracks),
-            scene.holes, float(maxh), tip_h, crack_h, float(grading))
-
-
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
               crack_h: float | None = None, grading: float | None = None) -> CrackMesh:
     """Mesh the scene with netgen; the arguments override the scene's [mesh] values, and
@@ -410,24 +379,12 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     tenth of the diameter; crack_h and tip_h from the shortest crack, graded).
 
     Warns if netgen produced a triangle of quality below MIN_QUALITY (a strong grading
-    can do that); such a triangle spoils the accuracy nearby. Inside `reuse_meshes()`
-    the mesh of an earlier call with the same geometry and sizes is returned.
+    can do that); such a triangle spoils the accuracy nearby. Every call meshes: the
+    reuse of a mesh is the mesh stage's of `ngcrack.pipeline.Pipeline`.
     """
     check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     maxh, tip_h, crack_h, grading = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
-    if not _reusing:
-        return _make_mesh(scene, maxh, tip_h, crack_h, grading)
-    key = _mesh_key(scene, maxh, tip_h, crack_h, grading)
-    if key in _mesh_cache:
-        _mesh_cache.move_to_end(key)
-        cached = _mesh_cache[key]
-        _warn_quality(scene, cached.quality, maxh, grading, stacklevel=3)
-        return cached
-    cmesh = _make_mesh(scene, maxh, tip_h, crack_h, grading)
-    _mesh_cache[key] = cmesh
-    while len(_mesh_cache) > MESH_CACHE_SIZE:
-        _mesh_cache.popitem(last=False)
-    return cmesh
+    return _make_mesh(scene, maxh, tip_h, crack_h, grading)
 
 
 def _warn_quality(scene: Scene, quality: float, maxh: float, grading: float, stacklevel: int) -> None:
