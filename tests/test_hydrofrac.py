@@ -14,6 +14,7 @@ import json
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import ngcrack as nc
@@ -78,7 +79,13 @@ def test_json_contract_and_bad_options(tmp_path):
         assert main(argv) == 2
         assert not out.exists()
     assert main(["hydrofrac", "kgd", "--rate", "1e-4", "--K-Ic", "1e6", "--da", "0.1", "--steps", "1",
-                 "--json", str(out), "--csv", str(tmp_path / "h.csv")]) == 0
+                 "--json", str(out), "--csv", str(tmp_path / "h.csv"), "--gif", str(tmp_path / "h.gif")]) == 0
+    from PIL import Image
+
+    with Image.open(tmp_path / "h.gif") as gif:
+        assert gif.n_frames == 2  # one frame per step
+    table = pd.read_csv(tmp_path / "h.csv")
+    assert len(table) == 4 and set(table["end"]) == {"first", "last"}
     data = json.loads(out.read_text())
     assert list(data) == ["scene", "element", "rate", "K_Ic", "stopped", "steps", "cracks"]
     assert [list(s) for s in data["steps"]] == [list(STEP_KEYS) + ["tips"]] * 2
