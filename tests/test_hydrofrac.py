@@ -105,3 +105,17 @@ def test_bad_arguments_refused_by_name(kwargs, words):
     args.update(kwargs)
     with pytest.raises(nc.InputError, match=words):
         nc.hydrofrac(kgd_body(20.0), **args)
+
+
+@pytest.mark.slow
+def test_kgd_geos_values_at_ten_seconds():
+    """The built-in kgd scene grown to l = 4.5 m: at t = 10 s GEOS's closed-form values
+    l = 4.335 m, p = 0.2710 MPa, w0 = 146.8 um (measured: 4.328 m, 0.2711 MPa, 146.9 um)."""
+    result = nc.hydrofrac("kgd", rate=Q0, K_Ic=K_IC, da=0.1, steps=35)
+    t = np.array([s["time"] for s in result.steps])
+    assert t[0] < 10.0 < t[-1]
+    at = {k: float(np.interp(10.0, t, [s[k] for s in result.steps]))
+          for k in ("half_length", "pressure", "opening_at_injection")}
+    assert abs(at["half_length"] / 4.335 - 1) < 0.01
+    assert abs(at["pressure"] / 0.2710e6 - 1) < 0.01
+    assert abs(at["opening_at_injection"] / 146.8e-6 - 1) < 0.01
