@@ -52,6 +52,8 @@ def test_superposition_with_remote_tension(element):
     assert np.allclose(b.profiles[0].normal_stress, -1.0, atol=1e-9)
     assert set(b.profiles[0].state) == {"open"}
     assert max(b.kkt_sampled.values()) < 1e-10
+    # the error estimate takes the pressure as load data: the same stress error, the same estimate
+    assert abs(b.error_estimate.energy / a.error_estimate.energy - 1) < 1e-3
 
 
 def test_zero_pressure_is_the_unloaded_answer():
@@ -144,3 +146,16 @@ def test_explorer_pressure_control():
     assert model.counts["factorize"] == factorized
     model.update(pressure=1e9)
     assert model.error is not None and "pressure" in model.error and model.state["pressure"] == 1.0
+
+
+def test_pressure_lowers_the_friction_of_a_closed_crack():
+    """The inclined crack under compression with Coulomb friction: a fluid pressure p_f < |sigma_n|
+    keeps it closed and lowers the normal traction to sigma_n + p_f, so it slips with
+    K_II = (|tau| - mu |sigma_n + p_f|) sqrt(pi a)."""
+    scene = nc.scenes.load("inclined-compression").with_(friction=0.3, pressure=0.5)
+    sol = nc.solve(scene, maxh=2.0, tip_h=0.01, crack_h=0.05)
+    tau, sigma_n = math.sin(math.radians(30)) * math.cos(math.radians(30)), 0.75
+    exact = (tau - 0.3 * (sigma_n - 0.5)) * math.sqrt(math.pi)
+    assert all(abs(abs(t.K_II) / exact - 1) < 0.01 for t in sol.tips)
+    assert set(sol.profiles[0].state) == {"slip"}
+    assert max(sol.kkt.values()) < 1e-12
