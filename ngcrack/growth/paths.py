@@ -114,6 +114,22 @@ def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da:
     return Extension(k, end, (float(q[0]), float(q[1])), "grew")
 
 
+def pieces(region: shapely.Polygon, cracks) -> int:
+    """How many pieces the cracks (sequences of points) cut the body `region` into: the faces
+    of the body's boundary and the crack lines together (a crack with a free end cuts nothing
+    there)."""
+    lines = [region.exterior, *region.interiors] + [shapely.LineString(c) for c in cracks if len(c) > 1]
+    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.unary_union(lines))))
+    inside = [f for f in faces if region.contains(f.representative_point())]
+    return max(len(inside), 1)
+
+
+def cut_through(region: shapely.Polygon, before, after) -> bool:
+    """Whether the grown cracks `after` cut the body into more pieces than `before` (lists of point
+    sequences): a crack reached the boundary or a hole and separated a piece of the body."""
+    return pieces(region, after) > pieces(region, before)
+
+
 def extended_cracks(scene, extensions) -> list:
     """The scene's cracks with the new end points of `extensions` (a list of Extension) added."""
     from ngcrack.scene import Crack

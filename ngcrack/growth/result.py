@@ -10,7 +10,8 @@ import numpy as np
 
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
-           "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "error_estimate", "kkt")
+           "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "mesh_s", "assembly_s",
+           "linear_s", "crack_s", "post_s", "error_estimate", "kkt")
 #: the largest crack-face opening drawn in the animation, as a fraction of the body's diameter
 FACE_FRACTION = 0.03
 
@@ -30,10 +31,14 @@ class GrowthResult:
     counter-clockwise positive; load_factor the step's (the smallest among the tips that
     grow), tip_load_factor the tip's own K_Ic / K_eq; closed whether the faces at the tip
     touch; grew whether the tip advanced after this step; solves the solves that made the
-    step (more than one: PLS trials); kkt the largest of the solve's KKT residuals.
+    step (more than one: PLS trials); time_s their wall-clock seconds, of which mesh_s
+    meshing, assembly_s assembly, linear_s the factorization and linear solves, crack_s the
+    crack problem (Schur complement and QP), post_s the tips' K and the error estimate; kkt the largest of the solve's KKT residuals.
     `scenes[n]`: the scene of step n (one more at the end if the last growth cut through
     the body); `stopped`: why the run ended; `events`: (step, tip, what) as tips reached the
-    boundary; `frozen`: tip -> why it stopped inside the body; `solution`: the last solve.
+    boundary; `frozen`: tip -> why it stopped inside the body; `solution`: the last solve;
+    `paths`: the final crack paths (with the last segment where it cut the body through: stop
+    reason "cut through", the last scene then kept only if every piece is still held).
     """
 
     scene: object
@@ -50,12 +55,14 @@ class GrowthResult:
     frozen: dict = field(default_factory=dict)
     stopped: str = ""
     solution: object = None
+    final_cracks: list | None = None
 
     # ------------------------------------------------------------------ filling
-    def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True) -> None:
+    def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True, parts=None) -> None:
         ndof = int(sol.ndof["total"])
         kkt = {k: float(v) for k, v in sol.kkt.items()}
         est = None if sol.error_estimate is None else float(sol.error_estimate.relative)
+        cost_columns = {f"{k}_s": float(v) for k, v in (parts or {}).items()}
         tips = []
         for v in values:
             kink = math.degrees(v.get("kink", v["theta"])) + 0.0  # no -0.0
@@ -65,7 +72,7 @@ class GrowthResult:
                               "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink,
                               "load_factor": lam_step, "tip_load_factor": v["lambda"], "crack_length": length,
                               "closed": v["closed"], "grew": did, "ndof": ndof, "solves": int(solves),
-                              "time_s": float(time_s), "error_estimate": est, "kkt": max(kkt.values(), default=0.0)})
+                              "time_s": float(time_s), **cost_columns, "error_estimate": est, "kkt": max(kkt.values(), default=0.0)})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
                          "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
@@ -75,8 +82,13 @@ class GrowthResult:
         if frames:
             self.frames.append(_frame(sol))
 
-    def add_final(self, scene) -> None:
-        self.scenes.append(scene)
+    def add_final(self, scene, cracks=None) -> None:
+        """The scene after the last growth; where it is no valid scene (the cracks cut the body and a
+        piece is held by nothing) scene is None and `cracks` (their points) keep the last segments."""
+        if scene is not None:
+            self.scenes.append(scene)
+        if cracks is not None:
+            self.final_cracks = [np.asarray(c, dtype=float) for c in cracks]
 
     # ------------------------------------------------------------------ views
     @property
@@ -91,7 +103,9 @@ class GrowthResult:
 
     @property
     def paths(self) -> list[np.ndarray]:
-        """The final crack paths, one (n, 2) array of points per crack."""
+        """The final crack paths, one (n, 2) array of points per crack (with the segment that cut through)."""
+        if self.final_cracks is not None:
+            return [np.asarray(c, dtype=float) for c in self.final_cracks]
         return [np.asarray(c.points, dtype=float) for c in self.final_scene.cracks]
 
     def load_factors(self) -> np.ndarray:
@@ -102,7 +116,7 @@ class GrowthResult:
         """The `ngcrack grow --json` dictionary (README, "Crack growth")."""
         return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, "da": float(self.da),
                 "K_Ic": self.K_Ic, "stopped": self.stopped, "steps": self.steps,
-                "cracks": [{"points": [[float(x), float(y)] for x, y in c.points]} for c in self.final_scene.cracks]}
+                "cracks": [{"points": [[float(x), float(y)] for x, y in c]} for c in self.paths]}
 
     def summary(self) -> str:
         df = self.table
@@ -190,9 +204,18 @@ def plot_growth(result: GrowthResult, path=None):
             segs += [(pn[i], pn[i + 1]) for i in range(k + len(po) - 1, len(pn) - 1)]
         if segs:
             ax.add_collection(LineCollection(segs, colors=[cmap(n / n_steps)], linewidths=2.0))
+    if result.final_cracks is not None and len(result.scenes) < len(result.steps) + 1:  # the segment that cut through
+        last = result.scenes[-1]
+        segs = []
+        for co, pn in zip(last.cracks, result.final_cracks):
+            po = [tuple(p) for p in co.points]
+            pn = [tuple(p) for p in pn]
+            segs += [(pn[i], pn[i + 1]) for i in range(len(pn) - 1) if pn[i] not in po or pn[i + 1] not in po]
+        if segs:
+            ax.add_collection(LineCollection(segs, colors=[cmap(1.0)], linewidths=2.0))
     sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, n_steps))
     fig.colorbar(sm, ax=ax, label="step")
-    xy = np.concatenate([np.asarray(c.points) for c in result.final_scene.cracks])
+    xy = np.concatenate(result.paths)
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     pad = 0.25 * max(hi - lo) + 2 * result.da
     poly = np.asarray(result.scene.polygon)
@@ -228,7 +251,7 @@ def frame_view(result: GrowthResult) -> tuple[float, np.ndarray, np.ndarray]:
     scale = 0.04 * diam / umax if umax > 0 else 0.0
     xy = np.concatenate([face["mid"] + scale * u for f in result.frames for face in f["faces"]
                          for u in (face["plus"], face["minus"])] +
-                        [np.asarray(c.points) for c in result.final_scene.cracks])
+                        list(result.paths))
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     pad = 0.3 * max(hi - lo) + 2 * result.da
     return scale, lo - pad, hi + pad
