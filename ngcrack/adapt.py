@@ -21,6 +21,7 @@ import warnings
 
 import numpy as np
 
+from .errors import InputError
 from .estimate import ESTIMATE_CRACK_MODELS, METHODS
 from .geometry import CrackMesh, refine_crack_mesh
 from .options import SolveOptions
@@ -39,15 +40,15 @@ def check_adapt_options(options: SolveOptions, scene=None) -> None:
     before any meshing (the tolerance and the budget are checked by SolveOptions)."""
     element, crack_model = options.element, options.crack_model
     if element not in METHODS:
-        raise ValueError(f"element = {element!r}: adaptivity needs an error estimate; elements with one: {', '.join(METHODS)}")
+        raise InputError(f"element = {element!r}: adaptivity needs an error estimate; elements with one: {', '.join(METHODS)}")
     if crack_model not in ESTIMATE_CRACK_MODELS:
-        raise ValueError(f"crack_model = {crack_model!r}: adaptivity needs an error estimate; crack models with one: "
-                         f"{', '.join(ESTIMATE_CRACK_MODELS)}")
+        raise InputError(f"crack_model = {crack_model!r}: adaptivity needs an error estimate; crack models with one: "
+                          f"{', '.join(ESTIMATE_CRACK_MODELS)}")
     if scene is not None and METHODS[element] == "prager-synge":
         mat = scene.material
         if mat.plane == "strain" and mat.nu >= 0.5:
-            raise ValueError("material.nu = 0.5: the Prager-Synge estimate needs nu < 1/2 in plane strain "
-                             "(C eps(w) is infinite); adaptivity is not available there")
+            raise InputError("material.nu = 0.5: the Prager-Synge estimate needs nu < 1/2 in plane strain "
+                              "(C eps(w) is infinite); adaptivity is not available there")
 
 
 # ------------------------------------------------------------ the four steps
@@ -60,7 +61,7 @@ def solve_step(pipeline: Pipeline, scene, crack_mesh: CrackMesh, options: SolveO
 def estimate_step(sol):
     """The solve's error estimate (every solve computes one)."""
     if sol.error_estimate is None:
-        raise ValueError(f"element = {sol.element!r}: this solve has no error estimate ({sol.options.get('error_estimate')})")
+        raise InputError(f"element = {sol.element!r}: this solve has no error estimate ({sol.options.get('error_estimate')})")
     return sol.error_estimate
 
 
@@ -108,7 +109,7 @@ def solve_adaptive(scene, options: SolveOptions | str, adapt: float | None = Non
         options = options.replace(adapt=adapt)
     adapt = options.adapt
     if adapt is None:
-        raise ValueError("adapt = None: give the relative error tolerance in (0, 1)")
+        raise InputError("adapt = None: give the relative error tolerance in (0, 1)")
     check_adapt_options(options, scene)
     budget = DEFAULT_MAX_DOF if options.max_dof is None else options.max_dof
     step_options = options.replace(adapt=None)

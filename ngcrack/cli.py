@@ -15,8 +15,9 @@
 SCENE is a built-in scene name or a TOML file. No command shows a traceback: bad input
 exits with code 2 and one line on stderr naming the field, before any meshing; a system
 that cannot be solved (singular, a failed crack QP, out of memory) exits with code 3
-and one line naming the cause; anything unexpected exits with code 1, one line and
-the advice to run again with --debug (which prints the traceback). Warnings are one
+and one line naming the cause; anything else is a fault of ngcrack: exit code 3 too, one
+line naming the command and asking for a report, with the advice to run again with
+--debug (which prints the traceback). Warnings are one
 line each. Output files are written only after a successful solve, atomically (a
 temporary file renamed into place), so none is left half-written and an existing one
 is untouched on failure; an output that cannot be written is refused before the solve.
@@ -37,13 +38,14 @@ import traceback
 import warnings
 
 from .cli_errors import EXIT_INPUT, Terminated, check_finite, classify, one_line, one_line_warning
+from .errors import InputError
 from .files import check_output, check_output_folder
 
 #: a size option (maxh, tip_h, crack_h) must lie within these multiples of the body's diameter
 SIZE_RANGE = (1e-100, 1e100)
 
 
-class UsageError(ValueError):
+class UsageError(InputError):
     """Bad command-line input (exit code 2)."""
 
 
@@ -100,6 +102,10 @@ def cmd_solve(args) -> int:
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
+    if getattr(scene, "dimension", 2) == 3:  # a 3D body (ngcrack.solid)
+        from .solid.cli import solve_command
+
+        return solve_command(scene, args, json_path)
     _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
     _check_friction(scene, args)
     from .options import SolveOptions
@@ -330,6 +336,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--maxh", type=_positive, help="global mesh size (overrides the scene)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
+    p.add_argument("--front-h", dest="front_h", type=_positive, help="mesh size at crack fronts (3D scenes)")
     p.add_argument("--hp", type=int, metavar="L",
                    help="L layers of geometric refinement (ratio 0.2) towards every crack tip; with --order 2 or 3")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")
@@ -434,7 +441,7 @@ def main(argv=None) -> int:
             pass
         return 128 + signal.SIGPIPE
     except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
-        code, message = classify(exc)
+        code, message = classify(exc, args.command)
         if debug:
             traceback.print_exc()
         print(f"ngcrack: error: {message}", file=sys.stderr)

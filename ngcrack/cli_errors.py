@@ -1,9 +1,13 @@
 """How the command line reports what went wrong: one line, and an exit code that says whose problem it is.
 
-    2  bad input (a ValueError of the package: SceneError, option errors, the size guard;
-       a number beyond double precision; a path that cannot be used), named in the line
-    3  a system that cannot be solved (singular, a failed crack QP, out of memory)
-    1  anything unexpected: the line ends with the advice to run again with --debug
+    2  bad input: an `ngcrack.InputError` (SceneError, PathError, MeshingError, the
+       command line's UsageError, every option the package refuses), named in the line;
+       or an optional package that the command needs is not installed (the line names
+       the extra that brings it, `ngcrack.extras`)
+    3  not the input: a system that cannot be solved (singular, a failed crack QP, out of
+       memory), or a fault of ngcrack itself (any other exception, a plain ValueError from
+       numpy included): then the line names the command, asks for a report and points
+       to --debug for the traceback
 
 `classify` follows an exception's causes (a sweep's SweepError wraps the run's own).
 Warnings are shown on one line each too.
@@ -14,8 +18,8 @@ from __future__ import annotations
 import math
 import sys
 
-#: exit codes: bad input, a system that cannot be solved, something unexpected
-EXIT_INPUT, EXIT_SOLVE, EXIT_UNEXPECTED = 2, 3, 1
+#: exit codes: bad input (the user's), anything else (a system that cannot be solved, or a fault of ngcrack)
+EXIT_INPUT, EXIT_SOLVE = 2, 3
 
 
 class NotSolvedError(RuntimeError):
@@ -35,15 +39,27 @@ def _causes(exc: BaseException):
         exc = exc.__cause__ or exc.__context__
 
 
-def classify(exc: BaseException) -> tuple[int, str]:
-    """(exit code, one-line message) of an error that reached the command line."""
+def classify(exc: BaseException, command: str | None = None) -> tuple[int, str]:
+    """(exit code, one-line message) of an error that reached the command line from `command`.
+
+    Only an `InputError` in the cause chain is the user's input (exit 2; so is an optional
+    package that is not installed: the line names its extra); everything else
+    exits with 3: with a hint where the cause is known (memory, a singular system, a
+    failed solve, an overflow, a file the system refuses), otherwise as a fault of ngcrack
+    that names the command and asks for a report."""
     from .contact import ContactSolverError
+    from .errors import InputError
+    from .extras import missing_extra
     from .schur import LinearSolverError
     from .solve import SolveError
 
     text = one_line(exc)
     for cause in _causes(exc):
+        if missing_extra(cause):  # an optional package not installed: what to install
+            return EXIT_INPUT, missing_extra(cause)
         netgen = type(cause).__name__ == "NgException"
+        if isinstance(cause, InputError):  # SceneError, UsageError, PathError, every option the package refuses
+            return EXIT_INPUT, text
         if isinstance(cause, MemoryError) or (netgen and "allocate" in str(cause)):
             return EXIT_SOLVE, (f"out of memory ({text or type(cause).__name__}); use a larger maxh or a smaller "
                                 f"--max-dof")
@@ -53,14 +69,14 @@ def classify(exc: BaseException) -> tuple[int, str]:
             where = text.split('in Assemble')[0].strip()
             return EXIT_SOLVE, (f"the system is singular (netgen: {where}); is every part of the body held, and are the "
                                 f"material values and loads finite and of a sane size?")
-        if isinstance(cause, ValueError):  # SceneError, UsageError, every option the package refuses
-            return EXIT_INPUT, text
         if isinstance(cause, ArithmeticError):
-            return EXIT_INPUT, (f"a value beyond what double precision holds ({type(cause).__name__}: {text}); "
+            return EXIT_SOLVE, (f"a value beyond what double precision holds ({type(cause).__name__}: {text}); "
                                 f"check the mesh sizes, the loads and the material values")
         if isinstance(cause, OSError) and cause.filename is not None:
-            return EXIT_INPUT, f"cannot use {cause.filename!r}: {cause.strerror or cause}"
-    return EXIT_UNEXPECTED, (f"unexpected {type(exc).__name__}: {text} (run with --debug for the traceback)")
+            return EXIT_SOLVE, f"cannot use {cause.filename!r}: {cause.strerror or cause}"
+    where = f"ngcrack {command}" if command else "ngcrack"
+    return EXIT_SOLVE, (f"unexpected {type(exc).__name__} in {where}: {text}; this is a fault of ngcrack: please "
+                        f"report it with the command line and the traceback (run with --debug for the traceback)")
 
 
 def one_line_warning(message, category, filename, lineno, file=None, line=None):

@@ -21,6 +21,21 @@ class ContactSolverError(RuntimeError):
     """The QP solver failed or returned an answer that violates the KKT conditions."""
 
 
+#: The one rule for "the faces are closed" (they touch and may carry a normal traction),
+#: used by the crack problem's point states, the profiles' states, the tips' face term,
+#: growth and the explorer: at a point the normal jump [u].nu is at most CLOSED_RTOL times
+#: its crack's largest jump |[u]| (the crack problem gives zeros up to round-off where the
+#: faces touch). The same fraction says where a closed point sticks (|[u].t| below it) and
+#: where a sample is compressed (sigma_n below -CLOSED_RTOL times the stress scale).
+CLOSED_RTOL = 1e-8
+
+
+def faces_closed(normal_jump, scale: float) -> np.ndarray:
+    """Where the faces are closed: [u].nu <= CLOSED_RTOL * scale, `scale` the crack's
+    largest |[u]| (an array of booleans like `normal_jump`; all closed if nothing moves)."""
+    return np.asarray(normal_jump, dtype=float) <= CLOSED_RTOL * float(scale)
+
+
 #: G is inverted as a sparse matrix when at most this fraction of its entries is nonzero
 G_SPARSE_FILL = 0.1
 

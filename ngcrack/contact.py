@@ -66,6 +66,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .constraints import ContactSolverError, _inverse_map, scaled_problem
+from .errors import InputError
 
 #: solvers reached without cvxpy
 NATIVE_SOLVERS = ("pdas", "uzawa")
@@ -236,7 +237,7 @@ def _cvxpy_solve(S: np.ndarray, b: np.ndarray, solver: str, options: dict, v0: n
 
     name = solver.upper()
     if name not in cp.installed_solvers():
-        raise ValueError(
+        raise InputError(
             f"qp_solver = {solver!r}: allowed values are {', '.join(NATIVE_SOLVERS)} or an installed cvxpy solver: "
             + ", ".join(s.lower() for s in cp.installed_solvers())
         )
@@ -267,12 +268,12 @@ def _mask(active, m: int) -> np.ndarray | None:
     a = np.asarray(active)
     if a.dtype == bool:
         if a.shape != (m,):
-            raise ValueError(f"initial_active: a mask of length {m} (the number of crack constraints) was expected, got shape {a.shape}")
+            raise InputError(f"initial_active: a mask of length {m} (the number of crack constraints) was expected, got shape {a.shape}")
         return a.copy()
     mask = np.zeros(m, dtype=bool)
     idx = a.astype(int)
     if idx.size and (idx.min() < 0 or idx.max() >= m):
-        raise ValueError(f"initial_active: indices must lie in [0, {m})")
+        raise InputError(f"initial_active: indices must lie in [0, {m})")
     mask[idx] = True
     return mask
 
@@ -324,11 +325,11 @@ def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, 
     if initial_guess is not None:
         v0 = np.asarray(initial_guess, dtype=float) / (beta * D)
         if v0.shape != (m,) or not np.all(np.isfinite(v0)):
-            raise ValueError(f"initial_guess: {m} finite values (w = G j) were expected")
+            raise InputError(f"initial_guess: {m} finite values (w = G j) were expected")
     if solver == "pdas":
         max_iter = int(options.pop("max_iter", PDAS_MAX_ITER))
         if options:
-            raise ValueError(f"qp_options for 'pdas': allowed keys are max_iter, not {', '.join(options)}")
+            raise InputError(f"qp_options for 'pdas': allowed keys are max_iter, not {', '.join(options)}")
         if act0 is None and v0 is not None:
             act0 = v0 <= 0.0
         v, iters, ok = _pdas(S_s, b_s, active=act0, max_iter=max_iter)
@@ -339,7 +340,7 @@ def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, 
         if solver == "uzawa":
             allowed = {"max_iter", "tol", "step", "accelerate"}
             if set(options) - allowed:
-                raise ValueError(f"qp_options for 'uzawa': allowed keys are {', '.join(sorted(allowed))}")
+                raise InputError(f"qp_options for 'uzawa': allowed keys are {', '.join(sorted(allowed))}")
             v, iters, _ = _uzawa(S_s, b_s, v0=v0, **options)
         else:
             v = _cvxpy_solve(S_s, b_s, solver, options, v0=v0)
@@ -420,7 +421,7 @@ def warm_start_data(previous, crack: np.ndarray, s: np.ndarray) -> tuple[np.ndar
     if not isinstance(qp, QPResult):
         return _mask(previous, len(s)), None
     if not len(qp.s):
-        raise ValueError("warm_start: the previous QP result carries no crack positions (use a Solution from solve())")
+        raise InputError("warm_start: the previous QP result carries no crack positions (use a Solution from solve())")
     old_active = np.zeros(len(qp.w), dtype=bool)
     old_active[qp.active] = True
     active = np.zeros(len(s), dtype=bool)

@@ -12,6 +12,8 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
+from .errors import InputError
+
 #: relative distance (times the polygon's diameter) under which a point counts as on an edge
 ON_EDGE_RTOL = 1e-9
 #: a point within this many times ON_EDGE_RTOL * diameter of a crack segment lies on it
@@ -74,6 +76,6 @@ def crack_side(crack_mesh) -> np.ndarray:
                 span = (np.arctan2(bwd[1], bwd[0]) - a_f) % (2 * np.pi)
                 s = 1.0 if (np.arctan2(x[1], x[0]) - a_f) % (2 * np.pi) < span else -1.0
             if side[el] not in (0.0, s):
-                raise ValueError("maxh: a triangle lies on both sides of the cracks; refine the mesh near the cracks")
+                raise InputError("maxh: a triangle lies on both sides of the cracks; refine the mesh near the cracks")
             side[el] = s
     return side

@@ -56,6 +56,7 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
+from .errors import InputError
 from .geometry import CrackMesh
 from .local_fields import (
     INTORDER,
@@ -387,7 +388,7 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
     mat = sol.scene.material
     lam, mu = lame_parameters(mat.E, mat.nu, mat.plane)
     if not math.isfinite(lam):
-        raise ValueError("material.nu = 0.5: the Prager-Synge estimate needs a finite C (nu < 1/2 in plane strain)")
+        raise InputError("material.nu = 0.5: the Prager-Synge estimate needs a finite C (nu < 1/2 in plane strain)")
     mesh = sol.crack_mesh.mesh
     W, nodes, degree = _admissible_displacement(sol, loads, crack_model, top)
     if quad is not None:
@@ -429,9 +430,9 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     """The error estimate of a Solution (see the module); loads are the solve's Loads."""
     t0 = time.perf_counter()
     if sol.element not in METHODS:
-        raise ValueError(f"element = {sol.element!r}: estimates exist for {', '.join(METHODS)}")
+        raise InputError(f"element = {sol.element!r}: estimates exist for {', '.join(METHODS)}")
     if crack_model not in ESTIMATE_CRACK_MODELS:
-        raise ValueError(f"crack_model = {crack_model!r}: estimates exist for {', '.join(ESTIMATE_CRACK_MODELS)}")
+        raise InputError(f"crack_model = {crack_model!r}: estimates exist for {', '.join(ESTIMATE_CRACK_MODELS)}")
     mat = sol.scene.material
     A = compliance(mat.E, mat.nu, mat.plane)
     mesh = sol.crack_mesh.mesh

@@ -17,6 +17,8 @@ import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
+from .errors import InputError
+
 #: the longest part of a file name taken from a user's text (a scene's name)
 NAME_PART_MAX = 64
 
@@ -83,7 +85,7 @@ def file_name_part(text: str) -> str:
     return f"{safe[:NAME_PART_MAX]}-{digest}"
 
 
-class PathError(ValueError):
+class PathError(InputError):
     """An output path that cannot be written (refused before any work; exit code 2)."""
 
 

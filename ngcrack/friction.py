@@ -55,8 +55,9 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .constraints import ContactSolverError, _inverse_map, scaled_problem
+from .constraints import ContactSolverError, _inverse_map, faces_closed, scaled_problem
 from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_BACKUP, PDAS_MAX_ITER, QPResult, _limited_blas
+from .errors import InputError
 
 #: how Coulomb friction is solved (module docstring)
 FRICTION_METHODS = ("fixed-point", "newton")
@@ -70,9 +71,6 @@ COULOMB_MAX_ITER = 200
 #: Newton-Cotes weights of the p + 1 equispaced points of an edge (times its length):
 #: the nodal quadrature of P_p jumps, used for a Tresca threshold given in stress units
 NEWTON_COTES = {0: (1.0,), 1: (0.5, 0.5), 2: (1 / 6, 4 / 6, 1 / 6), 3: (1 / 8, 3 / 8, 3 / 8, 1 / 8)}
-#: a sample is "open" where [u].nu exceeds this fraction of the crack's largest jump,
-#: "stick" where the faces are closed, carry friction and |[u].t| is below it
-STATE_RTOL = 1e-8
 #: the values of CrackProfile.state
 STATES = ("open", "stick", "slip")
 
@@ -174,19 +172,18 @@ class FrictionResult(QPResult):
     problem: CrackProblem | None = None
 
     def point_states(self) -> np.ndarray:
-        """open / stick / slip at every constraint point (STATE_RTOL, as post.profile_states).
+        """open / stick / slip at every constraint point (constraints.faces_closed, as post.profile_states).
 
         Open where wn > 0; closed points stick where their tangential value is held
         (slip 0, or no tangential unknown) and the crack carries friction, else slip.
         """
         W = float(max(np.max(np.abs(self.w), initial=0.0), np.max(np.abs(self.wt), initial=0.0)))
-        tol = STATE_RTOL * W
         moving = np.zeros(len(self.w), dtype=bool)
         moving[self.t_point[self.slip != 0]] = True
         rough = np.zeros(len(self.w), dtype=bool)
         rough[self.t_point[self.mu > 0]] = True
         closed = np.where(rough & ~moving, "stick", "slip")
-        return np.where(self.w > tol, "open", closed)
+        return np.where(faces_closed(self.w, W), closed, "open")
 
 
 # --------------------------------------------------------------------------- the native method
@@ -291,8 +288,8 @@ def tresca_cvxpy(pf: _PointForm, tau: np.ndarray, solver: str, options: dict | N
 
     name = solver.upper()
     if name not in cp.installed_solvers():
-        raise ValueError(f"qp_solver = {solver!r}: allowed values are pdas or an installed cvxpy solver: "
-                         + ", ".join(s.lower() for s in cp.installed_solvers()))
+        raise InputError(f"qp_solver = {solver!r}: allowed values are pdas or an installed cvxpy solver: "
+                          + ", ".join(s.lower() for s in cp.installed_solvers()))
     v = cp.Variable(len(pf.c))
     energy = 0.5 * cp.quad_form(v, cp.psd_wrap(pf.A)) - pf.c @ v
     problem = cp.Problem(cp.Minimize(energy + tau @ cp.abs(v[pf.m:])), [v[:pf.m] >= 0])
@@ -337,15 +334,15 @@ def coulomb_residual(wn, lam_n, wt, lam_t, t_point, bound) -> dict:
 def check_friction_options(scene, qp_solver: str, method: str, tangential) -> None:
     """Refuse, before any meshing, friction options that cannot work for `scene`."""
     if method not in FRICTION_METHODS:
-        raise ValueError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
+        raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
     if tangential is not None and not isinstance(tangential, bool):
-        raise ValueError(f"tangential = {tangential!r}: must be None, True or False")
+        raise InputError(f"tangential = {tangential!r}: must be None, True or False")
     if not (tangential or any(c.friction > 0 for c in scene.cracks)):
         return
     if qp_solver in NATIVE_SOLVERS and qp_solver != "pdas":
-        raise ValueError(f"qp_solver = {qp_solver!r}: with friction the allowed values are pdas or a cvxpy solver")
+        raise InputError(f"qp_solver = {qp_solver!r}: with friction the allowed values are pdas or a cvxpy solver")
     if qp_solver != "pdas" and method == "newton":
-        raise ValueError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
+        raise InputError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
 
 
 def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_options: dict | None = None,
@@ -359,15 +356,15 @@ def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_opti
     converge in `max_iter` steps, or the answer's residuals exceed `kkt_tol`.
     """
     if method not in FRICTION_METHODS:
-        raise ValueError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
+        raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
     if solver in NATIVE_SOLVERS and solver != "pdas":
-        raise ValueError(f"qp_solver = {solver!r}: with friction the allowed values are pdas or a cvxpy solver")
+        raise InputError(f"qp_solver = {solver!r}: with friction the allowed values are pdas or a cvxpy solver")
     if solver != "pdas" and method == "newton":
-        raise ValueError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
+        raise InputError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
     if not (np.all(np.isfinite(problem.S)) and np.all(np.isfinite(problem.b))):
         raise ContactSolverError("the crack problem has non-finite entries (S or b): the linear system is singular")
     if np.any(problem.mu < 0) or not np.all(np.isfinite(problem.mu)):
-        raise ValueError("friction: the Coulomb coefficients must be finite numbers >= 0")
+        raise InputError("friction: the Coulomb coefficients must be finite numbers >= 0")
     with _limited_blas():
         return _solve(problem, solver, dict(solver_options or {}), method, tol, max_iter, kkt_tol)
 

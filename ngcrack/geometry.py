@@ -28,6 +28,7 @@ from netgen.libngpy import _meshing
 from netgen.meshing import MeshingParameters
 
 from .crack_sides import ON_EDGE_RTOL, crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
+from .errors import InputError
 from .scene import Scene
 from .sizing import check_mesh_sizes, estimate_triangles, mesh_sizes
 
@@ -44,7 +45,7 @@ MESH_SECONDS_PER_TRIANGLE = 2e-4
 HOLE_ARC_SEGMENTS = 8
 
 
-class MeshingError(ValueError):
+class MeshingError(InputError):
     """Netgen failed, or did not finish within its time budget; the message names the sizes."""
 
 

@@ -53,6 +53,7 @@ import math
 
 import numpy as np
 
+from .errors import InputError
 from .geometry import CrackMesh, make_mesh, refine_crack_mesh
 
 # the ratio of consecutive layer radii (r_{j+1} = HP_SIGMA r_j), its range and the most
@@ -111,15 +112,15 @@ def singular_points(scene, crack_mesh: CrackMesh, points=()) -> list[tuple[np.nd
 def check_hp_options(layers, sigma=HP_SIGMA, r0=None, points=()) -> None:
     """Refuse a bad layer count, ratio, start radius or point, naming the field."""
     if isinstance(layers, bool) or not isinstance(layers, (int, np.integer)) or not 0 <= layers <= MAX_LAYERS:
-        raise ValueError(f"hp = {layers!r}: the number of layers must be an integer in 0..{MAX_LAYERS}")
+        raise InputError(f"hp = {layers!r}: the number of layers must be an integer in 0..{MAX_LAYERS}")
     if isinstance(sigma, bool) or not isinstance(sigma, (int, float)) or not HP_SIGMA_RANGE[0] <= sigma <= HP_SIGMA_RANGE[1]:
-        raise ValueError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [{HP_SIGMA_RANGE[0]:g}, {HP_SIGMA_RANGE[1]:g}]")
+        raise InputError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [{HP_SIGMA_RANGE[0]:g}, {HP_SIGMA_RANGE[1]:g}]")
     if r0 is not None and (isinstance(r0, bool) or not isinstance(r0, (int, float)) or not (math.isfinite(r0) and 0 < r0 < 1)):
-        raise ValueError(f"hp_r0 = {r0!r}: the first radius, as a fraction of the tip clearance, must lie in (0, 1)")
+        raise InputError(f"hp_r0 = {r0!r}: the first radius, as a fraction of the tip clearance, must lie in (0, 1)")
     for p in points:
         q = np.asarray(p, dtype=float) if np.ndim(p) == 1 else None
         if q is None or q.shape != (2,) or not np.all(np.isfinite(q)):
-            raise ValueError(f"hp_points: {p!r} is not a point (x, y)")
+            raise InputError(f"hp_points: {p!r} is not a point (x, y)")
 
 
 def tip_clearances(scene) -> list[float]:
@@ -192,7 +193,7 @@ def jump_integrals(sol, crack: int = 0) -> tuple[float, float]:
 
     disc, cmesh = sol.disc, sol.crack_mesh
     if disc.jn is None:
-        raise ValueError(f"crack = {crack!r}: this solve has no crack unknowns")
+        raise InputError(f"crack = {crack!r}: this solve has no crack unknowns")
     comps = sol.gf.components
     region = cmesh.mesh.Boundaries(crack_bc(cmesh.cracks[crack].index))
     _, t = crack_frame_cf(cmesh)
@@ -215,7 +216,7 @@ def jump_at(sol, s: float, crack: int = 0) -> tuple[float, float]:
 
     disc, cmesh = sol.disc, sol.crack_mesh
     if disc.jn is None:
-        raise ValueError(f"crack = {crack!r}: this solve has no crack unknowns")
+        raise InputError(f"crack = {crack!r}: this solve has no crack unknowns")
     c = cmesh.cracks[crack]
     s0 = c.s_mid - 0.5 * c.length
     e = int(np.clip(np.searchsorted(s0 + c.length, s), 0, len(c) - 1))

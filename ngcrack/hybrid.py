@@ -10,7 +10,9 @@ Boundary conditions on u_hat:
 - clamped / displacement: the dofs are fixed (NGSolve Dirichlet dofs) and moved to
   the right-hand side;
 - roller: u_hat . n = 0 by a change of basis per facet dof pair (ux, uy) -> the
-  tangential coordinate only, x = T y, so K stays symmetric positive definite.
+  tangential coordinate only, x = T y, so K stays symmetric positive definite;
+- pin and roller points (`Loads.held_mean`): the mean of u over a segment (or of u.n)
+  held at zero by a second change of basis, y = Z z (`held_means.py`).
 
 Partition the remaining unknowns into the crack normal jumps c (m of them) and the rest
 r. With jn = 0, the rest solves K_rr x_r = F_r; the contact problem in jn alone is the
@@ -32,6 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .elements import Discretization, Loads
+from .held_means import constraint_rows, eliminate
 from .parallel import task_manager
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
 
@@ -228,6 +231,15 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
         contact = np.concatenate([contact, at[kept]]).astype(int)
         if np.any(np.diff(contact) <= 0):  # the Schur complement's order is the order of `contact`
             raise AssertionError("crack unknowns out of order")
+    if loads.held_mean:  # pin and roller points: their mean constraints eliminated (held_means.py)
+        B, names = constraint_rows(disc, loads.held_mean, T, free_idx)
+        held = eliminate(B, names, contact)
+        Z = held.Z
+        K = sp.csr_matrix(Z.T @ K @ Z)
+        F = Z.T @ F
+        T = sp.csr_matrix(T @ Z)
+        contact = held.position[contact]
+        n_red = Z.shape[1]
     mask = np.ones(n_red, dtype=bool)
     mask[contact] = False
     return CondensedSystem(

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import InputError
+
 PLANES = ("strain", "stress")
 
 
@@ -54,7 +56,7 @@ def compliance(E: float, nu: float, plane: str = "strain") -> Compliance:
         return Compliance(c_dev=(1.0 + nu) / E, c_tr=(1.0 + nu) * nu / E)
     if plane == "stress":
         return Compliance(c_dev=(1.0 + nu) / E, c_tr=nu / E)
-    raise ValueError(f"material.plane = {plane!r}: allowed values are {', '.join(PLANES)}")
+    raise InputError(f"material.plane = {plane!r}: allowed values are {', '.join(PLANES)}")
 
 
 def lame_parameters(E: float, nu: float, plane: str = "strain") -> tuple[float, float]:
@@ -69,7 +71,7 @@ def lame_parameters(E: float, nu: float, plane: str = "strain") -> tuple[float, 
     elif plane == "stress":
         lam = E * nu / (1.0 - nu * nu)
     else:
-        raise ValueError(f"material.plane = {plane!r}: allowed values are {', '.join(PLANES)}")
+        raise InputError(f"material.plane = {plane!r}: allowed values are {', '.join(PLANES)}")
     return lam, mu
 
 

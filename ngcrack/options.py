@@ -22,6 +22,7 @@ from typing import Any
 
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS
 from .elements import ELEMENTS, ORDERED, ORDERS
+from .errors import InputError
 from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_options
 from .hybrid import Factorization
 from .schur import SCHUR_METHODS
@@ -63,7 +64,7 @@ def positive_size(name: str, value) -> float | None:
     if value is None:
         return None
     if not is_number(value) or not (math.isfinite(float(value)) and float(value) > 0):
-        raise ValueError(f"{name} = {value!r}: must be a finite number > 0")
+        raise InputError(f"{name} = {value!r}: must be a finite number > 0")
     return float(value)
 
 
@@ -72,13 +73,13 @@ def whole_number(name: str, value, minimum: int = 1) -> int | None:
     if value is None:
         return None
     if not is_number(value) or not math.isfinite(float(value)) or float(value) != int(value) or int(value) < minimum:
-        raise ValueError(f"{name} = {value!r}: must be a whole number >= {minimum}")
+        raise InputError(f"{name} = {value!r}: must be a whole number >= {minimum}")
     return int(value)
 
 
 def _choice(name: str, value, allowed) -> str:
     if not isinstance(value, str) or value not in allowed:
-        raise ValueError(f"{name} = {value!r}: allowed values are {', '.join(allowed)}")
+        raise InputError(f"{name} = {value!r}: allowed values are {', '.join(allowed)}")
     return value
 
 
@@ -123,20 +124,20 @@ class SolveOptions:
         set_(self, "element", _choice("element", self.element, tuple(ELEMENTS)))
         if self.order is not None:
             if self.element not in ORDERED:
-                raise ValueError(f"order = {self.order!r}: element {self.element!r} has a fixed order; "
-                                 f"elements with an order: {', '.join(ORDERED)}")
+                raise InputError(f"order = {self.order!r}: element {self.element!r} has a fixed order; "
+                                  f"elements with an order: {', '.join(ORDERED)}")
             allowed = ORDERS[self.element]
             whole = is_number(self.order) and math.isfinite(float(self.order)) and float(self.order).is_integer()
             if not whole or int(self.order) not in allowed:
-                raise ValueError(f"order = {self.order!r}: allowed values for {self.element} are "
-                                 f"{', '.join(map(str, allowed))} (or None for the element's default)")
+                raise InputError(f"order = {self.order!r}: allowed values for {self.element} are "
+                                  f"{', '.join(map(str, allowed))} (or None for the element's default)")
             set_(self, "order", int(self.order))
         for name in ("maxh", "tip_h", "crack_h"):
             set_(self, name, positive_size(name, getattr(self, name)))
         if self.grading is not None:
             g = self.grading
             if not is_number(g) or not 0 < float(g) <= 1:
-                raise ValueError(f"grading = {g!r}: must lie in (0, 1] (netgen's default is 0.3)")
+                raise InputError(f"grading = {g!r}: must lie in (0, 1] (netgen's default is 0.3)")
             set_(self, "grading", float(g))
         set_(self, "crack_model", _choice("crack_model", self.crack_model, CRACK_MODELS))
         set_(self, "linear_solver", _choice("linear_solver", self.linear_solver, Factorization.BACKENDS))
@@ -146,25 +147,25 @@ class SolveOptions:
         allowed = NATIVE_SOLVERS if self.qp_solver in NATIVE_SOLVERS else qp_solvers()
         set_(self, "qp_solver", _choice("qp_solver", self.qp_solver, allowed))
         if self.qp_options is not None and not isinstance(self.qp_options, dict):
-            raise ValueError(f"qp_options = {self.qp_options!r}: must be a dict of the QP solver's options (or None)")
+            raise InputError(f"qp_options = {self.qp_options!r}: must be a dict of the QP solver's options (or None)")
         if self.tangential is not None and not isinstance(self.tangential, bool):
-            raise ValueError(f"tangential = {self.tangential!r}: must be None, True or False")
+            raise InputError(f"tangential = {self.tangential!r}: must be None, True or False")
         if not isinstance(self.condition, bool):
-            raise ValueError(f"condition = {self.condition!r}: must be True or False")
+            raise InputError(f"condition = {self.condition!r}: must be True or False")
         set_(self, "max_dof", whole_number("max_dof", self.max_dof))
         if self.hp is not None or self.hp_sigma is not None:
             set_(self, "hp", whole_number("hp", self.hp, minimum=0) if self.hp is not None else 0)
             if self.hp > HP_MAX_LAYERS:
-                raise ValueError(f"hp = {self.hp!r}: the number of layers must be an integer in 0..{HP_MAX_LAYERS}")
+                raise InputError(f"hp = {self.hp!r}: the number of layers must be an integer in 0..{HP_MAX_LAYERS}")
             sigma = HP_SIGMA if self.hp_sigma is None else self.hp_sigma
             if not is_number(sigma) or not HP_SIGMA_RANGE[0] <= float(sigma) <= HP_SIGMA_RANGE[1]:
-                raise ValueError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [{HP_SIGMA_RANGE[0]:g}, "
-                                 f"{HP_SIGMA_RANGE[1]:g}]")
+                raise InputError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [{HP_SIGMA_RANGE[0]:g}, "
+                                  f"{HP_SIGMA_RANGE[1]:g}]")
             set_(self, "hp_sigma", float(sigma))
         if self.adapt is not None:
             a = self.adapt
             if not is_number(a) or not (math.isfinite(float(a)) and 0 < float(a) < 1):
-                raise ValueError(f"adapt = {a!r}: the relative error tolerance must lie in (0, 1)")
+                raise InputError(f"adapt = {a!r}: the relative error tolerance must lie in (0, 1)")
             set_(self, "adapt", float(a))
 
     @classmethod

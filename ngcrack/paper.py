@@ -41,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
 from .files import atomic_write
 from .sweeps import QUANTITIES, QUANTITY_LABELS, check_sweep, fitted_rates, markdown_table, sweep
 
@@ -209,9 +210,9 @@ def _check_request(quick: bool, elements, sizes, ref_h: float, ref_given: bool, 
     finest = min(sizes)
     if ref_h > finest * (1 + 1e-12):
         if ref_given:
-            raise ValueError(f"reference_maxh = {ref_h:g}: must be at most the finest maxh ({finest:g})")
-        raise ValueError(f"maxh = {finest:g}: finer than the reference mesh of the {'quick' if quick else 'full'} "
-                         f"study (maxh {ref_h:g}); give reference_maxh (--reference-maxh) at most {finest:g} too")
+            raise InputError(f"reference_maxh = {ref_h:g}: must be at most the finest maxh ({finest:g})")
+        raise InputError(f"maxh = {finest:g}: finer than the reference mesh of the {'quick' if quick else 'full'} "
+                          f"study (maxh {ref_h:g}); give reference_maxh (--reference-maxh) at most {finest:g} too")
     for name, nu in PAPER_SCENES:
         check_sweep(scenes.load(name), elements=elements, maxh=sizes, nu=[nu], reference_maxh=ref_h, jobs=jobs)
 
@@ -230,7 +231,7 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
 
     out = Path(out)
     if not out.parent.exists():
-        raise ValueError(f"out = {str(out)!r}: the directory {str(out.parent)!r} does not exist")
+        raise InputError(f"out = {str(out)!r}: the directory {str(out.parent)!r} does not exist")
     level = QUICK if quick else FULL
     sizes = tuple(maxh) if maxh is not None else level.maxh
     ref_h = reference_maxh if reference_maxh is not None else level.reference_maxh

@@ -38,7 +38,9 @@ import numpy as np
 from . import elements as _elements
 from .constraints import discrete_contact_forces, kkt_at_constraints
 from .contact import constraint_positions, solve_qp, warm_start_data
+from .crack_loads import pressure_cf
 from .elements import Discretization, Loads
+from .errors import InputError
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
 from .geometry import CrackMesh, make_mesh
@@ -58,6 +60,8 @@ from .post import (
     tributary_lengths,
 )
 from .scene import BoundaryCondition, Scene
+from .scene.points import held_directions
+from .scene.pressure import pressure_kind, pressure_values
 from .sizing import check_request
 from .solution import Solution
 from .tips import tip_parameters
@@ -81,7 +85,9 @@ class SolveError(RuntimeError):
 def load_structure(scene: Scene) -> tuple:
     """What the assembled forms depend on besides the load values: the supports and
     which labels carry loads."""
-    return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None)
+    return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None,
+            tuple((pc.label, pc.type) for pc in getattr(scene, "points", ())),
+            tuple(pressure_kind(c.pressure) for c in scene.cracks))
 
 
 def geometry_key(scene: Scene) -> tuple:
@@ -116,8 +122,19 @@ class ParameterLoads:
             p = (ngs.Parameter(0.0), ngs.Parameter(0.0))
             self.params[("body", "")] = p
             body = ngs.CF(p)
+        # crack-face pressures: a uniform one a Parameter, a table or callable a fixed function
+        self.pressures: dict[int, ngs.Parameter] = {}
+        crack_pressure = {}
+        for k, crack in enumerate(scene.cracks):
+            if crack.pressure is None:
+                continue
+            if isinstance(crack.pressure, float):
+                self.pressures[k] = ngs.Parameter(0.0)
+            crack_pressure[k] = pressure_cf(crack.pressure, np.asarray(crack.points), scene.diameter,
+                                            parameter=self.pressures.get(k))
         self.loads = Loads(body_force=body, traction=traction, displacement=displacement,
-                           clamped=frozenset(clamped), roller=frozenset(roller))
+                           clamped=frozenset(clamped), roller=frozenset(roller), crack_pressure=crack_pressure,
+                           held_mean=held_directions(scene.polygon, scene.labels, getattr(scene, "points", ())))
         self.set(scene)
 
     def set(self, scene: Scene) -> None:
@@ -125,6 +142,8 @@ class ParameterLoads:
             value = scene.body_force if kind == "body" else scene.boundary[label].value
             px.Set(float(value[0]))
             py.Set(float(value[1]))
+        for k, param in self.pressures.items():
+            param.Set(float(scene.cracks[k].pressure))
 
 
 def scene_loads(scene: Scene) -> Loads:
@@ -157,7 +176,7 @@ def check_pressure_determined(scene: Scene, loads: Loads | None = None) -> None:
     else:
         held = set(loads.clamped) | set(loads.roller) | set(loads.displacement)
     if set(scene.boundary_labels) <= held:
-        raise ValueError(
+        raise InputError(
             "material.nu = 0.5 (incompressible, plane strain) with every edge clamped, displaced or on rollers: "
             "the pressure is undetermined; leave at least one edge traction-free or loaded by a traction, "
             "or use nu < 0.5"
@@ -414,7 +433,8 @@ class Pipeline:
             raise SolveError(f"{case}: the local recovery gave non-finite values")
 
         fields = disc.fields(gf)
-        profiles = crack_profiles(disc, cmesh, gf, fields, mu if tangential else None)
+        profiles = crack_profiles(disc, cmesh, gf, fields, mu if tangential else None,
+                                  [c.pressure for c in scene.cracks])
         scales = field_scales(cmesh, fields["u"], fields["sigma"]) if profiles else (0.0, 0.0)
         kkt, forces = constraint_kkt(system, y, normal_contact, G, cmesh, profiles, *scales)
         profiles = with_tractions(profiles, disc, system, y, cmesh, G, forces)
@@ -455,8 +475,9 @@ class Pipeline:
 
 
 def crack_profiles(disc: Discretization, cmesh: CrackMesh, gf: ngs.GridFunction, fields: dict,
-                   friction: list[float] | None) -> list[CrackProfile]:
-    """One CrackProfile per crack from the solved GridFunction (no crack: an empty list)."""
+                   friction: list[float] | None, pressures: list | None = None) -> list[CrackProfile]:
+    """One CrackProfile per crack from the solved GridFunction (no crack: an empty list);
+    `pressures`: each crack's face pressure (scene.pressure fields), kept in the profiles."""
     if disc.jn is None:
         return []
     comps = gf.components
@@ -467,9 +488,12 @@ def crack_profiles(disc: Discretization, cmesh: CrackMesh, gf: ngs.GridFunction,
     profiles = []
     for k, crack in enumerate(cmesh.cracks):
         jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
-        profiles.append(crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
-                                      displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction,
-                                      friction=friction[k] if friction is not None else 0.0))
+        prof = crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
+                             displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction,
+                             friction=friction[k] if friction is not None else 0.0)
+        if pressures is not None and pressures[k] is not None:
+            prof = dataclasses.replace(prof, face_pressure=pressure_values(pressures[k], prof.s))
+        profiles.append(prof)
     return profiles
 
 
@@ -484,6 +508,8 @@ def with_tractions(profiles: list[CrackProfile], disc: Discretization, system: C
         space = disc.fes.components[disc.jn]
         w = tributary_lengths(space, cmesh, G)
         normal = lumped_traction(space, cmesh, G, forces, w)
+        # the nodal forces are the contact's; the faces carry the crack-face pressure besides
+        normal = [nv - p.face_pressure for nv, p in zip(normal, profiles)]
         shear = lumped_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G), w)
         tractions = [dict(t, normal_stress=n, shear_stress=q) for t, n, q in zip(tractions, normal, shear)]
     return [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
@@ -508,7 +534,7 @@ def _estimate(sol: Solution, loads: Loads, crack_model: str):
 
     try:
         est = estimate(sol, loads, crack_model)
-    except ValueError as exc:
+    except InputError as exc:
         sol.options["error_estimate"] = str(exc)
         return None
     sol.timings["estimate"] = est.time

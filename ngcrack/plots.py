@@ -74,13 +74,48 @@ def element_displacements(sol, sigma: np.ndarray | None = None) -> tuple[np.ndar
     return corners, disp
 
 
-def plot_solution(sol, path=None, levels: int = 20):
-    """Isolines of sigma_nu next to the magnified deformed body; saved to `path` if given."""
-    import matplotlib
+def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | None = None) -> list[dict]:
+    """Per crack: its vertices' points, the displacement of each face there (the mean of
+    the corner displacements of the triangles on that side; a tip inside the body, where
+    the faces meet, takes the mean of all), the normals, and the opening [u].nu = (u+ - u-).nu."""
+    from .geometry import crack_side
 
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    cm = sol.crack_mesh
+    if not cm.cracks:
+        return []
+    if side is None:
+        side = crack_side(cm)
+    nv = len(cm.points)
+    acc = {s: np.zeros((nv, 2)) for s in (1.0, -1.0)}
+    cnt = {s: np.zeros(nv) for s in (1.0, -1.0)}
+    tris = cm.triangles
+    for s in (1.0, -1.0):
+        rows = np.flatnonzero(side == s)
+        np.add.at(acc[s], tris[rows].ravel(), disp[rows].reshape(-1, 2))
+        np.add.at(cnt[s], tris[rows].ravel(), 1.0)
+    faces = []
+    for crack in cm.cracks:
+        vs = crack.vertices()
+        n_edge = crack.normal
+        normal = np.vstack([n_edge[:1], 0.5 * (n_edge[1:] + n_edge[:-1]), n_edge[-1:]])
+        normal /= np.linalg.norm(normal, axis=1)[:, None]
+        up = acc[1.0][vs] / np.maximum(cnt[1.0][vs], 1.0)[:, None]
+        um = acc[-1.0][vs] / np.maximum(cnt[-1.0][vs], 1.0)[:, None]
+        tip = np.array([int(v) in cm.tip_vertices for v in vs])
+        mean = (acc[1.0][vs] + acc[-1.0][vs]) / np.maximum(cnt[1.0][vs] + cnt[-1.0][vs], 1.0)[:, None]
+        up[tip], um[tip] = mean[tip], mean[tip]
+        faces.append({"crack": crack.index, "points": cm.points[vs], "plus": up, "minus": um, "normal": normal,
+                      "opening": np.einsum("ij,ij->i", up - um, normal)})
+    return faces
+
+
+def plot_solution(sol, path=None, levels: int = 20):
+    """Isolines of sigma_nu next to the magnified deformed body; saved to `path` if given
+    (then on a figure of its own, `new_figure`: pyplot's backend is left alone).
+
+    The cracks are drawn where the deformed body has them: each crack's two faces moved by
+    the displacement of the triangles on their side (`explorer.fields.crack_faces`), the
+    undeformed crack dashed grey beneath them."""
     from matplotlib.collections import PolyCollection
     from matplotlib.tri import Triangulation
 
@@ -89,13 +124,17 @@ def plot_solution(sol, path=None, levels: int = 20):
     width = np.ptp(poly[:, 0])
     height = np.ptp(poly[:, 1])
     horizontal = width >= height
-    fig, axes = plt.subplots(2 if horizontal else 1, 1 if horizontal else 2,
-                             figsize=(9, 6) if horizontal else (11, 5), constrained_layout=True)
+    fig, axes = new_figure(path, nrows=2 if horizontal else 1, ncols=1 if horizontal else 2,
+                           figsize=(9, 6) if horizontal else (11, 5), constrained_layout=True)
     ax = axes[0]
     tri = Triangulation(verts[:, 0], verts[:, 1], tris)
-    cf = ax.tricontourf(tri, snn, levels=levels, cmap="RdBu_r")
-    ax.tricontour(tri, snn, levels=levels, colors="k", linewidths=0.3)
-    fig.colorbar(cf, ax=ax, label=r"$\sigma_\nu$")
+    lo, hi = robust_limits(snn)
+    bounds = np.linspace(lo, hi, levels + 1)
+    cf = ax.tricontourf(tri, np.clip(snn, lo, hi), levels=bounds, cmap="RdBu_r", extend="both")
+    ax.tricontour(tri, snn, levels=bounds, colors="k", linewidths=0.3)
+    fig.colorbar(cf, ax=ax, label=r"$\sigma_\nu$ (colours clipped at the 1st and 99th percentiles)")
+    for pts in sol.crack_mesh.polylines:
+        ax.plot(pts[:, 0], pts[:, 1], "k-", lw=2.0)
     ax.set_title(rf"$\sigma_\nu$, $\nu$ = ({nu[0] + 0.0:.2f}, {nu[1] + 0.0:.2f}) — {sol.scene.name}, {sol.element}")
     ax = axes[1]
     corners, disp = element_displacements(sol)
@@ -106,15 +145,32 @@ def plot_solution(sol, path=None, levels: int = 20):
     ax.add_collection(PolyCollection(corners + scale * disp, facecolors="tab:blue", edgecolors="tab:blue",
                                      linewidths=0.2, alpha=0.6))
     for pts in sol.crack_mesh.polylines:
-        ax.plot(pts[:, 0], pts[:, 1], "r-", lw=1.0)
-    ax.set_title(f"deformed body, displacement x {scale:.3g}")
+        ax.plot(pts[:, 0], pts[:, 1], "--", color="0.5", lw=0.8)
+    for f in crack_faces(sol, corners, disp):
+        for side in ("plus", "minus"):
+            moved = f["points"] + scale * f[side]
+            ax.plot(moved[:, 0], moved[:, 1], "r-", lw=1.2)
+    ax.set_title(f"deformed body, displacement x {scale:.3g} (red: the crack faces; dashed: undeformed crack)")
     for a in axes:
         a.set_aspect("equal")
         a.autoscale_view()
-    if path is not None:
-        fig.savefig(path, dpi=150)
-        plt.close(fig)
-    return fig
+    return _finish(fig, path)
+
+
+def robust_limits(values, low: float = 1.0, high: float = 99.0) -> tuple[float, float]:
+    """Colour limits from the `low`-th and `high`-th percentiles of `values`, symmetric about
+    zero where the values change sign (a crack tip's singular peak is clipped, not the scale)."""
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    if not len(v):
+        return -1.0, 1.0
+    lo, hi = float(np.percentile(v, low)), float(np.percentile(v, high))
+    if lo < 0 < hi:
+        m = max(-lo, hi)
+        return -m, m
+    if hi <= lo:
+        return lo - 1.0, hi + 1.0
+    return lo, hi
 
 
 # ------------------------------------------------------------------- study figures
@@ -130,33 +186,44 @@ QUANTITY_LINESTYLE = {"u1": "-", "u2": "--", "sigma_t1": "-", "sigma_nu": "--", 
 
 
 def _element_style(element: str, k: int = 0):
-    import matplotlib.pyplot as plt
+    import matplotlib
 
     if element in ELEMENT_STYLE:
         return ELEMENT_STYLE[element]
     base = element.removesuffix(ADAPTIVE_SUFFIX)
     if base in ELEMENT_STYLE:  # an element's adaptive runs: its colour, a plus marker
         return ELEMENT_STYLE[base][0], "P"
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
     return colors[(5 + k) % len(colors)], "P"
 
 
-def _figure(path, **kw):
-    import matplotlib
+def new_figure(path=None, **kw):
+    """(figure, axes) as pyplot.subplots(**kw) gives them. To be shown (`path` None): a pyplot
+    figure, drawn by the notebook's backend. To be saved (`path` given): a
+    matplotlib.figure.Figure with its own Agg canvas, so that writing a file never touches
+    pyplot's figures or backend (a notebook's later figures still show)."""
+    if path is None:
+        import matplotlib.pyplot as plt
 
+        return plt.subplots(**kw)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig_kw = {k: kw.pop(k) for k in ("figsize", "dpi", "layout") if k in kw}
+    if kw.pop("constrained_layout", False):
+        fig_kw["layout"] = "constrained"
+    fig = Figure(**fig_kw)
+    FigureCanvasAgg(fig)
+    return fig, fig.subplots(**kw)
+
+
+_figure = new_figure
+
+
+def _finish(fig, path, dpi: int = 150):
+    """Save `fig` to `path` if given; the figure either way."""
     if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt.subplots(**kw)
-
-
-def _finish(fig, path):
-    import matplotlib.pyplot as plt
-
-    if path is not None:
-        fig.savefig(path, dpi=150)
-        plt.close(fig)
+        fig.savefig(path, dpi=dpi)
     return fig
 
 

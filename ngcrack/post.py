@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .friction import STATE_RTOL
+from .constraints import CLOSED_RTOL, faces_closed
 from .geometry import CrackEdges, CrackMesh
 
 
@@ -92,29 +92,36 @@ def endpoint_map(space: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.nd
     return G
 
 
-# a sample is "open" where [u].nu exceeds STATE_RTOL (friction.py: the same tolerance as the
-# crack problem's point states) times the crack's largest jump and sigma_n is not below
-# -STATE_RTOL times the stress scale (compressed beyond round-off)
+# a sample is "open" where its faces are not closed (constraints.faces_closed: the same rule
+# as the crack problem's point states) and sigma_n is not below -CLOSED_RTOL times the
+# stress scale (compressed beyond round-off)
 
 
 def profile_states(normal_jump, tangential_jump, normal_stress, friction: float = 0.0,
-                   stress_scale: float = 0.0) -> np.ndarray:
+                   stress_scale: float = 0.0, face_pressure=None) -> np.ndarray:
     """open / stick / slip per sample, from that sample's own jump and stress.
 
-    A sample is open where its faces separate, [u].nu > STATE_RTOL W (W the crack's
-    largest |[u]|), and carry no compression, sigma_n >= -STATE_RTOL S (S the stress
+    A sample is open where its faces separate, [u].nu > CLOSED_RTOL W (W the crack's
+    largest |[u]|: constraints.faces_closed), and carry no compression, sigma_n >= -CLOSED_RTOL S (S the stress
     scale: in `crack_profile` the largest |sigma|, Frobenius, at the crack's samples): a
     sample with a small positive jump that is pressed together (the edge next to a tip,
     partly in contact) is closed. Closed samples stick where the crack carries friction
+<<<<<<< HEAD
+    and |[u].t| <= CLOSED_RTOL W, else slip (a frictionless closed crack slides: "slip").
+=======
     and |[u].t| <= STATE_RTOL W, else slip (a frictionless closed crack slides: "slip").
+    With a crack-face pressure p (`face_pressure`), the compression is the net one,
+    sigma_n + p (the contact's part of the face traction).
+>>>>>>> main
     """
     jn = np.asarray(normal_jump, dtype=float)
     jt = np.asarray(tangential_jump, dtype=float)
     sn = np.asarray(normal_stress, dtype=float)
+    if face_pressure is not None:
+        sn = sn + np.asarray(face_pressure, dtype=float)
     W = float(np.max(np.hypot(jn, jt), initial=0.0))
-    tol = STATE_RTOL * W
-    closed = np.where((friction > 0) & (np.abs(jt) <= tol), "stick", "slip")
-    return np.where((jn > tol) & (sn >= -STATE_RTOL * stress_scale), "open", closed)
+    closed = np.where((friction > 0) & (np.abs(jt) <= CLOSED_RTOL * W), "stick", "slip")
+    return np.where(~faces_closed(jn, W) & (sn >= -CLOSED_RTOL * stress_scale), "open", closed)
 
 
 @dataclass(frozen=True)
@@ -125,7 +132,9 @@ class CrackProfile:
     from the profile's own normal_jump, tangential_jump and normal_stress (a profile
     whose tractions are replaced gets the states of the new ones); `friction` is the
     crack's Coulomb coefficient and `stress_scale` the stress scale it uses (the largest
-    |sigma| at the samples).
+    |sigma| at the samples). `face_pressure` is the crack-face pressure p at the samples
+    (zeros without one): normal_stress is the faces' whole normal traction, -p where they
+    are open, and normal_stress + p the contact's part (not written by to_dict).
     """
 
     s: np.ndarray
@@ -137,11 +146,14 @@ class CrackProfile:
     shear_stress: np.ndarray
     friction: float = 0.0
     stress_scale: float = 0.0
+    face_pressure: np.ndarray | None = None
     state: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
+        if self.face_pressure is None:
+            object.__setattr__(self, "face_pressure", np.zeros(len(self.s)))
         object.__setattr__(self, "state", profile_states(self.normal_jump, self.tangential_jump, self.normal_stress,
-                                                         self.friction, self.stress_scale))
+                                                         self.friction, self.stress_scale, self.face_pressure))
 
     #: the per-sample arrays (what to_dict writes besides the state)
     SAMPLES = ("s", "x", "y", "normal_jump", "tangential_jump", "normal_stress", "shear_stress")
@@ -218,7 +230,8 @@ def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scal
     jump sampled on the edge where the contact zone ends carries both a small opening
     and a small pressure, so the sampled complementarity is of the order of that
     edge's opening there. J = max |[u]|, P = max |sigma nu|; max_penetration = max(0, -min [u].nu)/J,
-    max_tension = max(0, max sigma_n)/P, complementarity = max |sigma_n [u].nu|/(J P).
+    max_tension = max(0, max sigma_n)/P, complementarity = max |sigma_n [u].nu|/(J P), with
+    sigma_n the contact's part of the normal traction (sigma_n + p under a face pressure p).
     Where J (or P) is zero, up to round-off (below ZERO_RTOL times the body's
     displacement scale `u_scale`, or stress scale `sigma_scale`), the residual is taken
     relative to that body scale instead (or absolute if the scale is zero too).
@@ -228,7 +241,8 @@ def kkt_residuals(profiles: list[CrackProfile], u_scale: float = 0.0, sigma_scal
         return {"max_penetration": 0.0, "max_tension": 0.0, "complementarity": 0.0, "friction": 0.0}
     jn = np.concatenate([p.normal_jump for p in profiles])
     jt = np.concatenate([p.tangential_jump for p in profiles])
-    sn = np.concatenate([p.normal_stress for p in profiles])
+    # the contact's part of the normal traction (the crack-face pressure taken off)
+    sn = np.concatenate([p.normal_stress + p.face_pressure for p in profiles])
     st = np.concatenate([p.shear_stress for p in profiles])
     J = float(np.max(np.hypot(jn, jt)))
     P = float(np.max(np.hypot(sn, st)))

@@ -47,6 +47,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import InputError
+
 __all__ = [
     "K_error",
     "Reference",
@@ -128,7 +130,7 @@ def closed_form_shape(scene) -> tuple[tuple, tuple, float, float, str]:
     inclined one (factor 4 tau / E' with tau the shear on the crack)."""
     ex = scene.exact
     if ex is None or ex.get("kind") not in ("griffith", "inclined"):
-        raise ValueError(f"scene {scene.name!r}: has no griffith or inclined closed form")
+        raise InputError(f"scene {scene.name!r}: has no griffith or inclined closed form")
     mat = scene.material
     e_prime = mat.E / (1 - mat.nu**2) if mat.plane == "strain" else mat.E
     pts = np.asarray(scene.cracks[0].points, float)
@@ -219,7 +221,7 @@ def names() -> list[str]:
 
 def _check_name(name: str) -> None:
     if name not in names():
-        raise ValueError(f"scene = {name!r}: no finite-body reference; scenes with one: {', '.join(names())}")
+        raise InputError(f"scene = {name!r}: no finite-body reference; scenes with one: {', '.join(names())}")
 
 
 def reference(name: str, nu: float | None = None) -> Reference:
@@ -231,8 +233,8 @@ def reference(name: str, nu: float | None = None) -> Reference:
     scene = scenes.load(name)
     nu = scene.material.nu if nu is None else nu
     if (name, nu) not in _DATA:
-        raise ValueError(f"nu = {nu!r}: scene {name!r} has references at nu = "
-                         f"{', '.join(f'{v:g}' for v in poisson_ratios(name))}")
+        raise InputError(f"nu = {nu!r}: scene {name!r} has references at nu = "
+                          f"{', '.join(f'{v:g}' for v in poisson_ratios(name))}")
     d = _DATA[(name, nu)]
     center, direction, a, factor, profile = closed_form_shape(scene.with_(nu=nu))
     return Reference(
@@ -261,9 +263,9 @@ def reference_for(scene) -> Reference | None:
 def _ref(sol, ref: Reference | None) -> Reference:
     ref = reference_for(sol.scene) if ref is None else ref
     if ref is None:
-        raise ValueError(f"scene {sol.scene.name!r}: no finite-body reference (a built-in scene of "
-                         f"{', '.join(names())}, unchanged but for a Poisson ratio of references.poisson_ratios, "
-                         f"has one)")
+        raise InputError(f"scene {sol.scene.name!r}: no finite-body reference (a built-in scene of "
+                          f"{', '.join(names())}, unchanged but for a Poisson ratio of references.poisson_ratios, "
+                          f"has one)")
     return ref
 
 

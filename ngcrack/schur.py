@@ -58,6 +58,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .errors import InputError
+
 #: columns of K_rc solved at once when forming the Schur complement ("blocked")
 SCHUR_BLOCK = 64
 #: the sparse direct solvers; "auto" = pardiso where MKL loads, else superlu
@@ -228,7 +230,7 @@ class Factorization:
 
     def __init__(self, K: sp.spmatrix, backend: str = "auto", definite: bool = True):
         if backend not in self.BACKENDS:
-            raise ValueError(f"linear_solver = {backend!r}: allowed values are {', '.join(self.BACKENDS)}")
+            raise InputError(f"linear_solver = {backend!r}: allowed values are {', '.join(self.BACKENDS)}")
         if backend == "auto":
             backend = default_linear_solver()
         self.backend = backend
@@ -249,7 +251,7 @@ class Factorization:
             self._solve = _Pardiso(K, _SPD if definite else _NONSYM).solve
         elif backend == "cholespy":
             if not definite:
-                raise ValueError("linear_solver = 'cholespy' needs a positive definite matrix; use 'superlu' or 'pardiso'")
+                raise InputError("linear_solver = 'cholespy' needs a positive definite matrix; use 'superlu' or 'pardiso'")
             from cholespy import CholeskySolverD, MatrixType
 
             coo = sp.coo_matrix(K)
@@ -343,14 +345,14 @@ class SchurData:
 def resolve_method(method: str, linear_solver: str, definite: bool) -> tuple[str, str]:
     """The (linear_solver, method) that "auto" stands for, validated."""
     if linear_solver not in LINEAR_SOLVERS:
-        raise ValueError(f"linear_solver = {linear_solver!r}: allowed values are {', '.join(LINEAR_SOLVERS)}")
+        raise InputError(f"linear_solver = {linear_solver!r}: allowed values are {', '.join(LINEAR_SOLVERS)}")
     if method not in SCHUR_METHODS:
-        raise ValueError(f"schur = {method!r}: allowed values are {', '.join(SCHUR_METHODS)}")
+        raise InputError(f"schur = {method!r}: allowed values are {', '.join(SCHUR_METHODS)}")
     solver = default_linear_solver() if linear_solver == "auto" else linear_solver
     if method == "auto":
         method = "factor" if definite and solver in ("pardiso", "superlu") else "blocked"
     if method == "factor" and solver not in ("pardiso", "superlu"):
-        raise ValueError(f"schur = 'factor' (a partial factorization) needs linear_solver = 'pardiso' or 'superlu', not {solver!r}")
+        raise InputError(f"schur = 'factor' (a partial factorization) needs linear_solver = 'pardiso' or 'superlu', not {solver!r}")
     if method == "factor" and not definite:
         warnings.warn("schur = 'factor' needs a positive definite system; this one is a saddle point: using 'blocked'",
                       stacklevel=3)

@@ -47,6 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import InputError
 from .memory import available_memory, memory_limits  # noqa: F401  (re-exported)
 from .scene.types import MAX_SCALE, MIN_SIZE_RTOL
 
@@ -224,13 +225,13 @@ def check_max_dof(max_dof) -> None:
     ceiling = f"{DEFAULT_MAX_DOF:,}".replace(",", " ")
     what = f"must be None (the default ceiling, {ceiling}) or a whole number of unknowns >= 1"
     if isinstance(max_dof, (bool, np.bool_)) or not isinstance(max_dof, (int, float, np.integer, np.floating)):
-        raise ValueError(f"max_dof = {max_dof!r}: {what}")
+        raise InputError(f"max_dof = {max_dof!r}: {what}")
     value = float(max_dof)
     if not math.isfinite(value) or not value >= 1:
-        raise ValueError(f"max_dof = {max_dof!r}: {what}")
+        raise InputError(f"max_dof = {max_dof!r}: {what}")
     if value != math.floor(value):
-        raise ValueError(f"max_dof = {max_dof!r}: {what}; it is not a whole number (give "
-                         f"{math.floor(value):.0f} or {math.ceil(value):.0f})")
+        raise InputError(f"max_dof = {max_dof!r}: {what}; it is not a whole number (give "
+                          f"{math.floor(value):.0f} or {math.ceil(value):.0f})")
 
 
 def check_mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> None:
@@ -242,9 +243,9 @@ def check_mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -
             continue
         if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
                 or not math.isfinite(float(value)) or not float(value) > 0:
-            raise ValueError(f"{name} = {value!r}: must be a finite number > 0")
+            raise InputError(f"{name} = {value!r}: must be a finite number > 0")
     if grading is not None and float(grading) > 1.0:
-        raise ValueError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
+        raise InputError(f"grading = {grading!r}: must lie in (0, 1] (netgen's default is 0.3)")
     H, tip, ch, _ = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     D = scene.diameter
     for name, value in (("maxh", H), ("crack_h", ch), ("tip_h", tip)):
@@ -257,13 +258,13 @@ def check_mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -
         else:
             fld = f"{name} (the default: {default_mesh_sizes(scene)['rule']})"
         if value < MIN_SIZE_RTOL * D:
-            raise ValueError(
+            raise InputError(
                 f"{fld} = {float(value):g}: below the smallest mesh size netgen meshes reliably, "
                 f"{MIN_SIZE_RTOL:g} of the body's diameter {D:g} (= {MIN_SIZE_RTOL * D:g}; smaller sizes "
                 f"make netgen fail, hang or crash, measured); give {name} >= {MIN_SIZE_RTOL * D:.3g}")
         if value > MAX_SCALE * D:
-            raise ValueError(f"{fld} = {float(value):g}: above {MAX_SCALE:g} times the body's diameter "
-                             f"{D:g}; give a size at most the diameter")
+            raise InputError(f"{fld} = {float(value):g}: above {MAX_SCALE:g} times the body's diameter "
+                              f"{D:g}; give a size at most the diameter")
 
 
 def check_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading=None, order=None,
@@ -283,7 +284,7 @@ def check_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading
         if value is not None and (isinstance(value, (bool, np.bool_))
                                   or not isinstance(value, (int, float, np.integer, np.floating))
                                   or not math.isfinite(float(value)) or not float(value) > 0):
-            raise ValueError(f"{name} = {value!r}: must be a finite number > 0")
+            raise InputError(f"{name} = {value!r}: must be a finite number > 0")
     est = estimate_size(scene, element, maxh, tip_h, crack_h, grading, order)
     if not math.isfinite(est.unknowns):
         check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
@@ -295,8 +296,8 @@ def check_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading
     head = f"{est.culprit} = {est.size:g}"
     if est.unknowns > ceiling:
         limit = "the default ceiling" if max_dof is None else "max_dof"
-        raise ValueError(f"{head}: {case} would need {est.describe()}; that exceeds {limit} of "
-                         f"{int(ceiling)} unknowns; {how}")
+        raise InputError(f"{head}: {case} would need {est.describe()}; that exceeds {limit} of "
+                          f"{int(ceiling)} unknowns; {how}")
     check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     if max_dof is None:
         avail = available_memory()
@@ -306,8 +307,8 @@ def check_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grading
                 where = {"machine": "this machine has",
                          "address space": "this process's address-space limit (ulimit -v) leaves",
                          "cgroup": "this process's cgroup memory limit leaves"}[kind]
-                raise ValueError(f"{head}: {case} would need {est.describe()}; {where} "
-                                 f"{_bytes(avail)} available; {how} (at your own risk)")
+                raise InputError(f"{head}: {case} would need {est.describe()}; {where} "
+                                  f"{_bytes(avail)} available; {how} (at your own risk)")
     return est
 
 
@@ -464,7 +465,7 @@ def check_thin_parts(scene, element: str, maxh=None, tip_h=None, crack_h=None, g
              f"{thin.across:.2g} mesh sizes across")
     refuse, warn = MIN_ACROSS_REFUSE.get(element), MIN_ACROSS_WARN.get(element)
     if refuse is not None and thin.across < refuse:
-        raise ValueError(
+        raise InputError(
             f"maxh = {H:g}: {case}: {where}; {element} is unstable on a part one triangle thick (singular, or "
             f"displacements 3 to 40 times too large, measured); the largest safe maxh here is about "
             f"{H * thin.across / warn:.3g} ({warn:g} mesh sizes across; {H * thin.across / refuse:.3g} is the "

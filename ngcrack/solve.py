@@ -12,6 +12,7 @@ import numpy as np
 
 from .adapt import check_adapt_options, solve_adaptive
 from .elements import Loads
+from .errors import InputError
 from .geometry import CrackMesh
 from .options import CRACK_MODELS, SolveOptions, qp_solvers
 from .pipeline import Pipeline, SolveError, scene_loads
@@ -73,6 +74,20 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     it); `pipeline`: a Pipeline whose cached stages this solve may reuse (the explorer,
     a growth path, a user's own loop); None: a fresh one.
     """
+    if isinstance(scene, str):
+        from .scenes import load
+
+        scene = load(scene)
+    if getattr(scene, "dimension", 2) == 3:  # a 3D body: the solid pipeline (ngcrack.solid)
+        from .solid.solve import solve_solid
+
+        given = [k for k, v in (("options", options), ("loads", loads), ("warm_start", warm_start),
+                                ("pipeline", pipeline)) if v is not None]
+        if given:
+            raise InputError(f"{given[0]}: not available for a 3D scene yet; give the options as keywords")
+        if crack_mesh is not None:
+            changes["smesh"] = crack_mesh
+        return solve_solid(scene, element=element, **changes)
     if element is not None:
         changes["element"] = element
     opts = SolveOptions.of(options, **changes)
@@ -89,8 +104,8 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     if opts.adapt is None:
         return pipeline.run(scene, opts, loads=loads, warm_start=warm_start, crack_mesh=crack_mesh)
     if crack_mesh is not None:
-        raise ValueError("crack_mesh: adapt=TOL makes its own first mesh from maxh, tip_h, crack_h and grading; "
-                         "give either adapt or crack_mesh")
+        raise InputError("crack_mesh: adapt=TOL makes its own first mesh from maxh, tip_h, crack_h and grading; "
+                          "give either adapt or crack_mesh")
     check_adapt_options(opts, scene)
     opts.check_for(scene)
     check_request(scene, opts.element, opts.maxh, opts.tip_h, opts.crack_h, opts.grading, order=opts.order,

@@ -25,7 +25,8 @@ The interaction integral of the solution with the auxiliary Williams field of mo
 
 and K_I = E' I_1 / 2, K_II = E' I_2 / 2. The auxiliary faces are traction free, so only
 the solution's face traction enters; [u^aux] = (kappa + 1) / mu sqrt(r / 2 pi) (K_II, K_I)
-in the tip frame. With contact or friction the closed faces carry T = (tau, sigma_n):
+in the tip frame. A crack-face pressure p loads the open faces with T = (0, -p); with
+contact or friction the closed faces carry T = (tau, sigma_n):
 the face term is what makes K_I = 0 come out of a crack held closed by a compression
 (without it a uniform compression across the crack would read as a negative K_I). It is
 written from the whole traction vector, normal and shear, so it covers friction; for
@@ -68,7 +69,10 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
+from .constraints import faces_closed
+from .errors import InputError
 from .materials import compliance as _compliance
+from .scene.pressure import pressure_values
 
 #: the integration radius as a fraction of the tip's clearance (distance to the boundary,
 #: other cracks, the crack beyond its tip segment): 1/2 leaves room for elements
@@ -88,9 +92,6 @@ QUADRATURE_ORDER = 6
 #: r below this fraction of R is floored (no quadrature point sits at a tip; this only
 #: keeps r^(-1/2) finite in the expression)
 R_FLOOR = 1e-12
-#: a crack edge whose mid-point opening is at most this fraction of the crack's largest
-#: jump counts as closed (its faces touch and may carry a normal traction)
-CLOSED_RTOL = 1e-6
 #: a crack end closer than this fraction of the body's diameter to another crack is a
 #: junction, not a tip: it gets no fracture parameters
 JUNCTION_RTOL = 1e-6
@@ -107,7 +108,7 @@ def kolosov(nu: float, plane: str) -> float:
         return 3.0 - 4.0 * nu
     if plane == "stress":
         return (3.0 - nu) / (1.0 + nu)
-    raise ValueError(f"material.plane = {plane!r}: allowed values are strain, stress")
+    raise InputError(f"material.plane = {plane!r}: allowed values are strain, stress")
 
 
 def effective_modulus(E: float, nu: float, plane: str) -> float:
@@ -116,7 +117,7 @@ def effective_modulus(E: float, nu: float, plane: str) -> float:
         return E / (1.0 - nu * nu)
     if plane == "stress":
         return E
-    raise ValueError(f"material.plane = {plane!r}: allowed values are strain, stress")
+    raise InputError(f"material.plane = {plane!r}: allowed values are strain, stress")
 
 
 # ----------------------------------------------------------- auxiliary Williams fields
@@ -132,7 +133,7 @@ def williams_stress(r, theta, mode: int, m=np):
         return k * c * (1.0 - s * s3), k * c * (1.0 + s * s3), k * c * s * c3
     if mode == 2:
         return -k * s * (2.0 + c * c3), k * s * c * c3, k * c * (1.0 - s * s3)
-    raise ValueError(f"mode = {mode!r}: allowed values are 1, 2")
+    raise InputError(f"mode = {mode!r}: allowed values are 1, 2")
 
 
 def williams_displacement(r, theta, mode: int, kappa: float, mu: float, m=np):
@@ -168,7 +169,7 @@ def _angular(theta, mode: int, kappa: float, m):
         g1 = 0.5 * c * (kappa + 1.0 + 2.0 * c * c) - s * sin_t
         g2 = 0.5 * s * (kappa - 1.0 - 2.0 * s * s) + c * sin_t
     else:
-        raise ValueError(f"mode = {mode!r}: allowed values are 1, 2")
+        raise InputError(f"mode = {mode!r}: allowed values are 1, 2")
     return f1, f2, g1, g2
 
 
@@ -389,10 +390,11 @@ def _rings(sol, tip: Tip, radius: float) -> tuple[float, int]:
 def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     """(sigma_n, tau) the faces of crack k carry at its edges' mid points, by the crack's law.
 
-    The crack law fixes which tractions the faces can carry: none where the crack is open
-    (sigma_n [u].nu = 0) or traction-free (crack_model "free"), no shear without friction
+    The crack law fixes which tractions the faces can carry: only the crack-face pressure
+    (sigma_n = -p, `ngcrack.scene.pressure`; 0 without one) where the crack is open or
+    its faces pass (crack_model "free"), no shear without friction
     (a crack's `friction` coefficient, where the scene gives one, > 0 keeps the sampled
-    shear). Where the faces touch (jn <= CLOSED_RTOL of the crack's largest jump) the
+    shear). Where the faces touch (constraints.faces_closed at the edges' mid points) the
     sampled normal stress is kept. Applying the law rather than the raw samples matters
     for the elements whose stress has no single-valued face traction: the TDNNS shear and
     the baselines' post-computed stress near the tip, which are far from zero on an
@@ -401,12 +403,14 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     prof = sol.profiles[k]
     model = sol.options.get("crack_model", "contact")
     sn = np.asarray(prof.normal_stress, dtype=float)
+    # the crack-face pressure p loads the open faces: sigma_n = -p there
+    applied_p = -pressure_values(getattr(sol.scene.cracks[k], "pressure", None), prof.s)
     if model == "free":
-        return np.zeros_like(sn), np.zeros_like(sn)
+        return applied_p, np.zeros_like(sn)
     jn, jt = np.asarray(prof.normal_jump), np.asarray(prof.tangential_jump)
     scale = float(np.max(np.hypot(jn, jt))) if len(jn) else 0.0
-    closed = jn <= CLOSED_RTOL * scale
-    sn = np.where(closed, sn, 0.0)
+    closed = faces_closed(jn, scale)
+    sn = np.where(closed, sn, applied_p)
     # friction acts only where the solve applied it (unilateral contact with the tangential jumps kept)
     applied = bool(sol.options.get("tangential"))
     friction = float(getattr(sol.scene.cracks[k], "friction", 0.0) or 0.0) if applied else 0.0
@@ -445,16 +449,26 @@ def _face_terms(sol, tip: Tip, radius: float, c_open: float) -> tuple[float, flo
     w = qa * (s1 - s0) + slope * ((r1 ** 1.5 - r0 ** 1.5) / 3.0 - r0 * (s1 - s0))
     I_1 = -c_open * float(np.sum(sn * w))
     I_2 = -c_open * float(np.sum(tau * w))
-    # J: a Stieltjes sum over the jumps at the mid points (zero at the tip)
+    # J, the contact's part (sigma_n + p, zero where open): a Stieltjes sum over the jumps at
+    # the mid points (zero at the tip)
+    pressure = getattr(sol.scene.cracks[tip.crack], "pressure", None)
+    sn_c = sn_all + pressure_values(pressure, prof.s)
     rm = np.linalg.norm(c.mid - p, axis=1)
     order = np.argsort(rm)
     rm = np.concatenate([[0.0], rm[order]])
     jn = np.concatenate([[0.0], prof.normal_jump[order]])
     jt = np.concatenate([[0.0], prof.tangential_jump[order]])
-    sn_m = np.concatenate([sn_all[order][:1], sn_all[order]])
+    sn_m = np.concatenate([sn_c[order][:1], sn_c[order]])
     tau_m = np.concatenate([tau_all[order][:1], tau_all[order]])
     qm = q(0.5 * (rm[:-1] + rm[1:]))
     J = -float(np.sum(qm * (0.5 * (sn_m[:-1] + sn_m[1:]) * np.diff(jn) + 0.5 * (tau_m[:-1] + tau_m[1:]) * np.diff(jt))))
+    if pressure is not None:
+        # the pressure's part, int p q d[u].nu = -int [u].nu d(p q) (by parts: [u].nu = 0 at
+        # the tip, q = 0 at R), with [u].nu at the mid points and p q at the edge ends
+        near, far = np.where(ra <= rb, -0.5, 0.5), np.where(ra <= rb, 0.5, -0.5)
+        pq = [pressure_values(pressure, prof.s + side * c.length) * q(r)
+              for side, r in ((near, np.minimum(ra, rb)), (far, np.maximum(ra, rb)))]
+        J -= float(np.sum(prof.normal_jump * (pq[1] - pq[0])))
     return J, I_1, I_2
 
 
@@ -465,7 +479,7 @@ def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParame
     the scene's own.
     """
     if not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
-        raise ValueError(f"radius = {radius!r}: must be a finite number > 0")
+        raise InputError(f"radius = {radius!r}: must be a finite number > 0")
     mat = sol.scene.material
     E, nu, plane = mat.E, mat.nu, mat.plane
     mu = E / (2.0 * (1.0 + nu))
@@ -507,8 +521,8 @@ def tip_parameters(sol, radius: float | None = None, body_force=SCENE) -> list[T
     for tip in crack_tips(sol.scene, sol.crack_mesh):
         R = default_radius(tip) if radius is None else radius
         if R >= tip.clearance:
-            raise ValueError(f"radius = {R!r}: must be below the clearance {tip.clearance:.4g} of tip "
-                             f"{tip.label} (its distance to the boundary, other cracks, or its crack's kink)")
+            raise InputError(f"radius = {R!r}: must be below the clearance {tip.clearance:.4g} of tip "
+                              f"{tip.label} (its distance to the boundary, other cracks, or its crack's kink)")
         res = domain_integral(sol, tip, R, body_force=body_force)
         out.append(res)
     return out

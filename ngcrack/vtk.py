@@ -43,6 +43,8 @@ from xml.sax.saxutils import quoteattr
 import ngsolve as ngs
 import numpy as np
 
+from .errors import InputError
+
 #: the `state` cell data of the crack data set: the code of each crack-face state
 STATE_CODES = {"open": 0, "stick": 1, "slip": 2}
 #: suffix of the crack data set's file name, after the body's stem
@@ -56,11 +58,11 @@ def vtk_stem(path) -> Path:
         raise TypeError(f"path = {path!r}: expected a file name (str or os.PathLike)")
     p = Path(path)
     if p.name in ("", ".", "..") or str(path).endswith(os.sep):
-        raise ValueError(f"path = {str(path)!r}: expected a file name, e.g. 'out/run' (writes out/run.vtu)")
+        raise InputError(f"path = {str(path)!r}: expected a file name, e.g. 'out/run' (writes out/run.vtu)")
     if p.suffix in (".vtu", ".vtk"):
         p = p.with_suffix("")
     if p.parent.exists() and not p.parent.is_dir():
-        raise ValueError(f"path = {str(path)!r}: {p.parent} is not a directory")
+        raise InputError(f"path = {str(path)!r}: {p.parent} is not a directory")
     return p
 
 
@@ -149,7 +151,7 @@ def save_vtk(sol, path, subdivision: int = 0) -> list[Path]:
     error leaves no partial file. The fields are listed in the module's docstring.
     """
     if isinstance(subdivision, bool) or not isinstance(subdivision, (int, np.integer)) or not 0 <= subdivision <= 4:
-        raise ValueError(f"subdivision = {subdivision!r}: expected an integer from 0 to 4")
+        raise InputError(f"subdivision = {subdivision!r}: expected an integer from 0 to 4")
     base = vtk_stem(path)
     base.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".ngcrack-vtk-", dir=base.parent))
@@ -194,10 +196,10 @@ def write_collection(files: Sequence, times: Sequence[float], path) -> Path:
     """
     files, times = list(files), list(times)
     if len(files) != len(times):
-        raise ValueError(f"files, times: {len(files)} files but {len(times)} times; expected one time per entry")
+        raise InputError(f"files, times: {len(files)} files but {len(times)} times; expected one time per entry")
     for t in times:
         if isinstance(t, bool) or not isinstance(t, (int, float, np.integer, np.floating)) or not math.isfinite(t):
-            raise ValueError(f"times: {t!r} is not a finite number")
+            raise InputError(f"times: {t!r} is not a finite number")
     out = Path(path)
     if out.suffix != ".pvd":
         out = out.with_name(out.name + ".pvd")
@@ -224,11 +226,11 @@ def save_series(solutions: Sequence, times: Sequence[float], path, subdivision: 
     """
     solutions, times = list(solutions), list(times)
     if len(solutions) != len(times):
-        raise ValueError(f"solutions, times: {len(solutions)} solutions but {len(times)} times; "
-                         "expected one time per solution")
+        raise InputError(f"solutions, times: {len(solutions)} solutions but {len(times)} times; "
+                          "expected one time per solution")
     for t in times:
         if isinstance(t, bool) or not isinstance(t, (int, float, np.integer, np.floating)) or not math.isfinite(t):
-            raise ValueError(f"times: {t!r} is not a finite number")
+            raise InputError(f"times: {t!r} is not a finite number")
     base = vtk_stem(path)
     files = [save_vtk(sol, base.with_name(f"{base.name}_{k:04d}"), subdivision) for k, sol in enumerate(solutions)]
     return write_collection(files, times, base.with_name(base.name + ".pvd"))
@@ -255,7 +257,7 @@ class SeriesWriter:
 
     def add(self, sol, time: float) -> list[Path]:
         if isinstance(time, bool) or not isinstance(time, (int, float, np.integer, np.floating)) or not math.isfinite(time):
-            raise ValueError(f"time = {time!r}: expected a finite number")
+            raise InputError(f"time = {time!r}: expected a finite number")
         files = save_vtk(sol, self.base.with_name(f"{self.base.name}_{len(self.files):04d}"), self.subdivision)
         self.files.append(files)
         self.times.append(float(time))

@@ -1,7 +1,7 @@
 """The open / stick / slip state of every crack sample agrees with the numbers of that sample.
 
-A sample is open only where its normal jump is positive beyond round-off (STATE_RTOL
-of the crack's largest jump) and its normal stress is zero within round-off (STATE_RTOL
+A sample is open only where its normal jump is positive beyond round-off (CLOSED_RTOL
+of the crack's largest jump) and its normal stress is zero within round-off (CLOSED_RTOL
 of the largest |sigma| at the crack's samples), for every element:
 - a closed shear-compression case (a 40 x 40 m plate, E = 25 GPa, a crack of half-length
   2 m at 60 degrees under 100 MPa of compression): tdnns used to call the sample next to
@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.post import STATE_RTOL, profile_states
+from ngcrack.constraints import CLOSED_RTOL
+from ngcrack.post import profile_states
 
 ANGLE, HALF_LENGTH, SIDE = 60.0, 2.0, 40.0
 
@@ -58,11 +59,11 @@ def _check_agreement(sol) -> tuple[int, int]:
         W = np.max(np.hypot(p.normal_jump, p.tangential_jump))
         assert p.stress_scale > 0
         is_open = p.state == "open"
-        separate = p.normal_jump > STATE_RTOL * W
-        free = np.abs(p.normal_stress) <= STATE_RTOL * p.stress_scale
+        separate = p.normal_jump > CLOSED_RTOL * W
+        free = np.abs(p.normal_stress) <= CLOSED_RTOL * p.stress_scale
         assert np.all(separate[is_open] & free[is_open]), (sol.element, p.normal_jump[is_open], p.normal_stress[is_open])
         # a closed sample: its faces touch or are pressed together
-        assert np.all(~separate[~is_open] | (p.normal_stress[~is_open] < -STATE_RTOL * p.stress_scale))
+        assert np.all(~separate[~is_open] | (p.normal_stress[~is_open] < -CLOSED_RTOL * p.stress_scale))
         assert set(p.state) <= {"open", "slip"}  # frictionless
         n_open, n_closed = n_open + int(is_open.sum()), n_closed + int((~is_open).sum())
     return n_open, n_closed

@@ -145,7 +145,7 @@ def test_bad_combinations_show_one_line_and_keep_the_last_answer():
     study = nc.Explorer("inclined-crack", maxh=MAXH)
     good = study.solution
     assert study.update(element="h1p1", nu=0.5) is None
-    assert study.error.startswith("ValueError: material.nu = 0.5") and "\n" not in study.error
+    assert study.error.startswith("InputError: material.nu = 0.5") and "\n" not in study.error
     assert study.solution is good
     assert study.update(element="bdm") is not None and study.error is None  # nu = 1/2 is fine for bdm
     assert study.update(center_x=4.0, half_length=2.0) is None  # in range, but the crack leaves the plate
@@ -170,7 +170,7 @@ def test_out_of_range_values_are_refused_not_clamped_nor_kept():
                          ({"nu": "abc"}, "nu (Poisson's ratio) = 'abc': a number from 0 to 0.5"),
                          ({"load": 0.5, "nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused")]:
         assert study.update(**change) is None
-        assert study.error.startswith("ValueError: " + text) and "\n" not in study.error, study.error
+        assert study.error.startswith("InputError: " + text) and "\n" not in study.error, study.error
         assert study.state == before and study.solution is good
     # the finest mesh offered stays below the unknowns the widget allows (sizing's estimate)
     from ngcrack.explorer.controls import MAX_UNKNOWNS
@@ -257,7 +257,7 @@ def test_widget_wiring_and_failures_without_a_browser():
     w.controls["element"].value = "h1p1"
     good = w.image.value
     w.controls["nu"].value = 0.5  # nu = 1/2 with a displacement baseline: refused
-    assert "ValueError" in w.status.value and w.image.value == good
+    assert "InputError" in w.status.value and w.image.value == good
     w.controls["element"].value = "bdm"  # the widget keeps working
     assert w.status.value == "" and w.image.value != good
     w.controls["center_x"].value = 4.0

@@ -135,7 +135,8 @@ def test_json_contract(tension_mts):
     assert d["stopped"].startswith("steps")
     assert [s["step"] for s in d["steps"]] == [0, 1]
     for s in d["steps"]:
-        assert list(s) == ["step", "load_factor", "ndof", "time_s", "kkt", "error_estimate", "tips"]
+        assert list(s) == ["step", "load_factor", "ndof", "time_s", "kkt", "error_estimate", "tips", "force",
+                           "displacement"]
         for t in s["tips"]:
             assert list(t) == ["crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "grew"]
         assert max(s["kkt"].values()) < 1e-8
@@ -323,12 +324,21 @@ def test_pls_against_mts_on_the_same_cases():
 
 
 def test_figures_and_animation(tension_mts, tmp_path):
-    """The figure of the paths and load factors, and one GIF frame per step."""
+    """The figure of the paths and load factors, and one GIF frame per step; writing them
+    leaves pyplot's backend and figures alone (a notebook's later figures still show)."""
+    import matplotlib
+    import matplotlib.pyplot as plt
     from PIL import Image
 
-    tension_mts.plot(tmp_path / "paths.png")
+    before = matplotlib.get_backend()
+    plt.switch_backend("svg")  # (a backend that is not Agg: a switch to Agg would show)
+    try:
+        tension_mts.plot(tmp_path / "paths.png")
+        tension_mts.animate(tmp_path / "growth.gif")
+        assert matplotlib.get_backend() == "svg" and plt.get_fignums() == []
+    finally:
+        plt.switch_backend(before)
     assert Image.open(tmp_path / "paths.png").size[0] > 1000
-    tension_mts.animate(tmp_path / "growth.gif")
     gif = Image.open(tmp_path / "growth.gif")
     assert gif.n_frames == len(tension_mts.steps) == 2
     frame = tension_mts.frames[1]

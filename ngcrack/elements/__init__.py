@@ -8,6 +8,7 @@ bilinear form is assembled with static condensation; `hybrid.py` takes it from t
 
 from __future__ import annotations
 
+from ..errors import InputError
 from . import bdm, h1, peers, tdnns
 from .base import Discretization, Loads
 
@@ -35,11 +36,11 @@ def build(name: str, crack_mesh, material, loads: Loads, order: int | None = Non
     try:
         family = FAMILIES[name]
     except KeyError:
-        raise ValueError(f"element = {name!r}: allowed values are {', '.join(ELEMENTS)}") from None
+        raise InputError(f"element = {name!r}: allowed values are {', '.join(ELEMENTS)}") from None
     if order is None:
         return family(crack_mesh, material, loads)
     if name not in ORDERED:
-        raise ValueError(f"order = {order!r}: element {name!r} has a fixed order; elements with an order: {', '.join(ORDERED)}")
+        raise InputError(f"order = {order!r}: element {name!r} has a fixed order; elements with an order: {', '.join(ORDERED)}")
     return family(crack_mesh, material, loads, order=order)
 
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
-from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf
+from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_bc, crack_frame_cf
 from ..materials import Compliance
 from ..parallel import task_manager
 
@@ -56,6 +56,12 @@ class Loads:
     displacement: dict[str, ngs.CoefficientFunction] = field(default_factory=dict)
     clamped: frozenset[str] = frozenset()
     roller: frozenset[str] = frozenset()
+    #: crack index -> the pressure p on its faces (a CoefficientFunction of position,
+    #: evaluated on the crack's edges; ngcrack.crack_loads), for the cracks that carry one
+    crack_pressure: dict[int, ngs.CoefficientFunction] = field(default_factory=dict)
+    #: label -> unit directions d along which the mean of u.d over the label's edges is held
+    #: at zero (the pin and roller points of the scene; hybrid.condense imposes them)
+    held_mean: dict[str, tuple[tuple[float, float], ...]] = field(default_factory=dict)
 
     @property
     def dirichlet_labels(self) -> frozenset[str]:
@@ -116,6 +122,10 @@ class Discretization:
     fixed_dofs: tuple[int, ...] = ()
     traction_rows: tuple[int | None, int | None] = (None, None)
     tangential: int | None = None
+    #: traction(g): the element's integrand of a boundary traction g (what `load_vector`
+    #: integrates over a loaded edge, with the element's sign): the work of g on u_hat is
+    #: sign times its assembled form applied to the solution vector
+    traction: Callable[[ngs.CoefficientFunction], ngs.CoefficientFunction] | None = None
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -176,12 +186,15 @@ def roller_edges(mesh: ngs.Mesh, roller):
 
 
 def load_vector(fes: ngs.FESpace, mesh: ngs.Mesh, loads: Loads, built: list[str],
-                body: Callable, traction: Callable) -> ngs.LinearForm:
-    """The assembled load vector of an element: int body(f) dx + sum over loaded edges of int traction(g) ds.
+                body: Callable, traction: Callable, crack: Callable | None = None) -> ngs.LinearForm:
+    """The assembled load vector of an element: int body(f) dx + sum over loaded edges of int traction(g) ds
+    + sum over pressurized cracks of int crack(p) ds.
 
     `body(f)` and `traction(g)` give the integrands of the element's test functions for
     the body force f and an edge's traction g (signs and traces are the element's);
-    what is loaded is recorded in `built`.
+    `crack(p)` the integrand of the crack-face pressure p, whose virtual work is
+    int p [v].nu ds over the crack (the element's sign convention applied), integrated on
+    the crack's own edges; what is loaded is recorded in `built`.
     """
     f = ngs.LinearForm(fes)
     if loads.body_force is not None:
@@ -191,6 +204,10 @@ def load_vector(fes: ngs.FESpace, mesh: ngs.Mesh, loads: Loads, built: list[str]
         f += traction(g) * ngs.ds(definedon=boundary_region(mesh, [label]))
     if loads.traction:
         built.append("traction load on " + ", ".join(sorted(loads.traction)))
+    if loads.crack_pressure and crack is not None:
+        for k, p in sorted(loads.crack_pressure.items()):
+            f += crack(p) * ngs.ds(definedon=mesh.Boundaries(crack_bc(k)), bonus_intorder=CRACK_BONUS_INTORDER)
+        built.append("crack-face pressure on crack " + ", ".join(str(k) for k in sorted(loads.crack_pressure)))
     with task_manager():
         f.Assemble()
     return f
@@ -331,7 +348,9 @@ def weakly_symmetric_hybrid(
         a += ((tau * n) * (chi * (jn * nu + jt * t)) + (sig * n) * (chi * (kn * nu + kt * t))) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=lambda g: -(g * muh))
+    traction = lambda g: -(g * muh)  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction,
+                    crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
@@ -357,4 +376,5 @@ def weakly_symmetric_hybrid(
         fields=fields,
         built=built,
         definite=not split,
+        traction=traction,
     )

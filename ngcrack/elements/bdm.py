@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import ngsolve as ngs
 
+from ..errors import InputError
 from ..geometry import CrackMesh
 from ..materials import Compliance
 from .base import Discretization, Loads, weakly_symmetric_hybrid
@@ -40,7 +41,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     """The hybridized BDM_k-P_{k-1}-P_{k-1} discretization of one scene, k = `order`."""
     k = DEFAULT_ORDER if order is None else order
     if isinstance(k, bool) or k not in ORDERS:
-        raise ValueError(f"order = {order!r}: allowed values for bdm are {', '.join(map(str, ORDERS))}")
+        raise InputError(f"order = {order!r}: allowed values for bdm are {', '.join(map(str, ORDERS))}")
     mesh = crack_mesh.mesh
     bdm = ngs.HDiv(mesh, order=k, RT=False, discontinuous=True)
     built = [f"stress rows: BDM{k}, broken", f"rotation: P{k - 1}"]

@@ -22,7 +22,8 @@ import math
 import ngsolve as ngs
 import numpy as np
 
-from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_side
+from ..errors import InputError
+from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf, crack_side
 from ..materials import Compliance
 from ..parallel import task_manager
 from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data, load_vector, roller_edges
@@ -50,8 +51,8 @@ def _crack_nodes(crack_mesh: CrackMesh, fixed_vertices: set[int]):
 def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int = 1) -> Discretization:
     """The P_order displacement discretization with duplicated crack faces."""
     if compliance.spherical <= 0.0 or not math.isfinite(0.5 / compliance.spherical):
-        raise ValueError("material.nu = 0.5: the displacement baselines h1p1/h1p2 need nu < 1/2 in plane strain "
-                         "(lambda is infinite); use a mixed element (peers, bdm, tdnns)")
+        raise InputError("material.nu = 0.5: the displacement baselines h1p1/h1p2 need nu < 1/2 in plane strain "
+                          "(lambda is infinite); use a mixed element (peers, bdm, tdnns)")
     lam, mu = _lame(compliance)
     mesh = crack_mesh.mesh
     dirichlet = boundary_regex(loads.dirichlet_labels)
@@ -166,7 +167,15 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     with task_manager():
         a.Assemble()
     v = displacement(test)
-    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=lambda g: g * v)
+    crack_load = None
+    if has_crack:
+        seg_normal, _ = crack_frame_cf(crack_mesh)
+
+        def crack_load(p):
+            # [v] = u_e = jn nu_h + jt t_h, its normal part against the edge's own normal
+            return p * ((test[2] * nu_cf + test[3] * t_cf) * seg_normal)
+    traction = lambda g: g * v  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=traction, crack=crack_load)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
@@ -185,8 +194,8 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
                 along_t = abs(nrm[1] * n_r[0] - nrm[0] * n_r[1])  # |t . n_r|
                 which = 1 if along_t > 1 - 1e-9 else (0 if along_t < 1e-9 else None)
                 if which is None:
-                    raise ValueError("boundary: a crack meets a roller edge obliquely; the h1 baselines support "
-                                     "cracks normal or parallel to roller edges only")
+                    raise InputError("boundary: a crack meets a roller edge obliquely; the h1 baselines support "
+                                      "cracks normal or parallel to roller edges only")
                 for d in jump.GetDofNrs(vtx):
                     fixed.append(offs[which] + d)
 
@@ -234,6 +243,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
 
     return Discretization(
         element=name,
+        traction=traction,
         crack_mesh=crack_mesh,
         fes=fes,
         a=a,

@@ -47,6 +47,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
+from ..errors import InputError
 from ..geometry import CrackMesh, boundary_regex, crack_frame_cf
 from ..materials import Compliance
 from ..parallel import task_manager
@@ -83,7 +84,7 @@ def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
                 else:
                     minus[el.nr] = True
     if np.any(minus & (vals > 0)):
-        raise ValueError("maxh: a triangle touches two cracks from opposite sides; refine the mesh near the cracks")
+        raise InputError("maxh: a triangle touches two cracks from opposite sides; refine the mesh near the cracks")
     return H
 
 
@@ -91,7 +92,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     """The hybridized TDNNS discretization of stress degree k = `order` (default 1)."""
     k = DEFAULT_ORDER if order is None else order
     if k not in ORDERS:
-        raise ValueError(f"order = {order!r}: allowed values for tdnns are {', '.join(map(str, ORDERS))}")
+        raise InputError(f"order = {order!r}: allowed values for tdnns are {', '.join(map(str, ORDERS))}")
     mesh = crack_mesh.mesh
     dirichlet = boundary_regex(loads.dirichlet_labels)
     normal_fixed = boundary_regex(set(loads.dirichlet_labels) | set(loads.roller))
@@ -157,8 +158,9 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     with task_manager():
         a.Assemble()
     t = ngs.specialcf.tangential(2)
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v),
-                    traction=lambda g: -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t)))
+    traction = lambda g: -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t))  # noqa: E731
+    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction,
+                    crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
@@ -171,6 +173,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
 
     return Discretization(
         element="tdnns",
+        traction=traction,
         crack_mesh=crack_mesh,
         fes=fes,
         a=a,

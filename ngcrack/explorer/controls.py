@@ -16,6 +16,8 @@ from dataclasses import dataclass
 from numbers import Real
 from typing import Any
 
+from ..errors import InputError
+
 #: the names the widget shows (the keyword is what `nc.explore` and `update` take)
 LABELS = {
     "load": "load factor", "load_angle": "load angle", "E": "Young's modulus", "nu": "Poisson's ratio",
@@ -76,10 +78,10 @@ class Range:
             try:
                 value = float(value)
             except (TypeError, ValueError):
-                raise ValueError(f"{label} = {value!r}: a number from {self.low:.4g} to {self.high:.4g}") from None
+                raise InputError(f"{label} = {value!r}: a number from {self.low:.4g} to {self.high:.4g}") from None
         value = float(value)
         if not math.isfinite(value) or not self.low <= value <= self.high:
-            raise ValueError(f"{label} = {value:.4g} refused: allowed from {self.low:.4g} to {self.high:.4g}")
+            raise InputError(f"{label} = {value:.4g} refused: allowed from {self.low:.4g} to {self.high:.4g}")
         return value
 
 
@@ -91,7 +93,7 @@ def _label(name: str) -> str:
 def check_choice(name: str, value: Any, allowed) -> Any:
     """`value` if it is one of `allowed`, else ValueError naming the control and the allowed values."""
     if not isinstance(value, str) or value not in allowed:
-        raise ValueError(f"{_label(name)} = {value!r}: allowed values are {', '.join(map(str, allowed))}")
+        raise InputError(f"{_label(name)} = {value!r}: allowed values are {', '.join(map(str, allowed))}")
     return value
 
 
@@ -108,7 +110,7 @@ FIXED = {
 def e_range(E: float) -> Range:
     """E_DECADES decades either side of the starting E (which must be > 0)."""
     if isinstance(E, bool) or not isinstance(E, Real) or not math.isfinite(E) or E <= 0:
-        raise ValueError(f"E (Young's modulus) = {E!r} refused: it must be a number > 0")
+        raise InputError(f"E (Young's modulus) = {E!r} refused: it must be a number > 0")
     E = float(E)
     return Range(E * 10 ** -E_DECADES, E * 10 ** E_DECADES, 0.1, log=True)
 
@@ -121,16 +123,13 @@ def mesh_size_range(scene, element: str, maxh: float | None, solve_options: dict
     kw = {k: solve_options.get(k) for k in ("tip_h", "crack_h", "grading")}
     if maxh is not None:
         if isinstance(maxh, bool) or not isinstance(maxh, Real) or not math.isfinite(maxh) or maxh <= 0:
-            raise ValueError(f"maxh (mesh size) = {maxh!r} refused: it must be a number > 0 (or None: the scene's)")
+            raise InputError(f"maxh (mesh size) = {maxh!r} refused: it must be a number > 0 (or None: the scene's)")
         maxh = float(maxh)
     h0 = mesh_sizes(scene, maxh, **kw)[0]
     high = h0 * 10 ** 0.5
 
-    def unknowns(h):
-        try:
-            return estimate_size(scene, element, maxh=h, **kw).unknowns
-        except Exception:  # noqa: BLE001  (an element the estimate does not know: no bound from it)
-            return 0.0
+    def unknowns(h):  # (every element of the explorer has its size estimate)
+        return estimate_size(scene, element, maxh=h, **kw).unknowns
 
     lo, hi = h0 * 1e-3, high
     if unknowns(lo) <= MAX_UNKNOWNS:

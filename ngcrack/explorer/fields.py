@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..plots import crack_faces  # noqa: F401  (the faces are drawn by plots.plot_solution too)
+
 #: stress fields the figure can show: the crack-normal stress (sigma nu).nu and von Mises
 FIELDS = ("sigma_nu", "von_mises")
 #: significant digits of the K values
@@ -58,41 +60,6 @@ def field_label(field: str, scene) -> str:
         return rf"$\sigma_{{\nu\nu}} = (\sigma\nu)\cdot\nu$  [{stress}]"
     plane = "plane strain" if scene.material.plane == "strain" else "plane stress"
     return f"von Mises stress ({plane})  [{stress}]"
-
-
-def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | None = None) -> list[dict]:
-    """Per crack: its vertices' points, the displacement of each face there (the mean of
-    the corner displacements of the triangles on that side; a tip inside the body, where
-    the faces meet, takes the mean of all), the normals, and the opening [u].nu = (u+ - u-).nu."""
-    from ..geometry import crack_side
-
-    cm = sol.crack_mesh
-    if not cm.cracks:
-        return []
-    if side is None:
-        side = crack_side(cm)
-    nv = len(cm.points)
-    acc = {s: np.zeros((nv, 2)) for s in (1.0, -1.0)}
-    cnt = {s: np.zeros(nv) for s in (1.0, -1.0)}
-    tris = cm.triangles
-    for s in (1.0, -1.0):
-        rows = np.flatnonzero(side == s)
-        np.add.at(acc[s], tris[rows].ravel(), disp[rows].reshape(-1, 2))
-        np.add.at(cnt[s], tris[rows].ravel(), 1.0)
-    faces = []
-    for crack in cm.cracks:
-        vs = crack.vertices()
-        n_edge = crack.normal
-        normal = np.vstack([n_edge[:1], 0.5 * (n_edge[1:] + n_edge[:-1]), n_edge[-1:]])
-        normal /= np.linalg.norm(normal, axis=1)[:, None]
-        up = acc[1.0][vs] / np.maximum(cnt[1.0][vs], 1.0)[:, None]
-        um = acc[-1.0][vs] / np.maximum(cnt[-1.0][vs], 1.0)[:, None]
-        tip = np.array([int(v) in cm.tip_vertices for v in vs])
-        mean = (acc[1.0][vs] + acc[-1.0][vs]) / np.maximum(cnt[1.0][vs] + cnt[-1.0][vs], 1.0)[:, None]
-        up[tip], um[tip] = mean[tip], mean[tip]
-        faces.append({"crack": crack.index, "points": cm.points[vs], "plus": up, "minus": um, "normal": normal,
-                      "opening": np.einsum("ij,ij->i", up - um, normal)})
-    return faces
 
 
 def load_magnitude(scene) -> float:

@@ -16,6 +16,7 @@ from __future__ import annotations
 import io
 from typing import Any
 
+from ..errors import InputError
 from ..growth.result import GrowthResult, draw_frame, frame_view
 
 #: figure size in inches and resolution of a step's picture
@@ -64,7 +65,7 @@ def explore_growth(result: GrowthResult, **kwargs: Any):
     import ipywidgets as w
 
     if not isinstance(result, GrowthResult):
-        raise ValueError(f"result = {result!r}: must be the GrowthResult of nc.grow(...)")
+        raise InputError(f"result = {result!r}: must be the GrowthResult of nc.grow(...)")
     view = frame_view(result)  # refuses a result kept without frames, naming the field
     slider = w.IntSlider(value=kwargs.get("step", 0), min=0, max=len(result.frames) - 1, description="step",
                          continuous_update=False)

@@ -40,7 +40,9 @@ from typing import Any
 
 import numpy as np
 
+from ..constraints import CLOSED_RTOL, faces_closed
 from ..elements import ELEMENTS
+from ..errors import InputError
 from ..options import CRACK_MODELS, SolveOptions
 from ..pipeline import Pipeline
 from ..scene import Crack, Scene
@@ -50,10 +52,6 @@ from ..scenes import names as _scene_names
 from .controls import FIXED, SCALES, Range, check_choice, e_range, mesh_size_range
 from .figure import FIELDS
 from .loads import scaled_loads
-
-#: a crack edge counts as closed where its mid-point opening is below this fraction of the
-#: largest jump on the cracks (the QP gives exact zeros up to round-off where it is closed)
-CLOSED_RTOL = 1e-6
 
 #: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
 DEFORMED_FRACTION = 0.08
@@ -131,8 +129,8 @@ class Explorer:
         elif isinstance(scene, Scene):
             self.base = scene
         else:
-            raise ValueError(f"scene = {scene!r}: a Scene, or one of the scene functions "
-                             f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
+            raise InputError(f"scene = {scene!r}: a Scene, or one of the scene functions "
+                              f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
         #: the scene's name as given (a scene function's or built-in scene's name), for titles
         self.name = scene.name if isinstance(scene, (Scene, SceneFunction)) else scene
         self.solve_options = dict(solve_options or {})
@@ -142,8 +140,8 @@ class Explorer:
             self.state.update({p.name: p.default for p in self.function.parameters if p.kind == "geometry"})
         unknown = [k for k in params if k not in self.state and k not in ("E", "nu", "friction")]
         if unknown:
-            raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
-                             f"allowed: {', '.join(self.controls())}")
+            raise InputError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                              f"allowed: {', '.join(self.controls())}")
         self.state.update(params)
         # the friction control overrides the scene's per-crack coefficients only once it is set
         self._friction_set = "friction" in params
@@ -231,8 +229,8 @@ class Explorer:
         try:
             unknown = [k for k in changes if k not in self.controls()]
             if unknown:
-                raise ValueError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
-                                 f"allowed: {', '.join(self.controls())}")
+                raise InputError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                                  f"allowed: {', '.join(self.controls())}")
             # a refused value is not kept: the state stays as it was
             changes = {k: self.check(k, v) for k, v in changes.items()}
             self.state.update(changes)
@@ -289,26 +287,26 @@ class Explorer:
 
 
 def contact_length(sol) -> float:
-    """Total length of the crack edges that are closed: faces touching, |mid-point
-    opening| below CLOSED_RTOL times the largest jump on the cracks (all of them if
-    nothing moves); faces that pass through each other (crack model free) are not."""
-    return _length_where(sol, lambda jn, tol: np.abs(jn) <= tol)
+    """Total length of the crack edges that are closed: faces touching at the mid point
+    (constraints.faces_closed: all of them if nothing moves); faces that pass through
+    each other (crack model free) are not."""
+    return _length_where(sol, lambda jn, W: faces_closed(jn, W) & (jn >= -CLOSED_RTOL * W))
 
 
 def overlap_length(sol) -> float:
     """Total length of the crack edges whose faces pass through each other (opening below
-    -CLOSED_RTOL times the largest jump: only without the contact condition)."""
-    return _length_where(sol, lambda jn, tol: jn < -tol)
+    -CLOSED_RTOL times the crack's largest jump: only without the contact condition)."""
+    return _length_where(sol, lambda jn, W: jn < -CLOSED_RTOL * W)
 
 
 def _length_where(sol, test) -> float:
     profiles = sol.crack_profiles()
     if not profiles:
         return 0.0
-    J = max(float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0)) for p in profiles)
     total = 0.0
     for p, crack in zip(profiles, sol.crack_mesh.cracks):
-        total += float(np.sum(crack.length[test(np.asarray(p.normal_jump), CLOSED_RTOL * J)]))
+        W = float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0))
+        total += float(np.sum(crack.length[test(np.asarray(p.normal_jump, dtype=float), W)]))
     return total
 
 

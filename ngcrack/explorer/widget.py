@@ -24,6 +24,7 @@ from typing import Any
 import ngsolve as ngs
 
 from .. import elements as _elements
+from ..errors import InputError
 from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
@@ -61,12 +62,12 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     """
     try:
         model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
-    except ValueError as exc:
+    except InputError as exc:
         raise ArgumentError(str(exc)) from None
     return _widget_class()(model, webgui=webgui)
 
 
-class ArgumentError(ValueError):
+class ArgumentError(InputError):
     """A bad argument of `explore`: a ValueError that a notebook shows as its one line
     (IPython renders `_render_traceback_` instead of the frames of the checks)."""
 
@@ -310,7 +311,7 @@ def webgui_field(sol, field: str) -> tuple[Any, str]:
     (the first crack's normal) or von Mises with sigma_zz = nu (sigma_xx + sigma_yy) in
     plane strain, 0 in plane stress (as `figure.stress_values`)."""
     if field not in FIELDS:
-        raise ValueError(f"field = {field!r}: allowed values are {', '.join(FIELDS)}")
+        raise InputError(f"field = {field!r}: allowed values are {', '.join(FIELDS)}")
     sig = sol.sigma
     sxx, syy, sxy = sig[0, 0], sig[1, 1], 0.5 * (sig[0, 1] + sig[1, 0])
     if field == "sigma_nu":

@@ -4,12 +4,23 @@ criteria.py: the kink criteria (MTS closed form, PLS helpers) as pure functions;
 paths.py: extending a tip, clipping at the boundary, stopping before another crack;
 loop.py: the step loop; result.py: GrowthResult (table, JSON, figures); study.py: one path per
 parameter value through the sweep's executors; cli.py: `ngcrack grow`.
+
+The names below are imported from their modules on first use (`ngcrack grow --help` and
+the command line's parser need only criteria.py).
 """
 
-from .criteria import CRITERIA, mts_angle, mts_keq
-from .loop import GROW_TOGETHER_RTOL, MAX_DA_FRACTION, MAX_STEPS, grow
-from .result import GrowthResult
-from .study import grow_study
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+#: public name -> the module that defines it
+_EXPORTS = {
+    "CRITERIA": ".criteria", "mts_angle": ".criteria", "mts_keq": ".criteria",
+    "GROW_TOGETHER_RTOL": ".loop", "MAX_DA_FRACTION": ".loop", "MAX_STEPS": ".loop", "grow": ".loop",
+    "GrowthResult": ".result",
+    "grow_study": ".study",
+}
 
 __all__ = [
            "CRITERIA",
@@ -22,3 +33,24 @@ __all__ = [
            "mts_angle",
            "mts_keq",
 ]
+
+
+def __getattr__(name: str):
+    """A public name, imported from its module on first use."""
+    where = _EXPORTS.get(name)
+    if where is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(where, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:
+    from .criteria import CRITERIA, mts_angle, mts_keq
+    from .loop import GROW_TOGETHER_RTOL, MAX_DA_FRACTION, MAX_STEPS, grow
+    from .result import GrowthResult
+    from .study import grow_study

@@ -8,13 +8,13 @@ import json
 
 def add_parser(subparsers, positive, count):
     """Register `grow` on the ngcrack command's subparsers (`positive`, `count`: its number parsers)."""
-    from .criteria import CRITERIA
-    from .loop import MAX_STEPS
+    from .criteria import CRITERIA  # (a light module: the parser is built on every command, --help too)
 
     p = subparsers.add_parser("grow", help="grow the cracks quasi-statically (MTS or PLS kinks, load factors); JSON, CSV, GIF")
     p.add_argument("scene", help="built-in scene name or TOML file")
     p.add_argument("--da", required=True, type=positive, help="length of each growth segment")
-    p.add_argument("--steps", required=True, type=int, help=f"number of growth steps, 1 to {MAX_STEPS}")
+    p.add_argument("--steps", required=True, type=int, help="number of growth steps (at least 1; the largest allowed is checked "
+                                                                  "before any work)")
     p.add_argument("--K-Ic", dest="K_Ic", type=positive,
                    help="fracture toughness (default: load factors relative to the first step)")
     p.add_argument("--criterion", default="pls", help=f"kink criterion: {', '.join(CRITERIA)} (default pls)")

@@ -47,13 +47,15 @@ from __future__ import annotations
 
 import math
 
+from ..errors import InputError
+
 #: the kink criteria
 CRITERIA = ("mts", "pls")
 
 
 def check_criterion(criterion) -> str:
     if criterion not in CRITERIA:
-        raise ValueError(f"criterion = {criterion!r}: allowed values are {', '.join(CRITERIA)}")
+        raise InputError(f"criterion = {criterion!r}: allowed values are {', '.join(CRITERIA)}")
     return criterion
 
 

@@ -61,6 +61,7 @@ from ngcrack.options import SolveOptions
 from ngcrack.pipeline import Pipeline, SolveError
 from ngcrack.scene import SceneError
 
+from ..errors import InputError
 from .criteria import (
     PLS_SLOPE,
     check_criterion,
@@ -119,19 +120,19 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
         return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
 
     if K_Ic is not None and not (number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
-        raise ValueError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness), or None")
+        raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness), or None")
     limit = MAX_DA_FRACTION * scene.diameter
     if not (number(da) and math.isfinite(da) and 0 < da <= limit):
-        raise ValueError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_FRACTION:g} of the "
-                         f"body's diameter {scene.diameter:.4g})")
+        raise InputError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_FRACTION:g} of the "
+                          f"body's diameter {scene.diameter:.4g})")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
-        raise ValueError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
+        raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
     bad = [k for k in _RESERVED if k in solve_options]
     if bad:
-        raise ValueError(f"{bad[0]}: grow sets it for every step itself; give the scene and the mesh options only")
+        raise InputError(f"{bad[0]}: grow sets it for every step itself; give the scene and the mesh options only")
     if not tip_labels(scene):
-        raise ValueError(f"scene {scene.name!r}: has no crack tip inside the body (every crack end lies on the "
-                         f"boundary or on another crack), so no crack can grow")
+        raise InputError(f"scene {scene.name!r}: has no crack tip inside the body (every crack end lies on the "
+                          f"boundary or on another crack), so no crack can grow")
 
 
 @dataclass
@@ -215,7 +216,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
 
     check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
     if not (isinstance(together, (int, float)) and 0 <= together < 1):
-        raise ValueError(f"together = {together!r}: must be a number in [0, 1)")
+        raise InputError(f"together = {together!r}: must be a number in [0, 1)")
     da, steps = float(da), int(steps)
     region = body_region(scene)
     options = Solver(SolveOptions.of(**solve_options))
@@ -254,7 +255,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                 t1, before = time.perf_counter(), dict(options.spent)
                 try:
                     step = _advance(scene, sol, region, growing, da, criterion, options, frozen, grown_once, slopes)
-                except (SolveError, ValueError) as exc:  # e.g. the grown mesh above max_dof: keep what was done
+                except (SolveError, InputError) as exc:  # e.g. the grown mesh above max_dof: keep what was done
                     failed = f"solve: the solve after step {n} failed ({exc})"
                     growing = []
                     break

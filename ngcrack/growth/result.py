@@ -8,10 +8,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
+from .records import step_loads
+
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
            "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "mesh_s", "assembly_s",
-           "linear_s", "crack_s", "post_s", "error_estimate", "kkt")
+           "linear_s", "crack_s", "post_s", "error_estimate", "kkt", "force", "displacement", "compliance")
 #: the largest crack-face opening drawn in the animation, as a fraction of the body's diameter
 FACE_FRACTION = 0.03
 
@@ -33,7 +36,10 @@ class GrowthResult:
     touch; grew whether the tip advanced after this step; solves the solves that made the
     step (more than one: PLS trials); time_s their wall-clock seconds, of which mesh_s
     meshing, assembly_s assembly, linear_s the factorization and linear solves, crack_s the
-    crack problem (Schur complement and QP), post_s the tips' K and the error estimate; kkt the largest of the solve's KKT residuals.
+    crack problem (Schur complement and QP), post_s the tips' K and the error estimate; kkt
+    the largest of the solve's KKT residuals; force and
+    displacement the primary load's P and delta at the step's load factor (records.py: the
+    P-delta record; None where the load factor is infinite), compliance delta / P.
     `scenes[n]`: the scene of step n (one more at the end if the last growth cut through
     the body); `stopped`: why the run ended; `events`: (step, tip, what) as tips reached the
     boundary; `frozen`: tip -> why it stopped inside the body; `solution`: the last solve;
@@ -56,6 +62,8 @@ class GrowthResult:
     stopped: str = ""
     solution: object = None
     final_cracks: list | None = None
+    #: the load whose P and delta the table's force and displacement columns hold (records.py)
+    primary_load: str | None = None
 
     # ------------------------------------------------------------------ filling
     def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True, parts=None) -> None:
@@ -64,6 +72,8 @@ class GrowthResult:
         est = None if sol.error_estimate is None else float(sol.error_estimate.relative)
         cost_columns = {f"{k}_s": float(v) for k, v in (parts or {}).items()}
         tips = []
+        rec = step_loads(sol, lam_step)
+        self.primary_load = self.primary_load or rec.primary
         for v in values:
             kink = math.degrees(v.get("kink", v["theta"])) + 0.0  # no -0.0
             did = v["label"] in grew
@@ -72,11 +82,14 @@ class GrowthResult:
                               "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink,
                               "load_factor": lam_step, "tip_load_factor": v["lambda"], "crack_length": length,
                               "closed": v["closed"], "grew": did, "ndof": ndof, "solves": int(solves),
-                              "time_s": float(time_s), **cost_columns, "error_estimate": est, "kkt": max(kkt.values(), default=0.0)})
+                              "time_s": float(time_s), **cost_columns, "error_estimate": est,
+                              "kkt": max(kkt.values(), default=0.0),
+                              "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
                          "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
-                           "kkt": kkt, "error_estimate": est, "tips": tips})
+                           "kkt": kkt, "error_estimate": est, "tips": tips,
+                           "force": rec.force, "displacement": rec.displacement})
         self.scenes.append(scene)
         self.profiles.append(list(sol.profiles))
         if frames:
@@ -127,8 +140,16 @@ class GrowthResult:
         return "\n".join(lines)
 
     # ------------------------------------------------------------------ pictures
-    def plot(self, path=None):
-        """The paths over the body coloured by step, beside the load factor against crack length."""
+    def plot(self, path=None, curve: str = "load-factor"):
+        """The paths over the body coloured by step, beside the load factor against crack length
+        (``curve="load-factor"``), or the load-displacement (P-delta) curve of the primary load alone
+        (``curve="P-delta"``)."""
+        if curve == "P-delta":
+            from .records import plot_load_displacement
+
+            return plot_load_displacement(self, path=path)
+        if curve != "load-factor":
+            raise InputError(f"curve = {curve!r}: allowed values are load-factor, P-delta")
         return plot_growth(self, path)
 
     def animate(self, path, fps: int = 4):
@@ -162,16 +183,6 @@ def _frame(sol) -> dict:
     return {"corners": corners.astype(np.float32), "disp": disp.astype(np.float32), "faces": faces}
 
 
-def _pyplot(path):
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def _draw_body(ax, scene, **kw):
     from .paths import body_region
 
@@ -182,13 +193,17 @@ def _draw_body(ax, scene, **kw):
 
 
 def plot_growth(result: GrowthResult, path=None):
-    plt = _pyplot(path)
+    from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
     from matplotlib.collections import LineCollection
+    from matplotlib.colors import Normalize
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+    from ..plots import new_figure
+
+    fig, (ax, bx) = new_figure(path, nrows=1, ncols=2, figsize=(12, 5), constrained_layout=True)
     _draw_body(ax, result.scene)
     n_steps = max(len(result.scenes) - 1, 1)
-    cmap = plt.get_cmap("viridis")
+    cmap = colormaps["viridis"]
     first = result.scenes[0]
     for c in first.cracks:
         p = np.asarray(c.points)
@@ -213,7 +228,7 @@ def plot_growth(result: GrowthResult, path=None):
             segs += [(pn[i], pn[i + 1]) for i in range(len(pn) - 1) if pn[i] not in po or pn[i + 1] not in po]
         if segs:
             ax.add_collection(LineCollection(segs, colors=[cmap(1.0)], linewidths=2.0))
-    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, n_steps))
+    sm = ScalarMappable(cmap=cmap, norm=Normalize(0, n_steps))
     fig.colorbar(sm, ax=ax, label="step")
     xy = np.concatenate(result.paths)
     lo, hi = xy.min(axis=0), xy.max(axis=0)
@@ -237,7 +252,6 @@ def plot_growth(result: GrowthResult, path=None):
     bx.set_title(r"$\lambda = K_{Ic} / K_{eq}$ at each step")
     if path is not None:
         fig.savefig(path, dpi=130)
-        plt.close(fig)
     return fig
 
 
@@ -245,7 +259,7 @@ def frame_view(result: GrowthResult) -> tuple[float, np.ndarray, np.ndarray]:
     """(magnification, lower-left, upper-right) shared by every frame of `result`: the
     largest displacement drawn as 4% of the body's diameter, the view around the crack faces."""
     if not result.frames:
-        raise ValueError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
+        raise InputError("frames: the result keeps no frames (grow(..., frames=False)); grow again with frames=True")
     diam = result.scene.diameter
     umax = max(float(np.max(np.linalg.norm(f["disp"], axis=2))) for f in result.frames)
     scale = 0.04 * diam / umax if umax > 0 else 0.0
@@ -283,18 +297,16 @@ def draw_frame(ax, result: GrowthResult, n: int, view=None) -> None:
 
 def animate_growth(result: GrowthResult, path, fps: int = 4):
     """Write a GIF of `draw_frame` for every step."""
+    from matplotlib.animation import PillowWriter
+
+    from ..plots import new_figure
+
     view = frame_view(result)
-    plt = _pyplot(path)
-    from matplotlib.animation import FuncAnimation, PillowWriter
-
-    fig, ax = plt.subplots(figsize=(6, 6), constrained_layout=True)
-
-    def draw(n):
-        ax.clear()
-        draw_frame(ax, result, n, view)
-        return []
-
-    anim = FuncAnimation(fig, draw, frames=len(result.frames), blit=False)
-    anim.save(str(path), writer=PillowWriter(fps=fps))
-    plt.close(fig)
+    fig, ax = new_figure(path, figsize=(6, 6), constrained_layout=True)  # (its own canvas: pyplot untouched)
+    writer = PillowWriter(fps=fps)
+    with writer.saving(fig, str(path), dpi=fig.dpi):
+        for n in range(len(result.frames)):
+            ax.clear()
+            draw_frame(ax, result, n, view)
+            writer.grab_frame()
     return path

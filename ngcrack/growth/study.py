@@ -21,6 +21,8 @@ import math
 import time
 from pathlib import Path
 
+from ..errors import InputError
+
 #: the columns of a growth study's table, after the parameter's
 STUDY_COLUMNS = ("steps", "final_length", "lambda_first", "lambda_last", "lambda_max", "stopped", "time_s", "ndof")
 
@@ -64,16 +66,16 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     from .loop import check_growth_options
 
     if not isinstance(parameter, str) or not parameter:
-        raise ValueError(f"parameter = {parameter!r}: must be a scene field (friction, nu, E), K_Ic, or a keyword "
-                         f"of the scene function")
+        raise InputError(f"parameter = {parameter!r}: must be a scene field (friction, nu, E), K_Ic, or a keyword "
+                          f"of the scene function")
     values = list(values)
     if not values:
-        raise ValueError("values: give at least one value of the parameter")
+        raise InputError("values: give at least one value of the parameter")
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
-        raise ValueError(f"jobs = {jobs!r}: must be a whole number >= 1")
+        raise InputError(f"jobs = {jobs!r}: must be a whole number >= 1")
     path = Path(out) if out is not None else None
     if path is not None and not path.parent.exists():
-        raise ValueError(f"out = {str(out)!r}: the directory {str(path.parent)!r} does not exist")
+        raise InputError(f"out = {str(out)!r}: the directory {str(path.parent)!r} does not exist")
     cases = []
     for v in values:  # every case checked before any run
         sc = _scene_for(scene, parameter, v)

@@ -19,6 +19,7 @@ Modules, lowest first (each imports only those above it):
 ``planar``    simple polylines, cracks inside the polygon and apart from each other
 ``types``     Material, BoundaryCondition, Crack and the allowed values
 ``holes``     Hole: polygons and circles inside the body
+``points``    PointCondition: loads and supports at points of the outer boundary
 ``topology``  the parts the through cracks cut, the rigid-motion (held) check
 ``toml``      reading and writing scene files
 ``body``      the Scene itself
@@ -44,6 +45,7 @@ from .body import MAX_POLYGON_VERTICES, Scene
 from .fields import FrozenMap, SceneError
 from .holes import CIRCLE_SEGMENTS, MAX_HOLES, Hole
 from .measures import Point, diameter, polygon_area
+from .points import MAX_POINTS, POINT_TYPES, PointCondition
 from .topology import HELD_RANK_RTOL, Part
 from .types import (
     BOUNDARY_TYPES,
@@ -68,10 +70,12 @@ __all__ = [
     "MAX_BOUNDARY_POINTS",
     "MAX_CRACK_POINTS",
     "MAX_HOLES",
+    "MAX_POINTS",
     "MAX_POLYGON_VERTICES",
     "MAX_SCALE",
     "MIN_SIZE_RTOL",
     "PLANE_TYPES",
+    "POINT_TYPES",
     "BoundaryCondition",
     "Crack",
     "FrozenMap",
@@ -79,6 +83,7 @@ __all__ = [
     "Material",
     "Part",
     "Point",
+    "PointCondition",
     "Scene",
     "SceneError",
     "diameter",

@@ -51,6 +51,8 @@ from .planar import (
     check_gaps,
     check_polyline_simple,
 )
+from .points import PointCondition, coerce_points, force_conditions, from_tractions, insert_points, strip_points
+from .pressure import check_pressure
 from .topology import Part, check_held, parts
 from .types import (
     GEOMETRY_RTOL,
@@ -89,7 +91,10 @@ class Scene:
     (unnamed edges are traction-free); ``maxh`` global mesh size, ``crack_h`` size along
     the cracks, ``grading`` how fast sizes grow (netgen, 0.3 default) and ``tip_h`` local
     size at crack tips (None: the solver decides); ``description`` one line;
-    ``exact`` closed-form metadata (see :data:`EXACT_KINDS`) or None.
+    ``exact`` closed-form metadata (see :data:`EXACT_KINDS`) or None; ``points``
+    loads and supports at points of the outer boundary (:class:`PointCondition`, the
+    ``[[point]]`` tables): their segments are inserted into ``polygon`` and ``labels``, a
+    force is stored as a traction on its label in ``boundary`` (``points.py``).
     """
 
     name: str
@@ -106,6 +111,7 @@ class Scene:
     grading: float | None = None
     description: str = ""
     exact: Mapping[str, Any] | None = None
+    points: tuple[PointCondition, ...] = ()
 
     # ---------------------------------------------------------------- validation
     def __post_init__(self) -> None:
@@ -193,6 +199,14 @@ class Scene:
                                  f"default is 0.3)")
             set_("grading", g)
 
+        # points: their segments inserted into the polygon, forces as tractions
+        pconds = coerce_points(self.points, self.maxh, diam)
+        if pconds:
+            poly, labels = insert_points(poly, self.labels, pconds, (), diam, tol)
+            set_("polygon", poly)
+            set_("labels", labels)
+        set_("points", pconds)
+
         # cracks
         raw = self.cracks
         if isinstance(raw, (str, bytes, Mapping)) or not isinstance(raw, Sequence):
@@ -202,6 +216,10 @@ class Scene:
         outer = Walls([(poly, self.labels, "domain.polygon")])
         holes = check_holes(self.holes, outer, diam, tol)
         set_("holes", holes)
+        for k, pc in enumerate(pconds):
+            if any(pc.label in h.labels for h in holes):
+                raise SceneError(f"point[{k}].label = {pc.label!r}: already the label of a hole's edge; choose "
+                                 f"another label")
         walls = Walls([(poly, self.labels, "domain.polygon")]
                       + [(h.loop(), h.edge_labels(), f"hole[{k}]") for k, h in enumerate(holes)])
         self.__dict__["_walls"] = outer  # the cache of the outer boundary (on_boundary)
@@ -210,12 +228,14 @@ class Scene:
             fld = f"crack[{i}]"
             pts_raw = c.points if isinstance(c, Crack) else c
             mu = c.friction if isinstance(c, Crack) else 0.0
+            pressure = c.pressure if isinstance(c, Crack) else None
             if isinstance(pts_raw, Mapping):
-                check_keys(pts_raw, ("points", "friction"), fld)
+                check_keys(pts_raw, ("points", "friction", "pressure"), fld)
                 if "points" not in pts_raw:
                     raise SceneError(f"{fld}.points: missing; give a polyline "
                                      f"[[x0, y0], [x1, y1], ...]")
                 mu = friction_coefficient(pts_raw.get("friction", 0.0), f"{fld}.friction")
+                pressure = check_pressure(pts_raw.get("pressure"), f"{fld}.pressure")
                 pts_raw = pts_raw["points"]
             pts = crack_points(pts_raw, fld, tol)
             check_crack_in_domain(walls, pts, fld, tol)
@@ -227,7 +247,13 @@ class Scene:
                             f"{fld}.points[{k}] = {fmt_pt(pts[k])} lies on hole[{walls.owner[e][0] - 1}]; "
                             f"a crack may not touch a hole (end it inside the body, at least "
                             f"{fmt(MIN_GAP_RTOL * diam)} away)")
-            cracks.append(c if isinstance(c, Crack) else Crack(pts, mu))
+            if not isinstance(c, Crack):
+                try:
+                    c = Crack(pts, mu, pressure)
+                except SceneError as exc:  # the pressure's checks, under this crack's name
+                    raise SceneError(str(exc).replace("crack.pressure", f"{fld}.pressure")) from None
+            check_crack_pressure(c.pressure, E, diam, f"{fld}.pressure")
+            cracks.append(c)
         total = (len(poly) + sum(len(h.polygon) for h in holes if not h.is_circle)
                  + 2 * sum(len(c.points) for c in cracks))
         if total > MAX_BOUNDARY_POINTS:
@@ -244,8 +270,10 @@ class Scene:
             raise SceneError(f"boundary = {short(bnd)}: must be a table of "
                              f"[boundary.<label>] tables")
         allowed = self.boundary_labels
-        conds = {}
+        conds = force_conditions(pconds, bnd)
         for lab, cond in bnd.items():
+            if lab in conds:
+                continue
             if lab not in allowed:
                 raise SceneError(f"boundary.{lab}: unknown edge label; allowed labels: "
                                  f"{', '.join(allowed)}")
@@ -376,6 +404,13 @@ class Scene:
         """
         return _toml.scene_from_dict(cls, d, name)
 
+    @staticmethod
+    def solid_from_dict(d: Mapping[str, Any], name: str | None = None):
+        """A 3D scene (its ``[domain]`` is a box or a cylinder): ngcrack.solid.scene.SolidScene."""
+        from ..solid.scene import SolidScene
+
+        return SolidScene.from_dict(d, name)
+
     @classmethod
     def from_toml_string(cls, text: str, name: str | None = None,
                          source: str = "scene") -> Scene:
@@ -402,10 +437,13 @@ class Scene:
         """A new, validated scene with some fields replaced.
 
         Accepts any field (``name``, ``polygon``, ``labels``, ``cracks``, ``holes``, ``material``,
-        ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``)
+        ``body_force``, ``boundary``, ``maxh``, ``tip_h``, ``description``, ``exact``, ``points``)
         and the material's ``E``, ``nu``, ``plane``. ``boundary`` replaces the whole
-        mapping (label -> BoundaryCondition or {"type": ..., "value": ...}).
-        ``friction`` sets the Coulomb coefficient of every crack.
+        mapping (label -> BoundaryCondition or {"type": ..., "value": ...}); a traction it gives
+        on a force point's label sets that point's force (value = traction times width).
+        New ``points`` replace the old ones, their segments and forces.
+        ``friction`` sets the Coulomb coefficient of every crack, ``pressure`` the face
+        pressure of every crack (``ngcrack.scene.pressure``).
         """
         names = [f.name for f in dataclasses.fields(self)]
         mat_keys = ("E", "nu", "plane")
@@ -418,11 +456,30 @@ class Scene:
                 dataclasses.replace(c, friction=mu) if isinstance(c, Crack)
                 else {**c, "friction": mu} if isinstance(c, Mapping) else {"points": c, "friction": mu}
                 for c in cracks)
+        if "pressure" in changes:
+            p = check_pressure(changes.pop("pressure"), "pressure")
+            cracks = changes.get("cracks", self.cracks)
+            if isinstance(cracks, (str, bytes, Mapping)) or not isinstance(cracks, Sequence):
+                raise SceneError(f"crack = {short(cracks)}: must be a list of cracks")
+            changes["cracks"] = tuple(
+                dataclasses.replace(c, pressure=p) if isinstance(c, Crack)
+                else {**c, "pressure": p} if isinstance(c, Mapping) else {"points": c, "pressure": p}
+                for c in cracks)
         unknown = [k for k in changes if k not in names and k not in mat_keys]
         if unknown:
             allowed = ", ".join(names + list(mat_keys))
             raise SceneError(f"with_: unknown field{'s' if len(unknown) > 1 else ''} "
                              f"{', '.join(unknown)}; allowed: {allowed}")
+        if self.points and "points" in changes:
+            # new points: the old ones' segments and forces leave the polygon and the boundary
+            if "polygon" not in changes and "labels" not in changes:
+                changes["polygon"], changes["labels"] = strip_points(self.polygon, self.labels, self.points)
+            if "boundary" not in changes:
+                forces = {pc.label for pc in self.points if pc.type == "force"}
+                changes["boundary"] = {k: v for k, v in self.boundary.items() if k not in forces}
+        elif self.points and isinstance(changes.get("boundary"), Mapping):
+            # a new boundary mapping carries the forces of the points (a scaled or turned load)
+            changes["points"] = from_tractions(self.points, changes["boundary"])
         mat = {k: changes.pop(k) for k in mat_keys if k in changes}
         if mat:
             base = Material.from_dict(changes.get("material", self.material))
@@ -436,7 +493,8 @@ class Scene:
         ``load``, body forces by ``load / size`` (so that stresses scale with ``load``)
         and prescribed displacements by ``load * size / E``: the displacements of the
         scaled scene are those of this one times ``load * size / E``. Each crack keeps
-        its friction coefficient; the ``[exact]`` metadata is kept as it is.
+        its friction coefficient, its pressure scales by ``load`` (a table's arc lengths by
+        ``size``); the ``[exact]`` metadata is kept as it is.
         """
         for v, fld in ((E, "E"), (load, "load"), (size, "size")):
             positive(v, f"scaled.{fld}")
@@ -444,11 +502,27 @@ class Scene:
         boundary = {k: b.scaled(factor[b.type]) if b.type in factor else b
                     for k, b in self.boundary.items()}
         bf = tuple(v * load / size for v in self.body_force) if self.body_force else None
+        forces = {pc.label for pc in self.points if pc.type == "force"}
+        boundary = {k: b for k, b in boundary.items() if k not in forces}
         return self.with_(
+            points=tuple(pc.scaled(size, load * size) for pc in self.points),
             E=self.material.E * E,
             polygon=tuple((x * size, y * size) for x, y in self.polygon),
-            cracks=tuple(c.scaled(size) for c in self.cracks),
+            cracks=tuple(c.scaled(size, load) for c in self.cracks),
             holes=tuple(h.scaled(size) for h in self.holes),
             body_force=bf, boundary=boundary,
             **{k: getattr(self, k) * size for k in ("maxh", "tip_h", "crack_h") if getattr(self, k)},
         )
+
+
+def check_crack_pressure(p, E: float, diam: float, fld: str) -> None:
+    """Refuse a crack pressure whose nonzero values leave the range of the scene's loads
+    (as strains p / E, and in size, between 1/MAX_SCALE and MAX_SCALE)."""
+    if p is None:
+        return
+    vals = [p] if isinstance(p, float) else [v for _, v in p] if isinstance(p, tuple) else []
+    for v in vals:
+        if v != 0.0 and not (1.0 / MAX_SCALE <= abs(v) / E <= MAX_SCALE and 1.0 / MAX_SCALE <= abs(v) <= MAX_SCALE):
+            raise SceneError(f"{fld} = {short(p)}: out of range ({fmt(v)}, as a strain p / E "
+                             f"{abs(v) / E:.3g}); each nonzero value must lie, in size and over E, "
+                             f"between {1.0 / MAX_SCALE:g} and {MAX_SCALE:g} (change the units)")

@@ -15,12 +15,13 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import InputError
 from .measures import Point
 
 __all__ = ["FrozenMap", "SceneError"]
 
 
-class SceneError(ValueError):
+class SceneError(InputError):
     """A scene field is invalid; the message names the field and what is allowed."""
 
 

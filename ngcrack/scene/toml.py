@@ -25,7 +25,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib  # type: ignore[no-redef]
 
 #: the top-level keys of a scene file
-TOP_KEYS = ("name", "description", "domain", "crack", "hole", "material", "load", "boundary",
+TOP_KEYS = ("name", "description", "domain", "crack", "hole", "point", "material", "load", "boundary",
             "mesh", "exact")
 #: the keys of its [mesh] table
 MESH_KEYS = ("maxh", "tip_h", "crack_h", "grading")
@@ -35,6 +35,9 @@ def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
     """A ``cls`` (the Scene type) from the TOML structure; ``name`` overrides ``d["name"]``."""
     if not isinstance(d, Mapping):
         raise SceneError(f"scene = {short(d)}: must be a table (the TOML document)")
+    dom = d.get("domain")
+    if isinstance(dom, Mapping) and any(k in dom for k in ("box", "cylinder", "step")):
+        return cls.solid_from_dict(d, name)  # a 3D body: its own scene type (ngcrack.solid.scene)
     check_keys(d, TOP_KEYS, "")
     if name is None:
         if "name" not in d:
@@ -57,6 +60,10 @@ def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
     if isinstance(holes, (Mapping, str, bytes)) or not isinstance(holes, Sequence):
         raise SceneError(f"hole = {short(holes)}: must be an array of tables ([[hole]] with "
                          f"polygon = [[x, y], ...] or center = [x, y] and radius = r)")
+    pts = d.get("point", [])
+    if isinstance(pts, (Mapping, str, bytes)) or not isinstance(pts, Sequence):
+        raise SceneError(f"point = {short(pts)}: must be an array of tables ([[point]] with at = [x, y], "
+                         f"type = 'force' | 'pin' | 'roller' and, for a force, value = [Fx, Fy])")
     if "material" not in d:
         raise SceneError("material: missing; give a [material] table with E, nu and "
                          "optionally plane")
@@ -72,6 +79,7 @@ def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
         labels=domain.get("labels", ()),
         cracks=tuple(cracks),
         holes=tuple(holes),
+        points=tuple(pts),
         material=d["material"],
         body_force=load.get("body_force"),
         boundary=boundary,
@@ -103,7 +111,12 @@ def scene_to_dict(scene) -> dict[str, Any]:
     d: dict[str, Any] = {"name": scene.name}
     if scene.description:
         d["description"] = scene.description
-    d["domain"] = {"polygon": [list(p) for p in scene.polygon], "labels": list(scene.labels)}
+    poly, labels = scene.polygon, scene.labels
+    if scene.points:  # the polygon as written: without the points' segments
+        from .points import strip_points
+
+        poly, labels = strip_points(poly, labels, scene.points)
+    d["domain"] = {"polygon": [list(p) for p in poly], "labels": list(labels)}
     if scene.cracks:
         d["crack"] = [c.to_dict() for c in scene.cracks]
     if scene.holes:
@@ -111,8 +124,12 @@ def scene_to_dict(scene) -> dict[str, Any]:
     d["material"] = scene.material.to_dict()
     if scene.body_force is not None:
         d["load"] = {"body_force": list(scene.body_force)}
-    if scene.boundary:
-        d["boundary"] = {lab: bc.to_dict() for lab, bc in scene.boundary.items()}
+    if scene.points:
+        d["point"] = [pc.to_dict() for pc in scene.points]
+    forces = {pc.label for pc in scene.points if pc.type == "force"}
+    boundary = {lab: bc.to_dict() for lab, bc in scene.boundary.items() if lab not in forces}
+    if boundary:
+        d["boundary"] = boundary
     mesh = {k: getattr(scene, k) for k in MESH_KEYS if getattr(scene, k) is not None}
     if mesh:
         d["mesh"] = mesh

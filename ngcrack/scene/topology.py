@@ -178,7 +178,8 @@ def check_held(scene) -> None:
     """Refuse a scene in which some part can move rigidly (the answer is not unique).
 
     Rigid motions are v(x) = a + theta (-y, x). Each clamped or displacement piece
-    imposes v = 0 at its two end points, each roller piece v.n = 0 there; a part is
+    imposes v = 0 at its two end points, each roller piece v.n = 0 there, a pin point
+    v = 0 at its centre and a roller point v.n = 0 there; a part is
     held when these constraints have rank 3. Contact on crack faces is unilateral
     and holds nothing.
     """
@@ -187,9 +188,18 @@ def check_held(scene) -> None:
         c = part.point
         rows: list[list[float]] = []
         held: dict[tuple[str, str], float] = {}  # (type, label) -> total length
+        points = {pc.label: pc for pc in getattr(scene, "points", ())}
         for lab, p, q in part.pieces:
             cond = scene.boundary.get(lab)
             length = dist(p, q)
+            pc = points.get(lab)
+            if pc is not None and pc.holds != "none":  # a pin or roller point: its segment's mean, at its centre
+                X, Y = (pc.at[0] - c[0]) / L, (pc.at[1] - c[1]) / L
+                n_out = ((q[1] - p[1]) / length, -(q[0] - p[0]) / length)
+                held[(pc.type, lab)] = length
+                rows += ([[1.0, 0.0, -Y], [0.0, 1.0, X]] if pc.holds == "all"
+                         else [[n_out[0], n_out[1], -n_out[0] * Y + n_out[1] * X]])
+                continue
             if cond is None or cond.holds == "none" or length <= tol:
                 continue
             n_out = ((q[1] - p[1]) / length, -(q[0] - p[0]) / length)

@@ -27,6 +27,7 @@ from .fields import (
 )
 from .measures import Point, diameter, dist
 from .planar import check_polyline_simple
+from .pressure import Pressure, check_pressure, pressure_to_toml
 
 __all__ = [
     "BOUNDARY_TYPES",
@@ -241,14 +242,19 @@ class Crack:
     into, ``[u] = u+ - u-``, and the contact condition is ``[u].nu >= 0``.
     ``friction`` is the Coulomb coefficient mu >= 0 of the faces (0: frictionless):
     |sigma_t| <= mu |sigma_n|, with no sliding where the inequality is strict.
+    ``pressure`` is the load on both faces, pushing them apart (``scene.pressure``): None
+    (none), a number, a table ((s, p), ...) piecewise linear in the arc length s from the
+    first point, or a callable p(s).
     """
 
     points: tuple[tuple[float, float], ...]
     friction: float = 0.0
+    pressure: Pressure = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", crack_points(self.points, "crack", None))
         object.__setattr__(self, "friction", friction_coefficient(self.friction, "crack.friction"))
+        object.__setattr__(self, "pressure", check_pressure(self.pressure, "crack.pressure", self.length))
 
     @property
     def segments(self) -> list[tuple[Point, Point]]:
@@ -280,14 +286,27 @@ class Crack:
             s += L
         return out
 
-    def scaled(self, factor: float) -> Crack:
-        """The crack with every point multiplied by ``factor`` (its friction kept)."""
-        return Crack(tuple((x * factor, y * factor) for x, y in self.points), self.friction)
+    def scaled(self, factor: float, load: float = 1.0) -> Crack:
+        """The crack with every point multiplied by ``factor`` (its friction kept, its
+        pressure multiplied by ``load``, a table's arc lengths by ``factor``)."""
+        p = self.pressure
+        if isinstance(p, float):
+            p = p * load
+        elif isinstance(p, tuple):
+            p = tuple((s * factor, v * load) for s, v in p)
+        elif p is not None:
+            fn = p
+
+            def p(s: float) -> float:
+                return load * fn(s / factor)
+        return Crack(tuple((x * factor, y * factor) for x, y in self.points), self.friction, p)
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {"points": [list(p) for p in self.points]}
         if self.friction:
             d["friction"] = self.friction
+        if self.pressure is not None:
+            d["pressure"] = pressure_to_toml(self.pressure, "crack.pressure")
         return d
 
 

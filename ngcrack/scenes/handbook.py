@@ -24,6 +24,8 @@ import math
 
 from ngcrack.scene import Scene
 
+from ..errors import InputError
+
 #: half length of the clamped anchor of the edge-cracked strip, in widths: the loads are
 #: self-equilibrated, so the anchor only removes the rigid motions (its reaction is the
 #: load missing on it, 2 ANCHOR p b, spread by Saint-Venant near the far end)
@@ -32,7 +34,7 @@ ANCHOR = 0.02
 
 def _ratio(a_over_b: float, low: float, high: float) -> float:
     if isinstance(a_over_b, bool) or not isinstance(a_over_b, (int, float)) or not (low < a_over_b < high):
-        raise ValueError(f"a_over_b = {a_over_b!r}: must be a number in ({low:g}, {high:g})")
+        raise InputError(f"a_over_b = {a_over_b!r}: must be a number in ({low:g}, {high:g})")
     return float(a_over_b)
 
 

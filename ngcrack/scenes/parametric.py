@@ -14,6 +14,8 @@ from typing import Any
 
 from ngcrack.scene import Scene
 
+from ..errors import InputError
+
 
 def inclined_crack(angle: float = 30.0, half_length: float = 1.0, load: float = -1.0,
                    plate: float = 10.0, E: float = 1000.0, nu: float = 0.3,
@@ -38,9 +40,9 @@ def inclined_crack(angle: float = 30.0, half_length: float = 1.0, load: float = 
     """
     a = float(half_length)
     if not (isinstance(angle, (int, float)) and math.isfinite(angle) and -90.0 < angle < 90.0):
-        raise ValueError(f"angle = {angle!r}: must be a number of degrees in (-90, 90)")
+        raise InputError(f"angle = {angle!r}: must be a number of degrees in (-90, 90)")
     if not (isinstance(plate, (int, float)) and plate > 1.5):
-        raise ValueError(f"plate = {plate!r}: must be a number > 1.5 (the half width in crack half-lengths)")
+        raise InputError(f"plate = {plate!r}: must be a number > 1.5 (the half width in crack half-lengths)")
     L = float(plate) * a
     cx, cy = (float(c) * a for c in center)
     b = math.radians(angle)
@@ -68,7 +70,7 @@ def inclined_closed_form(scene: Scene) -> dict[str, float]:
     """sigma_n, tau, K_I, K_II (frictionless) and E' of an ``inclined`` scene's closed form."""
     ex = scene.exact
     if ex is None or ex["kind"] != "inclined":
-        raise ValueError(f"scene {scene.name!r}: has no closed form of kind 'inclined'")
+        raise InputError(f"scene {scene.name!r}: has no closed form of kind 'inclined'")
     b = math.radians(ex["angle"])
     sn = ex["p"] * math.cos(b) ** 2
     tau = ex["p"] * math.sin(b) * math.cos(b)
@@ -119,7 +121,7 @@ def cracked_beam(center_x: float = 2.0, center_y: float = 0.5, half_length: floa
     A crack that leaves the body is refused (SceneError naming the crack's points).
     """
     if not (isinstance(angle, (int, float)) and math.isfinite(angle) and -90.0 < angle < 90.0):
-        raise ValueError(f"angle = {angle!r}: must be a number of degrees in (-90, 90)")
+        raise InputError(f"angle = {angle!r}: must be a number of degrees in (-90, 90)")
     b = math.radians(angle)
     d = (half_length * math.cos(b), half_length * math.sin(b))
     W, H = float(length), float(height)
@@ -173,8 +175,8 @@ class SceneFunction:
         known = {p.name for p in self.parameters} | set(inspect.signature(self.function).parameters)
         unknown = sorted(set(params) - known)
         if unknown:
-            raise ValueError(f"{self.name}: unknown parameter{'s' if len(unknown) > 1 else ''} "
-                             f"{', '.join(unknown)}; allowed: {', '.join(p.name for p in self.parameters)}")
+            raise InputError(f"{self.name}: unknown parameter{'s' if len(unknown) > 1 else ''} "
+                              f"{', '.join(unknown)}; allowed: {', '.join(p.name for p in self.parameters)}")
         return self.function(**params)
 
     def geometry(self) -> tuple[Parameter, ...]:
@@ -199,7 +201,7 @@ TEACHING_MESH = {"maxh": 1.0, "tip_h": 0.02}
 
 def _teaching_half_length(half_length: float) -> float:
     if not (isinstance(half_length, (int, float)) and 0 < half_length < TEACHING_PLATE):
-        raise ValueError(f"half_length = {half_length!r}: must lie in (0, {TEACHING_PLATE:g})")
+        raise InputError(f"half_length = {half_length!r}: must lie in (0, {TEACHING_PLATE:g})")
     return float(half_length)
 
 
@@ -263,4 +265,4 @@ def scene_function(name: str) -> SceneFunction:
     try:
         return SCENE_FUNCTIONS[name]
     except KeyError:
-        raise ValueError(f"scene function = {name!r}: allowed values are {', '.join(SCENE_FUNCTIONS)}") from None
+        raise InputError(f"scene function = {name!r}: allowed values are {', '.join(SCENE_FUNCTIONS)}") from None

@@ -18,6 +18,8 @@ import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 
+from ..errors import InputError
+
 #: seconds between a worker's checks that its parent is alive (where the kernel cannot tell it)
 WATCHDOG_PERIOD = 0.5
 
@@ -120,7 +122,7 @@ class _Dask(_Serial):
         try:
             import distributed
         except ImportError:
-            raise ValueError("dask: the dask.distributed package is not installed (pip install 'dask[distributed]')") from None
+            raise InputError("dask: the dask.distributed package is not installed (pip install 'dask[distributed]')") from None
         self._distributed = distributed
         if isinstance(address, distributed.Client):
             self.client, self._own = address, False
@@ -128,7 +130,7 @@ class _Dask(_Serial):
             try:
                 self.client, self._own = distributed.Client(address, timeout=DASK_CONNECT_TIMEOUT), True
             except (OSError, TimeoutError, ValueError) as exc:
-                raise ValueError(f"dask = {address!r}: cannot connect to a scheduler there ({exc})") from None
+                raise InputError(f"dask = {address!r}: cannot connect to a scheduler there ({exc})") from None
         self.capacity = max(1, sum(self.client.nthreads().values()))
 
     def submit(self, fn, *args):

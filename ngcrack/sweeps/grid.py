@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import InputError
 from ..files import file_name_part
 from ..options import SolveOptions
 from .cases import MESH_OPTIONS, Case
@@ -29,9 +30,9 @@ def check_friction_applies(friction, crack_model: str | None, field: str = "fric
     values = [friction] if isinstance(friction, (int, float, np.floating, np.integer)) else list(friction or [])
     given = [float(f) for f in values if isinstance(f, (int, float, np.floating, np.integer)) and f != 0]
     if given and (crack_model or "contact") != "contact":
-        raise ValueError(f"{field} = {given[0]:g}: friction acts only with crack_model = 'contact' (free and "
-                         f"bonded cracks have no contact, so no friction); drop {field} or use crack_model "
-                         f"'contact'")
+        raise InputError(f"{field} = {given[0]:g}: friction acts only with crack_model = 'contact' (free and "
+                          f"bonded cracks have no contact, so no friction); drop {field} or use crack_model "
+                          f"'contact'")
 
 
 def warn_friction_not_applied(scene, crack_model: str | None) -> None:
@@ -49,7 +50,7 @@ def _as_list(values, name: str) -> list:
         values = [values]
     values = list(values)
     if not values:
-        raise ValueError(f"{name}: give at least one value")
+        raise InputError(f"{name}: give at least one value")
     return values
 
 
@@ -57,7 +58,7 @@ def _check_sizes(values: Sequence, name: str) -> list[float]:
     out = []
     for v in values:
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not (math.isfinite(v) and v > 0):
-            raise ValueError(f"{name} = {v!r}: must be a finite number > 0")
+            raise InputError(f"{name} = {v!r}: must be a finite number > 0")
         out.append(float(v))
     return out
 
@@ -88,7 +89,7 @@ class _Grid:
         elements = _as_list(elements, "elements")
         for el in elements + ([reference_element] if reference_element is not None else []):
             if el not in _elements.ELEMENTS:
-                raise ValueError(f"element = {el!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
+                raise InputError(f"element = {el!r}: allowed values are {', '.join(_elements.ELEMENTS)}")
         sizes = sorted(set(_check_sizes(_as_list(maxh, "maxh" if adapt_maxh is None else "adapt"),
                                         "maxh" if adapt_maxh is None else "adapt")), reverse=True)
         nus = [float(v) for v in _as_list(nu, "nu")] if nu is not None else [float(scene.material.nu)]
@@ -102,11 +103,11 @@ class _Grid:
             frictions = list(dict.fromkeys(float(f) for f in values))
         for k in ("maxh", "element", "scene", "adapt"):
             if k in (solve_options or {}):
-                raise ValueError(f"solve_options: {k!r} is set by the sweep itself")
+                raise InputError(f"solve_options: {k!r} is set by the sweep itself")
         try:  # every solve option checked once, before any run starts
             options = SolveOptions.of(**(solve_options or {}))
         except TypeError as exc:
-            raise ValueError(f"solve_options: {exc}") from None
+            raise InputError(f"solve_options: {exc}") from None
         for f in frictions:  # every run's friction options
             options.check_for(scene if f is None else scene.with_(friction=f))
         if adapt_maxh is not None:  # every run's adaptivity options
@@ -115,13 +116,13 @@ class _Grid:
             for tol, el, v in itertools.product(sizes, elements, nus):
                 check_adapt_options(options.replace(element=el, adapt=tol), scene.with_(nu=v))
             if not adapt_maxh or adapt_maxh <= 0:
-                raise ValueError("adapt_maxh: the first mesh size of adaptive runs is missing (the scene has no maxh)")
+                raise InputError("adapt_maxh: the first mesh size of adaptive runs is missing (the scene has no maxh)")
         if reference_maxh is not None:
             (reference_maxh,) = _check_sizes([reference_maxh], "reference_maxh")
             if adapt_maxh is None and reference_maxh > sizes[-1] * (1 + 1e-12):
-                raise ValueError(f"reference_maxh = {reference_maxh:g}: must be at most the finest maxh ({sizes[-1]:g})")
+                raise InputError(f"reference_maxh = {reference_maxh:g}: must be at most the finest maxh ({sizes[-1]:g})")
         if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
-            raise ValueError(f"jobs = {jobs!r}: must be an integer >= 1")
+            raise InputError(f"jobs = {jobs!r}: must be an integer >= 1")
         solve_options = dict(solve_options or {})
         ref_h = reference_maxh if reference_maxh is not None else sizes[-1]
         setup = {"reference_element": reference_element or "", "reference_maxh": ref_h,
@@ -181,9 +182,9 @@ class _Grid:
                 want, have = self.setup[col], rec[col]
                 same = math.isclose(have, want, rel_tol=1e-9) if isinstance(want, float) else str(have) == str(want)
                 if not same:
-                    raise ValueError(f"out = {str(out)!r} holds a row for element={key[1]!r} maxh={key[2]:g} "
-                                     f"nu={key[3]:g} friction={key[4]:g} computed with {col} = {have!r}, this sweep asks for {want!r}: "
-                                     f"write to another file")
+                    raise InputError(f"out = {str(out)!r} holds a row for element={key[1]!r} maxh={key[2]:g} "
+                                      f"nu={key[3]:g} friction={key[4]:g} computed with {col} = {have!r}, this sweep asks for {want!r}: "
+                                      f"write to another file")
 
     def ref_file(self, ref_dir: Path, element: str, variant: tuple) -> Path:
         nu, f = variant

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .cases import MESH_OPTIONS, _mesh_stats
 from .grid import _as_list, _check_sizes
 from .quantities import QUANTITIES, ZERO_FIELD, Reference, sample_quantities
@@ -87,7 +88,7 @@ def comparison_errors(scene, element: str, maxh: Sequence[float], reference_maxh
                 try:
                     check_thin_parts(scene, element, h, **{k: solve_options.get(k) for k in MESH_OPTIONS})
                     refused = False
-                except ValueError:
+                except InputError:
                     refused = True  # too coarse for this element: no row
                 if not refused:
                     sol = solve(scene, element=element, maxh=h, **solve_options)

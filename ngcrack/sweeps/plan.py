@@ -12,6 +12,7 @@ import warnings
 from collections.abc import Iterable
 from pathlib import Path
 
+from ..errors import InputError
 from ..options import DEFAULT_ELEMENT
 from .cases import Case, run_case
 from .executors import _Dask, _executor
@@ -43,7 +44,7 @@ def check_sweep(scene, elements=(DEFAULT_ELEMENT,), maxh=(0.2, 0.1, 0.05), nu=No
 
         check_max_dof(max_dof)
         if max_dof != int(max_dof):  # never truncated silently
-            raise ValueError(f"max_dof = {max_dof!r}: must be a whole number of unknowns")
+            raise InputError(f"max_dof = {max_dof!r}: must be a whole number of unknowns")
         solve_options = {**(solve_options or {}), "max_dof": int(max_dof)}
     grid = _Grid.checked(scene, elements, maxh if adapt is None else adapt, nu, reference_maxh, reference_element,
                          jobs, solve_options, friction,

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .quantities import _is_tip_column
 
 #: columns that identify a row (resume key)
@@ -127,8 +128,8 @@ def _schema(columns) -> dict[str, type]:
     return dict(ROW_SCHEMA, **{c: float for c in columns if _is_tip_column(str(c))})
 
 
-def _corrupted(path: Path, what: str) -> ValueError:
-    return ValueError(f"{path}: {what}; the file is corrupted (edited by hand or written by something else): "
+def _corrupted(path: Path, what: str) -> InputError:
+    return InputError(f"{path}: {what}; the file is corrupted (edited by hand or written by something else): "
                       f"repair or delete that row, or write to another file")
 
 
@@ -183,7 +184,7 @@ def read_results(path):
     try:
         text = path.read_text()
     except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a text file ({exc.reason} at byte {exc.start}); write to another file") from None
+        raise InputError(f"{path}: not a text file ({exc.reason} at byte {exc.start}); write to another file") from None
     if text and not text.endswith("\n"):
         text = text[: text.rfind("\n") + 1]
     if not text:
@@ -191,12 +192,12 @@ def read_results(path):
     try:
         lines = list(csv.reader(io.StringIO(text)))
     except csv.Error as exc:
-        raise ValueError(f"{path}: not a CSV file ({exc}); write to another file") from None
+        raise InputError(f"{path}: not a CSV file ({exc}); write to another file") from None
     header, records = lines[0], lines[1:]
     n = len(ROW_COLUMNS)
     if tuple(header[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in header[n:]):
-        raise ValueError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
-                         f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
+        raise InputError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
+                          f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
     for i, rec in enumerate(records, start=1):
         if len(rec) != len(header):
             raise _corrupted(path, f"row {i} (line {i + 1}) has {len(rec)} cells, the header {len(header)}")
@@ -224,9 +225,9 @@ class ResultsFile:
         self.columns = tuple(columns)
         self._header = ""
         if not self.path.parent.exists():
-            raise ValueError(f"out = {str(self.path)!r}: the directory {str(self.path.parent)!r} does not exist")
+            raise InputError(f"out = {str(self.path)!r}: the directory {str(self.path.parent)!r} does not exist")
         if self.path.is_dir():
-            raise ValueError(f"out = {str(self.path)!r}: is a directory; give a file name")
+            raise InputError(f"out = {str(self.path)!r}: is a directory; give a file name")
         if self.path.exists() and self.path.stat().st_size:
             data = self.path.read_bytes()
             if not data.endswith(b"\n"):  # a line cut by an interruption: drop it
@@ -237,8 +238,8 @@ class ResultsFile:
                     fh.truncate(keep)
             self.existing = read_results(self.path)
             if tuple(self.existing.columns) != self.columns:
-                raise ValueError(f"out = {str(self.path)!r}: its columns are not this sweep's (another scene's "
-                                 f"tips?); write to another file")
+                raise InputError(f"out = {str(self.path)!r}: its columns are not this sweep's (another scene's "
+                                  f"tips?); write to another file")
         else:
             self.existing = None
             buf = io.StringIO()  # tip columns hold a comma (K_I[0,last]): quoted

@@ -1,0 +1,98 @@
+"""Start-up: the CPU of `import ngsolve`, `import ngcrack`, `ngcrack --help` and a whole
+`ngcrack solve`, and the import profile of `import ngcrack` and of a solve.
+
+Each command runs in a fresh process, REPEAT times, interleaved, after one round that is
+not counted; the table gives the least and the median CPU seconds (user + system of the
+child, `resource.RUSAGE_CHILDREN`). The children run as an installed package does, with
+their bytecode cached: PYTHONDONTWRITEBYTECODE is dropped and the bytecode goes to a
+temporary PYTHONPYCACHEPREFIX (compiling ngcrack's modules from source costs about 0.3 s
+more per process, which a user pays once).
+The profile is `python -X importtime` summed per top-level package: the microseconds
+each package's own modules took (self time, so nothing is counted twice), largest first.
+The 1-minute load average is printed with the table: the machine may be shared.
+
+    python benchmarks/startup.py                 # 5 repetitions
+    python benchmarks/startup.py --repeat 11 --top 25
+
+No number here is a test threshold (tests/test_startup.py asserts which modules load).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+from collections import defaultdict
+
+PY = sys.executable
+SOLVE = "import ngcrack as nc; nc.solve('griffith')"
+COMMANDS = {
+    "import ngsolve": [PY, "-c", "import ngsolve"],
+    "import ngcrack": [PY, "-c", "import ngcrack"],
+    "ngcrack --help": [PY, "-m", "ngcrack.cli", "--help"],
+    "ngcrack solve griffith": [PY, "-m", "ngcrack.cli", "solve", "griffith"],
+    "python: import + nc.solve('griffith')": [PY, "-c", SOLVE],
+}
+
+
+#: the children's environment: bytecode written and read, as an installed package has it
+ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+ENV["PYTHONPYCACHEPREFIX"] = os.path.join(tempfile.gettempdir(), "ngcrack-startup-pycache")
+
+
+def cpu(args: list[str]) -> float:
+    """CPU seconds (user + system) of one run of `args` in a child process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True, env=ENV)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def import_profile(code: str) -> tuple[dict[str, int], int]:
+    """Self import time per top-level package (microseconds) of `python -X importtime -c code`."""
+    err = subprocess.run([PY, "-X", "importtime", "-c", code], capture_output=True, text=True, check=True, env=ENV).stderr
+    per: dict[str, int] = defaultdict(int)
+    for line in err.splitlines():
+        if not line.startswith("import time:") or "self [us]" in line:
+            continue
+        self_us, _, name = line[len("import time:"):].split("|")
+        per[name.strip().split(".")[0]] += int(self_us)
+    return dict(per), len(per)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--top", type=int, default=15, help="packages shown in each import profile")
+    args = ap.parse_args()
+    env_threads = os.environ.get("OMP_NUM_THREADS", "unset")
+    print(f"python {sys.version.split()[0]}, OMP_NUM_THREADS={env_threads}, load average {os.getloadavg()[0]:.2f} "
+          f"(1 min) at the start")
+    times: dict[str, list[float]] = {k: [] for k in COMMANDS}
+    for cmd in COMMANDS.values():  # writes the bytecode; not counted
+        cpu(cmd)
+    for _ in range(args.repeat):  # interleaved: a change of load touches every command alike
+        for name, cmd in COMMANDS.items():
+            times[name].append(cpu(cmd))
+    print(f"\n| command | CPU s, least of {args.repeat} | median |")
+    print("|---|---:|---:|")
+    for name, ts in times.items():
+        print(f"| `{name}` | {min(ts):.3f} | {statistics.median(ts):.3f} |")
+    base = min(times["import ngsolve"])
+    print(f"\nimport ngcrack - import ngsolve: {min(times['import ngcrack']) - base:+.3f} s CPU (least of each)")
+    print(f"load average {os.getloadavg()[0]:.2f} (1 min) at the end")
+    for title, code in (("import ngcrack", "import ngcrack"), ("import ngcrack; nc.solve('griffith')", SOLVE)):
+        per, _ = import_profile(code)
+        total = sum(per.values())
+        print(f"\nimport profile of `{title}` (python -X importtime, self time per top-level package): "
+              f"{total / 1e6:.3f} s wall in {len(per)} packages")
+        for name, us in sorted(per.items(), key=lambda kv: -kv[1])[:args.top]:
+            print(f"  {name:<28s} {us / 1e3:8.1f} ms")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,128 @@
+"""Constraints on the mean displacement of a boundary segment: the scene's pin and roller points.
+
+A pin holds the mean of u over its segment at zero (two constraints), a roller point
+the mean of u.n (one). The mean of u.d over a label's edges of total length w is the
+work of the uniform traction d / w there, so its functional is the element's own load
+vector of that traction (`Discretization.traction`): for every element, mean(u.d) = l_d . x
+on the full solution vector x (`segment_mean`), and on the condensed unknowns y the
+row B = sign T^T (l + E^T l) restricted to the free dofs, as `hybrid.condense` forms its F.
+
+The constraints B y = 0 are eliminated by a change of basis, as the rollers are: k pivot
+unknowns in the constraints' support (column-pivoted QR, never a crack unknown) are
+expressed by the others, y = Z z with Z = [I; -B_P^-1 B_N] in the pivots' rows, and the
+condensed system becomes Z^T K Z z = Z^T F: still symmetric, positive definite where K
+is on the constrained space, with a few more entries in the pivots' rows. The
+constraint's multiplier is the support's reaction, a uniform traction over the segment
+(`reactions`: from the residual of the full form on the segment's dofs).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from .geometry import boundary_region
+
+#: entries of a constraint row below this fraction of its largest are round-off (not its support)
+SUPPORT_RTOL = 1e-13
+#: a pivot of the constraints' QR below this fraction of the largest: dependent constraints
+RANK_RTOL = 1e-10
+
+
+def segment_length(mesh: ngs.Mesh, label: str) -> float:
+    """The total length of the boundary edges labelled `label` in the mesh."""
+    return float(ngs.Integrate(ngs.CF(1.0), mesh, ngs.BND, definedon=boundary_region(mesh, [label])))
+
+
+def segment_functional(disc, label: str, direction) -> np.ndarray:
+    """l with sign * l . x = the mean of u.direction over the label's edges, x a full solution vector."""
+    mesh = disc.crack_mesh.mesh
+    if disc.traction is None:
+        raise ValueError(f"element {disc.element!r} gives no traction integrand; point supports need one")
+    w = segment_length(mesh, label)
+    if not w > 0:
+        raise ValueError(f"boundary label {label!r}: no edge of the mesh carries it")
+    g = ngs.CF((float(direction[0]) / w, float(direction[1]) / w))
+    lf = ngs.LinearForm(disc.fes)
+    lf += disc.traction(g) * ngs.ds(definedon=boundary_region(mesh, [label]))
+    lf.Assemble()
+    return lf.vec.FV().NumPy().copy()
+
+
+def segment_mean(disc, gf: ngs.GridFunction, label: str, direction) -> float:
+    """The mean of u.direction over the label's edges, of the solution `gf` (its work-conjugate value)."""
+    return float(disc.sign * segment_functional(disc, label, direction) @ gf.vec.FV().NumPy())
+
+
+@dataclass
+class MeanConstraints:
+    """y = Z z: `Z` (n x (n - k)), `position` the new index of every old unknown (-1: a pivot)."""
+
+    Z: sp.csr_matrix
+    position: np.ndarray
+    rows: list  # (label, direction) of each constraint
+
+
+def constraint_rows(disc, held_mean: dict, T: sp.csr_matrix, free: np.ndarray) -> tuple[np.ndarray, list]:
+    """B (k x n) on the condensed unknowns y = the columns of T, and (label, direction) per row."""
+    a = disc.a
+    rows, names = [], []
+    for label in sorted(held_mean):
+        for d in held_mean[label]:
+            vec = ngs.BaseVector(disc.fes.ndof)
+            vec.FV().NumPy()[:] = segment_functional(disc, label, d)
+            vec.data += a.harmonic_extension_trans * vec
+            rows.append(disc.sign * (T.T @ vec.FV().NumPy()[free]))
+            names.append((label, tuple(float(c) for c in d)))
+    return np.array(rows).reshape(len(rows), T.shape[1]), names
+
+
+def eliminate(B: np.ndarray, names: list, protected: np.ndarray) -> MeanConstraints:
+    """The change of basis that satisfies B y = 0; `protected` unknowns (the crack's) are never pivots."""
+    k, n = B.shape
+    scale = np.abs(B).max(axis=1, keepdims=True)
+    support = np.flatnonzero((np.abs(B) > SUPPORT_RTOL * scale).any(axis=0))
+    candidates = np.setdiff1d(support, protected)
+    if len(candidates) < k:
+        raise ValueError(f"point supports: {k} mean constraints on {len(candidates)} unknowns; a pin or roller "
+                         f"segment has too few boundary unknowns (widen it or refine the mesh there)")
+    Bs = B[:, candidates]
+    _, R, perm = sla.qr(Bs, mode="economic", pivoting=True)
+    diag = np.abs(np.diag(R))
+    if diag[-1] <= RANK_RTOL * diag[0]:
+        raise ValueError(f"point supports: the mean constraints of {sorted({lab for lab, _ in names})} are "
+                         f"dependent (two supports on one segment?)")
+    pivots = np.sort(candidates[perm[:k]])
+    others = np.setdiff1d(support, pivots)
+    coef = -np.linalg.solve(B[:, pivots], B[:, others])  # y_P = coef y_others
+    position = np.full(n, -1, dtype=np.int64)
+    kept = np.setdiff1d(np.arange(n), pivots)
+    position[kept] = np.arange(len(kept))
+    r = np.concatenate([kept, np.repeat(pivots, len(others))])
+    c = np.concatenate([np.arange(len(kept)), np.tile(position[others], k)])
+    v = np.concatenate([np.ones(len(kept)), coef.ravel()])
+    Z = sp.csr_matrix((v, (r, c)), shape=(n, len(kept)))
+    return MeanConstraints(Z=Z, position=position, rows=names)
+
+
+def reactions(disc, gf: ngs.GridFunction, held_mean: dict) -> dict[str, tuple[float, float]]:
+    """label -> the total force (Fx, Fy) the support exerts on the body, from the residual of the
+    full form on the segment's dofs: sign (A x - f) = sum_d R_d l_d there, R_d the constraint's multiplier."""
+    if not held_mean:
+        return {}
+    x = gf.vec
+    res = x.CreateVector()
+    disc.a.Apply(x, res)
+    r = disc.sign * (res.FV().NumPy() - disc.f.vec.FV().NumPy())
+    out = {}
+    for label, dirs in held_mean.items():
+        L = np.column_stack([disc.sign * segment_functional(disc, label, d) for d in dirs])
+        sup = np.flatnonzero(np.abs(L).max(axis=1) > SUPPORT_RTOL * np.abs(L).max())
+        R, *_ = np.linalg.lstsq(L[sup], r[sup], rcond=None)
+        force = sum(Rd * np.asarray(d, float) for Rd, d in zip(R, dirs))
+        out[label] = (float(force[0]), float(force[1]))
+    return out

@@ -1,0 +1,55 @@
+"""`ngcrack solve` on a 3D scene: solve, write the JSON and VTK files, print a summary."""
+
+from __future__ import annotations
+
+import json
+
+#: options of `ngcrack solve` that have no meaning for a 3D scene yet
+UNSUPPORTED = (("tip_h", "--tip-h (use --front-h)"), ("hp", "--hp"), ("adapt", "--adapt"), ("plot", "--plot"),
+               ("max_dof", "--max-dof"))
+
+
+def solve_command(scene, args, json_path) -> int:
+    """Run `ngcrack solve` for a 3D scene; both outputs or neither (files.Staged)."""
+    for key, flag in UNSUPPORTED:
+        if getattr(args, key, None) is not None:
+            from ..errors import InputError
+
+            raise InputError(f"{flag}: not available for a 3D scene yet")
+    from ..cli_errors import check_finite
+    from ..files import Staged
+    from .solve import check_options, solve_solid
+
+    options = {k: v for k, v in (("element", args.element), ("order", args.order), ("maxh", args.maxh),
+                                 ("crack_h", args.crack_h), ("front_h", getattr(args, "front_h", None)),
+                                 ("crack_model", args.crack_model), ("qp_solver", args.qp_solver)) if v is not None}
+    check_options(options)  # before meshing
+    sol = solve_solid(scene, **options)
+    result = sol.to_json_dict()
+    check_finite(result)
+    with Staged() as staged:
+        if json_path is not None:
+            def write_json(tmp):
+                with open(tmp, "w") as fh:
+                    json.dump(result, fh, indent=1)
+            staged.write(json_path, write_json)
+    paths = [json_path] if json_path is not None else []
+    if args.vtk is not None:
+        paths += sol.save_vtk(args.vtk)
+    n, t, k = result["ndof"], result["time_s"], result["kkt"]
+    print(f"{scene.name} (3D): element {sol.element} order {sol.disc.order}, {n['total']} dofs ({n['global']} global, "
+          f"{n['contact']} contact), {t['total']:.2f} s ({t['contact']:.2f} s contact)")
+    print(f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
+          f"complementarity {k['complementarity']:.1e}")
+    for c, crack in enumerate(result["cracks"]):
+        print(f"crack {c}: max opening {crack['max_opening']:.4g}, max sliding {crack['max_sliding']:.4g}, "
+              f"closed {crack['closed_fraction']:.1%} of area {crack['area']:.4g}")
+    for front in result["fronts"]:
+        import numpy as np
+
+        print(f"front {front['crack']} ({len(front['points'])} points): K_I {np.min(front['K_I']):.4g}..{np.max(front['K_I']):.4g}, "
+              f"K_II {np.min(front['K_II']):.4g}..{np.max(front['K_II']):.4g}, "
+              f"K_III {np.min(front['K_III']):.4g}..{np.max(front['K_III']):.4g}")
+    for path in paths:
+        print(f"wrote {path}")
+    return 0

@@ -1,0 +1,220 @@
+"""Hybridized TDNNS in 3D with the crack's jumps; the H1-P2 displacement baseline.
+
+Order k (1, 2 or 3; the stress degree), on tetrahedra:
+- stress sigma: symmetric, HDivDiv of order k with its "plus" bubbles, broken (local);
+- displacement u: HCurl of order k+1 of type 1 (tangentially continuous; global);
+- normal facet trace u_hat_n: NormalFacetFESpace of order k (global), restoring the
+  normal-normal continuity of sigma; rollers fix it, clamped faces fix it and u;
+- crack normal jump jn: P_k per crack face (a facet space on the crack faces only): the
+  tetrahedron on the - side sees u_hat_n - jn there; this is the contact unknown;
+- crack tangential jump: a copy u_e of u's HCurl dofs on the crack's interior edges and
+  faces (the front's edges excluded), used on the + side only: u = u_c + H+ u_e with
+  H+ = 1 on the tetrahedra on the + side that hold such an edge. An HCurl function of
+  an edge or face has a tangential trace on the faces through it only, so [u]_t = u_e
+  on the crack and u stays tangentially continuous everywhere else.
+
+The weak form is the gradient form of the 2D element (ngcrack.elements.tdnns), with
+b(sigma; v, v_hat_n) = sum_T [ -(sigma, grad v)_T + <sigma_nn, v.n - v_hat_n>_dT ]:
+
+    (A sigma, tau) + b(tau; u, u_hat_n - chi jn) = 0
+    b(sigma; v, v_hat_n - chi kn)                = -(f, v) - <g.n, v_hat_n> - <g_t, v_t>
+
+A sigma = ((1 + nu) sigma - nu tr(sigma) I) / E, finite up to nu -> 1/2 (no locking at
+0.4999: tests/test_solid.py). The form div(sigma).v - sigma_nn v_n of the tutorials gave
+displacements about 30 times too small on a clamped cube against H1-P2; this one agrees.
+
+G (`constraint_map`) maps the jn coefficients of each crack face to its values at the
+face's P_k Lagrange points (vertices for k = 1): the contact constraints w = G jn >= 0.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from ..elements.base import Discretization, Loads
+from ..errors import InputError
+from ..geometry import boundary_regex
+from ..parallel import task_manager
+from .geometry import SolidMesh
+
+ORDERS = (1, 2, 3)
+DEFAULT_ORDER = 1
+ELEMENTS = ("tdnns", "h1p2")
+
+
+def compliance(E: float, nu: float) -> Callable:
+    """sigma -> A sigma = ((1 + nu) sigma - nu tr(sigma) I) / E for a 3x3 CoefficientFunction."""
+    c_dev, c_tr = (1.0 + nu) / E, nu / E
+    return lambda s: c_dev * s - c_tr * ngs.Trace(s) * ngs.Id(3)
+
+
+def _compress(space: ngs.FESpace, nodes: list[ngs.NodeId]) -> ngs.FESpace:
+    active = ngs.BitArray(space.ndof)
+    active.Clear()
+    for node in nodes:
+        for d in space.GetDofNrs(node):
+            active[d] = True
+    return ngs.Compress(space, active_dofs=active)
+
+
+def _element_set(mesh: ngs.Mesh, elements) -> ngs.BitArray:
+    ba = ngs.BitArray(mesh.ne)
+    ba.Clear()
+    for e in elements:
+        ba[int(e)] = True
+    return ba
+
+
+def plus_side(smesh: SolidMesh) -> ngs.GridFunction:
+    """H+: 1 on the + side's tetrahedra at a crack's interior edges, else 0."""
+    mesh = smesh.mesh
+    H = ngs.GridFunction(ngs.L2(mesh, order=0))
+    h = np.zeros(mesh.ne)
+    pts = smesh.points
+    for c in smesh.cracks:
+        for e in c.interior_edges:
+            for el in mesh[ngs.NodeId(ngs.EDGE, int(e))].elements:
+                centroid = pts[[v.nr for v in mesh[el].vertices]].mean(axis=0)
+                if np.dot(centroid - c.crack.center, c.normal) > 0:
+                    h[el.nr] = 1.0
+    H.vec.FV().NumPy()[:] = h
+    return H
+
+
+def lagrange_points(k: int) -> np.ndarray:
+    """The P_k Lagrange points of the reference triangle (x, y), vertices first."""
+    pts = [(1.0, 0.0), (0.0, 1.0), (0.0, 0.0)]
+    for i in range(k + 1):
+        for j in range(k + 1 - i):
+            p = (i / k, j / k)
+            if p not in pts:
+                pts.append(p)
+    return np.array(pts)
+
+
+def constraint_map(smesh: SolidMesh, jn_space: ngs.FESpace, full: ngs.FESpace, k: int):
+    """G (sparse, block diagonal per face) and the physical constraint points, in jn's numbering."""
+    ref = lagrange_points(k)
+    rows, cols, vals, where = [], [], [], []
+    pts = smesh.points
+    r = 0
+    for c in smesh.cracks:
+        for el in c.elements:
+            eid = ngs.ElementId(ngs.BND, int(el))
+            fe = full.GetFE(eid)
+            dofs = list(jn_space.GetDofNrs(eid))
+            verts = pts[[v.nr for v in smesh.mesh[eid].vertices]]
+            for x, y in ref:
+                shape = np.array(fe.CalcShape(x, y, 0.0))
+                rows += [r] * len(dofs)
+                cols += dofs
+                vals += list(shape)
+                where.append(x * verts[0] + y * verts[1] + (1.0 - x - y) * verts[2])
+                r += 1
+    n = jn_space.ndof
+    if r != n:
+        raise AssertionError(f"the crack's constraint points ({r}) do not match its jump unknowns ({n})")
+    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n)), np.array(where)
+
+
+@dataclass
+class SolidDiscretization(Discretization):
+    """A Discretization (ngcrack.elements.base) with the 3D crack's constraint points."""
+
+    constraint_points: np.ndarray | None = None
+    order: int = 1
+
+
+def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None = None) -> SolidDiscretization:
+    """The hybridized TDNNS discretization of stress degree `order` (1, 2 or 3; default 1)."""
+    k = DEFAULT_ORDER if order is None else order
+    if k not in ORDERS:
+        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+    mesh = smesh.mesh
+    dirichlet = boundary_regex(loads.dirichlet_labels)
+    normal_fixed = boundary_regex(set(loads.dirichlet_labels) | set(loads.roller))
+    spaces = [
+        ngs.HDivDiv(mesh, order=k, discontinuous=True, plus=True),
+        ngs.HCurl(mesh, order=k + 1, type1=True, dirichlet=dirichlet),
+        ngs.NormalFacetFESpace(mesh, order=k, dirichlet=normal_fixed),
+    ]
+    built = [f"stress: HDivDiv P{k}+, broken", f"u: HCurl order {k + 1}, type 1", f"u_hat_n: normal facet P{k}"]
+    has_crack = bool(smesh.cracks)
+    G = where = None
+    if has_crack:
+        facet = ngs.FacetFESpace(mesh, order=k)
+        jn_space = _compress(facet, [ngs.NodeId(ngs.FACE, int(f)) for c in smesh.cracks for f in c.faces])
+        hcurl = ngs.HCurl(mesh, order=k + 1, type1=True)
+        nodes = [ngs.NodeId(ngs.EDGE, int(e)) for c in smesh.cracks for e in c.interior_edges]
+        nodes += [ngs.NodeId(ngs.FACE, int(f)) for c in smesh.cracks for f in c.faces]
+        spaces += [jn_space, _compress(hcurl, nodes)]
+        H = plus_side(smesh)
+        G, where = constraint_map(smesh, jn_space, facet, k)
+        built.append(f"crack: normal jump P{k} per face, tangential jump from the crack's HCurl dofs (front excluded)")
+    fes = ngs.FESpace(spaces)
+    A = compliance(E, nu)
+
+    def displacement(sym):
+        return sym[1] + H * sym[4] if has_crack else sym[1]
+
+    def grad_displacement(sym):
+        return ngs.Grad(sym[1]) + H * ngs.Grad(sym[4]) if has_crack else ngs.Grad(sym[1])
+
+    trial, test = fes.TrialFunction(), fes.TestFunction()
+    sig, tau = trial[0], test[0]
+    n = ngs.specialcf.normal(3)
+    a = ngs.BilinearForm(fes, condense=True)
+    volume = ngs.InnerProduct(A(sig), tau) - ngs.InnerProduct(tau, ngs.Grad(trial[1])) - ngs.InnerProduct(sig, ngs.Grad(test[1]))
+    a += volume.Compile() * ngs.dx
+    boundary = (n * (tau * n)) * (trial[1] * n - trial[2] * n) + (n * (sig * n)) * (test[1] * n - test[2] * n)
+    a += boundary.Compile() * ngs.dx(element_boundary=True)
+    if has_crack:
+        plus = _element_set(mesh, np.flatnonzero(H.vec.FV().NumPy() > 0))
+        a += (-ngs.InnerProduct(tau, ngs.Grad(trial[4])) - ngs.InnerProduct(sig, ngs.Grad(test[4]))) * ngs.dx(definedonelements=plus)
+        a += ((n * (tau * n)) * (trial[4] * n) + (n * (sig * n)) * (test[4] * n)) * ngs.dx(element_boundary=True, definedonelements=plus)
+        minus = np.concatenate([c.minus for c in smesh.cracks])
+        nu_cf = ngs.GridFunction(ngs.VectorL2(mesh, order=0))
+        nu_cf.Set(ngs.CF((0, 0, 0)))
+        for c in smesh.cracks:  # the crack normal on its - side's tetrahedra (P0, exact)
+            ind = ngs.GridFunction(ngs.L2(mesh, order=0))
+            ind.vec.FV().NumPy()[c.minus] = 1.0
+            tmp = ngs.GridFunction(nu_cf.space)
+            tmp.Set(ind * ngs.CF(tuple(c.normal)))
+            nu_cf.vec.data += tmp.vec
+        chi = ngs.IfPos(n * nu_cf - 0.5, 1.0, 0.0)
+        a += ((n * (tau * n)) * (chi * trial[3]) + (n * (sig * n)) * (chi * test[3])) * ngs.dx(
+            element_boundary=True, definedonelements=_element_set(mesh, minus))
+    with task_manager():
+        a.Assemble()
+    f = ngs.LinearForm(fes)
+    v = displacement(test)
+    if loads.body_force is not None:
+        f += -(loads.body_force * v) * ngs.dx
+        built.append("body force")
+    for label, g in sorted(loads.traction.items()):
+        gt = g - (g * n) * n
+        f += -((g * n) * (test[2].Trace() * n) + gt * test[1].Trace()) * ngs.ds(definedon=mesh.Boundaries(label))
+    with task_manager():
+        f.Assemble()
+
+    def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
+        comps = gf.components
+        return {"sigma": comps[0], "u": displacement(comps), "grad_u": grad_displacement(comps)}
+
+    def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
+        for label, g in loads.displacement.items():
+            reg = mesh.Boundaries(label)
+            gf.components[1].Set(g, ngs.BND, definedon=reg)
+            gf.components[2].Set(g, ngs.BND, definedon=reg)
+
+    return SolidDiscretization(
+        element="tdnns", crack_mesh=smesh, fes=fes, a=a, f=f, uhat=(2, 2), jn=3 if has_crack else None, jt=None,
+        facet_order=k, fields=fields, built=built, boundary_values=boundary_values, roller_pairs=lambda roller: [],
+        definite=True, sign=-1.0, tangential=4 if has_crack else None,
+        constraint_map=(lambda: G) if has_crack else None, constraint_points=where, order=k,
+    )

@@ -1,0 +1,170 @@
+"""The 3D solution: its fields, the crack summaries, the JSON record and the VTK files.
+
+JSON (`ngcrack solve --json` on a 3D scene): the 2D keys that apply ("scene",
+"element", "order", "E", "nu", "maxh", "ndof", "time_s", "kkt") plus
+"dimension": 3, "fronts": [{"crack", "points", "K_I", "K_II", "K_III", "G"}] and
+"cracks": [{"max_opening", "max_sliding", "closed_fraction", "area"}]. max_opening
+is the largest normal jump at the constraint points, max_sliding the largest tangential
+jump |[u]_t| at the same points, closed_fraction the area fraction of the crack faces
+whose constraint points are all closed.
+
+VTK (ParaView): OUT.vtu with the body's displacement and stress, OUT_cracks.vtu with
+the crack faces' normal jump (opening) as a field.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+
+from ..constraints import KKT_KEYS
+
+
+@dataclass
+class SolidSolution:
+    scene: object
+    smesh: object
+    disc: object
+    system: object
+    y: np.ndarray
+    gf: ngs.GridFunction
+    contact: object  # a contact.ContactResult, or None (free crack, no crack)
+    G: object
+    options: dict
+    timings: dict = field(default_factory=dict)
+    fronts: list = field(default_factory=list)
+    dimension = 3
+
+    @property
+    def element(self) -> str:
+        return self.disc.element
+
+    @property
+    def fields(self) -> dict:
+        return self.disc.fields(self.gf)
+
+    @property
+    def u(self) -> ngs.CoefficientFunction:
+        return self.fields["u"]
+
+    @property
+    def sigma(self) -> ngs.CoefficientFunction:
+        return self.fields["sigma"]
+
+    @property
+    def kkt(self) -> dict:
+        if self.contact is None:
+            return dict.fromkeys(KKT_KEYS, 0.0)
+        return dict(self.contact.kkt)
+
+    @property
+    def ndof(self) -> dict:
+        return {"total": int(self.disc.fes.ndof), "global": int(self.system.n), "contact": int(len(self.system.contact))}
+
+    # ---------------------------------------------------------------- crack quantities
+    def normal_jumps(self) -> np.ndarray:
+        """[u].nu at the constraint points (disc.constraint_points), crack by crack in order."""
+        if self.disc.jn is None:
+            return np.zeros(0)
+        return np.asarray(self.G @ self.y[self.system.contact])
+
+    def tangential_jumps(self) -> np.ndarray:
+        """|[u]_t| at the constraint points, from the + side's u_e (the crack's HCurl copy)."""
+        if self.disc.jn is None:
+            return np.zeros(0)
+        mesh = self.smesh.mesh
+        pts = self.disc.constraint_points
+        nrm = np.concatenate([np.tile(c.normal, (len(c.elements) * self._per_face(), 1)) for c in self.smesh.cracks])
+        c = pts.mean(axis=0)
+        # a point just inside the + side's tetrahedron, a little towards the face's centre
+        p = pts + 1e-5 * self.scene.size * nrm + 1e-3 * (c - pts)
+        ue = self.gf.components[4]
+        vals = np.asarray(ue(mesh(p[:, 0], p[:, 1], p[:, 2])))
+        vt = vals - np.sum(vals * nrm, axis=1)[:, None] * nrm
+        return np.linalg.norm(vt, axis=1)
+
+    def _per_face(self) -> int:
+        k = self.disc.order
+        return (k + 1) * (k + 2) // 2
+
+    def crack_summaries(self) -> list[dict]:
+        w = self.normal_jumps()
+        s = self.tangential_jumps()
+        closed = np.zeros(len(w), dtype=bool) if self.contact is None else self.contact.active
+        per = self._per_face()
+        out, start = [], 0
+        pts = self.smesh.points
+        mesh = self.smesh.mesh
+        for c in self.smesh.cracks:
+            nf = len(c.elements)
+            sl = slice(start * per, (start + nf) * per)
+            areas = np.array([0.5 * np.linalg.norm(np.cross(*(pts[[v.nr for v in mesh[ngs.ElementId(ngs.BND, int(e))].vertices]][1:]
+                                                                - pts[[v.nr for v in mesh[ngs.ElementId(ngs.BND, int(e))].vertices]][0])))
+                              for e in c.elements])
+            face_closed = closed[sl].reshape(nf, per).all(axis=1)
+            out.append({"max_opening": float(max(w[sl].max(), 0.0)), "max_sliding": float(s[sl].max()),
+                        "closed_fraction": float(areas[face_closed].sum() / areas.sum()), "area": float(c.area)})
+            start += nf
+        return out
+
+    # ------------------------------------------------------------------------ outputs
+    def to_json_dict(self) -> dict:
+        sizes = self.smesh.sizes
+        t = self.timings
+        return {
+            "scene": self.scene.name, "dimension": 3, "element": self.element, "order": self.disc.order,
+            "maxh": sizes["maxh"], "crack_h": sizes["crack_h"], "front_h": sizes["front_h"],
+            "E": self.scene.material.E, "nu": self.scene.material.nu,
+            "ndof": self.ndof,
+            "time_s": {k: float(t.get(k, 0.0)) for k in ("total", "mesh", "assemble", "condense", "linear", "contact",
+                                                        "fronts")},
+            "kkt": self.kkt,
+            "contact_iterations": 0 if self.contact is None else int(self.contact.iterations),
+            "fronts": [f.to_json_dict() for f in self.fronts],
+            "cracks": self.crack_summaries(),
+        }
+
+    def save_vtk(self, path, subdivision: int = 0) -> list[Path]:
+        """OUT.vtu (displacement, stress) and OUT_cracks.vtu (the crack faces: opening, sliding, closed).
+
+        Written to a temporary folder beside them and moved into place: an error leaves no partial file.
+        """
+        import os
+        import shutil
+        import tempfile
+
+        from ..vtk import vtk_stem
+
+        base = vtk_stem(path)
+        base.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=".ngcrack-vtk-", dir=base.parent))
+        try:
+            f = self.fields
+            ngs.VTKOutput(self.smesh.mesh, coefs=[f["u"], f["sigma"]], names=["displacement", "stress"],
+                          filename=str(tmp / "body"), subdivision=int(subdivision)).Do()
+            written = [(tmp / "body.vtu", base.with_name(base.name + ".vtu"))]
+            if self.smesh.cracks:
+                import meshio
+
+                points, tris, data = self.crack_arrays()
+                meshio.write(tmp / "cracks.vtu", meshio.Mesh(points, [("triangle", tris)], point_data=data), binary=True)
+                written.append((tmp / "cracks.vtu", base.with_name(base.name + "_cracks.vtu")))
+            for src, dst in written:
+                os.replace(src, dst)
+            return [dst for _, dst in written]
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+    def crack_arrays(self) -> tuple[np.ndarray, np.ndarray, dict]:
+        """The crack faces as separate triangles (points, triangles) with the opening, the sliding
+        and the closed flag at their corners (the first three constraint points of each face)."""
+        per = self._per_face()
+        w, s = self.normal_jumps(), self.tangential_jumps()
+        closed = np.zeros(len(w)) if self.contact is None else self.contact.active.astype(float)
+        pick = (np.arange(len(w) // per)[:, None] * per + np.arange(3)[None]).ravel()
+        points = self.disc.constraint_points[pick]
+        tris = np.arange(len(pick)).reshape(-1, 3)
+        return points, tris, {"opening": w[pick], "sliding": s[pick], "closed": closed[pick]}

@@ -1,0 +1,121 @@
+"""solve_solid(scene, ...) -> SolidSolution: the 3D pipeline in one call.
+
+scene -> mesh (geometry.make_mesh) -> hybridized TDNNS with the crack's jumps
+(element.build) -> the condensed sparse system (ngcrack.hybrid.condense, shared with 2D)
+-> the contact problem on it (contact.solve_contact: a primal-dual active set with one
+sparse factorization per active set) -> the fields, the crack summaries and the front's
+fracture parameters (front.front_parameters). `nc.solve` sends a 3D scene here.
+"""
+
+from __future__ import annotations
+
+import time
+
+import ngsolve as ngs
+import numpy as np
+
+from ..elements.base import Loads
+from ..errors import InputError
+from ..hybrid import condense
+from ..parallel import task_manager
+from ..schur import Factorization
+from .contact import solve_contact
+from .element import ORDERS, build
+from .geometry import SolidMesh, make_mesh
+from .output import SolidSolution
+from .scene import SolidScene
+
+#: crack_model values: unilateral contact, traction-free faces (one linear solve)
+CRACK_MODELS = ("contact", "free")
+#: the options a 3D solve takes (others are refused by name)
+OPTIONS = ("element", "order", "maxh", "crack_h", "front_h", "grading", "crack_model", "linear_solver", "fronts",
+           "front_points", "qp_solver")
+
+
+def scene_loads(scene: SolidScene) -> Loads:
+    """The scene's boundary data and body force as NGSolve CoefficientFunctions."""
+    traction, displacement, clamped, roller = {}, {}, set(), set()
+    for label, cond in scene.boundary.items():
+        if cond.type == "traction":
+            traction[label] = ngs.CF(tuple(cond.value))
+        elif cond.type == "displacement":
+            displacement[label] = ngs.CF(tuple(cond.value))
+        elif cond.type == "clamped":
+            clamped.add(label)
+        else:
+            roller.add(label)
+    body = None if scene.body_force is None else ngs.CF(tuple(scene.body_force))
+    return Loads(body_force=body, traction=traction, displacement=displacement, clamped=frozenset(clamped),
+                 roller=frozenset(roller))
+
+
+def check_options(options: dict) -> dict:
+    """The 3D solve's options, each refused by name before any meshing."""
+    unknown = [k for k in options if k not in OPTIONS]
+    if unknown:
+        raise InputError(f"{unknown[0]}: not an option of a 3D solve; allowed: {', '.join(OPTIONS)}")
+    element = options.get("element") or "tdnns"
+    if element != "tdnns":
+        raise InputError(f"element = {element!r}: 3D scenes are solved with tdnns (allowed values: tdnns)")
+    order = options.get("order") or 1
+    if order not in ORDERS:
+        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+    model = options.get("crack_model") or "contact"
+    if model not in CRACK_MODELS:
+        raise InputError(f"crack_model = {model!r}: allowed values in 3D are {', '.join(CRACK_MODELS)}")
+    qp = options.get("qp_solver") or "pdas"
+    if qp != "pdas":
+        raise InputError(f"qp_solver = {qp!r}: 3D contact is solved by the sparse active set (allowed values: pdas)")
+    for key in ("maxh", "crack_h", "front_h", "grading"):
+        v = options.get(key)
+        if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
+            raise InputError(f"{key} = {v!r}: must be a finite number > 0")
+    return {"element": element, "order": int(order), "crack_model": model,
+            "linear_solver": options.get("linear_solver") or "auto",
+            "fronts": options.get("fronts", False), "front_points": options.get("front_points")}
+
+
+def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options) -> SolidSolution:
+    """Solve the unilateral crack problem of a 3D scene (options: OPTIONS)."""
+    opts = check_options(options)
+    for i, c in enumerate(scene.cracks):
+        if c.friction > 0 and opts["crack_model"] == "contact":
+            raise InputError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
+                             "(frictionless contact only); set friction = 0")
+    t0 = time.perf_counter()
+    timings = {}
+    if smesh is None:
+        smesh = make_mesh(scene, options.get("maxh"), options.get("crack_h"), options.get("front_h"),
+                          options.get("grading"))
+    timings["mesh"] = time.perf_counter() - t0
+    loads = scene_loads(scene)
+    t1 = time.perf_counter()
+    disc = build(smesh, scene.material.E, scene.material.nu, loads, opts["order"])
+    timings["assemble"] = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    system = condense(disc, loads)
+    timings["condense"] = time.perf_counter() - t2
+    G = disc.constraint_map() if disc.jn is not None else None
+    result = None
+    t3 = time.perf_counter()
+    if disc.jn is None or opts["crack_model"] == "free":
+        y = Factorization(system.K, opts["linear_solver"]).solve(system.F)
+        timings["linear"] = time.perf_counter() - t3
+        timings["contact"] = 0.0
+    else:
+        result = solve_contact(system.K, system.F, system.contact, G, linear_solver=opts["linear_solver"])
+        y = result.y
+        timings["linear"] = 0.0
+        timings["contact"] = time.perf_counter() - t3
+    with task_manager():
+        gf = system.expand(y)
+    sol = SolidSolution(scene=scene, smesh=smesh, disc=disc, system=system, y=y, gf=gf, contact=result, G=G,
+                        options=opts, timings=timings)
+    if opts["fronts"] and smesh.cracks:
+        from .front import front_parameters
+
+        t4 = time.perf_counter()
+        sol.fronts = front_parameters(sol, points=opts["front_points"])
+        timings["fronts"] = time.perf_counter() - t4
+    timings["total"] = time.perf_counter() - t0
+    return sol

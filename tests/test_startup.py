@@ -1,0 +1,85 @@
+"""What `import ngcrack`, `ngcrack --help` and a solve load: sets of modules, not times.
+
+`import ngcrack` imports its public names on first use (PEP 562), so the package alone
+loads nothing but itself; the command line's parser loads no numerics; a solve loads
+NGSolve, numpy, scipy and shapely but none of the optional parts (pandas, widgets,
+cvxpy, meshio, dask, jupytext, matplotlib). benchmarks/startup.py prints the times.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+import ngcrack as nc
+from ngcrack.cli_errors import EXIT_INPUT, classify
+from ngcrack.extras import EXTRAS, missing_extra
+
+#: what no solve needs: the extras and the heavy packages of plots and other QP solvers
+NOT_FOR_A_SOLVE = {"pandas", "tqdm", "ipywidgets", "IPython", "jupytext", "meshio", "dask", "distributed",
+                   "matplotlib", "cvxpy", "clarabel", "cholespy"}
+
+
+def _loaded(code: str) -> set[str]:
+    """The modules that `code` adds to a bare interpreter's."""
+    probe = "import json, sys; before = set(sys.modules); {code}; print(json.dumps(sorted(set(sys.modules) - before)))"
+    out = subprocess.run([sys.executable, "-c", probe.format(code=code)], capture_output=True, text=True, check=True)
+    return set(json.loads(out.stdout.splitlines()[-1]))
+
+
+def _top(modules: set[str]) -> set[str]:
+    return {m.split(".")[0] for m in modules}
+
+
+def test_import_ngcrack_loads_only_the_package():
+    loaded = _loaded("import ngcrack")
+    assert {m for m in loaded if m.startswith("ngcrack")} == {"ngcrack"}
+    assert not _top(loaded) & (NOT_FOR_A_SOLVE | {"ngsolve", "netgen", "numpy", "scipy", "shapely"})
+
+
+def test_the_command_line_parser_loads_no_numerics():
+    loaded = _loaded("from ngcrack.cli import build_parser; build_parser().format_help()")
+    assert not _top(loaded) & (NOT_FOR_A_SOLVE | {"ngsolve", "netgen", "numpy", "scipy", "shapely"})
+    assert not {m for m in loaded if m.startswith("ngcrack.growth.") and m != "ngcrack.growth.criteria"} - {"ngcrack.growth.cli"}
+
+
+def test_a_solve_loads_no_optional_part():
+    loaded = _loaded("import ngcrack as nc; sol = nc.solve('griffith', maxh=4, tip_h=0.05, crack_h=0.2); sol.tips; "
+                     "sol.crack_profiles(); sol.error_estimate")
+    assert {"ngsolve", "numpy", "scipy", "shapely"} <= _top(loaded)
+    assert not _top(loaded) & NOT_FOR_A_SOLVE
+    assert not {"ngcrack.explorer", "ngcrack.sweeps", "ngcrack.growth", "ngcrack.paper", "ngcrack.plots"} & loaded
+
+
+def test_every_public_name_resolves():
+    for name in nc.__all__:
+        assert getattr(nc, name) is not None
+    assert set(nc.__all__) <= set(dir(nc))
+    assert nc.tips.__name__ == "ngcrack.tips"  # a submodule, on first use
+    with pytest.raises(AttributeError, match="no attribute 'no_such_name'"):
+        nc.no_such_name  # noqa: B018
+
+
+def test_solve_stays_the_function_after_its_module_is_imported():
+    code = ("import ngcrack as nc, ngcrack.pipeline; import ngcrack.solve; from ngcrack import solve; "
+            "print(callable(nc.solve) and nc.solve is solve and nc.solve.__module__ == 'ngcrack.solve')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "True"
+
+
+@pytest.mark.parametrize("package", sorted(EXTRAS))
+def test_a_missing_optional_package_names_its_extra(package):
+    exc = ModuleNotFoundError(f"No module named '{package}'", name=package)
+    assert f"ngcrack[{EXTRAS[package]}]" in missing_extra(exc)
+    wrapped = RuntimeError("sweep failed")
+    wrapped.__cause__ = exc
+    code, text = classify(wrapped)
+    assert code == EXIT_INPUT and f"pip install 'ngcrack[{EXTRAS[package]}]'" in text
+
+
+def test_other_missing_modules_are_not_an_extra():
+    assert missing_extra(ModuleNotFoundError("No module named 'nothere'", name="nothere")) is None
+    assert missing_extra(ValueError("x")) is None
