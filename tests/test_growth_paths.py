@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.growth import criteria
+from ngcrack.growth import criteria, fatigue
+from ngcrack.scenes.handbook import centre_cracked_K, centre_cracked_strip
 
 MODE_II_PLS_EXACT = 77.3  # Amestoy and Leblond's exact PLS angle under pure mode II (degrees)
 
@@ -135,3 +136,56 @@ def test_a_crack_that_cuts_a_piece_loose_ends_the_run_with_its_last_segment():
     assert d["cracks"][0]["points"][-1] == pytest.approx(end.tolist(), abs=1e-12)
     assert d["stopped"] == res.stopped
     assert res.events[0][1] == "0,last"
+
+
+# ------------------------------------------------------------------ fatigue
+PARIS_C, PARIS_M = 1e-3, 3.0
+
+
+def _handbook_life(a0, a1, b=1.0, R=0.0):
+    from scipy.integrate import quad
+
+    return quad(lambda a: 1.0 / (PARIS_C * ((1 - R) * centre_cracked_K(a / b, b=b)) ** PARIS_M), a0, a1)[0]
+
+
+def test_step_cycles_integrates_the_paris_law():
+    """Exact for a power law K ~ L^p (any p); within 0.1% of the handbook life of the
+    centre-cracked strip from a = 0.2 to 0.6 with its K at steps of 0.05 (no mesh)."""
+    for p in (0.5, 1.3):
+        L = np.array([0.3, 0.35, 0.4])
+        K = 2.0 * L ** p
+        exact = (L[2] ** (1 - PARIS_M * p) - L[1] ** (1 - PARIS_M * p)) / (1 - PARIS_M * p) / (PARIS_C * 2.0 ** PARIS_M)
+        assert fatigue.step_cycles(L, K, PARIS_C, PARIS_M) == pytest.approx(exact, rel=1e-12)
+        assert fatigue.step_cycles(L[1:], K[1:], PARIS_C, PARIS_M) == pytest.approx(exact, rel=1e-12)
+    a = np.linspace(0.2, 0.6, 9)
+    K = [centre_cracked_K(x) for x in a]
+    life = sum(fatigue.step_cycles(a[max(i - 1, 0):i + 2], K[max(i - 1, 0):i + 2], PARIS_C, PARIS_M) for i in range(8))
+    assert life == pytest.approx(_handbook_life(0.2, 0.6), rel=1e-3)
+    # R: Delta K = (1 - R) K_max, so the life grows by (1 - R)^-m; R < 0 counts K_max only
+    one = fatigue.step_cycles(a[:2], K[:2], PARIS_C, PARIS_M)
+    assert fatigue.step_cycles(a[:2], K[:2], PARIS_C, PARIS_M, R=0.5) == pytest.approx(one * 2 ** PARIS_M, rel=1e-12)
+    assert fatigue.step_cycles(a[:2], K[:2], PARIS_C, PARIS_M, R=-1.0) == pytest.approx(one, rel=1e-12)
+
+
+@pytest.mark.parametrize("kw, field", [({"paris": (1e-3,)}, "paris"), ({"paris": (1e-3, -3)}, "paris"),
+                                       ({"paris": "fast"}, "paris"), ({"paris": (1e-3, 3), "R": 1.0}, "R")])
+def test_bad_fatigue_input_refused_before_any_solve(kw, field):
+    with pytest.raises(nc.InputError, match=f"^{field} = "):
+        nc.grow(centre_cracked_strip(a_over_b=0.2), da=0.05, steps=1, **kw)
+
+
+def test_fatigue_life_of_the_centre_cracked_strip():
+    """From a/b = 0.2 to 0.6 by da = 0.05: the cycles within 1% of integrating the handbook K; the
+    run stops where K_max reaches K_Ic (set between the handbook K at a = 0.55 and 0.6)."""
+    K_Ic = 0.5 * (centre_cracked_K(0.55) + centre_cracked_K(0.6))
+    res = nc.grow(centre_cracked_strip(a_over_b=0.2), da=0.05, steps=20, K_Ic=K_Ic, paris=(PARIS_C, PARIS_M))
+    df = res.table
+    assert np.allclose(df.x, np.linspace(0.2, 0.6, 9), atol=1e-12)
+    assert df.cycles.iloc[0] == 0.0 and np.all(np.diff(df.cycles) > 0)
+    life = df.cycles.iloc[-1]
+    handbook = _handbook_life(0.2, 0.6)
+    assert abs(life / handbook - 1) < 0.01, (life, handbook)
+    assert res.stopped.startswith("fracture: K_max") and len(res.steps) == 9
+    assert (df.load_factor == 1.0).all()  # the cycle's maximum load is the scene's
+    steps = res.to_json_dict()["steps"]
+    assert [s["cycles"] for s in steps] == pytest.approx(df.cycles.tolist(), rel=1e-12)

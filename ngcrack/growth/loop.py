@@ -73,6 +73,7 @@ from .criteria import (
     pls_predictor,
     secant_angle,
 )
+from .fatigue import Cycles, check_paris
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
 
 #: the most steps a growth run may take
@@ -198,7 +199,8 @@ def _relative_estimate(sol):
 
 
 def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str = "pls", *,
-         together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, **solve_options):
+         together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, paris=None, R: float = 0.0,
+         **solve_options):
     """Grow the cracks of `scene` quasi-statically by segments of length `da`; a GrowthResult.
 
     criterion: "pls" (principle of local symmetry by trial extensions, the default: smooth
@@ -209,12 +211,19 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     body of every step for `GrowthResult.animate`. progress: called as progress(step,
     result_so_far) after every step. The other keywords go to every solve
     (element, order, maxh, tip_h, crack_h, grading, qp_solver, crack_model, friction_method, ...).
-    Tips stop at the boundary (the crack then cuts through) or before meeting a crack; the
-    run stops after `steps` steps, when no tip is left inside the body, or when none can grow.
+    paris: (C, m) for fatigue (fatigue.py): the load is the scene's (the cycle's maximum, load
+    factor 1), R the load ratio; every step advances the leading tip by da, the `cycles`
+    column counts the cycles (Paris law da/dN = C Delta_K^m integrated over the step), and
+    the run stops when K_max reaches K_Ic.
+    A tip reaching the boundary stops there; where the cracks then cut the body in pieces the
+    run ends ("cut through", the last segment kept in `paths`). Tips stop before meeting a
+    crack, or where their new tip would close (frozen, with the reason); the run stops after
+    `steps` steps, when no tip is left inside the body, or when none can grow.
     """
     from .result import GrowthResult
 
     check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
+    fatigue = check_paris(paris, R)
     if not (isinstance(together, (int, float)) and 0 <= together < 1):
         raise InputError(f"together = {together!r}: must be a number in [0, 1)")
     da, steps = float(da), int(steps)
@@ -230,6 +239,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     frozen: dict[str, str] = {}
     grown_once: dict = {}  # tip -> its last kink after its first (radians), None after the first
     slopes: dict = {}  # tip -> dk_2/dtheta measured at its last step's trials (PLS)
+    cycles = Cycles(*fatigue, float(R)) if fatigue else None
+    last_grew: set = set()
     K_ref = K_Ic
     K_top = 0.0  # the largest K_eq of the run so far: a K_eq below DRIVE_NOISE_RTOL of it is no drive
     stopped = ""
@@ -245,7 +256,11 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         growing, extensions, next_scene, next_sol, cost, tried = [], [], None, None, 0.0, 0
         cost_parts = dict.fromkeys(COST_PARTS, 0.0)
         failed = ""
-        if n < steps:
+        fractured = ""
+        if cycles is not None:
+            cycles.grown(scene, values, last_grew)
+            fractured = cycles.fracture(values, K_Ic)
+        if n < steps and not fractured:
             while True:
                 active = [v for v in values if v["label"] not in frozen and math.isfinite(v["lambda"])]
                 if not active:
@@ -265,6 +280,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                     continue
                 extensions, next_scene, next_sol, tried = step
                 break
+            if cycles is not None:
+                cycles.growing(scene, values, {v["label"] for v in growing})
         grew = {f"{e.crack},{e.end}": e for e in extensions if e.point is not None}
         if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
             for v in values:
@@ -274,13 +291,19 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         lam_step = min((v["lambda"] for v in values if v["label"] in grew), default=None)
         if lam_step is None:
             lam_step = min((v["lambda"] for v in values if v["label"] not in frozen), default=math.inf)
-        result.add_step(n, scene, sol, values, lam_step, grew, elapsed, trials, frames=frames, parts=parts)
+        if cycles is not None:  # fatigue: the scene's load, the cycle's maximum
+            lam_step = 1.0
+        result.add_step(n, scene, sol, values, lam_step, grew, elapsed, trials, frames=frames, parts=parts,
+                        cycles=None if cycles is None else cycles.total)
         result.solution = sol  # this step's solve, for the progress callback (ngcrack.vtk.SeriesWriter)
         if progress is not None:
             progress(n, result)
         for e in extensions:
             if e.outcome == "boundary":
                 result.events.append((n, f"{e.crack},{e.end}", e.reason))
+        if fractured:
+            stopped = fractured
+            break
         if n == steps:
             stopped = f"steps: {steps} of {steps} steps done"
             break
@@ -307,6 +330,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             stopped = "boundary: every tip reached the body's boundary (the cracks cut through)"
             break
         sol, elapsed, trials, parts = next_sol, cost, tried, cost_parts
+        last_grew = set(grew)
     result.stopped = stopped
     result.solution = sol
     result.frozen = dict(frozen)

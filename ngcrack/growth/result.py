@@ -66,7 +66,8 @@ class GrowthResult:
     primary_load: str | None = None
 
     # ------------------------------------------------------------------ filling
-    def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True, parts=None) -> None:
+    def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True, parts=None,
+                 cycles=None) -> None:
         ndof = int(sol.ndof["total"])
         kkt = {k: float(v) for k, v in sol.kkt.items()}
         est = None if sol.error_estimate is None else float(sol.error_estimate.relative)
@@ -84,12 +85,14 @@ class GrowthResult:
                               "closed": v["closed"], "grew": did, "ndof": ndof, "solves": int(solves),
                               "time_s": float(time_s), **cost_columns, "error_estimate": est,
                               "kkt": max(kkt.values(), default=0.0),
-                              "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance})
+                              "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance,
+                              **({} if cycles is None else {"cycles": float(cycles)})})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
                          "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
                            "kkt": kkt, "error_estimate": est, "tips": tips,
-                           "force": rec.force, "displacement": rec.displacement})
+                           "force": rec.force, "displacement": rec.displacement,
+                           **({} if cycles is None else {"cycles": float(cycles)})})
         self.scenes.append(scene)
         self.profiles.append(list(sol.profiles))
         if frames:
@@ -108,7 +111,8 @@ class GrowthResult:
     def table(self):
         import pandas as pd
 
-        return pd.DataFrame(self.rows, columns=list(COLUMNS))
+        fatigue = bool(self.rows) and "cycles" in self.rows[0]
+        return pd.DataFrame(self.rows, columns=list(COLUMNS) + (["cycles"] if fatigue else []))
 
     @property
     def final_scene(self):
