@@ -33,16 +33,21 @@ import math
 import os
 import signal
 import sys
-import threading
 import traceback
 import warnings
 
 from .cli_errors import EXIT_INPUT, Terminated, check_finite, classify, one_line, one_line_warning
 from .errors import InputError
-from .files import check_output, check_output_folder
+from .files import PathError, check_distinct, check_output, check_output_folder, check_output_stem
+from .interrupts import Interrupts
+from .interrupts import check as check_interrupt
 
 #: a size option (maxh, tip_h, crack_h) must lie within these multiples of the body's diameter
 SIZE_RANGE = (1e-100, 1e100)
+
+
+#: the files of `solve --vtk OUT`: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
+VTK_PARTS = (".vtu", "_cracks.vtu")
 
 
 class UsageError(InputError):
@@ -94,10 +99,9 @@ def cmd_solve(args) -> int:
         raise UsageError(f"--element = {args.element!r}: allowed values are {', '.join(ELEMENTS)}")
     json_path = check_output(args.json, "--json")
     plot_path = check_output(args.plot, "--plot", ".png")
-    if args.vtk is not None:
-        from .vtk import vtk_stem
-
-        vtk_stem(args.vtk)
+    vtk = check_output_stem(args.vtk, "--vtk", VTK_PARTS)
+    vtk_files = None if vtk is None else [vtk.with_name(vtk.name + part) for part in VTK_PARTS]
+    check_distinct({"--json": json_path, "--plot": plot_path, "--vtk": vtk_files})
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
@@ -108,6 +112,12 @@ def cmd_solve(args) -> int:
         return solve_command(scene, args, json_path)
     _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
     _check_friction(scene, args)
+    if args.hp:
+        from .tips import tip_labels
+
+        if not tip_labels(scene):
+            raise UsageError(f"--hp = {args.hp}: scene {scene.name!r} has no crack tip inside the body, so the hp "
+                             f"layers have nothing to refine towards; leave --hp out")
     from .options import SolveOptions
     from .solve import solve
 
@@ -122,7 +132,7 @@ def cmd_solve(args) -> int:
     check_finite(result)
     from .files import Staged
 
-    with Staged() as staged:  # both files or neither; existing ones untouched on failure
+    with Staged() as staged:  # every file or none; existing ones untouched on failure
         if json_path is not None:
             def write_json(tmp):
                 with open(tmp, "w") as fh:
@@ -132,11 +142,7 @@ def cmd_solve(args) -> int:
             from .plots import plot_solution
 
             staged.write(plot_path, lambda tmp: plot_solution(sol, tmp))
-    vtk_paths = []
-    if args.vtk is not None:  # ParaView: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
-        from .vtk import save_vtk
-
-        vtk_paths = save_vtk(sol, args.vtk)
+        vtk_paths = [] if vtk is None else _stage_vtk(staged, sol, vtk, args.vtk)
     k, t, n = result["kkt"], result["time_s"], result["ndof"]
     print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
           f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
@@ -171,6 +177,19 @@ def cmd_solve(args) -> int:
     return 0
 
 
+def _stage_vtk(staged, sol, stem, given) -> list:
+    """ParaView: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces), staged with the other outputs."""
+    from .vtk import save_vtk
+
+    folder = staged.folder(stem.parent)
+    try:
+        written = save_vtk(sol, folder / "out")
+    except OSError as exc:
+        raise PathError(f"--vtk = {str(given)!r}: the ParaView files could not be written "
+                        f"({exc.strerror or exc}); nothing was written") from None
+    return [staged.adopt(f, stem.with_name(stem.name + f.name[len("out"):])) for f in written]
+
+
 def _sweep_options(args) -> dict:
     from .elements import ELEMENTS
 
@@ -197,6 +216,8 @@ def cmd_sweep(args) -> int:
 
     opts = _sweep_options(args)
     out = check_output(args.out, "--out", ".csv")
+    vtk = check_output_stem(args.vtk, "--vtk", [".pvd"])
+    check_distinct({"--out": out, "--vtk": None if vtk is None else [vtk.with_name(vtk.name + ".pvd")]})
     scene = scenes.resolve(args.scene)
     for v in args.nu or []:
         scene.with_(nu=v)  # a bad nu is refused here, before any meshing
@@ -296,6 +317,19 @@ def _positive(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
 
 
+def _layers(text: str) -> int:
+    """A number of hp layers: an integer from 0 to the most the hp meshes allow."""
+    from .options import HP_MAX_LAYERS
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of layers") from None
+    if not 0 <= value <= HP_MAX_LAYERS:
+        raise argparse.ArgumentTypeError(f"{text!r}: the number of layers must be an integer in 0..{HP_MAX_LAYERS}")
+    return value
+
+
 def _count(text: str) -> int:
     """A number of unknowns: a whole number, also written like 2e6."""
     try:
@@ -337,7 +371,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
     p.add_argument("--front-h", dest="front_h", type=_positive, help="mesh size at crack fronts (3D scenes)")
-    p.add_argument("--hp", type=int, metavar="L",
+    p.add_argument("--hp", type=_layers, metavar="L",
                    help="L layers of geometric refinement (ratio 0.2) towards every crack tip; with --order 2 or 3")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")
     p.add_argument("--E", type=_positive, help="Young's modulus (overrides the scene)")
@@ -406,8 +440,13 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _terminate(signum, frame):
-    raise Terminated()
+def interrupted_line(command: str, signum: int, note: str | None = None) -> str:
+    """The one line an interrupted command prints: what stopped it and what was written."""
+    what = "terminated" if signum == signal.SIGTERM else "interrupted"
+    if note is None:
+        note = ("finished runs are saved, run the same command again to resume" if command in ("sweep", "paper")
+                else "nothing was written" if command in ("solve", "grow") else None)
+    return f"ngcrack: {what}" + (f"; {note}" if note else "")
 
 
 def main(argv=None) -> int:
@@ -419,37 +458,49 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     shown = warnings.showwarning
     warnings.showwarning = one_line_warning
-    on_term = None
-    if threading.current_thread() is threading.main_thread():
-        on_term = signal.signal(signal.SIGTERM, _terminate)
-    try:
-        code = args.func(args)
-        sys.stdout.flush()  # a closed pipe shows here, inside the handling below
-        return code
-    except KeyboardInterrupt as exc:
-        what = "terminated" if isinstance(exc, Terminated) else "interrupted"
-        if args.command in ("sweep", "paper"):
-            print(f"ngcrack: {what}; finished runs are saved, run the same command again to resume",
-                  file=sys.stderr)
-        else:
-            print(f"ngcrack: {what}" + ("; nothing was written" if args.command == "solve" else ""), file=sys.stderr)
-        return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
-    except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
+    args.on_interrupt = None  # a command may set it: signum -> the note of what it wrote, called once
+
+    def farewell(signum: int) -> str:  # the watcher ends the process (the main thread is in a long C call)
+        note = None
+        if args.on_interrupt is not None:
+            try:
+                note = args.on_interrupt(signum)
+            except Exception:  # noqa: BLE001 -- the line is printed regardless
+                note = None
+        return interrupted_line(args.command, signum, note)
+
+    with Interrupts(farewell) as interrupts:
         try:
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        except (OSError, ValueError, AttributeError):
-            pass
-        return 128 + signal.SIGPIPE
-    except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
-        code, message = classify(exc, args.command)
-        if debug:
-            traceback.print_exc()
-        print(f"ngcrack: error: {message}", file=sys.stderr)
-        return code
-    finally:
-        warnings.showwarning = shown
-        if on_term is not None:
-            signal.signal(signal.SIGTERM, on_term)
+            code = args.func(args)
+            check_interrupt()  # a signal swallowed on the way (a library turned it into nothing)
+            sys.stdout.flush()  # a closed pipe shows here, inside the handling below
+            return code
+        except KeyboardInterrupt as exc:
+            signum = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
+            return _interrupted(args, interrupts, signum, exc)
+        except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
+            try:
+                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            except (OSError, ValueError, AttributeError):
+                pass
+            return 128 + signal.SIGPIPE
+        except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
+            if interrupts.signum is not None:  # the signal came back as a library's exception
+                return _interrupted(args, interrupts, interrupts.signum, exc)
+            code, message = classify(exc, args.command)
+            if debug:
+                traceback.print_exc()
+            print(f"ngcrack: error: {message}", file=sys.stderr)
+            return code
+        finally:
+            warnings.showwarning = shown
+
+
+def _interrupted(args, interrupts, signum: int, exc: BaseException) -> int:
+    note = getattr(exc, "note", None)
+    print(interrupted_line(args.command, signum, note), file=sys.stderr)
+    interrupts.handled()
+    return 128 + signum
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import shutil
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -21,6 +22,33 @@ from .errors import InputError
 
 #: the longest part of a file name taken from a user's text (a scene's name)
 NAME_PART_MAX = 64
+
+#: temporary files and folders being written now (removed by `remove_staged_files` when a
+#: signal ends the process before they are renamed into place)
+_temporary: set[str] = set()
+
+
+def register_temporary(path) -> None:
+    """Note a temporary file or folder of an output being written (see `remove_staged_files`)."""
+    _temporary.add(str(path))
+
+
+def forget_temporary(path) -> None:
+    _temporary.discard(str(path))
+
+
+def remove_staged_files() -> None:
+    """Remove every temporary file and folder still registered: the process is ending before
+    they could be renamed into place (ngcrack.interrupts), and nothing half-written may stay."""
+    for path in list(_temporary):
+        if os.path.isdir(path):
+            shutil.rmtree(path, ignore_errors=True)
+        elif os.path.exists(path):
+            try:
+                os.unlink(path)
+            except OSError:
+                pass
+        _temporary.discard(path)
 
 
 class Staged:
@@ -32,15 +60,30 @@ class Staged:
 
     def __init__(self) -> None:
         self.files: list[tuple[str, Path]] = []
+        self.folders: list[str] = []
 
     def write(self, path, write: Callable[[str], object]) -> Path:
         """Stage `path`: `write(tmp)` writes the content to the temporary file `tmp` (same suffix)."""
         path = Path(path)
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
         os.close(fd)
+        register_temporary(tmp)
         self.files.append((tmp, path))
         write(tmp)
         return path
+
+    def folder(self, parent) -> Path:
+        """A temporary folder in `parent` for files written by another writer (`adopt` them);
+        removed on leaving, whatever happens."""
+        tmp = tempfile.mkdtemp(dir=parent, prefix=".ngcrack-stage-")
+        register_temporary(tmp)
+        self.folders.append(tmp)
+        return Path(tmp)
+
+    def adopt(self, tmp, path) -> Path:
+        """Stage a file already written at `tmp` (in a `folder` of this stage) to replace `path`."""
+        self.files.append((str(tmp), Path(path)))
+        return Path(path)
 
     def __enter__(self) -> Staged:
         return self
@@ -54,6 +97,10 @@ class Staged:
             for tmp, _ in self.files:
                 if os.path.exists(tmp):
                     os.unlink(tmp)
+                forget_temporary(tmp)
+            for tmp in self.folders:
+                shutil.rmtree(tmp, ignore_errors=True)
+                forget_temporary(tmp)
 
 
 def atomic_write(path, write: Callable[[str], object]) -> Path:
@@ -97,21 +144,71 @@ def writable_folder(folder: Path, field: str, path) -> None:
                          f"choose a writable place")
 
 
+def _refuse_empty(path, field: str) -> None:
+    if not isinstance(path, (str, os.PathLike)):
+        raise PathError(f"{field} = {path!r}: expected a file name")
+    if not str(path).strip():
+        raise PathError(f"{field} = {str(path)!r}: is empty; give a file name")
+
+
+def _check_file(p: Path, field: str, given, name: str = "", probe: bool = True) -> None:
+    """The checks of one file to write: its directory exists and is writable, it is not a directory,
+    it is not read-only. `name` tells which of the option's files it is (for an option writing several)."""
+    head = f"{field} = {str(given)!r}:"
+    if not p.parent.is_dir():
+        raise PathError(f"{head} the directory {str(p.parent)!r} does not exist")
+    if p.is_dir():
+        raise PathError(f"{head} {name} is a directory; give another name" if name else
+                        f"{head} is a directory; give a file name")
+    if probe:
+        writable_folder(p.parent, field, given)
+    if p.exists() and not os.access(p, os.W_OK):
+        raise PathError(f"{head} {name or 'the file'} is read-only; choose another name or make it writable")
+
+
 def check_output(path: str | None, field: str, suffix: str | None = None) -> Path | None:
     """A file to write: its directory exists and is writable, it is not a directory, it has `suffix`."""
     if path is None:
         return None
+    _refuse_empty(path, field)
     p = Path(path)
-    if not p.parent.is_dir():
-        raise PathError(f"{field} = {str(path)!r}: the directory {str(p.parent)!r} does not exist")
-    if p.is_dir():
+    if str(path).endswith(os.sep) or p.name in ("", ".", "..") or p.is_dir():
         raise PathError(f"{field} = {str(path)!r}: is a directory; give a file name")
     if suffix and p.suffix.lower() != suffix:
         raise PathError(f"{field} = {str(path)!r}: must end in {suffix}")
-    writable_folder(p.parent, field, path)
-    if p.exists() and not os.access(p, os.W_OK):
-        raise PathError(f"{field} = {str(path)!r}: the file is read-only; choose another or make it writable")
+    _check_file(p, field, path)
     return p
+
+
+def check_output_stem(path: str | None, field: str, names: list[str],
+                      drop: tuple[str, ...] = (".vtu", ".vtk")) -> Path | None:
+    """A stem OUT of several files (OUT + each of `names`, e.g. ".vtu", "_cracks.vtu", ".pvd"): every one
+    checked as `check_output` checks a file (the same rule for every output: the folder must exist); the
+    stem is `path` without a suffix of `drop`."""
+    if path is None:
+        return None
+    _refuse_empty(path, field)
+    stem = Path(path)
+    if str(path).endswith(os.sep) or stem.name in ("", ".", ".."):
+        raise PathError(f"{field} = {str(path)!r}: expected a file name stem, e.g. 'out/run'")
+    if stem.suffix in drop:
+        stem = stem.with_suffix("")
+    for k, name in enumerate(names):
+        f = stem.with_name(stem.name + name)
+        _check_file(f, field, path, name=f.name, probe=k == 0)  # one folder: tried once
+    return stem
+
+
+def check_distinct(outputs: dict) -> None:
+    """Refuse two outputs on one file: `outputs` maps an option to its file or files (None: not given)."""
+    seen: dict[str, str] = {}
+    for field, paths in outputs.items():
+        for p in ([] if paths is None else [paths] if isinstance(paths, (str, os.PathLike)) else paths):
+            key = os.path.normcase(os.path.realpath(p))
+            if key in seen and seen[key] != field:
+                raise PathError(f"{field}: {str(p)!r} is also the file of {seen[key]}; give each output its own "
+                                f"file")
+            seen.setdefault(key, field)
 
 
 def check_output_folder(path: str, field: str) -> Path:

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shutil
 import tempfile
 from collections.abc import Sequence
@@ -44,6 +45,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .errors import InputError
+from .files import forget_temporary, register_temporary
 
 #: the `state` cell data of the crack data set: the code of each crack-face state
 STATE_CODES = {"open": 0, "stick": 1, "slip": 2}
@@ -155,6 +157,7 @@ def save_vtk(sol, path, subdivision: int = 0) -> list[Path]:
     base = vtk_stem(path)
     base.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".ngcrack-vtk-", dir=base.parent))
+    register_temporary(tmp)
     try:
         fields = body_fields(sol)
         ngs.VTKOutput(sol.mesh, coefs=list(fields.values()), names=list(fields), filename=str(tmp / "body"),
@@ -173,6 +176,7 @@ def save_vtk(sol, path, subdivision: int = 0) -> list[Path]:
         return [dst for _, dst in written]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+        forget_temporary(tmp)
 
 
 def write_collection(files: Sequence, times: Sequence[float], path) -> Path:
@@ -242,7 +246,9 @@ class SeriesWriter:
 
     ``writer.add(sol, time)`` writes one; ``writer(step, result)`` is the ``progress``
     callback of `ngcrack.grow` (it writes ``result.solution`` at time = the step number).
-    ``files`` and ``times`` hold what was written.
+    ``files`` and ``times`` hold what was written. The first ``add`` removes the step files
+    of an earlier series on the same path (``path_NNNN.vtu``, ``path_NNNN_cracks.vtu``), so
+    that the folder holds this series only, the one its collection lists.
     """
 
     def __init__(self, path, subdivision: int = 0):
@@ -258,6 +264,8 @@ class SeriesWriter:
     def add(self, sol, time: float) -> list[Path]:
         if isinstance(time, bool) or not isinstance(time, (int, float, np.integer, np.floating)) or not math.isfinite(time):
             raise InputError(f"time = {time!r}: expected a finite number")
+        if not self.files:
+            self._remove_stale()
         files = save_vtk(sol, self.base.with_name(f"{self.base.name}_{len(self.files):04d}"), self.subdivision)
         self.files.append(files)
         self.times.append(float(time))
@@ -266,3 +274,13 @@ class SeriesWriter:
 
     def __call__(self, step, result) -> None:
         self.add(result.solution, step)
+
+    def _remove_stale(self) -> None:
+        """Remove an earlier series' step files on this stem (exactly the names this writer makes)."""
+        folder = self.base.parent
+        if not folder.is_dir():
+            return
+        pattern = re.compile(re.escape(self.base.name) + r"_\d{4}(" + re.escape(CRACK_SUFFIX) + r")?\.vtu")
+        for f in folder.iterdir():
+            if pattern.fullmatch(f.name) and f.is_file():
+                f.unlink()

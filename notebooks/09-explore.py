@@ -60,7 +60,8 @@ w
 #    violated. `bonded` glues the faces: why does it look like `contact` under compression
 #    but not under tension?
 # 5. **Poisson's ratio.** Move *nu* to 0.5 with `bdm`, then pick the displacement element
-#    `h1p1`: the widget refuses (one line in red) and keeps the last good figure. Why can a
+#    `h1p1`: the widget refuses (one sentence in red saying what to change), puts the
+#    element menu back on `bdm` and keeps the last good figure. Why can a
 #    displacement element not take $\nu = 1/2$? Type 0.7 into the box next to *nu*: why
 #    is it refused?
 # 6. **Geometry.** Change the *crack angle*: at which angle does the crack slide most

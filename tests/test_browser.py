@@ -6,8 +6,9 @@ is opened in JupyterLab and run; then, as a student would:
 
 1. the "load factor" slider is moved with the keyboard to tension: the figure is greyed
    while the kernel solves and changes, the slider, its typed box and the model agree;
-2. 0.7 is typed into Poisson's ratio: the refusal shows (one line naming nu and its
-   range), the box and the slider go back to 0.3, the model keeps 0.3;
+2. 0.7 is typed into Poisson's ratio: the refusal shows (one plain sentence naming
+   Poisson's ratio and its range, the technical line beneath it), the box and the slider
+   go back to 0.3, the model keeps 0.3;
 3. under tension the crack faces drawn show a gap and no overlap;
 4. load factor 1 typed, crack model `free` chosen: the faces overlap, no gap (checked on
    the figure's data, which the widget keeps in a hidden element, not on pixels);
@@ -295,7 +296,7 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             page.screenshot(path=str(shots / "3-after-slider-tension.png"))
             # 2. a typed value out of range: refused, the box and slider back to the model's value
             _type(page, "nu", "0.7")
-            page.wait_for_selector(".ngcrack-status:has-text('refused')", timeout=MOVE_TIMEOUT * 1000)
+            page.wait_for_selector(".ngcrack-status:has-text('out of range')", timeout=MOVE_TIMEOUT * 1000)
             _wait_idle(page, MOVE_TIMEOUT)
             page.wait_for_timeout(300)
             seen["refused"] = _data(page)
@@ -348,8 +349,9 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
     assert seen["busy_seen"] and seen["busy_now"] == 0, "the figure was not greyed while solving, or stays greyed"
     # 2. refusal
     d = seen["refused"]
-    assert "nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5" in seen["refused_status"]
-    assert "\n" not in seen["refused_status"].strip()
+    sentence, _, detail = seen["refused_status"].strip().partition("\n")
+    assert "The Poisson's ratio 0.7 is out of range: choose a value from 0 to 0.5." in sentence, sentence
+    assert "Error" not in sentence and "details: nu (Poisson's ratio) = 0.7 refused: allowed from 0 to 0.5" in detail
     assert d["state"]["nu"] == d["controls"]["nu"] == d["typed"]["nu"] == 0.3
     assert float(seen["nu_box"]) == 0.3 and float(seen["nu_handle"]) == pytest.approx(0.3)
     # 3. tension: a gap, no overlap

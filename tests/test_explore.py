@@ -142,19 +142,90 @@ def test_griffith_plate_opens_as_the_closed_form():
 
 
 def test_bad_combinations_show_one_line_and_keep_the_last_answer():
+    """A refused combination: one plain sentence naming the control and what to do (no
+    exception's name), the technical line as its detail, and the controls back on the
+    values of the answer shown, so that the next change starts from values that work."""
     study = nc.Explorer("inclined-crack", maxh=MAXH)
-    good = study.solution
-    assert study.update(element="h1p1", nu=0.5) is None
-    assert study.error.startswith("InputError: material.nu = 0.5") and "\n" not in study.error
-    assert study.solution is good
-    assert study.update(element="bdm") is not None and study.error is None  # nu = 1/2 is fine for bdm
-    assert study.update(center_x=4.0, half_length=2.0) is None  # in range, but the crack leaves the plate
-    assert study.error.startswith("SceneError: crack[0].points")
-    assert study.update(center_x=0.0) is not None and study.error is None
-    assert study.update(colour="red") is None and "unknown control colour" in study.error
-    assert study.update(field="pressure") is None and "field (stress shown) = 'pressure'" in study.error
-    assert study.update(maxh=-1.0) is None and "maxh" in study.error
+    good, before = study.solution, dict(study.state)
+    assert study.update(nu=0.5) is not None  # bdm takes nu = 1/2
+    at_half = dict(study.state)
+    assert study.update(element="h1p1") is None
+    assert study.error.startswith("The displacement element h1p1 cannot take Poisson's ratio 1/2") \
+        and "pick bdm, peers or tdnns" in study.error and "\n" not in study.error
+    assert study.error_detail.startswith("material.nu = 0.5") and study.refused == ("element",)
+    assert study.state == at_half and study.state["element"] == "bdm"  # the menu goes back to bdm
+    assert study.update(nu=0.3) is not None and study.error is None and study.error_detail is None
+    assert study.update(center_x=4.0) is not None
+    assert study.update(half_length=2.5) is None  # in range, but the crack leaves the plate
+    assert study.error == ("The crack would leave the plate with this crack half length: move the crack centre back "
+                           "towards the middle or shorten the crack.")
+    assert study.error_detail.startswith("crack[0].points[1]") and "outside domain.polygon" in study.error_detail
+    assert study.state["half_length"] == before["half_length"] and study.state["center_x"] == 4.0
+    assert study.update(E=50.0) is not None and study.error is None  # later changes work at once
+    for text in (study.error or "",):
+        assert "Error:" not in text
+    assert study.update(colour="red") is None and study.error.startswith("There is no control called colour")
+    assert "unknown control colour" in study.error_detail
+    assert study.update(field="pressure") is None and "field (stress shown) = 'pressure'" in study.error_detail
+    assert study.error == "'pressure' is not a choice for the stress shown: pick one of sigma_nu, von_mises."
+    assert study.update(maxh=-1.0) is None and study.error.startswith("The mesh size -1 is out of range")
     assert study.update(maxh=MAXH, field="von_mises") is not None and study.error is None
+    assert good is not study.solution
+
+
+def test_a_bad_start_keeps_the_values_so_that_they_can_be_repaired():
+    w = nc.Explorer("cracked-beam", maxh=0.5, center_y=0.95, angle=40)
+    assert w.solution is None and w.error.startswith("The crack would leave the plate")
+    assert w.update(center_y=0.9) is None and w.state["center_y"] == 0.9  # no good values to go back to
+    assert w.update(angle=0.0) is not None and w.error is None and w.state["center_y"] == 0.9
+
+
+def test_held_scales_depend_on_the_controls_not_on_their_history():
+    """"hold for load changes": the scales are those of the reference load (factor 1, angle
+    0, contact) for the current material, element, mesh and geometry, whatever the order
+    of the changes (the history of the issue: E = 1234 at load 0.55, then load 1, E = 1000)."""
+    a = nc.Explorer("inclined-crack", maxh=MAXH)
+    ref = a.reference_scales("sigma_nu")
+    assert a.update(load=0.55) is not None and a.reference_scales("sigma_nu") == ref  # a load change keeps them
+    a.update(E=1234.0)
+    a.update(load=1.0)
+    a.update(E=1000.0)
+    assert a.reference_scales("sigma_nu") == ref
+    a.update(load=-1.0, crack_model="free", load_angle=30.0)
+    assert a.reference_scales("sigma_nu") == ref
+    b = nc.Explorer("inclined-crack", maxh=MAXH, E=1000.0, load=-0.5)
+    assert b.reference_scales("sigma_nu") == pytest.approx(ref, rel=1e-9)
+    # they follow the material and the geometry: stresses do not depend on E, displacements do
+    a.update(E=100.0)
+    soft = a.reference_scales("sigma_nu")
+    assert soft["clim"] == pytest.approx(ref["clim"], rel=1e-6)
+    assert soft["scale"] == pytest.approx(ref["scale"] / 10.0, rel=1e-6)
+    a.update(E=1000.0, angle=60.0)
+    assert a.reference_scales("sigma_nu")["clim"] != pytest.approx(ref["clim"], rel=1e-3)
+    # the colour limit is a level of the body, not the tip's peak: the area-weighted 98th percentile
+    from ngcrack.explorer.fields import CLIM_PERCENTILE, stress_values
+    from ngcrack.plots import element_displacements
+
+    sol = nc.Explorer("inclined-crack", maxh=MAXH, load=1.0).solution
+    corners, _ = element_displacements(sol)
+    vals = np.abs(stress_values(sol, "sigma_nu"))
+    a_, b_ = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    area = 0.5 * np.abs(a_[:, 0] * b_[:, 1] - a_[:, 1] * b_[:, 0])
+    clim = ref["clim"]
+    share = area[vals <= clim].sum() / area.sum()
+    assert CLIM_PERCENTILE / 100 - 0.01 <= share <= CLIM_PERCENTILE / 100 + 0.01
+    assert vals.max() > 1.5 * clim  # the tip's peak is beyond the colour bar (clipped and marked)
+
+
+def test_tips_are_named_by_where_they_are():
+    from ngcrack.explorer.messages import tip_names
+
+    tips = [{"crack": 0, "end": "first", "x": 1.0, "y": 0.2}, {"crack": 0, "end": "last", "x": -1.0, "y": -0.2}]
+    assert tip_names(tips) == ["right tip", "left tip"]
+    steep = [{"crack": 0, "end": "first", "x": 0.1, "y": -1.0}, {"crack": 0, "end": "last", "x": 0.0, "y": 1.0}]
+    assert tip_names(steep) == ["lower tip", "upper tip"]
+    two = tips + [{"crack": 1, "end": "first", "x": 3.0, "y": 0.0}, {"crack": 1, "end": "last", "x": 4.0, "y": 0.0}]
+    assert tip_names(two) == ["crack 1, right tip", "crack 1, left tip", "crack 2, left tip", "crack 2, right tip"]
 
 
 def test_out_of_range_values_are_refused_not_clamped_nor_kept():
@@ -170,8 +241,11 @@ def test_out_of_range_values_are_refused_not_clamped_nor_kept():
                          ({"nu": "abc"}, "nu (Poisson's ratio) = 'abc': a number from 0 to 0.5"),
                          ({"load": 0.5, "nu": 0.7}, "nu (Poisson's ratio) = 0.7 refused")]:
         assert study.update(**change) is None
-        assert study.error.startswith("InputError: " + text) and "\n" not in study.error, study.error
+        assert study.error_detail.startswith(text) and "\n" not in study.error, study.error_detail
+        assert "Error" not in study.error and study.error.endswith(".")
         assert study.state == before and study.solution is good
+    study.update(nu=0.7)
+    assert study.error == "The Poisson's ratio 0.7 is out of range: choose a value from 0 to 0.5."
     # the finest mesh offered stays below the unknowns the widget allows (sizing's estimate)
     from ngcrack.explorer.controls import MAX_UNKNOWNS
     from ngcrack.sizing import estimate_size
@@ -251,26 +325,32 @@ def test_widget_wiring_and_failures_without_a_browser():
     w = nc.explore("inclined-crack", maxh=MAXH)
     png = w.image.value
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and w.status.value == ""
-    assert "unknowns" in w.readout.value and "KKT residual" in w.readout.value
+    assert "unknowns" in w.readout.value and "contact check (KKT residual)" in w.readout.value
+    assert "<abbr title='contact check: how far the answer is" in w.readout.value  # the glossary, on hover
     w.controls["load"].value = -1.0
     assert w.image.value != png and w.study.counts["factorize"] == 1
     w.controls["element"].value = "h1p1"
     good = w.image.value
-    w.controls["nu"].value = 0.5  # nu = 1/2 with a displacement baseline: refused
-    assert "InputError" in w.status.value and w.image.value == good
+    nu = w.model.state["nu"]
+    w.controls["nu"].value = 0.5  # nu = 1/2 with a displacement baseline: refused, the slider goes back
+    assert "Poisson's ratio 1/2 (incompressible) needs a mixed element" in w.status.value and w.image.value == good
+    assert "Error" not in w.status.value.split("details:")[0] and "details: material.nu = 0.5" in w.status.value
+    assert w.controls["nu"].value == w.typed["nu"].value == w.model.state["nu"] == nu
     w.controls["element"].value = "bdm"  # the widget keeps working
     assert w.status.value == "" and w.image.value != good
     w.controls["center_x"].value = 4.0
     assert w.status.value == ""
     w.controls["half_length"].value = 2.5  # the crack leaves the plate
-    assert "SceneError" in w.status.value
-    w.controls["half_length"].value = 1.0
+    assert "The crack would leave the plate" in w.status.value and "back to the figure's value" in w.status.value
+    assert w.controls["half_length"].value == w.model.state["half_length"] == 1.0
+    w.controls["half_length"].value = 0.75
     assert w.status.value == ""
     w.controls["field"].value = "von_mises"
     assert w.study.redone == ["figure"] and w.latency > 0
     # a bad start: the message and no figure, then a good value gives one
     w = nc.explore("cracked-beam", maxh=0.5, center_y=0.95, angle=40)
-    assert "SceneError" in w.status.value and "no answer yet" in w.status.value and w.image.value == b""
+    assert "The crack would leave the plate" in w.status.value and "No answer yet" in w.status.value
+    assert w.image.value == b""
     w.controls["angle"].value = 0.0
     assert w.status.value == "" and w.image.value[:4] == b"\x89PNG"
 
@@ -504,8 +584,8 @@ def test_scales_are_held_while_the_load_changes():
     d = w.drawing.data
     assert d["held"] and d["clim"] == first["clim"] and d["magnification"] == first["magnification"]
     assert d["jump_lim"] == first["jump_lim"]
-    w.controls["angle"].value = 60.0  # a new geometry re-fits in auto
-    assert w.drawing.data["held"] is False
+    w.controls["angle"].value = 60.0  # a new geometry: the reference load's scales of the new geometry
+    assert w.drawing.data["clim"][1] == w.model.reference_scales()["clim"] != first["clim"][1]
     fitted = dict(w.drawing.data)
     w.controls["scales"].value = "hold"
     w.controls["angle"].value = 30.0  # held across a geometry change too
@@ -521,7 +601,8 @@ def test_scales_are_held_while_the_load_changes():
     assert sum(w.timing.values()) == pytest.approx(r["latency_s"] + w.timing["drawing"], rel=1e-9, abs=1e-12)
     # K values tied to their tips, three significant digits
     tips = w.drawing.data["tips"]
-    assert len(tips) == 2 and tips[0].startswith("tip A (") and "K_I = " in tips[0] and "K_II = " in tips[1]
+    assert len(tips) == 2 and tips[0].startswith(("left tip (", "right tip (")) and "K_I = " in tips[0]
+    assert "K_II = " in tips[1] and {t.split(" (")[0] for t in tips} == {"left tip", "right tip"}
     K_II = w.model.solution.tips[0].K_II
     assert f"K_II = {K_II:#.3g}".rstrip(".") in tips[0]
 

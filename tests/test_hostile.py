@@ -59,6 +59,8 @@ def place(tmp_path, monkeypatch):
         (tmp_path / name).write_text(text)
     (tmp_path / "adir").mkdir()
     (tmp_path / "adir.csv").mkdir()
+    for name in ("v.vtu", "w_cracks.vtu", "s_0001_cracks.vtu", "p.pvd"):  # output names taken by folders
+        (tmp_path / name).mkdir()
     (tmp_path / "old.json").write_text('{"kept": true}')
     (tmp_path / "other.csv").write_text("a,b\n1,2\n")
     _readonly(tmp_path / "ro")
@@ -74,6 +76,7 @@ def run(argv, capsys):
 
 MAXH = ["--maxh", "0.5"]
 SWEEP = ["--out", "r.csv", "--no-progress"]
+GROW = ["grow", "paper-2", "--da", "0.05", "--steps", "2"]
 
 #: (argv, exit code, a fragment of the one line on stderr)
 CASES = [
@@ -110,6 +113,30 @@ CASES = [
     (["solve", "maxh-tiny.toml", "--maxh", "0.5", "--json", "r.json", "--plot", "missing/r.png"], 2,
      "--plot = 'missing/r.png': the directory 'missing' does not exist"),
     (["solve", "paper-2", "--E", "1e300", "--json", "r.json"] + MAXH, 2, "material.E = 1e+300"),
+    (["solve", "paper-2", "--json", ""], 2, "--json = '': is empty"),
+    (["solve", "paper-2", "--hp", "99999999999999999999"], 2, "--hp: '99999999999999999999': the number of layers"),
+    (["solve", "no-crack", "--hp", "2", "--order", "2"], 2, "--hp = 2: scene 'no-crack' has no crack tip"),
+    # ------------------------------------------- outputs: distinct, checked before the solve, one rule
+    (["solve", "paper-2", "--json", "out.png", "--plot", "out.png"], 2, "--plot: 'out.png' is also the file of --json"),
+    (["solve", "paper-2", "--json", "x.vtu", "--vtk", "x"], 2, "--vtk: 'x.vtu' is also the file of --json"),
+    (["solve", "paper-2", "--json", "r.json", "--vtk", "ro/v"], 2, "--vtk = 'ro/v': cannot write in the directory 'ro'"),
+    (["solve", "paper-2", "--json", "r.json", "--vtk", "v"], 2, "--vtk = 'v': v.vtu is a directory"),
+    (["solve", "paper-2", "--json", "r.json", "--vtk", "w.vtu"], 2, "--vtk = 'w.vtu': w_cracks.vtu is a directory"),
+    (["solve", "paper-2", "--json", "r.json", "--vtk", "missing/v"], 2,
+     "--vtk = 'missing/v': the directory 'missing' does not exist"),
+    (["solve", "paper-2", "--vtk", ""], 2, "--vtk = '': is empty"),
+    (GROW + ["--json", "g.csv", "--csv", "g.csv"], 2, "--csv: 'g.csv' is also the file of --json"),
+    (GROW + ["--json", "g.json", "--gif", "g.json"], 2, "--gif = 'g.json': must end in .gif"),
+    (GROW + ["--json", "g.json", "--csv", "g.csv", "--png", "adir"], 2, "--png = 'adir': is a directory"),
+    (GROW + ["--json", "t_0000.vtu", "--vtk", "t"], 2, "--vtk: 't_0000.vtu' is also the file of --json"),
+    (GROW + ["--json", "g.json", "--vtk", "s"], 2, "--vtk = 's': s_0001_cracks.vtu is a directory"),
+    (GROW + ["--json", "g.json", "--vtk", "p"], 2, "--vtk = 'p': p.pvd is a directory"),
+    (GROW + ["--json", "g.json", "--vtk", "ro/g"], 2, "--vtk = 'ro/g': cannot write in the directory 'ro'"),
+    (GROW + ["--json", "g.json", "--vtk", "missing/g"], 2, "the directory 'missing' does not exist"),
+    (GROW + ["--json", ""], 2, "--json = '': is empty"),
+    (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "p"] + SWEEP, 2, "--vtk = 'p': p.pvd is a directory"),
+    (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "ro/p"] + SWEEP, 2, "cannot write in the directory 'ro'"),
+    (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "missing/p"] + SWEEP, 2, "the directory 'missing' does not exist"),
     # ------------------------------------------------------------------ sweep
     (["sweep", "paper-2", "--maxh", "0.4", "--out", "adir.csv", "--no-progress"], 2, "is a directory"),
     (["sweep", "paper-2", "--maxh", "0.4", "--out", "r.txt", "--no-progress"], 2, "must end in .csv"),

@@ -139,6 +139,9 @@ def test_cli_vtk_matches_its_json(tmp_path):
     from ngcrack.cli import main
 
     out, js = tmp_path / "out" / "open", tmp_path / "r.json"
+    assert main(["solve", "tension-open", "--maxh", "0.5", "--vtk", str(out)]) == 2  # a missing folder, as --json
+    assert not out.parent.exists()
+    out.parent.mkdir()
     assert main(["solve", "tension-open", "--maxh", "0.5", "--json", str(js), "--vtk", str(out)]) == 0
     result = json.loads(js.read_text())
     grid = meshio.read(tmp_path / "out" / "open_cracks.vtu")

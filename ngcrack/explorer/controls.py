@@ -62,6 +62,20 @@ MAX_UNKNOWNS = 2.0e5
 E_DECADES = 2.0
 
 
+class ControlRefused(InputError):
+    """A control's value refused: the technical line (the keyword, the value, what it allows)
+    as the message, and `sentence`, the same in plain words for a student."""
+
+    def __init__(self, message: str, control: str, sentence: str):
+        super().__init__(message)
+        self.control = control
+        self.sentence = sentence
+
+
+def _plain(name: str) -> str:
+    return LABELS.get(name, name.replace("_", " "))
+
+
 @dataclass(frozen=True)
 class Range:
     """The allowed values of a numeric control: low <= value <= high (a log slider if `log`)."""
@@ -78,10 +92,14 @@ class Range:
             try:
                 value = float(value)
             except (TypeError, ValueError):
-                raise InputError(f"{label} = {value!r}: a number from {self.low:.4g} to {self.high:.4g}") from None
+                raise ControlRefused(f"{label} = {value!r}: a number from {self.low:.4g} to {self.high:.4g}", name,
+                                     f"The {_plain(name)} must be a number: type one from {self.low:.4g} to "
+                                     f"{self.high:.4g}.") from None
         value = float(value)
         if not math.isfinite(value) or not self.low <= value <= self.high:
-            raise InputError(f"{label} = {value:.4g} refused: allowed from {self.low:.4g} to {self.high:.4g}")
+            raise ControlRefused(f"{label} = {value:.4g} refused: allowed from {self.low:.4g} to {self.high:.4g}",
+                                 name, f"The {_plain(name)} {value:.4g} is out of range: choose a value from "
+                                       f"{self.low:.4g} to {self.high:.4g}.")
         return value
 
 
@@ -93,7 +111,9 @@ def _label(name: str) -> str:
 def check_choice(name: str, value: Any, allowed) -> Any:
     """`value` if it is one of `allowed`, else ValueError naming the control and the allowed values."""
     if not isinstance(value, str) or value not in allowed:
-        raise InputError(f"{_label(name)} = {value!r}: allowed values are {', '.join(map(str, allowed))}")
+        listed = ", ".join(map(str, allowed))
+        raise ControlRefused(f"{_label(name)} = {value!r}: allowed values are {listed}", name,
+                             f"{value!r} is not a choice for the {_plain(name)}: pick one of {listed}.")
     return value
 
 

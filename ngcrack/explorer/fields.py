@@ -31,7 +31,7 @@ def significant(value: float, digits: int = K_DIGITS) -> str:
 def units(scene) -> tuple[str, str]:
     """(stress unit, length unit) of a scene: its own where it names them, else "E units", "length units"."""
     u = getattr(scene, "units", None) or {}
-    return (u.get("stress") or "E units", u.get("length") or "length units")
+    return (u.get("stress") or "units of E", u.get("length") or "length units")
 
 
 def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarray:
@@ -60,6 +60,63 @@ def field_label(field: str, scene) -> str:
         return rf"$\sigma_{{\nu\nu}} = (\sigma\nu)\cdot\nu$  [{stress}]"
     plane = "plane strain" if scene.material.plane == "strain" else "plane stress"
     return f"von Mises stress ({plane})  [{stress}]"
+
+
+#: the colour limits cover this area-weighted percentile of the field (the tip's singular
+#: peak, on tiny triangles, is clipped and marked, not the scale)
+CLIM_PERCENTILE = 98.0
+#: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
+DEFORMED_FRACTION = 0.08
+#: the traction axis spans at least this fraction of the body's stress scale (so that
+#: round-off on a traction-free crack is drawn as the zero it is)
+PROFILE_FLOOR = 0.05
+
+
+def weighted_percentile(values: np.ndarray, weights: np.ndarray, q: float) -> float:
+    """The q-th percentile of `values` with each counted by its weight (a triangle's area):
+    a field's level over the body, not over the many small triangles at a tip."""
+    v, w = np.asarray(values, float), np.asarray(weights, float)
+    ok = np.isfinite(v) & (w > 0)
+    if not np.any(ok):
+        return 0.0
+    order = np.argsort(v[ok])
+    cum = np.cumsum(w[ok][order])
+    k = int(np.searchsorted(cum, q / 100.0 * cum[-1]))
+    return float(v[ok][order][min(k, len(order) - 1)])
+
+
+def color_limits(vals: np.ndarray, corners: np.ndarray, field: str) -> tuple[float, float]:
+    """(low, high) of the colour bar: sigma_nu symmetric about 0 at the CLIM_PERCENTILE-th
+    area-weighted percentile of |sigma_nu|; von Mises from 0 to its percentile."""
+    a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    area = 0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    if field == "sigma_nu":
+        m = weighted_percentile(np.abs(vals), area, CLIM_PERCENTILE)
+        return -m, m
+    return 0.0, weighted_percentile(vals, area, CLIM_PERCENTILE)
+
+
+def fit_scales(sol, field: str, corners=None, disp=None, vals=None) -> dict:
+    """The figure's scales fitted to `sol`: magnification ("scale"), colour limit ("clim",
+    the upper one), the profiles' jump and traction limits, the load arrows' reference."""
+    from ..plots import centroid_stress, element_displacements
+
+    if corners is None or disp is None or vals is None:
+        sigma = centroid_stress(sol)
+        corners, disp = element_displacements(sol, sigma)
+        vals = stress_values(sol, field, sigma)
+    poly = np.asarray(sol.scene.polygon, float)
+    diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
+    umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
+    profiles = sol.crack_profiles()
+    jmax = max([float(np.max(np.abs(np.r_[p.normal_jump, p.tangential_jump]), initial=0.0)) for p in profiles]
+               + [0.0])
+    tmax = max([float(np.max(np.abs(np.r_[p.normal_stress, p.shear_stress]), initial=0.0)) for p in profiles]
+               + [0.0])
+    clim = color_limits(vals, corners, field)[1] if len(vals) else 0.0
+    stress_scale = color_limits(np.abs(vals), corners, "von_mises")[1] if len(vals) else 0.0
+    return {"scale": DEFORMED_FRACTION * diam / umax if umax > 0 else 0.0, "clim": clim, "jump": jmax,
+            "traction": max(tmax, PROFILE_FLOOR * stress_scale), "load": load_magnitude(sol.scene)}
 
 
 def load_magnitude(scene) -> float:

@@ -27,10 +27,20 @@ import math
 
 import numpy as np
 
-from .fields import FIELDS, K_DIGITS, crack_faces, field_label, load_magnitude, significant, stress_values, tip_value, units
-
-#: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
-DEFORMED_FRACTION = 0.08
+from .fields import (
+    DEFORMED_FRACTION,
+    FIELDS,
+    K_DIGITS,
+    PROFILE_FLOOR,  # noqa: F401  (kept for older imports)
+    crack_faces,
+    field_label,
+    fit_scales,
+    significant,
+    stress_values,
+    tip_value,
+    units,
+)
+from .messages import tip_names
 
 #: a held magnification is given up where it would draw a displacement larger than this
 #: fraction of the body's diameter (the figure re-fits it)
@@ -41,10 +51,6 @@ STATE_COLORS = {"stick": "0.85", "slip": "#fde0b0"}
 #: a face sample counts as sliding (shaded "slip") only where its sliding exceeds this
 #: fraction of the largest displacement: at zero load nothing is shaded
 SLIDE_RTOL = 1e-6
-
-#: the traction axis spans at least this fraction of the body's stress scale (so that
-#: round-off on a traction-free crack is drawn as the zero it is)
-PROFILE_FLOOR = 0.05
 
 #: figure width in inches and resolution (the image is shown at its own size: 1 px per px)
 FIGURE_WIDTH = 9.6
@@ -64,7 +70,7 @@ FACE_COLORS = {"+": "#1f3b8c", "-": "#c2410c"}
 #: the faces count as closed where |opening| is below this fraction of the largest
 #: displacement (the post-processed displacements differ from the QP's jumps at 1e-5)
 FACE_RTOL = 1e-3
-_TIP_NAMES = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+
 
 
 def draw(sol, field: str = "sigma_nu", title: str = "") -> bytes:
@@ -141,13 +147,14 @@ class Drawing:
 
     # ------------------------------------------------------------------ render
     def render(self, sol, field: str = "sigma_nu", title: str = "", *, hold: bool = False,
-               magnification: float = 0.0, load_factor: float | None = None) -> bytes:
+               magnification: float = 0.0, load_factor: float | None = None, scales: dict | None = None) -> bytes:
         """Draw `sol` with the stress `field` (one of FIELDS) and return the PNG bytes.
 
         ``hold``: keep the scales of the last frame drawn with hold (the first one sets
         them; a new field or layout sets them again). ``magnification`` > 0: displacements
         drawn times this factor (0: automatic, or the held one). ``load_factor``: shown in
-        the title, with its sign's meaning."""
+        the title, with its sign's meaning. ``scales``: the scales to use (`fields.fit_scales`
+        of a reference solution, the explorer's "hold for load changes"), before ``hold``."""
         from ..plots import centroid_stress, element_displacements
 
         poly = np.asarray(sol.scene.polygon, float)
@@ -168,26 +175,23 @@ class Drawing:
         umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
         vals = stress_values(sol, field, sigma)
         profiles = sol.crack_profiles()
-        jmax = max([float(np.max(np.abs(np.r_[p.normal_jump, p.tangential_jump]), initial=0.0)) for p in profiles]
-                   + [0.0])
-        tmax = max([float(np.max(np.abs(np.r_[p.normal_stress, p.shear_stress]), initial=0.0)) for p in profiles]
-                   + [0.0])
-        stress_scale = float(np.percentile(np.abs(vals), 99)) if len(vals) else 0.0
-        fresh = {
-            "scale": DEFORMED_FRACTION * diam / umax if umax > 0 else 0.0,
-            "clim": float(np.percentile(np.abs(vals), 99)) if field == "sigma_nu" else float(np.percentile(vals, 99)),
-            "jump": jmax,
-            "traction": max(tmax, PROFILE_FLOOR * stress_scale),
-            "load": load_magnitude(sol.scene),
-        }
-        held = self._held if hold and self._held is not None and self._held.get("field") == field else None
-        if held is None:
-            held = {"field": field}
-        for k, v in fresh.items():  # a held scale that was zero (an unloaded frame) is taken from this one
-            if not held.get(k):
-                held[k] = v
-        for k in ("jump", "traction"):  # the profile axes only grow while held: no curve leaves them
-            held[k] = max(held[k], fresh[k])
+        fresh = fit_scales(sol, field, corners, disp, vals)
+        if scales is not None:  # given (the model's reference scales): the profile axes still show every curve
+            held = {**scales, "field": field}
+            for k, v in fresh.items():
+                if not held.get(k):
+                    held[k] = v
+            for k in ("jump", "traction"):
+                held[k] = max(held[k], fresh[k])
+        else:
+            held = self._held if hold and self._held is not None and self._held.get("field") == field else None
+            if held is None:
+                held = {"field": field}
+            for k, v in fresh.items():  # a held scale that was zero (an unloaded frame) is taken from this one
+                if not held.get(k):
+                    held[k] = v
+            for k in ("jump", "traction"):  # the profile axes only grow while held: no curve leaves them
+                held[k] = max(held[k], fresh[k])
         if held["scale"] * umax > MAX_DEFORMED_FRACTION * diam:  # a held magnification that would explode the body
             held["scale"] = fresh["scale"]
         self._held = held
@@ -218,6 +222,18 @@ class Drawing:
             self.body.set_linewidth(np.where(big, 0.25, 0.4))
             self.body.set_antialiased(True)
         self.colorbar.set_label(field_label(field, sol.scene), fontsize=FONT_SIZE)
+        peak = int(np.argmax(np.abs(vals))) if len(vals) else -1
+        clipped = peak >= 0 and abs(float(vals[peak])) > 1.001 * clim
+        if clipped:  # the singular peak beyond the colour bar: marked where it is, with its value
+            at = moved[peak].mean(axis=0)
+            for a in (ax, axz):
+                self._temporary += a.plot([at[0]], [at[1]], marker="o", ms=9, mfc="none", mec="k", mew=1.2,
+                                          zorder=7)
+            self._temporary.append(ax.annotate(f"peak {significant(float(vals[peak]))} (beyond the colour bar)",
+                                               at, xytext=(8, -12), textcoords="offset points", zorder=7,
+                                               fontsize=FONT_SIZE - 0.5, bbox={"boxstyle": "round,pad=0.2",
+                                                                               "fc": "white", "alpha": 0.8,
+                                                                               "lw": 0}))
         closed = np.vstack([poly, poly[:1]])
         self._temporary += ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
         self._draw_boundary(sol.scene, poly, diam, held["load"])
@@ -235,7 +251,7 @@ class Drawing:
             minus = f["points"] + scale * f["minus"]
             drawn.append({"crack": f["crack"], "plus": plus.tolist(), "minus": minus.tolist(),
                           "opening": f["opening"].tolist()})
-            for a, lw in ((ax, 1.1), (axz, 1.6)):
+            for a, lw in ((ax, 2.0), (axz, 2.0)):
                 self._temporary += a.plot(*plus.T, color=FACE_COLORS["+"], lw=lw, zorder=4)
                 self._temporary += a.plot(*minus.T, color=FACE_COLORS["-"], lw=lw, zorder=4)
                 over = f["opening"] < -tol
@@ -246,8 +262,9 @@ class Drawing:
         tips = [t for t in (getattr(sol, "tips", None) or []) if tip_value(t, "K_I") is not None]
         tip_text = []
         cm = sol.crack_mesh
+        names = tip_names(tips)
         for k, tip in enumerate(tips):
-            name = _TIP_NAMES[k % len(_TIP_NAMES)]
+            name = names[k]
             x, y = tip_value(tip, "x"), tip_value(tip, "y")
             if x is not None:
                 at = np.array([x, y], float)
@@ -261,7 +278,7 @@ class Drawing:
                 where = f"({significant(x)}, {significant(y)})"
             else:
                 where = ""
-            tip_text.append(f"tip {name} {where}: K_I = {significant(tip_value(tip, 'K_I'))}, "
+            tip_text.append(f"{name} {where}: K_I = {significant(tip_value(tip, 'K_I'))}, "
                             f"K_II = {significant(tip_value(tip, 'K_II'))}")
         # nu and t on each crack (undeformed directions, at the crack's middle edge)
         arrow = 0.07 * diam
@@ -347,9 +364,10 @@ class Drawing:
         if tip_text:
             self._temporary.append(self.fig.text(0.01, 0.1 / self._height, ";   ".join(tip_text), ha="left",
                                                  va="bottom", fontsize=FONT_SIZE + 0.5))
-        self.data = {"magnification": scale, "clim": (lo, clim), "jump_lim": jlim, "traction_lim": tlim,
+        self.data = {"magnification": scale, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
+                     "peak_clipped": bool(clipped), "jump_lim": jlim, "traction_lim": tlim,
                      "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
-                     "held": bool(hold), "field": field, "shaded": sorted(shaded)}
+                     "held": bool(hold) or scales is not None, "field": field, "shaded": sorted(shaded)}
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png")
         return buf.getvalue()

@@ -49,9 +49,10 @@ from ..scene import Crack, Scene
 from ..scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
 from ..scenes import load as _load_scene
 from ..scenes import names as _scene_names
-from .controls import FIXED, SCALES, Range, check_choice, e_range, mesh_size_range
+from .controls import FIXED, SCALES, ControlRefused, Range, check_choice, e_range, mesh_size_range
 from .figure import FIELDS
 from .loads import scaled_loads
+from .messages import refusal
 
 #: the largest displacement drawn, as a fraction of the body's diameter (the magnification)
 DEFORMED_FRACTION = 0.08
@@ -168,6 +169,8 @@ class Explorer:
         self.solution = None
         self.scene: Scene | None = None
         self.error: str | None = None
+        self.error_detail: str | None = None
+        self.refused: tuple[str, ...] = ()
         self.redone: list[str] = []
         self.latency = 0.0
         self.pipeline = Pipeline()
@@ -220,17 +223,25 @@ class Explorer:
     def update(self, **changes: Any):
         """Apply `changes` to the controls and redo what they invalidate.
 
-        Returns the new Solution, or None after a failure (then `error` holds its
-        one-line message and `solution` stays the last good one). Never raises for a
-        bad value or combination of values.
+        Returns the new Solution, or None after a failure. Never raises for a bad value or
+        combination of values: then `error` is one plain sentence naming the control and
+        what to do, `error_detail` the technical line (the field and the rule it breaks),
+        `refused` the controls that went back, and the controls, `scene` and `solution`
+        stay those of the last good answer (a refused combination is not kept, so that the
+        next change starts from values that work). Only before any good answer (a bad
+        start) are the new values kept, so that the student can repair them one by one.
         """
         t0 = time.perf_counter()
         self.redone = []
+        before, friction_before = dict(self.state), self._friction_set
         try:
             unknown = [k for k in changes if k not in self.controls()]
             if unknown:
-                raise InputError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
-                                  f"allowed: {', '.join(self.controls())}")
+                names = ", ".join(unknown)
+                raise ControlRefused(f"unknown control{'s' if len(unknown) > 1 else ''} {names}; "
+                                     f"allowed: {', '.join(self.controls())}", unknown[0],
+                                     f"There is no control called {names}: the controls are "
+                                     f"{', '.join(self.controls())}.")
             # a refused value is not kept: the state stays as it was
             changes = {k: self.check(k, v) for k, v in changes.items()}
             self.state.update(changes)
@@ -240,10 +251,14 @@ class Explorer:
                 self.redone = ["figure"]
                 return self.solution
             self.solution = self._solve(self.make_scene())
-            self.error = None
+            self.error = self.error_detail = None
+            self.refused = ()
             return self.solution
         except Exception as exc:  # noqa: BLE001  (the widget shows every failure as one line)
-            self.error = _one_line(exc)
+            self.error, self.error_detail = refusal(exc, changes, self.state)
+            self.refused = tuple(changes)
+            if self.solution is not None:  # back to the controls of the answer shown
+                self.state, self._friction_set = before, friction_before
             return None
         finally:
             self.latency = time.perf_counter() - t0
@@ -259,6 +274,46 @@ class Explorer:
         self.redone.extend(self.pipeline.redone)
         self.scene = scene
         return sol
+
+    # ------------------------------------------------------------------ scales
+    #: the controls the held scales do not depend on ("hold for load changes"): the scales
+    #: are those of the reference load whatever their values
+    HELD_AT_REFERENCE = ("load", "load_angle", "friction", "crack_model")
+
+    def reference_controls(self) -> dict[str, Any]:
+        """The controls of the scales' reference: the current ones with the scene's own load
+        (load factor 1, load angle 0), its own friction and crack model contact."""
+        return {**self.state, "load": 1.0, "load_angle": 0.0, "crack_model": "contact"}
+
+    def reference_scales(self, field: str | None = None) -> dict:
+        """The figure's scales in "hold for load changes" (`fields.fit_scales`): fitted to the
+        answer at the scene's reference load (load factor 1, load angle 0, the scene's own
+        friction, crack model contact) for the current material, element, mesh size and
+        geometry. They depend on these controls only, never on the order in which the
+        controls were changed: a load change keeps them, any other change re-fits them
+        (one extra solve on the same mesh where the current load is not the reference)."""
+        from .fields import fit_scales
+
+        field = field or self.state["field"]
+        ref = self.reference_controls()
+        key = tuple((k, ref[k]) for k in sorted(ref) if k not in self.HELD_AT_REFERENCE
+                    and k not in ("field", "scales", "magnification"))
+        cached = getattr(self, "_reference", None)
+        if cached is None or cached[0] != key:
+            same = all(self.state[k] == ref[k] for k in ("load", "load_angle", "crack_model")) \
+                and not self._friction_set
+            sol = self.solution if same and self.error is None else None
+            if sol is None:
+                base = self._base_scene()
+                scene = scaled_loads(base, 1.0, 0.0).with_(E=ref["E"], nu=ref["nu"])
+                opts = SolveOptions.of(**{k: v for k, v in self.solve_options.items() if k != "warm_start"},
+                                       element=ref["element"], maxh=ref["maxh"], crack_model="contact")
+                sol = self.pipeline.run(scene, opts)
+            cached = (key, sol, {})
+            self._reference = cached
+        if field not in cached[2]:
+            cached[2][field] = fit_scales(cached[1], field)
+        return dict(cached[2][field])
 
     @property
     def counts(self) -> dict[str, int]:

@@ -28,8 +28,9 @@ from ..errors import InputError
 from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
-from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, HOLD_ON, LABELS, SCALES
+from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, LABELS, SCALES
 from .figure import FIELDS, Drawing
+from .messages import GLOSSARY
 from .model import Explorer, _one_line
 
 #: the page's style: the busy figure greyed, the refusals red
@@ -43,8 +44,10 @@ STYLE = """<style>
 #: the load factor's meaning, under the controls
 LOAD_HELP = "+1: the loads as the scene gives them, -1: reversed, 0: unloaded"
 #: what the scales menu does
-SCALES_HELP = ("hold for load changes: colour limits, profile axes and magnification stay while only the load, "
-               "load angle, friction or crack model change; hold always; or fit every frame")
+SCALES_HELP = ("hold for load changes: colour limits and magnification are those of the scene's own load (load "
+               "factor 1, angle 0, contact) for the current material, element, mesh and geometry, so that loads and "
+               "crack models are compared on one scale; hold always (kept from the first frame held); or fit "
+               "every frame")
 
 #: the slider ranges of older imports (the model's `ranges` are what counts)
 SLIDERS = {"load": (-2.0, 2.0, 0.1), "load_angle": (-180.0, 180.0, 5.0), "nu": (0.0, 0.5, 0.01),
@@ -92,6 +95,27 @@ def __getattr__(name: str):
 
 def _escape(text: str) -> str:
     return html.escape(text, quote=False)
+
+
+def _term(key: str, shown: str) -> str:
+    """A readout's word with its one-line meaning on hover (messages.GLOSSARY)."""
+    return (f"<b><abbr title='{html.escape(GLOSSARY[key], quote=True)}' style='text-decoration: underline dotted; "
+            f"cursor: help'>{_escape(shown)}</abbr></b>")
+
+
+def status_html(model) -> str:
+    """The refusal: one plain sentence (red), and the technical line beneath it, smaller and
+    grey (also its tooltip); where the controls went back, it says so."""
+    back = ""
+    if model.refused and model.solution is not None:
+        names = [LABELS.get(k, k.replace("_", " ")) for k in model.refused if k in model.state]
+        if names:
+            back = " The " + " and ".join(names) + (" is" if len(names) == 1 else " are") + " back to the figure's value."
+    kept = "" if model.solution is not None else " No answer yet."
+    detail = model.error_detail or ""
+    return (f"<div title='{html.escape(detail, quote=True)}'>&#9888; {_escape(model.error)}{_escape(back + kept)}"
+            + (f"<div style='color:#666; font-size:11px'>details: {_escape(detail)}</div>" if detail else "")
+            + "</div>")
 
 
 class _ExplorerView:
@@ -202,9 +226,7 @@ class _ExplorerView:
             self.model.update(**{name: value})
         finally:
             self._sync()
-        mode = self.model.state["scales"]
-        hold = mode == "hold" or (mode == "auto" and name in HOLD_ON)
-        self._refresh(hold=hold, t0=t0)
+        self._refresh(hold=self.model.state["scales"] == "hold", t0=t0)
         self._busy(False)
         self.latency = time.perf_counter() - t0
 
@@ -236,16 +258,21 @@ class _ExplorerView:
         if m.error is None and m.solution is not None:
             try:
                 t_draw = time.perf_counter()
+                scales = None
+                if m.state["scales"] == "auto":  # the reference load's scales (a documented rule, not history)
+                    try:
+                        scales = m.reference_scales(m.state["field"])
+                    except Exception:  # noqa: BLE001  (no reference answer: the frame's own scales)
+                        scales = None
                 self._png = self.drawing.render(m.solution, m.state["field"], title=m.name, hold=hold,
                                                 magnification=m.state["magnification"],
-                                                load_factor=m.state["load"])
+                                                load_factor=m.state["load"], scales=scales)
                 self.image.value = self._png
                 draw_s = time.perf_counter() - t_draw
             except Exception as exc:  # noqa: BLE001  (a drawing failure is reported, never raised)
-                m.error = _one_line(exc)
-        kept = "the figure shows the last good answer" if m.solution is not None else "no answer yet"
-        self.status.value = ("" if m.error is None else
-                             f"<span>&#9888; {_escape(m.error)} ({kept})</span>")
+                m.error = "The figure could not be drawn: change a control to try again."
+                m.error_detail = _one_line(exc)
+        self.status.value = "" if m.error is None else status_html(m)
         self.help.value = (f"<div style='line-height:1.35'><b>crack model</b> "
                            f"{_escape(CRACK_MODEL_HELP.get(m.state['crack_model'], ''))}. <b>load factor</b> "
                            f"{_escape(LOAD_HELP)}.</div>")
@@ -274,13 +301,13 @@ class _ExplorerView:
         tips = self.drawing.data.get("tips") or []
         self.readout.value = (
             "<div style='line-height:1.4'>"
-            f"<b>unknowns</b> {nd['total']} (global {nd['global']}, contact {nd['contact']}) &nbsp; "
-            f"<b>time</b> {total:.2f} s = {parts} s ({_escape(', '.join(r['redone']) or '-')})"
-            f"<br><b>KKT residual</b> {r['kkt']:.1e} &nbsp; <b>contact length</b> {r['contact_length']:.3g} "
-            f"of {r['crack_length']:.3g}"
+            f"{_term('unknowns', 'unknowns')} {nd['total']} (whole body {nd['global']}, crack faces {nd['contact']})"
+            f" &nbsp; {_term('time', 'time')} {total:.2f} s = {parts} s ({_escape(', '.join(r['redone']) or '-')})"
+            f"<br>{_term('KKT', 'contact check (KKT residual)')} {r['kkt']:.1e} &nbsp; "
+            f"{_term('contact length', 'contact length')} {r['contact_length']:.3g} of {r['crack_length']:.3g}"
             + (f" &nbsp; <b>faces pass through each other</b> over {r['overlap_length']:.3g}"
                if r["overlap_length"] > 0 else "")
-            + (f"<br>{_escape(';  '.join(tips))}" if tips else "") + "</div>")
+            + (f"<br>{_term('K', 'K')} {_escape(';  '.join(tips))}" if tips else "") + "</div>")
 
     def _data(self) -> None:
         m = self.model

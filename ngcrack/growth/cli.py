@@ -4,6 +4,13 @@
 from __future__ import annotations
 
 import json
+import signal
+import threading
+
+from ngcrack.cli_errors import Terminated, check_finite
+from ngcrack.files import Staged, check_distinct, check_output, check_output_stem
+from ngcrack.interrupts import check as check_interrupt
+from ngcrack.interrupts import interruption, pending
 
 
 def add_parser(subparsers, positive, count):
@@ -42,20 +49,25 @@ def add_parser(subparsers, positive, count):
 
 def run(args) -> int:
     from ngcrack import scenes
-    from ngcrack.cli_errors import check_finite
-    from ngcrack.files import Staged, check_output
 
-    from .loop import check_growth_options, grow
+    from .loop import MAX_STEPS, check_growth_options, grow
 
     json_path = check_output(args.json, "--json")
     csv_path = check_output(args.csv, "--csv", ".csv")
     gif_path = check_output(args.gif, "--gif", ".gif")
     png_path = check_output(args.png, "--png", ".png")
+    steps = args.steps if isinstance(args.steps, int) and 0 <= args.steps <= MAX_STEPS else 0
+    stem = check_output_stem(args.vtk, "--vtk", [".pvd"] + [f"_{k:04d}{part}" for k in range(steps + 1)
+                                                           for part in (".vtu", "_cracks.vtu")])
+    check_distinct({"--json": json_path, "--csv": csv_path, "--gif": gif_path, "--png": png_path,
+                    "--vtk": None if stem is None else [stem.with_name(stem.name + ".pvd")] + [
+                        stem.with_name(f"{stem.name}_{k:04d}{part}") for k in range(steps + 1)
+                        for part in (".vtu", "_cracks.vtu")]})
     series = None
-    if args.vtk is not None:
+    if stem is not None:
         from ngcrack.vtk import SeriesWriter
 
-        series = SeriesWriter(args.vtk)  # checks the place before any work
+        series = SeriesWriter(stem)  # its stale step files go when it writes the first step
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
@@ -65,26 +77,98 @@ def run(args) -> int:
                                  ("crack_model", args.crack_model), ("max_dof", args.max_dof)) if v is not None}
     check_growth_options(scene, args.da, args.steps, args.K_Ic, args.criterion, options)  # before any work
 
+    finished = _Finished(json_path, csv_path, series, args.steps, [p for p in (png_path, gif_path) if p is not None])
+    args.on_interrupt = finished.write  # the command line calls it if a signal ends the run in a long C call
+
     def progress(n, result):
+        finished.keep(result)
         step = result.steps[-1]
         lam = step["load_factor"]
         print(f"step {n}: load factor {lam:.4g}, {step['ndof']} dofs, {step['time_s']:.2f} s"
               if lam is not None else f"step {n}", flush=True)
         if series is not None:
             series(n, result)  # the step's solution, and the collection rewritten: a valid series at every step
+        check_interrupt()  # a signal a library swallowed during the step
 
-    result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion,
-                  frames=gif_path is not None, progress=progress, **options)
-    data = result.to_json_dict()
-    check_finite(data)
+    try:
+        result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion,
+                      frames=gif_path is not None, progress=progress, **options)
+        data = result.to_json_dict()
+        check_finite(data)
+        check_interrupt()
+        return _write_all(result, data, scene, json_path, csv_path, png_path, gif_path, series)
+    except BaseException as exc:
+        signum = pending()
+        if isinstance(exc, KeyboardInterrupt) or signum is not None:
+            signum = signum or (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+            stop = interruption(signum)
+            stop.note = finished.write(signum)
+            raise stop from exc
+        raise
 
-    def write_json(tmp):
-        with open(tmp, "w") as fh:
-            json.dump(data, fh, indent=1)
 
+class _Finished:
+    """The steps a run has finished, written (JSON and CSV, marked interrupted) if a signal stops it."""
+
+    def __init__(self, json_path, csv_path, series, steps, skipped):
+        self.json_path, self.csv_path, self.series, self.steps, self.skipped = json_path, csv_path, series, steps, skipped
+        self.data, self.rows = None, None
+        self.note = None
+        self.lock = threading.Lock()
+
+    def keep(self, result) -> None:
+        data = result.to_json_dict()
+        data["steps"] = list(data["steps"])
+        self.data, self.rows = data, list(result.rows)  # one assignment each: a whole snapshot or the previous
+
+    def write(self, signum) -> str:
+        """Write the finished steps (once; a second caller gets the first's note); the note says what was written."""
+        if not self.lock.acquire(timeout=0.5):
+            return "the finished steps were being written when the process ended; their files are whole or absent"
+        try:
+            if self.note is None:
+                self.note = self._write(signum)
+            return self.note
+        finally:
+            self.lock.release()
+
+    def _write(self, signum) -> str:
+        import pandas as pd
+
+        from .result import COLUMNS
+
+        vtk = (f"; the VTK series {self.series.collection} holds the {len(self.series.files)} steps written"
+               if self.series is not None and self.series.files else "")
+        if self.data is None:
+            return "no step had finished, nothing was written" + vtk
+        data = dict(self.data)
+        done = len(data["steps"])
+        what = "SIGTERM" if signum == signal.SIGTERM else "SIGINT"
+        data["stopped"] = f"interrupted: {what} after step {done - 1} of {self.steps}; the finished steps are kept"
+        try:
+            check_finite(data)
+            with Staged() as staged:
+                staged.write(self.json_path, lambda tmp: _dump(data, tmp))
+                if self.csv_path is not None:
+                    staged.write(self.csv_path, lambda tmp: pd.DataFrame(self.rows, columns=list(COLUMNS)).to_csv(
+                        tmp, index=False))
+        except Exception as exc:  # noqa: BLE001 -- the interruption is what is reported
+            return f"the finished steps could not be written ({type(exc).__name__}: {exc}), nothing was written" + vtk
+        files = " and ".join(str(p) for p in (self.json_path, self.csv_path) if p is not None)
+        skipped = (f"; not written: {', '.join(str(p) for p in self.skipped)}" if self.skipped else "")
+        return (f"wrote {files} with the {done} finished steps, marked \"stopped\": \"interrupted: ...\"" + skipped
+                + vtk)
+
+
+def _dump(data, tmp) -> None:
+    with open(tmp, "w") as fh:
+        json.dump(data, fh, indent=1)
+
+
+def _write_all(result, data, scene, json_path, csv_path, png_path, gif_path, series) -> int:
     written = [json_path]
     with Staged() as staged:  # every output or none; existing files untouched on failure
-        staged.write(json_path, write_json)
+        staged.write(json_path, lambda tmp: _dump(data, tmp))
         if csv_path is not None:
             staged.write(csv_path, lambda tmp: result.table.to_csv(tmp, index=False))
             written.append(csv_path)
