@@ -189,3 +189,12 @@ def test_fatigue_life_of_the_centre_cracked_strip():
     assert (df.load_factor == 1.0).all()  # the cycle's maximum load is the scene's
     steps = res.to_json_dict()["steps"]
     assert [s["cycles"] for s in steps] == pytest.approx(df.cycles.tolist(), rel=1e-12)
+
+
+def test_closest_approach_to_each_hole_is_reported(zigzag):
+    """The inclined crack starts at (6, 2), 1 from the centre of the hole of radius 0.6: 0.4 exactly."""
+    (h,) = zigzag.holes
+    assert h["label"] == "hole" and h["crack"] == 0
+    assert h["distance"] == pytest.approx(0.4, abs=1e-12) and h["point"] == pytest.approx([6.0, 2.0], abs=1e-12)
+    assert zigzag.to_json_dict()["holes"] == [h]
+    assert "closest approach to hole: 0.4" in zigzag.summary()

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+import shapely.ops
 
 #: a new segment that reaches the boundary within (1 + SNAP_FRACTION) da ends on the
 #: boundary: no sliver of body thinner than about da / 2 is left ahead of a tip
@@ -143,3 +144,28 @@ def extended_cracks(scene, extensions) -> list:
         else:
             pts[ext.crack].insert(0, ext.point)
     return [Crack(tuple(p), c.friction) for p, c in zip(pts, scene.cracks)]
+
+
+def hole_approaches(scene, paths) -> list[dict]:
+    """The closest approach of the cracks (`paths`: point sequences) to each hole of `scene`:
+    one dict per hole, {"hole", "label", "distance", "crack", "point"} (the crack point nearest
+    the hole's edge; distance to the exact circle for a circular hole)."""
+    out = []
+    lines = [shapely.LineString(p) if len(p) > 1 else shapely.Point(p[0]) for p in paths]
+    for i, hole in enumerate(scene.holes):
+        best = None
+        for k, line in enumerate(lines):
+            if hole.is_circle:
+                centre = shapely.Point(hole.center)
+                q = shapely.ops.nearest_points(line, centre)[0]
+                d = q.distance(centre) - hole.radius
+            else:
+                ring = shapely.LinearRing(hole.polygon)
+                q = shapely.ops.nearest_points(line, ring)[0]
+                d = q.distance(ring)
+            if best is None or d < best[0]:
+                best = (d, k, (float(q.x), float(q.y)))
+        if best is not None:
+            out.append({"hole": i, "label": hole.labels[0] if hole.labels else f"hole[{i}]",
+                        "distance": float(best[0]), "crack": best[1], "point": list(best[2])})
+    return out

@@ -115,6 +115,14 @@ class GrowthResult:
         return pd.DataFrame(self.rows, columns=list(COLUMNS) + (["cycles"] if fatigue else []))
 
     @property
+    def holes(self) -> list[dict]:
+        """The closest approach of the final cracks to each hole of the scene (a near miss, or 0
+        where a tip stopped at it): {"hole", "label", "distance", "crack", "point"} per hole."""
+        from .paths import hole_approaches
+
+        return hole_approaches(self.scene, self.paths)
+
+    @property
     def final_scene(self):
         return self.scenes[-1]
 
@@ -133,7 +141,8 @@ class GrowthResult:
         """The `ngcrack grow --json` dictionary (README, "Crack growth")."""
         return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, "da": float(self.da),
                 "K_Ic": self.K_Ic, "stopped": self.stopped, "steps": self.steps,
-                "cracks": [{"points": [[float(x), float(y)] for x, y in c]} for c in self.paths]}
+                "cracks": [{"points": [[float(x), float(y)] for x, y in c]} for c in self.paths],
+                **({"holes": self.holes} if self.scene.holes else {})}
 
     def summary(self) -> str:
         df = self.table
@@ -141,6 +150,9 @@ class GrowthResult:
         if len(df):
             cols = ["step", "crack", "end", "x", "y", "K_I", "K_II", "K_eq", "kink_deg", "load_factor", "closed", "grew"]
             lines.append(df[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        for h in self.holes:
+            lines.append(f"closest approach to {h['label']}: {h['distance']:.4g} (crack {h['crack']} at "
+                         f"({h['point'][0]:.4g}, {h['point'][1]:.4g}))")
         return "\n".join(lines)
 
     # ------------------------------------------------------------------ pictures
