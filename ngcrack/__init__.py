@@ -32,6 +32,7 @@ _EXPORTS = {
     "InputError": ".errors",
     "Explorer": ".explorer", "Study": ".explorer", "explore": ".explorer", "explore_growth": ".explorer",
     "GrowthResult": ".growth", "grow": ".growth",
+    "HydrofracResult": ".hydrofrac", "hydrofrac": ".hydrofrac",
     "CRACK_MODELS": ".options", "SolveOptions": ".options",
     "Pipeline": ".pipeline",
     "BoundaryCondition": ".scene", "Crack": ".scene", "Material": ".scene", "PointCondition": ".scene", "Scene": ".scene",
@@ -48,7 +49,7 @@ __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
     "Pipeline", "PointCondition",
     "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
-    "grow", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume",
+    "grow", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume", "HydrofracResult", "hydrofrac",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
 ]
@@ -99,6 +100,7 @@ if TYPE_CHECKING:  # what type checkers and editors see: the names above, eagerl
     from .errors import InputError
     from .explorer import Explorer, Study, explore, explore_growth
     from .growth import GrowthResult, grow
+    from .hydrofrac import HydrofracResult, hydrofrac
     from .options import CRACK_MODELS, SolveOptions
     from .pipeline import Pipeline
     from .scene import BoundaryCondition, Crack, Material, PointCondition, Scene, SceneError

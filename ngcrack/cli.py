@@ -11,6 +11,7 @@
     ngcrack paper [--quick] [--out DIR] [--jobs N] [--dask ADDRESS]
     ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts] [solve options] --json OUT
                        [--csv OUT] [--gif OUT] [--png OUT]
+    ngcrack hydrofrac SCENE --rate Q0 --K-Ic K --da D --steps N --json OUT [--csv OUT] [--gif OUT]
 
 SCENE is a built-in scene name or a TOML file. No command shows a traceback: bad input
 exits with code 2 and one line on stderr naming the field, before any meshing; a system
@@ -437,6 +438,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .growth.cli import add_parser as add_grow_parser
 
     add_grow_parser(sub, _positive, _count)
+    from .hydrofrac.cli import add_parser as add_hydrofrac_parser
+
+    add_hydrofrac_parser(sub, _positive, _count)
     return parser
 
 

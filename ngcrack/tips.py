@@ -73,6 +73,7 @@ from .constraints import faces_closed
 from .errors import InputError
 from .materials import compliance as _compliance
 from .scene.pressure import pressure_values
+from .tstress import interaction_integrand as _t_integrand
 
 #: the integration radius as a fraction of the tip's clearance (distance to the boundary,
 #: other cracks, the crack beyond its tip segment): 1/2 leaves room for elements
@@ -267,7 +268,7 @@ def tip_labels(scene) -> list[str]:
 # ---------------------------------------------------------------- the domain integral
 @dataclass(frozen=True)
 class TipParameters:
-    """K_I, K_II and G at one tip, and how they were computed.
+    """K_I, K_II, G and the T-stress at one tip, and how they were computed.
 
     `radius` R of the domain (q = 1 for r <= R/2, 0 for r >= R), `rings` the number of
     element rings across the annulus where grad q is nonzero, `J` the J-integral (= G),
@@ -289,6 +290,8 @@ class TipParameters:
     face_J: float
     face_I: tuple[float, float]
     elements: int
+    #: the T-stress (sigma_11 - its singular part at the tip, tip frame), tstress.py
+    T: float = 0.0
 
     @property
     def label(self) -> str:
@@ -341,8 +344,9 @@ def _quadrature(sol, tip: Tip, radius: float):
 
 
 def _domain_terms(sol, tip: Tip, radius: float, A, kappa: float, mu: float, body_force) -> np.ndarray:
-    """The area parts of (J, I_1, I_2): the fields sampled at quadrature points of the
-    triangles where q_h != 0 (vectorized NGSolve evaluations), the rest in numpy."""
+    """The area parts of (J, I_1, I_2, I_T): the fields sampled at quadrature points of the
+    triangles where q_h != 0 (vectorized NGSolve evaluations), the rest in numpy; I_T the
+    interaction with the point-force field (tstress.py)."""
     mp, flat, w, qp, gq = _quadrature(sol, tip, radius)
     Q = np.array([tip.e1, (-tip.e1[1], tip.e1[0])])  # rows e1, e2: local = Q global
     sig = Q @ np.asarray(sol.sigma(mp)).reshape(-1, 2, 2) @ Q.T
@@ -364,6 +368,9 @@ def _domain_terms(sol, tip: Tip, radius: float, A, kappa: float, mu: float, body
         dua.append(np.column_stack(williams_dx1(r, theta, mode, kappa, mu)))
         terms.append((dua[-1] * sig_gq).sum(axis=1) + (du1 * (sig_aux @ gql[:, :, None])[:, :, 0]).sum(axis=1)
                      - (sig * eps_aux).sum(axis=(1, 2)) * gql[:, 0])
+    t_val, t_dua = _t_integrand(sig, du1, gql, r, theta, A, kappa, mu)
+    terms.append(t_val)
+    dua.append(t_dua)
     integrand = np.stack(terms, axis=1)
     if body_force is not None:
         f = np.asarray(body_force(mp)).reshape(-1, 2) @ Q.T
@@ -490,10 +497,10 @@ def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParame
         f = sol.scene.body_force
         body_force = ngs.CF(tuple(float(v) for v in f)) if f is not None and any(v != 0.0 for v in f) else None
 
-    vals = _domain_terms(sol, tip, radius, A, kappa, mu, body_force)
+    *vals, I_T = _domain_terms(sol, tip, radius, A, kappa, mu, body_force)
     face = _face_terms(sol, tip, radius, face_opening_factor(kappa, mu))
-    J, I_1, I_2 = vals + np.asarray(face)
-    if not np.all(np.isfinite([J, I_1, I_2])):
+    J, I_1, I_2 = np.asarray(vals) + np.asarray(face)  # the point-force field has no face term
+    if not np.all(np.isfinite([J, I_1, I_2, I_T])):
         raise RuntimeError(f"tip {tip.label}: the domain integral gave non-finite values (radius {radius:g})")
     rings, n_el = _rings(sol, tip, radius)
     return TipParameters(
@@ -501,6 +508,7 @@ def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParame
         K_I=0.5 * e_prime * I_1, K_II=0.5 * e_prime * I_2, G=float(J),
         radius=float(radius), rings=float(rings), J=float(J), I=(float(I_1), float(I_2)),
         face_J=float(face[0]), face_I=(float(face[1]), float(face[2])), elements=n_el,
+        T=float(e_prime * I_T),
     )
 
 

@@ -1,4 +1,4 @@
-"""`ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts] [solve options] --json OUT
+"""`ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts|gmts [--r-c R]] [solve options] --json OUT
 [--csv OUT] [--gif OUT] [--png OUT]`: grow the scene's cracks and write the result."""
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--K-Ic", dest="K_Ic", type=positive,
                    help="fracture toughness (default: load factors relative to the first step)")
     p.add_argument("--criterion", default="pls", help=f"kink criterion: {', '.join(CRITERIA)} (default pls)")
+    p.add_argument("--r-c", dest="r_c", type=positive, help="the critical distance of --criterion gmts (a material length)")
     p.add_argument("--element", default=None, help="tdnns (default), bdm, peers, h1p1 or h1p2")
     p.add_argument("--order", type=int, help="polynomial order of elements that have one")
     p.add_argument("--maxh", type=positive, help="global mesh size (overrides the scene)")
@@ -50,6 +51,7 @@ def add_parser(subparsers, positive, count):
 def run(args) -> int:
     from ngcrack import scenes
 
+    from .criteria import check_r_c
     from .loop import MAX_STEPS, check_growth_options, grow
 
     json_path = check_output(args.json, "--json")
@@ -76,6 +78,7 @@ def run(args) -> int:
                                  ("tip_h", args.tip_h), ("crack_h", args.crack_h), ("qp_solver", args.qp_solver),
                                  ("crack_model", args.crack_model), ("max_dof", args.max_dof)) if v is not None}
     check_growth_options(scene, args.da, args.steps, args.K_Ic, args.criterion, options)  # before any work
+    check_r_c(args.r_c, args.criterion)
 
     finished = _Finished(json_path, csv_path, series, args.steps, [p for p in (png_path, gif_path) if p is not None])
     args.on_interrupt = finished.write  # the command line calls it if a signal ends the run in a long C call
@@ -91,7 +94,7 @@ def run(args) -> int:
         check_interrupt()  # a signal a library swallowed during the step
 
     try:
-        result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion,
+        result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion, r_c=args.r_c,
                       frames=gif_path is not None, progress=progress, **options)
         data = result.to_json_dict()
         check_finite(data)

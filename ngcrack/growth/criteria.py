@@ -41,6 +41,20 @@ truncated after m^6 (F_11, F_22 even, F_12, F_21 odd), within about 1 degree of 
 exact PLS angles up to the pure mode II angle (77.3 degrees exact, 76.7 from the series).
 The kink of a finite segment da also feels the T-stress and the field's gradients; the
 loop checks the predicted angle by a solve of the grown scene.
+
+Generalized maximum tangential stress (`gmts`; Williams and Ewing 1972, Smith, Ayatollahi
+and Pavier 2001): the hoop stress with the T-stress, taken at a critical distance r_c
+(a material length) instead of its singular limit,
+
+    sqrt(2 pi r_c) sigma_tt(r_c, theta) = cos(theta/2) [K_I cos^2(theta/2) - 3/2 K_II sin(theta)]
+                                          + sqrt(2 pi r_c) T sin^2(theta),
+
+is largest at the kink angle (`gmts_angle`, a global search refined by Brent's method), and
+its value there is the K_eq that the toughness K_Ic is set against (`gmts_keq`). T = 0 gives
+MTS. In pure mode I the straight path stays a maximum while T < 3 K_I / (8 sqrt(2 pi r_c));
+above, the two kinks +-theta with cos(theta) / cos(theta/2) = 3 K_I / (8 sqrt(2 pi r_c) T)
+take over (the straight path turns unstable; with K_II = 0 exactly the counter-clockwise
+one is returned, otherwise the one MTS would take).
 """
 
 from __future__ import annotations
@@ -50,7 +64,7 @@ import math
 from ..errors import InputError
 
 #: the kink criteria
-CRITERIA = ("mts", "pls")
+CRITERIA = ("mts", "pls", "gmts")
 
 
 def check_criterion(criterion) -> str:
@@ -191,3 +205,80 @@ def pls_kink_angle(K_I: float, K_II: float) -> float:
         else:
             hi = mid
     return 0.5 * (lo + hi)
+
+
+# ------------------------------------------------------------------ generalized MTS
+#: samples of the kink angle in (-pi, pi) of the global search, before Brent's refinement
+GMTS_SAMPLES = 721
+#: the search stays this far (radians) inside +-pi, the crack faces
+GMTS_EDGE = 1e-6
+#: Newton steps on the hoop stress's slope after Brent's refinement
+GMTS_NEWTON = 4
+
+
+def check_r_c(r_c, criterion: str) -> float | None:
+    """The critical distance of `gmts`: a finite number > 0, required by gmts and refused by the others."""
+    if criterion != "gmts":
+        if r_c is not None:
+            raise InputError(f"r_c = {r_c!r}: only criterion = 'gmts' uses a critical distance; remove it or "
+                             f"choose gmts")
+        return None
+    if isinstance(r_c, bool) or not isinstance(r_c, (int, float)) or not math.isfinite(r_c) or r_c <= 0:
+        raise InputError(f"r_c = {r_c!r}: criterion = 'gmts' needs the critical distance r_c, a finite number > 0 "
+                         f"(a material length, in the scene's units)")
+    return float(r_c)
+
+
+def gmts_hoop(theta: float, K_I: float, K_II: float, T: float, r_c: float) -> float:
+    """sqrt(2 pi r_c) sigma_thetatheta(r_c, theta): the singular hoop stress plus T sin^2(theta)."""
+    return hoop_factor(theta, K_I, K_II) + math.sqrt(2.0 * math.pi * r_c) * T * math.sin(theta) ** 2
+
+
+def gmts_angle(K_I: float, K_II: float, T: float, r_c: float) -> float:
+    """The generalized MTS kink angle in radians (tip frame, counter-clockwise positive):
+    the theta in (-pi, pi) where `gmts_hoop` is largest. No driving stress (K_I = K_II = 0 and
+    T <= 0): 0."""
+    import numpy as np
+    from scipy.optimize import minimize_scalar
+
+    K_I, K_II, T, r_c = float(K_I), float(K_II), float(T), float(r_c)
+    if K_I == 0.0 and K_II == 0.0 and T <= 0.0:
+        return 0.0
+    grid = np.linspace(-math.pi + GMTS_EDGE, math.pi - GMTS_EDGE, GMTS_SAMPLES)
+    A = math.sqrt(2.0 * math.pi * r_c)
+    c = np.cos(0.5 * grid)
+    values = c * (K_I * c * c - 1.5 * K_II * np.sin(grid)) + A * T * np.sin(grid) ** 2
+    k = int(np.argmax(values))
+    step = grid[1] - grid[0]
+    lo, hi = max(grid[0], grid[k] - step), min(grid[-1], grid[k] + step)
+    res = minimize_scalar(lambda t: -gmts_hoop(t, K_I, K_II, T, r_c), bounds=(lo, hi), method="bounded",
+                          options={"xatol": 1e-12})
+    theta = float(res.x) if -res.fun >= values[k] else float(grid[k])
+    for _ in range(GMTS_NEWTON):  # Brent's maximum is good to sqrt(eps); Newton on the slope to round-off
+        d1, d2 = _gmts_slopes(theta, K_I, K_II, A * T)
+        if d2 >= 0.0:
+            break
+        new = theta - d1 / d2
+        if not lo <= new <= hi:
+            break
+        theta = new
+    if K_II == 0.0:  # symmetric: +-theta are equal maxima; the counter-clockwise one
+        theta = abs(theta)
+    return theta
+
+
+def _gmts_slopes(theta: float, K_I: float, K_II: float, AT: float) -> tuple[float, float]:
+    """The first and second derivatives of `gmts_hoop` in theta (AT = sqrt(2 pi r_c) T)."""
+    c, s = math.cos(0.5 * theta), math.sin(0.5 * theta)
+    st, ct = math.sin(theta), math.cos(theta)
+    d1 = -1.5 * K_I * c * c * s - 1.5 * K_II * (-0.5 * s * st + c * ct) + AT * 2.0 * st * ct
+    d2 = -1.5 * K_I * (0.5 * c ** 3 - c * s * s) - 1.5 * K_II * (-1.25 * c * st - s * ct) + 2.0 * AT * math.cos(2.0 * theta)
+    return d1, d2
+
+
+def gmts_keq(K_I: float, K_II: float, T: float, r_c: float, theta: float | None = None) -> float:
+    """K_eq = sqrt(2 pi r_c) sigma_tt(r_c, theta) at theta (default: the GMTS angle); the tip grows
+    when it reaches K_Ic (sigma_tt(r_c) reaches the material's K_Ic / sqrt(2 pi r_c))."""
+    if theta is None:
+        theta = gmts_angle(K_I, K_II, T, r_c)
+    return gmts_hoop(theta, K_I, K_II, T, r_c)

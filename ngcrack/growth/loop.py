@@ -65,7 +65,10 @@ from ..errors import InputError
 from .criteria import (
     PLS_SLOPE,
     check_criterion,
+    check_r_c,
     effective_K_I,
+    gmts_angle,
+    gmts_keq,
     load_factor,
     mts_angle,
     mts_keq,
@@ -173,8 +176,9 @@ def _closed_at(sol, tip) -> bool:
     return str(prof.state[i]) != "open"
 
 
-def tip_values(sol) -> list[dict]:
-    """Per tip inside the body: K_I, K_II, G, closed, the MTS angle and K_eq at the scene's load."""
+def tip_values(sol, criterion: str = "mts", r_c: float | None = None) -> list[dict]:
+    """Per tip inside the body: K_I, K_II, G, T, closed, the kink angle and K_eq at the scene's load
+    (MTS; with criterion "gmts" the generalized MTS at the critical distance r_c, with T)."""
     out = []
     for t in sol.tips:
         closed = _closed_at(sol, t)
@@ -182,10 +186,16 @@ def tip_values(sol) -> list[dict]:
         K_II = float(t.K_II)
         if abs(K_II) <= KINK_NOISE_RTOL * abs(mts_keq(k1, K_II)):
             K_II = 0.0  # noise: no kink
-        theta = mts_angle(k1, K_II)
+        T = float(getattr(t, "T", 0.0))
+        if criterion == "gmts":
+            theta = gmts_angle(k1, K_II, T, r_c)
+            K_eq = gmts_keq(k1, K_II, T, r_c, theta)
+        else:
+            theta = mts_angle(k1, K_II)
+            K_eq = mts_keq(k1, K_II, theta)
         out.append({"label": t.label, "crack": int(t.crack), "end": t.end, "x": float(t.x), "y": float(t.y),
-                    "K_I": float(t.K_I), "K_II": float(t.K_II), "G": float(t.G), "closed": bool(closed),
-                    "theta": theta, "K_eq": float(mts_keq(k1, K_II, theta)), "K_II_kink": K_II})
+                    "K_I": float(t.K_I), "K_II": float(t.K_II), "G": float(t.G), "T": T, "closed": bool(closed),
+                    "theta": theta, "K_eq": float(K_eq), "K_II_kink": K_II})
     return out
 
 
@@ -199,13 +209,15 @@ def _relative_estimate(sol):
 
 
 def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str = "pls", *,
-         together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, paris=None, R: float = 0.0,
+         together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, r_c: float | None = None,
+         paris=None, R: float = 0.0,
          **solve_options):
     """Grow the cracks of `scene` quasi-statically by segments of length `da`; a GrowthResult.
 
     criterion: "pls" (principle of local symmetry by trial extensions, the default: smooth
-    paths) or "mts" (maximum tangential stress, one solve per step; zig-zags where the path
-    curves, see the module docstring). K_Ic: the fracture toughness (None: load factors relative
+    paths), "mts" (maximum tangential stress, one solve per step; zig-zags where the path
+    curves, see the module docstring) or "gmts" (the generalized MTS with the T-stress at the
+    critical distance r_c, a material length: criteria.gmts_angle; one solve per step). K_Ic: the fracture toughness (None: load factors relative
     to the first step). steps: at most MAX_STEPS. together: tips whose load factor lies
     within this fraction of the step's smallest grow together. frames: keep the deformed
     body of every step for `GrowthResult.animate`. progress: called as progress(step,
@@ -223,6 +235,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     from .result import GrowthResult
 
     check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
+    r_c = check_r_c(r_c, criterion)
     fatigue = check_paris(paris, R)
     if not (isinstance(together, (int, float)) and 0 <= together < 1):
         raise InputError(f"together = {together!r}: must be a number in [0, 1)")
@@ -230,7 +243,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     region = body_region(scene)
     options = Solver(SolveOptions.of(**solve_options))
     result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
-                          K_Ic=None if K_Ic is None else float(K_Ic))
+                          K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c)
     t0 = time.perf_counter()
     sol = solve_step(scene, None, options)
     elapsed = time.perf_counter() - t0
@@ -245,7 +258,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     K_top = 0.0  # the largest K_eq of the run so far: a K_eq below DRIVE_NOISE_RTOL of it is no drive
     stopped = ""
     for n in range(steps + 1):
-        values = tip_values(sol)
+        values = tip_values(sol, criterion, r_c)
         K_top = max([K_top] + [v["K_eq"] for v in values])
         if K_ref is None:
             drive = [v["K_eq"] for v in values if v["K_eq"] > 0]

@@ -12,7 +12,7 @@ from ..errors import InputError
 from .records import step_loads
 
 #: the tidy table's columns, in order (one row per step and tip)
-COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "load_factor",
+COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "T", "K_eq", "kink_deg", "load_factor",
            "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "mesh_s", "assembly_s",
            "linear_s", "crack_s", "post_s", "error_estimate", "kkt", "force", "displacement", "compliance")
 #: the largest crack-face opening drawn in the animation, as a fraction of the body's diameter
@@ -28,7 +28,7 @@ class GrowthResult:
     """What `nc.grow` returns.
 
     `table`: a pandas DataFrame, one row per step and tip inside the body (COLUMNS):
-    K_I, K_II, G and K_eq at the scene's load; kink_deg the kink the tip takes (for a tip
+    K_I, K_II, G, the T-stress T and K_eq at the scene's load; kink_deg the kink the tip takes (for a tip
     that does not grow: the MTS kink of its K, or with PLS the first trial's angle,
     criteria.pls_predictor) relative to its current direction,
     counter-clockwise positive; load_factor the step's (the smallest among the tips that
@@ -62,6 +62,8 @@ class GrowthResult:
     stopped: str = ""
     solution: object = None
     final_cracks: list | None = None
+    #: the critical distance of criterion "gmts" (None for the others)
+    r_c: float | None = None
     #: the load whose P and delta the table's force and displacement columns hold (records.py)
     primary_load: str | None = None
 
@@ -80,7 +82,8 @@ class GrowthResult:
             did = v["label"] in grew
             length = float(scene.cracks[v["crack"]].length)
             self.rows.append({"step": n, "crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"],
-                              "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink,
+                              "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "T": v.get("T"), "K_eq": v["K_eq"],
+                              "kink_deg": kink,
                               "load_factor": lam_step, "tip_load_factor": v["lambda"], "crack_length": length,
                               "closed": v["closed"], "grew": did, "ndof": ndof, "solves": int(solves),
                               "time_s": float(time_s), **cost_columns, "error_estimate": est,
@@ -88,7 +91,8 @@ class GrowthResult:
                               "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance,
                               **({} if cycles is None else {"cycles": float(cycles)})})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
-                         "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did})
+                         "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did,
+                         "T": v.get("T")})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
                            "kkt": kkt, "error_estimate": est, "tips": tips,
                            "force": rec.force, "displacement": rec.displacement,
@@ -139,8 +143,9 @@ class GrowthResult:
 
     def to_json_dict(self) -> dict:
         """The `ngcrack grow --json` dictionary (README, "Crack growth")."""
-        return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, "da": float(self.da),
-                "K_Ic": self.K_Ic, "stopped": self.stopped, "steps": self.steps,
+        r_c = {} if self.r_c is None else {"r_c": float(self.r_c)}  # the gmts criterion's critical distance
+        return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, **r_c,
+                "da": float(self.da), "K_Ic": self.K_Ic, "stopped": self.stopped, "steps": self.steps,
                 "cracks": [{"points": [[float(x), float(y)] for x, y in c]} for c in self.paths],
                 **({"holes": self.holes} if self.scene.holes else {})}
 
