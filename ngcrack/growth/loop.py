@@ -51,6 +51,7 @@ step. On a straight path both agree: |K_II| below KINK_NOISE_RTOL K_eq is taken 
 from __future__ import annotations
 
 import math
+import re
 import time
 from dataclasses import dataclass, field
 
@@ -77,6 +78,7 @@ from .criteria import (
     secant_angle,
 )
 from .fatigue import Cycles, check_paris
+from .holes import check_at_hole
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
 
 #: the most steps a growth run may take
@@ -110,6 +112,8 @@ DRIVE_NOISE_RTOL = 1e-3
 #: the parts of a solve's cost recorded per step (table columns PART_s), from the solve's timings
 COST_PARTS = {"mesh": ("mesh",), "assembly": ("assemble",), "linear": ("factorize", "solve", "recover"),
               "crack": ("schur", "qp"), "post": ("tips", "estimate")}
+#: a tip's frozen reason when it stopped at a hole (paths.extend_tip)
+_HOLE_REASON = re.compile(r"reached hole\[(\d+)\]")
 #: solve options grow sets itself
 _RESERVED = ("warm_start", "crack_mesh", "loads")
 
@@ -210,7 +214,7 @@ def _relative_estimate(sol):
 
 def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str = "pls", *,
          together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, r_c: float | None = None,
-         paris=None, R: float = 0.0,
+         paris=None, R: float = 0.0, at_hole="stop",
          **solve_options):
     """Grow the cracks of `scene` quasi-statically by segments of length `da`; a GrowthResult.
 
@@ -237,6 +241,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
     r_c = check_r_c(r_c, criterion)
     fatigue = check_paris(paris, R)
+    hole_crack = check_at_hole(at_hole, scene)
+    passed: set = set()  # the holes a new crack has left, and the tips that reached them
     if not (isinstance(together, (int, float)) and 0 <= together < 1):
         raise InputError(f"together = {together!r}: must be a number in [0, 1)")
     da, steps = float(da), int(steps)
@@ -296,6 +302,9 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             if cycles is not None:
                 cycles.growing(scene, values, {v["label"] for v in growing})
         grew = {f"{e.crack},{e.end}": e for e in extensions if e.point is not None}
+        for e in extensions:  # a tip that has grown up to a hole stops there
+            if e.outcome == "hole":
+                frozen[f"{e.crack},{e.end}"] = e.reason
         if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
             for v in values:
                 if v["label"] not in grew:
@@ -312,7 +321,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         if progress is not None:
             progress(n, result)
         for e in extensions:
-            if e.outcome == "boundary":
+            if e.outcome in ("boundary", "hole"):
                 result.events.append((n, f"{e.crack},{e.end}", e.reason))
         if fractured:
             stopped = fractured
@@ -330,6 +339,21 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         if isinstance(next_scene, str):  # the grown scene was refused
             stopped = next_scene
             break
+        if hole_crack is not None and not failed:
+            left = _leave_holes(scene if next_scene is None else next_scene, sol, values, frozen, passed, hole_crack)
+            for lab, what in left.events:
+                result.events.append((n, lab, what))
+            if left.scene is not None:
+                t1, before = time.perf_counter(), dict(options.spent)
+                try:
+                    next_sol = solve_step(left.scene, next_sol or sol, options)
+                except (SolveError, InputError) as exc:
+                    stopped = f"solve: the solve after step {n} failed ({exc})"
+                    break
+                next_scene, tried = left.scene, tried + 1
+                cost += time.perf_counter() - t1
+                cost_parts = {k: cost_parts[k] + v for k, v in options.since(before).items()}
+                grew = grew or {"new crack": None}
         if not grew:
             reasons = "; ".join(frozen.values())
             stopped = ("no tip can grow: " + reasons) if reasons else "no tip can grow: no tip has K_eq > 0"
@@ -350,6 +374,47 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     return result
 
 
+@dataclass
+class _Left:
+    """What `_leave_holes` did: the scene with the new cracks (None: none) and the events."""
+
+    scene: object = None
+    events: list = field(default_factory=list)
+
+
+def _leave_holes(scene, sol, values, frozen, passed: set, length: float) -> _Left:
+    """For every tip that has just stopped at a hole no crack has left yet: a new crack of `length`
+    leaving that hole (holes.new_crack) added to `scene`."""
+    from .holes import new_crack
+
+    out = _Left()
+    cracks = list(scene.cracks)
+    for v in values:
+        lab = v["label"]
+        m = _HOLE_REASON.search(frozen.get(lab, ""))
+        if m is None or lab in passed:
+            continue
+        passed.add(lab)
+        i = int(m.group(1))
+        if ("hole", i) in passed:
+            continue
+        passed.add(("hole", i))
+        c = new_crack(scene, sol, i, (v["x"], v["y"]), length, scene.cracks[v["crack"]].friction)
+        if isinstance(c, str):
+            out.events.append((lab, c))
+            continue
+        cracks.append(c)
+        (x0, y0), (x1, y1) = c.points
+        out.events.append((lab, f"crack {len(cracks) - 1} leaves hole[{i}] from ({x0:.4g}, {y0:.4g}) to "
+                                f"({x1:.4g}, {y1:.4g}), where its hoop stress is largest"))
+    if len(cracks) > len(scene.cracks):
+        try:
+            out.scene = scene.with_(cracks=cracks)
+        except SceneError as exc:
+            out.events.append(("", f"the new crack makes no valid scene ({exc})"))
+    return out
+
+
 def _extend(scene, region, angles: dict, growing: list[dict], da: float, frozen: dict) -> list:
     """The extensions of the growing tips at the absolute angles `angles` (label -> radians);
     tips that would meet a crack are frozen (their reason kept)."""
@@ -358,7 +423,7 @@ def _extend(scene, region, angles: dict, growing: list[dict], da: float, frozen:
         if v["label"] in frozen:
             continue
         ext = extend_tip(scene, region, v["crack"], v["end"], angles[v["label"]], da, new_segments)
-        if ext.outcome in ("crack", "hole"):
+        if ext.point is None:  # a crack in the way, or a hole right ahead: the tip stops where it is
             frozen[v["label"]] = ext.reason
             continue
         p = (v["x"], v["y"])
