@@ -131,15 +131,48 @@ class QPResult:
     s: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
+def spd_solve(M: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """M x = r for a symmetric M, positive definite up to round-off (Cholesky; a
+    symmetric indefinite solve where Cholesky breaks down)."""
+    try:
+        return sla.cho_solve(sla.cho_factor(M, check_finite=False), r, check_finite=False)
+    except np.linalg.LinAlgError:
+        return sla.solve(M, r, assume_a="sym")
+
+
+class ExchangeRule:
+    """The active-set methods' safeguard, shared by the QP (`_pdas`) and the crack problem
+    with friction (`friction._active_set`): which violating indices a step exchanges.
+
+    Every violating index while the number of violations falls or has risen for at most
+    PDAS_BACKUP steps; after that only the largest violating index (Murty's rule in the
+    block principal pivoting of Judice and Pires, which terminates for every SPD matrix),
+    until a step has fewer violations than the best so far.
+    """
+
+    def __init__(self, n: int):
+        self.best, self.budget = n + 1, PDAS_BACKUP
+
+    def __call__(self, bad: np.ndarray) -> np.ndarray:
+        """The indices to exchange (a boolean mask) given the violating ones `bad`."""
+        nbad = int(np.count_nonzero(bad))
+        if nbad < self.best:
+            self.best, self.budget = nbad, PDAS_BACKUP
+            return bad
+        if self.budget > 0:
+            self.budget -= 1
+            return bad
+        one = np.zeros_like(bad)
+        one[np.flatnonzero(bad)[-1]] = True
+        return one
+
+
 def _inactive_solve(S: np.ndarray, b: np.ndarray, ina: np.ndarray) -> np.ndarray:
     """v with v = 0 on the active set and (S v)_I = b_I on the inactive set I."""
     v = np.zeros(len(b))
     if ina.any():
         idx = np.flatnonzero(ina)
-        try:
-            v[idx] = sla.cho_solve(sla.cho_factor(S[np.ix_(idx, idx)], check_finite=False), b[idx], check_finite=False)
-        except np.linalg.LinAlgError:
-            v[idx] = sla.solve(S[np.ix_(idx, idx)], b[idx], assume_a="sym")
+        v[idx] = spd_solve(S[np.ix_(idx, idx)], b[idx])
     return v
 
 
@@ -152,7 +185,7 @@ def _pdas(S: np.ndarray, b: np.ndarray, active: np.ndarray | None = None,
     """
     m = len(b)
     act = np.zeros(m, dtype=bool) if active is None else np.array(active, dtype=bool)
-    best, budget = m + 1, PDAS_BACKUP
+    exchange = ExchangeRule(m)
     v = np.zeros(m)
     for it in range(1, max_iter + 1):
         ina = ~act
@@ -162,18 +195,9 @@ def _pdas(S: np.ndarray, b: np.ndarray, active: np.ndarray | None = None,
         tol_v = FEASIBILITY_RTOL * max(np.max(np.abs(v)), 1.0)
         tol_mu = FEASIBILITY_RTOL * max(np.max(np.abs(mu)), 1.0)
         bad = (ina & (v < -tol_v)) | (act & (mu < -tol_mu))
-        nbad = int(np.count_nonzero(bad))
-        if nbad == 0:
+        if not bad.any():
             return v, it, True
-        if nbad < best:
-            best, budget = nbad, PDAS_BACKUP
-            act ^= bad
-        elif budget > 0:
-            budget -= 1
-            act ^= bad
-        else:  # Murty's rule: exchange the largest violating index only
-            k = int(np.flatnonzero(bad)[-1])
-            act[k] = not act[k]
+        act ^= exchange(bad)
     return v, max_iter, False
 
 

@@ -56,6 +56,7 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
+from .elements import TRAITS
 from .errors import InputError
 from .geometry import CrackMesh
 from .local_fields import (
@@ -76,11 +77,8 @@ from .materials import compliance, lame_parameters
 
 #: the crack models with an estimate (the sign condition on [w].nu differs per model)
 ESTIMATE_CRACK_MODELS = ("contact", "free", "bonded")
-#: the elements with an estimate, and which kind
-METHODS = {"peers": "prager-synge", "bdm": "prager-synge", "tdnns": "prager-synge",
-           "h1p1": "zz-recovery", "h1p2": "zz-recovery"}
-#: polynomial degree of the reconstructed displacement (mixed) or recovered stress (baselines)
-DEGREE = {"peers": 1, "bdm": 2, "tdnns": 2, "h1p1": 1, "h1p2": 2}
+#: the elements with an estimate, and which kind (each element's ElementTraits.estimate)
+METHODS = {name: t.estimate for name, t in TRAITS.items() if t.estimate}
 #: Gauss-Legendre points per crack edge for the contact term (exact for degree 5)
 CRACK_GAUSS_POINTS = 3
 
@@ -318,10 +316,10 @@ def _zz_recovery(sol, top: _Topology, A, quad=None) -> tuple[dict[str, np.ndarra
     """eta_T^2 = ||sigma* - sigma_h||_A,T^2, sigma* the node-averaged stress (per crack
     face); and sigma_h at the quadrature points (None without `quad`).
 
-    sigma_h of h1p1, h1p2 is a polynomial of degree DEGREE - 1 on each triangle, so its
+    sigma_h of h1p1, h1p2 is a polynomial of degree estimate_degree - 1 on each triangle, so its
     values at the quadrature points are the interpolation of its values at the
     element's (inward) nodes: one evaluation of the stress, not two."""
-    cmesh, degree = sol.crack_mesh, DEGREE[sol.element]
+    cmesh, degree = sol.crack_mesh, sol.disc.traits.estimate_degree
     local = _sample_local(sol.sigma, cmesh, top, degree, 4)
     nodal, nodes = _average(top, local, degree)
     if quad is not None:
@@ -339,10 +337,10 @@ def _zz_recovery(sol, top: _Topology, A, quad=None) -> tuple[dict[str, np.ndarra
 def _admissible_displacement(sol, loads, crack_model: str, top: _Topology) -> tuple[np.ndarray, np.ndarray, int]:
     """Node values W of w (admissible: data on the boundary, [w].nu >= 0 on the crack),
     the element-node table and the degree."""
-    if sol.element in ("peers", "bdm"):
+    if sol.disc.traits.hybrid_traces:
         local, degree = _hybrid_traces(sol, top)
     else:
-        degree = DEGREE[sol.element]
+        degree = sol.disc.traits.estimate_degree
         local = _sample_local(sol.u, sol.crack_mesh, top, degree, 2)
     W, nodes = _average(top, local, degree)
     _apply_boundary(W, sol.crack_mesh, top, loads, degree)
@@ -417,8 +415,8 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
         parts["oscillation"] = _oscillation(mesh, top, loads.body_force, A)
         if parts["oscillation"].sum() > 0:
             notes.append("body force not P0: oscillation term with an unknown Korn constant")
-    notes.append("weak symmetry: the bound needs a Korn constant (not included)" if sol.element in ("peers", "bdm")
-                 else "tdnns stress is not in H(div): not a bound")
+    if sol.disc.traits.estimate_note:
+        notes.append(sol.disc.traits.estimate_note)
     if min_jump < 0:
         notes.append(f"reconstructed crack jump negative somewhere ({min_jump:.2e})")
     if any(getattr(c, "friction", 0.0) for c in sol.scene.cracks):
@@ -429,7 +427,8 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
 def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     """The error estimate of a Solution (see the module); loads are the solve's Loads."""
     t0 = time.perf_counter()
-    if sol.element not in METHODS:
+    method = sol.disc.traits.estimate
+    if not method:
         raise InputError(f"element = {sol.element!r}: estimates exist for {', '.join(METHODS)}")
     if crack_model not in ESTIMATE_CRACK_MODELS:
         raise InputError(f"crack_model = {crack_model!r}: estimates exist for {', '.join(ESTIMATE_CRACK_MODELS)}")
@@ -440,7 +439,7 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     notes: list[str] = []
     min_jump = 0.0
     quad = _quadrature(sol.crack_mesh, top)
-    if METHODS[sol.element] == "zz-recovery":
+    if method == "zz-recovery":
         parts, sig_q = _zz_recovery(sol, top, A, quad)
         notes.append("recovery (ZZ) estimate: not a bound")
     else:
@@ -458,7 +457,7 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     energy = float(np.sqrt(np.sum(eta**2)))
     relative = energy / math.sqrt(norm2) if norm2 > 0 else energy
     # no element's bound is guaranteed today (module docstring: weak symmetry, H(div), recovery)
-    return ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=METHODS[sol.element],
+    return ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=method,
                          guaranteed=False, notes=notes, mesh=mesh, time=time.perf_counter() - t0,
                          min_jump=min_jump)
 

@@ -56,7 +56,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from .constraints import ContactSolverError, _inverse_map, faces_closed, scaled_problem
-from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_BACKUP, PDAS_MAX_ITER, QPResult, _limited_blas
+from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_MAX_ITER, ExchangeRule, QPResult, _limited_blas, spd_solve
 from .errors import InputError
 
 #: how Coulomb friction is solved (module docstring)
@@ -71,8 +71,6 @@ COULOMB_MAX_ITER = 200
 #: Newton-Cotes weights of the p + 1 equispaced points of an edge (times its length):
 #: the nodal quadrature of P_p jumps, used for a Tresca threshold given in stress units
 NEWTON_COTES = {0: (1.0,), 1: (0.5, 0.5), 2: (1 / 6, 4 / 6, 1 / 6), 3: (1 / 8, 3 / 8, 3 / 8, 1 / 8)}
-#: the values of CrackProfile.state
-STATES = ("open", "stick", "slip")
 
 
 # --------------------------------------------------------------------------- the problem
@@ -205,11 +203,7 @@ def _linear_step(pf: _PointForm, act: np.ndarray, slip: np.ndarray, tau: np.ndar
     if tau is not None:
         r = c.copy()
         r[m:] -= slip * tau
-        AFF = A[np.ix_(F, F)]
-        try:
-            v[F] = sla.cho_solve(sla.cho_factor(AFF, check_finite=False), r[F], check_finite=False)
-        except np.linalg.LinAlgError:
-            v[F] = sla.solve(AFF, r[F], assume_a="sym")
+        v[F] = spd_solve(A[np.ix_(F, F)], r[F])
         return v
     M = A[np.ix_(F, F)].copy()
     r = c[F].copy()
@@ -226,12 +220,13 @@ def _active_set(pf: _PointForm, act: np.ndarray, slip: np.ndarray, tau: np.ndarr
                 max_iter: int = PDAS_MAX_ITER):
     """Primal-dual active set for Tresca (tau given) or Coulomb (tau None) in scaled point values.
 
-    Returns (v, g = A v - c, act, slip, steps, converged). After PDAS_BACKUP steps
-    without fewer violations only the largest violation is exchanged (as in contact.py).
+    Returns (v, g = A v - c, act, slip, steps, converged). Which violations a step
+    exchanges is contact.ExchangeRule's (the QP's safeguard), over the normal values
+    followed by the tangential ones.
     """
     m = pf.m
     act, slip = act.copy(), slip.copy()
-    best, budget = len(pf.c) + 1, PDAS_BACKUP
+    exchange = ExchangeRule(len(pf.c))
     v = g = np.zeros(len(pf.c))
     for it in range(1, max_iter + 1):
         v = _linear_step(pf, act, slip, tau)
@@ -245,20 +240,11 @@ def _active_set(pf: _PointForm, act: np.ndarray, slip: np.ndarray, tau: np.ndarr
         viol_n = np.where(act, -lam - tol_g, -vn - tol_v)
         stick = slip == 0
         viol_t = np.where(stick, np.abs(y) - thr - tol_g, -slip * vt - tol_v)
-        bad_n, bad_t = viol_n > 0, viol_t > 0
-        nbad = int(np.count_nonzero(bad_n) + np.count_nonzero(bad_t))
-        if nbad == 0:
+        bad = np.concatenate([viol_n > 0, viol_t > 0])
+        if not bad.any():
             return v, g, act, slip, it, True
-        if nbad < best:
-            best, budget = nbad, PDAS_BACKUP
-        elif budget > 0:
-            budget -= 1
-        else:  # exchange the largest violation only
-            viol = np.concatenate([np.where(bad_n, viol_n, -np.inf), np.where(bad_t, viol_t, -np.inf)])
-            k = int(np.argmax(viol))
-            bad_n[:] = False
-            bad_t[:] = False
-            (bad_n if k < m else bad_t)[k if k < m else k - m] = True
+        flip = exchange(bad)
+        bad_n, bad_t = flip[:m], flip[m:]
         act[bad_n] = ~act[bad_n]
         # a value that slips against its friction force sticks; a stuck value whose
         # force exceeds the threshold slips along that force (the semismooth Newton
@@ -331,14 +317,13 @@ def coulomb_residual(wn, lam_n, wt, lam_t, t_point, bound) -> dict:
     }
 
 
-def check_friction_options(scene, qp_solver: str, method: str, tangential) -> None:
-    """Refuse, before any meshing, friction options that cannot work for `scene`."""
+def check_friction_solver(qp_solver: str, method: str) -> None:
+    """The one check of how a crack problem with friction is solved: `method` one of
+    FRICTION_METHODS; the Tresca steps by pdas or a cvxpy solver (not uzawa); newton only
+    with pdas. `SolveOptions.check_for` calls it before any meshing, `solve_crack_problem`
+    for a direct call."""
     if method not in FRICTION_METHODS:
         raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
-    if tangential is not None and not isinstance(tangential, bool):
-        raise InputError(f"tangential = {tangential!r}: must be None, True or False")
-    if not (tangential or any(c.friction > 0 for c in scene.cracks)):
-        return
     if qp_solver in NATIVE_SOLVERS and qp_solver != "pdas":
         raise InputError(f"qp_solver = {qp_solver!r}: with friction the allowed values are pdas or a cvxpy solver")
     if qp_solver != "pdas" and method == "newton":
@@ -355,12 +340,7 @@ def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_opti
     Raises ContactSolverError if a solver fails, the Coulomb iteration does not
     converge in `max_iter` steps, or the answer's residuals exceed `kkt_tol`.
     """
-    if method not in FRICTION_METHODS:
-        raise InputError(f"friction_method = {method!r}: allowed values are {', '.join(FRICTION_METHODS)}")
-    if solver in NATIVE_SOLVERS and solver != "pdas":
-        raise InputError(f"qp_solver = {solver!r}: with friction the allowed values are pdas or a cvxpy solver")
-    if solver != "pdas" and method == "newton":
-        raise InputError("friction_method = 'newton' is the native method: use qp_solver = 'pdas'")
+    check_friction_solver(solver, method)
     if not (np.all(np.isfinite(problem.S)) and np.all(np.isfinite(problem.b))):
         raise ContactSolverError("the crack problem has non-finite entries (S or b): the linear system is singular")
     if np.any(problem.mu < 0) or not np.all(np.isfinite(problem.mu)):

@@ -32,8 +32,6 @@ from .errors import InputError
 from .scene import Scene
 from .sizing import check_mesh_sizes, estimate_triangles, mesh_sizes
 
-#: netgen's default growth rate of the mesh size
-DEFAULT_GRADING = 0.3
 #: a triangle of lower quality 4 sqrt(3) area / (sum of squared sides) triggers a warning
 MIN_QUALITY = 0.1
 #: seconds netgen may take on one mesh before it is stopped and the meshing reported as

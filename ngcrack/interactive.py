@@ -1,4 +1,4 @@
-"""Former home of the explorer, kept so that old imports work: see `ngcrack.explorer`.
+"""Former home of the explorer, kept so that old imports work (importing it warns once): see `ngcrack.explorer`.
 
 The explorer's model is `ngcrack.explorer.Explorer` (formerly `Study`, still importable
 here and as `nc.Study`, deprecated); the ipywidgets view is
@@ -6,17 +6,17 @@ here and as `nc.Study`, deprecated); the ipywidgets view is
 module still gives).
 """
 
+import warnings
+
 from .explorer import (
     FIELDS,
     LEVELS,
     SLIDERS,
     Drawing,
-    ParameterLoads,
     Study,
     contact_length,
     draw,
     explore,
-    friction_supported,
     geometry_key,
     load_structure,
     scaled_loads,
@@ -25,11 +25,12 @@ from .explorer import (
 from .explorer.figure import DEFORMED_FRACTION, FIGURE_DPI, FIGURE_SIZE, PROFILE_FLOOR, STATE_COLORS
 from .explorer.model import CLOSED_RTOL
 
-_ParameterLoads = ParameterLoads
+warnings.warn("ngcrack.interactive is now ngcrack.explorer (nc.explore, nc.Explorer); import ngcrack.explorer",
+              DeprecationWarning, stacklevel=2)
 
 __all__ = ["CLOSED_RTOL", "DEFORMED_FRACTION", "Drawing", "FIELDS", "FIGURE_DPI", "FIGURE_SIZE", "LEVELS",
            "PROFILE_FLOOR", "SLIDERS", "STATE_COLORS", "Study", "contact_length", "draw", "explore",
-           "friction_supported", "geometry_key", "load_structure", "scaled_loads", "stress_values"]
+           "geometry_key", "load_structure", "scaled_loads", "stress_values"]
 
 
 def __getattr__(name: str):

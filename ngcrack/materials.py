@@ -73,9 +73,3 @@ def lame_parameters(E: float, nu: float, plane: str = "strain") -> tuple[float, 
     else:
         raise InputError(f"material.plane = {plane!r}: allowed values are {', '.join(PLANES)}")
     return lam, mu
-
-
-def stress_from_strain(eps: np.ndarray, E: float, nu: float, plane: str = "strain") -> np.ndarray:
-    """sigma = C eps for a symmetric 2x2 strain (numpy), finite for nu < 1/2 in plane strain."""
-    lam, mu = lame_parameters(E, nu, plane)
-    return 2.0 * mu * eps + lam * np.trace(eps) * np.eye(2)

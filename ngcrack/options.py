@@ -21,9 +21,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS
-from .elements import ELEMENTS, ORDERED, ORDERS
+from .elements import check_element
 from .errors import InputError
-from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_options
+from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_solver
 from .hybrid import Factorization
 from .schur import SCHUR_METHODS
 
@@ -121,17 +121,7 @@ class SolveOptions:
 
     def __post_init__(self):
         set_ = object.__setattr__
-        set_(self, "element", _choice("element", self.element, tuple(ELEMENTS)))
-        if self.order is not None:
-            if self.element not in ORDERED:
-                raise InputError(f"order = {self.order!r}: element {self.element!r} has a fixed order; "
-                                  f"elements with an order: {', '.join(ORDERED)}")
-            allowed = ORDERS[self.element]
-            whole = is_number(self.order) and math.isfinite(float(self.order)) and float(self.order).is_integer()
-            if not whole or int(self.order) not in allowed:
-                raise InputError(f"order = {self.order!r}: allowed values for {self.element} are "
-                                  f"{', '.join(map(str, allowed))} (or None for the element's default)")
-            set_(self, "order", int(self.order))
+        set_(self, "order", check_element(self.element, self.order))
         for name in ("maxh", "tip_h", "crack_h"):
             set_(self, name, positive_size(name, getattr(self, name)))
         if self.grading is not None:
@@ -212,5 +202,5 @@ class SolveOptions:
 
     def check_for(self, scene) -> None:
         """The checks that need the scene: friction with the chosen solver, and with a crack model."""
-        if self.crack_model == "contact":
-            check_friction_options(scene, self.qp_solver, self.friction_method, self.tangential)
+        if self.crack_model == "contact" and (self.tangential or any(c.friction > 0 for c in scene.cracks)):
+            check_friction_solver(self.qp_solver, self.friction_method)

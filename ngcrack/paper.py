@@ -3,7 +3,7 @@
 Belhachmi et al., section 4: example 1 (`paper-1`, nu = 0.29) and example 2
 (`paper-2`, nu = 0.49), each solved with every mixed element of ngcrack on a sequence of
 meshes; relative L2 errors of u1, u2, sigma_t1 and sigma_nu against a finer reference
-mesh (the quantities and conventions of `ngcrack.study`). Written to the output folder:
+mesh (the quantities and conventions of `ngcrack.sweeps`). Written to the output folder:
 
     sweep-<scene>.csv             every run (the sweep's rows; rerunning resumes)
     table<k>_<quantity>.csv/.md   Tables 1-4: dof, error, rates and run time per row
@@ -80,7 +80,7 @@ PAPER_TABLES = {
     "sigma_t1": ((83, 162, 461, 819, 937), (0.425346615, 0.239523559, 0.0669139203, 0.05465566, 0.0448078919)),
     "sigma_nu": ((83, 162, 461, 819, 937), (0.412398168, 0.233872393, 0.0863552882, 0.0670412243, 0.0478285353)),
 }
-#: the rates the paper states in its text (example 1; fitted in dof, see ngcrack.study)
+#: the rates the paper states in its text (example 1; fitted in dof, see ngcrack.sweeps)
 PAPER_RATES = {"u1": 0.81, "u2": 0.65, "sigma_t1": 0.93, "sigma_nu": 0.78}
 #: the paper's a-priori rates in h (its energy-type norm); in dof they are half of these
 THEORY_RATES_H = {"peers": 0.5, "bdm": 0.75}

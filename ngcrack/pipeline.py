@@ -93,7 +93,7 @@ def load_structure(scene: Scene) -> tuple:
 def geometry_key(scene: Scene) -> tuple:
     """What the mesh depends on: the polygon, its labels, the cracks' points and the mesh sizes."""
     return (scene.polygon, scene.labels, tuple(c.points for c in scene.cracks),
-            getattr(scene, "holes", ()), scene.maxh, scene.tip_h, scene.crack_h, scene.grading)
+            scene.holes, scene.maxh, scene.tip_h, scene.crack_h, scene.grading)
 
 
 class ParameterLoads:

@@ -109,6 +109,36 @@ def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | N
     return faces
 
 
+def tip_names(tips) -> list[str]:
+    """A name per tip, by position: "left tip" / "right tip" at the ends of a crack closer
+    to horizontal, "lower tip" / "upper tip" of a steeper one; prefixed "crack k, " where
+    the tips belong to more than one crack. `tips`: objects or dicts with crack, end, x, y."""
+    def get(t, k):
+        return t.get(k) if isinstance(t, dict) else getattr(t, k, None)
+
+    by_crack: dict = {}
+    for t in tips:
+        by_crack.setdefault(get(t, "crack"), []).append(t)
+    several = len(by_crack) > 1
+    names = []
+    for t in tips:
+        crack = get(t, "crack")
+        mates = by_crack[crack]
+        name = "tip"
+        if len(mates) == 2 and get(t, "x") is not None:
+            a = np.array([get(t, "x"), get(t, "y")], float)
+            other = mates[1] if mates[0] is t else mates[0]
+            d = a - np.array([get(other, "x"), get(other, "y")], float)
+            if abs(d[0]) >= abs(d[1]):
+                name = "right tip" if d[0] > 0 else "left tip"
+            else:
+                name = "upper tip" if d[1] > 0 else "lower tip"
+        elif get(t, "end") is not None:
+            name = f"{get(t, 'end')} tip"
+        names.append(f"crack {int(crack) + 1}, {name}" if several and crack is not None else name)
+    return names
+
+
 def plot_solution(sol, path=None, levels: int = 20):
     """Isolines of sigma_nu next to the magnified deformed body; saved to `path` if given
     (then on a figure of its own, `new_figure`: pyplot's backend is left alone).

@@ -68,7 +68,7 @@ BYTES_PER_UNKNOWN = {"peers": 1100, "bdm": 1400, "tdnns": 1450, "h1p1": 4000, "h
 DEFAULT_MAX_DOF = 5_000_000
 #: fraction of the machine's available memory a solve may plan to use
 MEMORY_FRACTION = 0.8
-#: netgen's default growth rate of the mesh size (geometry.DEFAULT_GRADING)
+#: netgen's default growth rate of the mesh size: the grading of a scene that gives none
 DEFAULT_GRADING = 0.3
 #: default sizes of a scene that gives none (`default_mesh_sizes`): maxh a tenth of the
 #: diameter; crack_h and tip_h the shortest crack's length over these
@@ -170,7 +170,7 @@ def _density_parts(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> 
     L = sum(c.length for c in scene.cracks)
     r = math.sqrt(A) / H
     parts = {"maxh": r * r, "crack_h": 0.0, "tip_h": 0.0}
-    for k, hole in enumerate(getattr(scene, "holes", ())):
+    for k, hole in enumerate(scene.holes):
         hh = min(hole.edge_h, H)
         if hh < H:  # the band of refinement inside the body along the hole's edges (one side)
             P = math.pi * hole.size
@@ -359,7 +359,7 @@ def local_size(scene, points: np.ndarray, maxh=None, tip_h=None, crack_h=None, g
     H, tip, ch, g = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     h = np.full(len(points), H)
     pts = shapely.points(points)
-    for hole in getattr(scene, "holes", ()):
+    for hole in scene.holes:
         if hole.edge_h < H:
             ring = shapely.LinearRing(hole.loop(HOLE_PIECES))
             h = np.minimum(h, hole.edge_h + g * shapely.distance(pts, ring))
@@ -386,7 +386,7 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
     """
     import shapely
 
-    holes = getattr(scene, "holes", ())
+    holes = scene.holes
     chains = [list(scene.polygon) + [scene.polygon[0]]]
     chains += [list(h.loop(HOLE_PIECES)) + [h.loop(HOLE_PIECES)[0]] for h in holes]
     chains += [list(c.points) for c in scene.cracks]

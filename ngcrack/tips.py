@@ -72,6 +72,8 @@ import numpy as np
 from .constraints import faces_closed
 from .errors import InputError
 from .materials import compliance as _compliance
+from .scene import tip_label
+from .scene.measures import point_segment_distance
 from .scene.pressure import pressure_values
 from .tstress import interaction_integrand as _t_integrand
 
@@ -96,10 +98,11 @@ R_FLOOR = 1e-12
 #: a crack end closer than this fraction of the body's diameter to another crack is a
 #: junction, not a tip: it gets no fracture parameters
 JUNCTION_RTOL = 1e-6
+#: consecutive crack segments whose unit tangents' cross product is at most this are one straight
+#: line (a path grown without a kink): the domain integral's radius may reach past their joints
+STRAIGHT_RTOL = 1e-9
 #: `body_force` default of the domain integral: the scene's body force
 SCENE = "scene"
-#: crack ends
-ENDS = ("first", "last")
 
 
 # ------------------------------------------------------------------ material constants
@@ -201,31 +204,39 @@ class Tip:
 
     @property
     def label(self) -> str:
-        """`crack,end`, e.g. `0,last`: how tables and columns name the tip."""
-        return f"{self.crack},{self.end}"
+        """`crack,end`, e.g. `0,last`: how tables and columns name the tip (`tip_label`)."""
+        return tip_label(self.crack, self.end)
 
 
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    d = b - a
-    t = float(np.clip(np.dot(p - a, d) / np.dot(d, d), 0.0, 1.0))
-    return float(np.linalg.norm(a + t * d - p))
+def _straight_run(pts: np.ndarray, end: str) -> int:
+    """How many segments at the `end` of the polyline continue the tip segment in a straight line
+    (a path grown without kinks): the faces are straight over all of them."""
+    q = pts if end == "last" else pts[::-1]
+    t = np.diff(q, axis=0)
+    t = t / np.linalg.norm(t, axis=1)[:, None]
+    n = 1
+    while n < len(t) and t[-1 - n] @ t[-1] > 0 and abs(t[-1 - n, 0] * t[-1, 1] - t[-1 - n, 1] * t[-1, 0]) <= STRAIGHT_RTOL:
+        n += 1
+    return n
 
 
 def _clearance(scene, k: int, end: str, p: np.ndarray) -> float:
     """Distance from the tip p of crack k to the boundary, the other cracks, crack k beyond its
-    tip segment and the far end of the tip segment (a kink or the crack's other end)."""
+    straight tip run (the tip segment and the segments continuing it in a straight line) and the
+    far end of that run (a kink or the crack's other end)."""
     poly = np.asarray(scene.polygon, dtype=float)
     segs = [(poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly))]
     segs += [(np.asarray(a, float), np.asarray(b, float)) for _, a, b in scene.hole_pieces()]  # holes too
-    for j, crack in enumerate(scene.cracks):
-        pts = np.asarray(crack.points, dtype=float)
-        pairs = list(zip(pts[:-1], pts[1:]))
-        if j == k:
-            pairs = pairs[1:] if end == "first" else pairs[:-1]
-        segs += pairs
     pts = np.asarray(scene.cracks[k].points, dtype=float)
-    segment = float(np.linalg.norm(pts[1] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-2]))
-    return min([segment] + [_segment_distance(p, a, b) for a, b in segs])
+    run = _straight_run(pts, end)
+    for j, crack in enumerate(scene.cracks):
+        cp = np.asarray(crack.points, dtype=float)
+        pairs = list(zip(cp[:-1], cp[1:]))
+        if j == k:
+            pairs = pairs[run:] if end == "first" else pairs[:-run]
+        segs += pairs
+    segment = float(np.linalg.norm(pts[run] - pts[0]) if end == "first" else np.linalg.norm(pts[-1] - pts[-1 - run]))
+    return min([segment] + [point_segment_distance(p, a, b) for a, b in segs])
 
 
 def crack_tips(scene, crack_mesh) -> list[Tip]:
@@ -259,9 +270,9 @@ def tip_labels(scene) -> list[str]:
     for k, crack in enumerate(scene.cracks):
         pts = np.asarray(crack.points, dtype=float)
         for end, p in (("first", pts[0]), ("last", pts[-1])):
-            on_boundary = min(_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
+            on_boundary = min(point_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
             if on_boundary > ON_EDGE_RTOL * diameter and _clearance(scene, k, end, p) > JUNCTION_RTOL * diameter:
-                out.append(f"{k},{end}")
+                out.append(tip_label(k, end))
     return out
 
 
@@ -295,7 +306,8 @@ class TipParameters:
 
     @property
     def label(self) -> str:
-        return f"{self.crack},{self.end}"
+        """`crack,end` (`tip_label`)."""
+        return tip_label(self.crack, self.end)
 
     def to_dict(self) -> dict:
         """The `tips` entry of the JSON contract."""
@@ -305,18 +317,8 @@ class TipParameters:
 
 def displacement_gradient(sol):
     """grad u (row i: grad u_i) as the domain integral uses it (see the module docstring)."""
-    fields = sol.fields
     mat = sol.scene.material
-    A = _compliance(mat.E, mat.nu, mat.plane)
-    sig = fields["sigma"]
-    eps = A.apply(0.5 * (sig + sig.trans))
-    if fields.get("rotation") is not None:  # peers, bdm
-        r = fields["rotation"]
-        return eps + ngs.CF((0.0, -r, r, 0.0), dims=(2, 2))
-    grad = fields["grad_u"]
-    if sol.element == "tdnns":
-        return eps + 0.5 * (grad - grad.trans)
-    return grad
+    return sol.disc.traits.displacement_gradient(sol.fields, _compliance(mat.E, mat.nu, mat.plane))
 
 
 def _quadrature(sol, tip: Tip, radius: float):

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 
 import ngcrack as nc
-from ngcrack import plots, study
+from ngcrack import plots, sweeps
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = [e for e in nc.ELEMENTS if e in nc.elements.MIXED]
@@ -41,14 +41,14 @@ df[["element", "maxh", "h", "ndof_total", "err_u1", "err_u2", "err_sigma_t1", "e
 
 # %%
 fig, axes = plt.subplots(1, 4, figsize=(16, 4), constrained_layout=True)
-for ax, q in zip(axes, study.QUANTITIES):
+for ax, q in zip(axes, sweeps.QUANTITIES):
     for el, g in df.groupby("element", sort=False):
         color, marker = plots.ELEMENT_STYLE.get(el, ("k", "o"))
         ax.loglog(g.h, g[f"err_{q}"], marker=marker, color=color, label=el)
     h = np.array([df.h.min(), df.h.max()])
     for r, ls in ((0.5, ":"), (1.0, "--")):
         ax.loglog(h, df[f"err_{q}"].max() * (h / h[1]) ** r, ls, color="0.5", lw=0.8, label=f"h^{r:g}")
-    ax.set_title(study.QUANTITY_LABELS[q])
+    ax.set_title(sweeps.QUANTITY_LABELS[q])
     ax.set_xlabel("h (largest edge)")
     ax.grid(True, which="both", lw=0.3)
     plots.plain_log_ticks(ax)
@@ -61,8 +61,8 @@ plt.show()
 # ## Fitted rates
 
 # %%
-rates = study.fitted_rates(df, study.QUANTITIES)
-rates.pivot_table(index="element", columns="quantity", values="rate_h")[list(study.QUANTITIES)].round(2)
+rates = sweeps.fitted_rates(df, sweeps.QUANTITIES)
+rates.pivot_table(index="element", columns="quantity", values="rate_h")[list(sweeps.QUANTITIES)].round(2)
 
 # %% [markdown]
 # ## Against a closed form: the Griffith crack
@@ -80,7 +80,7 @@ for el in ELEMENTS:
     for maxh, crack_h, tip_h in LEVELS:
         sol = nc.solve(griffith, element=el, maxh=maxh, crack_h=crack_h, tip_h=tip_h)
         opening.append({"element": el, "maxh": maxh, "crack_h": crack_h, "ndof": sol.ndof["total"],
-                        "error": study.opening_error(sol), "time_s": sol.timings["total"]})
+                        "error": sweeps.opening_error(sol), "time_s": sol.timings["total"]})
 opening = pd.DataFrame(opening)
 fig, ax = plt.subplots(figsize=(6.5, 4.5), constrained_layout=True)
 for el, g in opening.groupby("element", sort=False):

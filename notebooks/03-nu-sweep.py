@@ -17,7 +17,7 @@ import os
 import matplotlib.pyplot as plt
 
 import ngcrack as nc
-from ngcrack import plots, study
+from ngcrack import plots, sweeps
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = list(nc.ELEMENTS)  # mixed elements and the displacement baselines
@@ -33,13 +33,13 @@ df[["element", "nu", "ndof_total", "err_u1", "err_u2", "err_sigma_t1", "err_sigm
 
 # %%
 fig, axes = plt.subplots(1, 4, figsize=(16, 4), constrained_layout=True)
-for ax, q in zip(axes, study.QUANTITIES):
+for ax, q in zip(axes, sweeps.QUANTITIES):
     for el, g in df.groupby("element", sort=False):
         color, marker = plots.ELEMENT_STYLE.get(el, ("k", "o"))
         ax.loglog(0.5 - g.nu, g[f"err_{q}"], marker=marker, color=color, label=el)
     ax.invert_xaxis()
     ax.set_xlabel(r"$1/2 - \nu$  (toward incompressible $\rightarrow$)")
-    ax.set_title(study.QUANTITY_LABELS[q])
+    ax.set_title(sweeps.QUANTITY_LABELS[q])
     ax.grid(True, which="both", lw=0.3)
     plots.plain_log_ticks(ax)
 axes[0].set_ylabel(f"relative $L^2$ error (maxh {MAXH:g}, against bdm at {REFERENCE_MAXH:g})")
@@ -66,7 +66,7 @@ lo, hi = min(NUS), max(NUS)
 growth = {}
 for el, g in df.groupby("element", sort=False):
     g = g.set_index("nu")
-    growth[el] = {q: g.loc[hi, f"err_{q}"] / g.loc[lo, f"err_{q}"] for q in study.QUANTITIES}
+    growth[el] = {q: g.loc[hi, f"err_{q}"] / g.loc[lo, f"err_{q}"] for q in sweeps.QUANTITIES}
     print(f"{el:6s} error ratio nu={hi:g} / nu={lo:g}: " + ", ".join(f"{q} {v:.2f}" for q, v in growth[el].items()))
 mixed = [e for e in ELEMENTS if e in nc.elements.MIXED]
 worst_mixed = max(v for e in mixed for v in growth[e].values())

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import ngcrack as nc
-from ngcrack import plots, study
+from ngcrack import plots, sweeps
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = list(nc.ELEMENTS)
@@ -35,13 +35,13 @@ df[["element", "maxh", "ndof_total", "err_u2", "err_sigma_nu", "time_assemble", 
 
 # %%
 fig, axes = plt.subplots(1, 4, figsize=(17, 4.2), constrained_layout=True)
-for ax, q in zip(axes, study.QUANTITIES):
+for ax, q in zip(axes, sweeps.QUANTITIES):
     for el, g in df.groupby("element", sort=False):
         color, marker = plots.ELEMENT_STYLE.get(el, ("k", "o"))
         g = g.sort_values("time_total")
         ax.loglog(g.time_total, g[f"err_{q}"], marker=marker, color=color, label=el)
     ax.set_xlabel("run time [s]")
-    ax.set_title(study.QUANTITY_LABELS[q])
+    ax.set_title(sweeps.QUANTITY_LABELS[q])
     ax.grid(True, which="both", lw=0.3)
     plots.plain_log_ticks(ax)
 axes[0].set_ylabel(f"relative $L^2$ error (against bdm at maxh {REFERENCE_MAXH:g})")

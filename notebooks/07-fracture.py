@@ -125,7 +125,7 @@ strips.round(4)
 # meshes: the user guide, "Fracture parameters"): the distance to that line is the discretization's.
 
 # %%
-from ngcrack import study
+from ngcrack import sweeps
 
 griffith = nc.scenes.load("griffith")
 SCALES = [2.0, 1.0] if SMOKE else [2.0, 1.0, 0.5]
@@ -136,8 +136,8 @@ for el in G_ELEMENTS:
         sol = nc.solve(griffith, element=el, maxh=griffith.maxh * f, crack_h=griffith.crack_h * f,
                        tip_h=griffith.tip_h * f)
         conv.append({"element": el, "scale": f, "ndof": sol.ndof["total"], "K_I": sol.tips[0].K_I,
-                     "err_K_I": study.k_error(sol),
-                     "err_opening": study.opening_error(sol), "time_s": sol.timings["total"],
+                     "err_K_I": sweeps.k_error(sol),
+                     "err_opening": sweeps.opening_error(sol), "time_s": sol.timings["total"],
                      "tips_share": sol.timings["tips"] / sol.timings["total"]})
 conv = pd.DataFrame(conv)
 conv["K_I/K - 1"] = conv.K_I / math.sqrt(math.pi) - 1  # signed (err_K_I is its absolute value)

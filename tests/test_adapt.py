@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 import ngcrack as nc
-from ngcrack import study
+from ngcrack import sweeps as study
 from ngcrack.adapt import mark, solve_adaptive
 from ngcrack.cli import main
 from ngcrack.geometry import make_mesh, refine_crack_mesh

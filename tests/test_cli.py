@@ -23,7 +23,7 @@ import pandas as pd
 import pytest
 
 from ngcrack.cli import main
-from ngcrack.study import QUANTITIES, ROW_COLUMNS, read_results
+from ngcrack.sweeps import QUANTITIES, ROW_COLUMNS, read_results
 
 
 def run(argv, capsys):
@@ -276,7 +276,7 @@ def test_help_texts_stand_alone():
     for name, p in sub.choices.items():
         texts[name] = p.format_help()
     for mod in ("ngcrack", "ngcrack.solve", "ngcrack.contact", "ngcrack.post", "ngcrack.cli", "ngcrack.scene",
-                "ngcrack.scenes", "ngcrack.study", "ngcrack.sweeps"):
+                "ngcrack.scenes", "ngcrack.sweeps"):
         texts[mod] = pydoc.render_doc(__import__(mod, fromlist=["_"]), renderer=pydoc.plaintext)
     texts["solve()"] = ngcrack.solve.__doc__
     for name, text in texts.items():

@@ -34,7 +34,7 @@ import ngcrack as nc
 from ngcrack import references
 from ngcrack.elements import ELEMENTS
 from ngcrack.scenes import inclined_closed_form
-from ngcrack.study import opening_error
+from ngcrack.sweeps import opening_error
 
 #: the issue's bound on the sampled shear at the default mesh, relative to the load
 SHEAR_BOUND = 0.01
@@ -54,7 +54,7 @@ GRIFFITH_BANDS = {
     "peers": (0.009, 0.017),
     "h1p1": (0.028, 0.045),
 }
-#: the same against the infinite plate's closed form (`ngcrack.study.opening_error`), labelled:
+#: the same against the infinite plate's closed form (`ngcrack.sweeps.opening_error`), labelled:
 #: measured bdm 0.59%, h1p2 0.83%, tdnns 1.01%, peers 2.17%, h1p1 2.67%
 GRIFFITH_CLOSED_FORM_BANDS = {
     "bdm": (0.004, 0.008),

@@ -361,14 +361,67 @@ def test_growth_view_shows_each_step_with_its_numbers(tension_mts):
         text = step_readout(tension_mts, n)
         row = tension_mts.table[tension_mts.table["step"] == n].iloc[0]
         assert f"K_I = {row['K_I']:.4g}" in text and f"K_II = {row['K_II']:.4g}" in text
+        assert "left tip (" in text and "right tip (" in text and "tip 0," not in text
     pytest.importorskip("ipywidgets")
-    box = explore_growth(tension_mts)
-    slider, image, readout, status = box.children
+    view = explore_growth(tension_mts)
+    (slider, box), status, image, readout = view.children[0].children, *view.children[1:]
     first = image.value
     slider.value = 1
-    assert image.value != first and "step 1 of 1" in readout.value and status.value == ""
+    assert image.value != first and "step 1 of 1" in readout.value and status.value == "" and box.value == 1
+    box.value = 99  # a typed step out of range: refused in one red line, the box back to the step shown
+    assert "Step 99 is out of range: choose a step from 0 to 1." in status.value and "#b00020" in status.value
+    assert box.value == slider.value == 1
+    box.value = 0
+    assert slider.value == 0 and image.value == first
     with pytest.raises(ValueError, match="result"):
         explore_growth("not a result")
+
+
+def test_growth_frames_draw_kinks_and_the_body_without_rigid_motion(tension_mts):
+    """A step's frame: the kink of each tip written on it (the table's angle), the drawn
+    displacement free of rigid motion, the whole body inset where the view is a zoom."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from ngcrack.growth.figures import _minus_rigid, draw_frame, without_rigid_motion
+
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    drawn = draw_frame(fig.add_subplot(), tension_mts, 0)
+    kinks = tension_mts.table.query("step == 0").kink_deg
+    assert sorted(drawn["kinks"]) == sorted(f"kink {k:+.1f}°" for k in kinks)
+    assert all(abs(k + 53.13) < 3.0 for k in kinks)  # MTS at 45 degrees in tension: 2 arctan(-1/2)
+    f = tension_mts.frames[0]
+    rest = _minus_rigid(f["corners"], f["disp"], drawn["rigid"])
+    a, _, w = without_rigid_motion(f["corners"], rest)  # nothing rigid is left in what is drawn
+    scale = float(np.max(np.abs(rest)))
+    assert np.max(np.abs(a)) < 1e-6 * scale and abs(w) * tension_mts.scene.diameter < 1e-6 * scale
+    # a rigid motion alone is taken out to round-off
+    pts = f["corners"].reshape(-1, 2).astype(float)
+    rigid = np.array([0.3, -0.2]) + 1e-3 * np.stack([-(pts[:, 1] - 1.0), pts[:, 0] - 2.0], axis=1)
+    assert np.max(np.abs(_minus_rigid(pts, rigid, without_rigid_motion(pts, rigid)))) < 1e-12
+    assert drawn["zoom"]
+
+
+def test_load_factor_panel_marks_tips_off_the_scale():
+    """A closed tip that does not grow (load factor 1e5) is marked at the top, not plotted,
+    and the scale is the growing tip's."""
+    from types import SimpleNamespace
+
+    import pandas as pd
+    from matplotlib.figure import Figure
+
+    from ngcrack.growth.figures import draw_load_factors
+
+    rows = [{"step": n, "crack": 0, "end": end, "x": x, "y": 0.0, "tip_load_factor": lam, "load_factor": 0.8 + 0.1 * n,
+             "crack_length": 2.0 + 0.1 * n, "grew": end == "last", "closed": end == "first"}
+            for n in range(3) for end, x, lam in (("first", -1.0, 1e5), ("last", 1.0, 0.8 + 0.1 * n))]
+    tips = [{"crack": 0, "end": "first", "x": -1.0, "y": 0.0}, {"crack": 0, "end": "last", "x": 1.0, "y": 0.0}]
+    res = SimpleNamespace(table=pd.DataFrame(rows), steps=[{"tips": tips}] * 3, K_Ic=1.0,
+                          scene=SimpleNamespace(units=None))
+    out = draw_load_factors(Figure().add_subplot(), res, step=1)
+    assert out["off_scale"] == [(0, "left tip"), (1, "left tip"), (2, "left tip")]
+    assert out["ylim"] == pytest.approx((0.0, 1.2 * 1.0)) and out["tips"] == ["left tip", "right tip"]
 
 
 # ---------------------------------------------------------------------- studies

@@ -18,7 +18,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundations", ("materials", "memory", "parallel", "quadrature", "planar", "schur", "constraints", "contact",
+    ("foundations", ("materials", "memory", "parallel", "quadrature", "schur", "constraints", "contact",
                      "files", "errors", "extras", "solid", "solid.contact")),
     ("scene", ("scene", "scenes", "references", "sizing", "solid.scene")),
     ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
@@ -167,3 +167,23 @@ def test_module_size_and_docstring(name):
     lines = text.count("\n")
     assert lines <= MAX_LINES, f"ngcrack.{name} has {lines} lines (at most {MAX_LINES}: split it by idea)"
     assert ast.get_docstring(ast.parse(text)), f"ngcrack.{name} has no module docstring saying what it holds"
+
+
+
+def test_no_module_outside_the_elements_tests_an_element_name():
+    """What the post-processing needs of an element (its grad u, its estimate, whether that
+    is a bound) is asked of the element (`ElementTraits`): outside ngcrack/elements/ no
+    module compares an object's element name (`sol.element == "tdnns"`) or looks a table
+    up by it (`DEGREE[sol.element]`)."""
+    import re
+
+    pattern = re.compile(r"\.element\s*(==|!=|in\s|not\s+in\s)|\[\s*[A-Za-z_.]*\.element\s*\]")
+    found = []
+    for name, path in _modules().items():
+        if name == "elements" or name.startswith("elements."):
+            continue
+        for k, line in enumerate(path.read_text().splitlines(), start=1):
+            code = line.split("#")[0]
+            if pattern.search(code) and "args.element" not in code and "rates.element" not in code:
+                found.append(f"ngcrack/{path.relative_to(ROOT)}:{k}: {line.strip()}")
+    assert not found, "element names compared outside ngcrack/elements/:\n" + "\n".join(found)

@@ -19,7 +19,7 @@ import pytest
 
 import ngcrack as nc
 from ngcrack import references
-from ngcrack.study import opening_error
+from ngcrack.sweeps import opening_error
 
 ROOT_PI = math.sqrt(math.pi)
 

@@ -25,7 +25,7 @@ import ngcrack as nc
 from ngcrack import scenes, sizing
 from ngcrack.cli import main
 from ngcrack.geometry import make_mesh
-from ngcrack.study import sweep
+from ngcrack.sweeps import sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -1,4 +1,4 @@
-"""Tests of the study layer (ngcrack.study): error quantities, rates, sweeps, resume, parallel runs.
+"""Tests of the study layer (ngcrack.sweeps): error quantities, rates, sweeps, resume, parallel runs.
 
 What is checked, and against what:
 - the error quantities: sigma_t1 and sigma_nu of a known stress and normal, quadrature
@@ -29,7 +29,7 @@ import pytest
 
 import ngcrack as nc
 from ngcrack import scenes, study
-from ngcrack.study import QUANTITIES, RATE_COLUMNS, ROW_COLUMNS, ROW_SCHEMA, Reference, fitted_rates, sweep, with_rates
+from ngcrack.sweeps import QUANTITIES, RATE_COLUMNS, ROW_COLUMNS, ROW_SCHEMA, Reference, fitted_rates, sweep, with_rates
 
 
 def report(msg: str) -> None:

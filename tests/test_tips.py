@@ -267,7 +267,7 @@ def test_sweep_rows_carry_the_tips(tmp_path):
     assert {"K_I[0,last]", "K_II[0,last]", "G[0,last]", "err_K_I", "time_tips"} <= set(df.columns)
     assert np.all(df["err_K_I"] < 0.02) and np.all(np.isfinite(df["K_I[0,last]"]))
     assert np.allclose(df["err_K_I"], np.abs(df["K_I[0,last]"] / ROOT_PI - 1))
-    back = nc.study.read_results(tmp_path / "g.csv").sort_values("maxh", ascending=False)
+    back = nc.sweeps.read_results(tmp_path / "g.csv").sort_values("maxh", ascending=False)
     assert np.allclose(back["K_I[0,last]"], df["K_I[0,last]"])
 
 

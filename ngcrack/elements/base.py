@@ -68,6 +68,42 @@ class Loads:
         return frozenset(self.clamped) | frozenset(self.displacement)
 
 
+@dataclass(frozen=True)
+class ElementTraits:
+    """What the post-processing asks of an element, declared by the element (so that no
+    module outside `ngcrack.elements` tests an element's name).
+
+    `gradient`: how the domain integral (`ngcrack.tips`) forms grad u from the fields:
+    "rotation" (the strain of the stress, A sigma, plus the element's rotation field:
+    PEERS, BDM), "skew" (A sigma plus the skew part of the field grad_u: TDNNS, whose
+    displacement is only tangentially continuous) or "gradient" (grad_u itself: the
+    displacement elements). `estimate`: the error estimate it has (`ngcrack.estimate`):
+    "prager-synge" (a displacement reconstructed against its stress) or "zz-recovery"
+    (a recovered stress), "" (none); `estimate_degree` the degree of the reconstruction or the
+    recovery. `hybrid_traces`: the reconstructed displacement is averaged from the
+    hybrid facet traces (else sampled from u). `estimate_note`: why its estimate is not
+    a guaranteed bound ("" where the estimate's own notes say it).
+    """
+
+    gradient: str = "gradient"
+    estimate: str = ""
+    estimate_degree: int = 1
+    hybrid_traces: bool = False
+    estimate_note: str = ""
+
+    def displacement_gradient(self, fields: dict, compliance: Compliance) -> ngs.CoefficientFunction:
+        """grad u (row i: grad u_i) from the solution's fields, as the domain integral uses it."""
+        if self.gradient == "gradient":
+            return fields["grad_u"]
+        sig = fields["sigma"]
+        eps = compliance.apply(0.5 * (sig + sig.trans))
+        if self.gradient == "rotation":
+            r = fields["rotation"]
+            return eps + ngs.CF((0.0, -r, r, 0.0), dims=(2, 2))
+        grad = fields["grad_u"]
+        return eps + 0.5 * (grad - grad.trans)
+
+
 @dataclass
 class Discretization:
     """What an element family hands to the condensed solver.
@@ -126,6 +162,8 @@ class Discretization:
     #: integrates over a loaded edge, with the element's sign): the work of g on u_hat is
     #: sign times its assembled form applied to the solution vector
     traction: Callable[[ngs.CoefficientFunction], ngs.CoefficientFunction] | None = None
+    #: what the post-processing asks of the element (ElementTraits)
+    traits: ElementTraits = field(default_factory=ElementTraits)
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -266,6 +304,7 @@ def weakly_symmetric_hybrid(
     built: list[str],
     trace_rows: Callable[[tuple], tuple] | None = None,
     displacement_order: int = 0,
+    traits: ElementTraits = ElementTraits(),
 ) -> Discretization:
     """Assemble the hybrid form above for the given stress and rotation spaces.
 
@@ -377,4 +416,5 @@ def weakly_symmetric_hybrid(
         built=built,
         definite=not split,
         traction=traction,
+        traits=traits,
     )

@@ -26,10 +26,13 @@ import ngsolve as ngs
 from ..errors import InputError
 from ..geometry import CrackMesh
 from ..materials import Compliance
-from .base import Discretization, Loads, weakly_symmetric_hybrid
+from .base import Discretization, ElementTraits, Loads, weakly_symmetric_hybrid
 
 ORDERS = (1, 2, 3)
 DEFAULT_ORDER = 1
+#: the rotation field completes grad u; a Prager-Synge estimate from the hybrid traces
+TRAITS = ElementTraits(gradient="rotation", estimate="prager-synge", estimate_degree=2, hybrid_traces=True,
+                       estimate_note="weak symmetry: the bound needs a Korn constant (not included)")
 
 
 def _rows(sym):
@@ -57,4 +60,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         facet_order=k,
         built=built,
         displacement_order=k - 1,
+        traits=TRAITS,
     )

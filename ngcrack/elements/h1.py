@@ -26,7 +26,18 @@ from ..errors import InputError
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_cf, crack_side
 from ..materials import Compliance
 from ..parallel import task_manager
-from .base import Discretization, Loads, cartesian_roller_pairs, displacement_data, load_vector, roller_edges
+from .base import (
+    Discretization,
+    ElementTraits,
+    Loads,
+    cartesian_roller_pairs,
+    displacement_data,
+    load_vector,
+    roller_edges,
+)
+
+#: per order: grad u is the field grad_u; a ZZ recovery estimate of the order's degree
+TRAITS = {k: ElementTraits(gradient="gradient", estimate="zz-recovery", estimate_degree=k) for k in (1, 2)}
 
 
 def _lame(compliance: Compliance) -> tuple[float, float]:
@@ -262,4 +273,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         two_sided_traction=True,
         fixed_dofs=tuple(sorted(set(fixed))),
         traction_rows=(2, 3) if has_crack else (None, None),
+        traits=TRAITS[order],
     )

@@ -19,7 +19,11 @@ import ngsolve as ngs
 
 from ..geometry import CrackMesh
 from ..materials import Compliance
-from .base import Discretization, Loads, weakly_symmetric_hybrid
+from .base import Discretization, ElementTraits, Loads, weakly_symmetric_hybrid
+
+#: the rotation field completes grad u; a Prager-Synge estimate from the hybrid traces
+TRAITS = ElementTraits(gradient="rotation", estimate="prager-synge", estimate_degree=1, hybrid_traces=True,
+                       estimate_note="weak symmetry: the bound needs a Korn constant (not included)")
 
 
 def cubic_bubbles(mesh: ngs.Mesh) -> ngs.FESpace:
@@ -75,4 +79,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discre
         facet_order=0,
         built=built,
         trace_rows=_normal_trace_rows,
+        traits=TRAITS,
     )

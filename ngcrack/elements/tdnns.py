@@ -55,6 +55,7 @@ from .base import (
     PRESSURE_SPLIT_RTOL,
     SPHERICAL_FLOOR,
     Discretization,
+    ElementTraits,
     Loads,
     crack_boundary,
     crack_facet_space,
@@ -65,6 +66,9 @@ from .base import (
 
 ORDERS = (1, 2, 3)
 DEFAULT_ORDER = 1
+#: grad u from A sigma and the skew part of grad_u; a Prager-Synge estimate from u
+TRAITS = ElementTraits(gradient="skew", estimate="prager-synge", estimate_degree=2,
+                       estimate_note="tdnns stress is not in H(div): not a bound")
 
 
 def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
@@ -190,4 +194,5 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         tangential_jump=(lambda gf: gf.components[idx_ue]) if has_crack else None,
         traction_rows=(None, idx_ue) if has_crack else (None, None),
         tangential=idx_ue,
+        traits=TRAITS,
     )

@@ -14,11 +14,11 @@ from ..pipeline import ParameterLoads, geometry_key, load_structure
 from .figure import FIELDS, Drawing, draw, stress_values
 from .growth_view import explore_growth
 from .loads import scaled_loads
-from .model import LEVELS, Explorer, Study, contact_length, friction_supported, overlap_length
+from .model import LEVELS, Explorer, Study, contact_length, overlap_length
 from .widget import SLIDERS, explore
 
 __all__ = ["Drawing", "Explorer", "explore_growth", "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS",
-           "Study", "contact_length", "draw", "explore", "friction_supported", "geometry_key", "load_structure",
+           "Study", "contact_length", "draw", "explore", "geometry_key", "load_structure",
            "overlap_length",
            "scaled_loads", "stress_values"]
 

@@ -4,9 +4,11 @@
     nc.explore_growth(res)
 
 Each step shows the deformed body at one magnification for the whole path (so that the
-steps can be compared) with the crack faces open in red and closed in blue, and beside
-it the paths coloured by step with the load factor against crack length, the current
-step marked. The readout gives the step's tips (position, K_I, K_II, K_eq, kink) and its
+steps can be compared), drawn about the undeformed body with its rigid motion taken out,
+the crack faces open in red and closed in blue and each tip's kink as an arrow with its
+angle; beside it each tip's load factor against crack length, the current step circled
+(growth.figures). A step typed out of range is refused in one red line and the box goes
+back to the step shown. The readout gives the step's tips (position, K_I, K_II, K_eq, kink) and its
 load factor. Drawn with matplotlib's Agg canvas into an image widget; a failure to draw
 shows one line, never a traceback.
 """
@@ -17,29 +19,26 @@ import io
 from typing import Any
 
 from ..errors import InputError
-from ..growth.result import GrowthResult, draw_frame, frame_view
+from ..growth.figures import draw_frame, draw_load_factors, frame_view
+from ..growth.result import GrowthResult
+from ..plots import tip_names
 
 #: figure size in inches and resolution of a step's picture
-FIGURE_SIZE = (10.0, 4.6)
-FIGURE_DPI = 80
+FIGURE_SIZE = (11.0, 5.0)
+FIGURE_DPI = 88
 
 
 def render_step(result: GrowthResult, n: int, view=None) -> bytes:
-    """PNG of step `n`: the deformed body and crack faces, and the load factor against crack length."""
+    """PNG of step `n`: the deformed body, crack faces and kinks (growth.figures.draw_frame),
+    and each tip's load factor against crack length, step `n` circled."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=FIGURE_SIZE, dpi=FIGURE_DPI, layout="constrained")
-    ax, bx = fig.subplots(1, 2, width_ratios=(1.0, 1.0))
+    FigureCanvasAgg(fig)
+    ax, bx = fig.subplots(1, 2, width_ratios=(1.25, 1.0))
     draw_frame(ax, result, n, view)
-    table = result.table
-    for label, rows in table.groupby(["crack", "end"]):
-        bx.plot(rows["crack_length"], rows["load_factor"], ".-", label=f"tip {label[0]},{label[1]}")
-        here = rows[rows["step"] == n]
-        bx.plot(here["crack_length"], here["load_factor"], "o", ms=9, mfc="none", mec="k")
-    bx.set_xlabel("crack length")
-    bx.set_ylabel("load factor" + (" (K_Ic / K_eq)" if result.K_Ic is not None else " (relative to step 0)"))
-    bx.grid(alpha=0.3)
-    bx.legend(fontsize=8)
+    draw_load_factors(bx, result, step=n)
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
     return buf.getvalue()
@@ -50,9 +49,9 @@ def step_readout(result: GrowthResult, n: int) -> str:
     step = result.steps[n]
     lam = step["load_factor"]
     lines = [f"step {n} of {len(result.steps) - 1}: load factor " + (f"{lam:.4g}" if lam is not None else "none")]
-    for t in step["tips"]:
-        kink = "" if t["kink_deg"] is None else f", kink {t['kink_deg']:+.1f} deg"
-        lines.append(f"tip {t['crack']},{t['end']} ({t['x']:.4g}, {t['y']:.4g}): K_I = {t['K_I']:.4g}, "
+    for t, name in zip(step["tips"], tip_names(step["tips"])):
+        kink = "" if t["kink_deg"] is None else f", kink {t['kink_deg']:+.1f}°"
+        lines.append(f"{name} ({t['x']:.4g}, {t['y']:.4g}): K_I = {t['K_I']:.4g}, "
                      f"K_II = {t['K_II']:.4g}, K_eq = {t['K_eq']:.4g}{kink}" + (" (grew)" if t["grew"] else ""))
     return "\n".join(lines)
 
@@ -67,11 +66,21 @@ def explore_growth(result: GrowthResult, **kwargs: Any):
     if not isinstance(result, GrowthResult):
         raise InputError(f"result = {result!r}: must be the GrowthResult of nc.grow(...)")
     view = frame_view(result)  # refuses a result kept without frames, naming the field
-    slider = w.IntSlider(value=kwargs.get("step", 0), min=0, max=len(result.frames) - 1, description="step",
+    last = len(result.frames) - 1
+    start = kwargs.get("step", 0)
+    if isinstance(start, bool) or not isinstance(start, int) or not 0 <= start <= last:
+        raise InputError(f"step = {start!r}: a whole number from 0 to {last}")
+    slider = w.IntSlider(value=start, min=0, max=last, description="step", readout=False,
                          continuous_update=False)
+    slider.add_class("ngcrack-growth-step")
+    box = w.IntText(value=start, layout=w.Layout(width="80px"), tooltip=f"a step from 0 to {last}")
+    box.add_class("ngcrack-growth-typed-step")
     image = w.Image(format="png", layout=w.Layout(width="auto", max_width="100%"))
+    image.add_class("ngcrack-growth-figure")
     readout = w.HTML()
     status = w.HTML()
+    status.add_class("ngcrack-status")
+    syncing = [False]
 
     def show(n: int) -> None:
         try:
@@ -79,9 +88,29 @@ def explore_growth(result: GrowthResult, **kwargs: Any):
             readout.value = "<pre>" + html.escape(step_readout(result, n)) + "</pre>"
             status.value = ""
         except Exception as exc:  # noqa: BLE001  (a widget shows one line, never a traceback)
-            status.value = f"<span style='color:#b00020'>{html.escape(type(exc).__name__)}: " \
-                           f"{html.escape(str(exc).splitlines()[0] if str(exc) else '')}</span>"
+            status.value = ("<span style='color:#b00020'>&#9888; The step could not be drawn: choose another "
+                            f"step.</span><div style='color:#666; font-size:11px'>details: "
+                            f"{html.escape(str(exc).splitlines()[0] if str(exc) else type(exc).__name__)}</div>")
 
-    slider.observe(lambda change: show(change["new"]), names="value")
+    def typed(value) -> None:
+        if syncing[0]:
+            return
+        if isinstance(value, int) and 0 <= value <= last:
+            slider.value = value  # (the slider shows it)
+            return
+        syncing[0] = True
+        box.value = slider.value  # refused: the box goes back to the step shown
+        syncing[0] = False
+        status.value = (f"<span style='color:#b00020'>&#9888; Step {value} is out of range: choose a step from 0 "
+                        f"to {last}. The step box is back to {slider.value}.</span>")
+
+    def moved(n: int) -> None:
+        syncing[0] = True
+        box.value = n
+        syncing[0] = False
+        show(n)
+
+    slider.observe(lambda change: moved(change["new"]), names="value")
+    box.observe(lambda change: typed(change["new"]), names="value")
     show(slider.value)
-    return w.VBox([slider, image, readout, status])
+    return w.VBox([w.HBox([slider, box]), status, image, readout])

@@ -33,7 +33,6 @@ solution stays. `Study` is the model's former name, kept as a deprecated alias.
 
 from __future__ import annotations
 
-import dataclasses
 import time
 import warnings
 from typing import Any
@@ -45,7 +44,7 @@ from ..elements import ELEMENTS
 from ..errors import InputError
 from ..options import CRACK_MODELS, SolveOptions
 from ..pipeline import Pipeline
-from ..scene import Crack, Scene
+from ..scene import Scene
 from ..scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
 from ..scenes import load as _load_scene
 from ..scenes import names as _scene_names
@@ -77,11 +76,6 @@ _CONTROL_LEVEL = {
     "E": "assemble", "nu": "assemble", "element": "assemble",
     "maxh": "mesh",
 }
-
-
-def friction_supported() -> bool:
-    """True where the installed ngcrack's cracks carry a Coulomb ``friction`` coefficient."""
-    return "friction" in {f.name for f in dataclasses.fields(Crack)}
 
 
 def _one_line(exc: BaseException) -> str:
@@ -152,8 +146,7 @@ class Explorer:
             ref = self.base
         self.state.setdefault("E", ref.material.E)
         self.state.setdefault("nu", ref.material.nu)
-        if friction_supported():
-            self.state.setdefault("friction", float(getattr(ref.cracks[0], "friction", 0.0) or 0.0) if ref.cracks else 0.0)
+        self.state.setdefault("friction", ref.cracks[0].friction if ref.cracks else 0.0)
         # every value checked before anything is built: ValueError naming the control and what it allows
         check_choice("element", element, ELEMENTS)
         self.ranges: dict[str, Range] = dict(FIXED)
@@ -180,7 +173,7 @@ class Explorer:
     # ------------------------------------------------------------------ controls
     def controls(self) -> tuple[str, ...]:
         """The names `update` accepts."""
-        names = ["load", "load_angle", "E", "nu"] + (["friction"] if friction_supported() else [])
+        names = ["load", "load_angle", "E", "nu", "friction"]
         names += ["maxh", "element", "crack_model", "field", "scales", "magnification"]
         if self.function is not None:
             names += [p.name for p in self.function.geometry()]
@@ -215,7 +208,7 @@ class Explorer:
         """The scene the current controls describe (validated; raises on a bad combination)."""
         st = self.state
         scene = scaled_loads(self._base_scene(), st["load"], st["load_angle"]).with_(E=st["E"], nu=st["nu"])
-        if friction_supported() and scene.cracks and self._friction_set:
+        if scene.cracks and self._friction_set:
             scene = scene.with_(friction=st["friction"])
         return scene
 
@@ -366,9 +359,9 @@ def _length_where(sol, test) -> float:
 
 
 class Study(Explorer):
-    """Deprecated name of `Explorer` (the explorer's model; `ngcrack.study` is sweeps)."""
+    """Deprecated name of `Explorer` (the explorer's model; `ngcrack.sweeps` holds the sweeps)."""
 
     def __init__(self, *args: Any, **kwargs: Any):
-        warnings.warn("nc.Study is now nc.Explorer (the explorer's model; ngcrack.study holds the sweeps)",
+        warnings.warn("nc.Study is now nc.Explorer (the explorer's model; ngcrack.sweeps holds the sweeps)",
                       DeprecationWarning, stacklevel=2)
         super().__init__(*args, **kwargs)

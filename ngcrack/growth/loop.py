@@ -60,7 +60,7 @@ import shapely
 
 from ngcrack.options import SolveOptions
 from ngcrack.pipeline import Pipeline, SolveError
-from ngcrack.scene import SceneError
+from ngcrack.scene import SceneError, tip_label
 
 from ..errors import InputError
 from .criteria import (
@@ -203,15 +203,6 @@ def tip_values(sol, criterion: str = "mts", r_c: float | None = None) -> list[di
     return out
 
 
-def _kkt_max(sol) -> float:
-    return float(max(sol.kkt.values())) if sol.kkt else 0.0
-
-
-def _relative_estimate(sol):
-    est = sol.error_estimate
-    return None if est is None else float(est.relative)
-
-
 def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str = "pls", *,
          together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, r_c: float | None = None,
          paris=None, R: float = 0.0, at_hole="stop",
@@ -301,10 +292,10 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                 break
             if cycles is not None:
                 cycles.growing(scene, values, {v["label"] for v in growing})
-        grew = {f"{e.crack},{e.end}": e for e in extensions if e.point is not None}
+        grew = {tip_label(e.crack, e.end): e for e in extensions if e.point is not None}
         for e in extensions:  # a tip that has grown up to a hole stops there
             if e.outcome == "hole":
-                frozen[f"{e.crack},{e.end}"] = e.reason
+                frozen[tip_label(e.crack, e.end)] = e.reason
         if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
             for v in values:
                 if v["label"] not in grew:
@@ -322,7 +313,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             progress(n, result)
         for e in extensions:
             if e.outcome in ("boundary", "hole"):
-                result.events.append((n, f"{e.crack},{e.end}", e.reason))
+                result.events.append((n, tip_label(e.crack, e.end), e.reason))
         if fractured:
             stopped = fractured
             break
@@ -531,7 +522,7 @@ def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=
         if not extensions:
             return None
         for e in extensions:
-            v = next(v for v in growing if v["label"] == f"{e.crack},{e.end}")
+            v = next(v for v in growing if v["label"] == tip_label(e.crack, e.end))
             v["kink"] = theta[v["label"]]
         cut = _cut(scene, region, extensions)
         if cut is not None:
@@ -546,7 +537,7 @@ def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=
         new_tips = {t.label: t for t in new_sol.tips}
         done, closing = True, []
         for e in extensions:
-            lab = f"{e.crack},{e.end}"
+            lab = tip_label(e.crack, e.end)
             t = new_tips.get(lab)
             if e.outcome != "grew" or t is None:
                 continue

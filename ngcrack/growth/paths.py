@@ -20,6 +20,8 @@ import numpy as np
 import shapely
 import shapely.ops
 
+from ..scene import tip_label
+
 #: a new segment that reaches the boundary within (1 + SNAP_FRACTION) da ends on the
 #: boundary: no sliver of body thinner than about da / 2 is left ahead of a tip
 SNAP_FRACTION = 0.5
@@ -114,7 +116,7 @@ def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da:
     d = np.array([math.cos(phi), math.sin(phi)])
     q = p + da * d
     reach = shapely.LineString([p, p + (1.0 + SNAP_FRACTION) * da * d])
-    label = f"{k},{end}"
+    label = tip_label(k, end)
     outcome = "grew"
     gap = HOLE_CLEARANCE_RTOL * scene.diameter
     for i, ring in enumerate(region.interiors):

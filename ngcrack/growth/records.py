@@ -53,16 +53,13 @@ def step_loads(sol, load_factor) -> StepLoads:
 def plot_load_displacement(result, ax=None, path=None):
     """The P-delta curve of the run's primary load: one point per step, the origin first
     (the linear loading up to the first growth), labelled by step."""
-    import matplotlib
     import numpy as np
 
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    from ..plots import new_figure
 
     fig = None
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
+    if ax is None:  # (to a file: a figure of its own, pyplot's backend untouched)
+        fig, ax = new_figure(path, figsize=(6, 4.5), constrained_layout=True)
     table = result.table.groupby("step").first()
     P, d = table["force"].to_numpy(dtype=float), table["displacement"].to_numpy(dtype=float)
     ok = np.isfinite(P) & np.isfinite(d)
@@ -77,5 +74,4 @@ def plot_load_displacement(result, ax=None, path=None):
     ax.grid(alpha=0.3)
     if path is not None and fig is not None:
         fig.savefig(path, dpi=130)
-        plt.close(fig)
     return fig if fig is not None else ax.figure

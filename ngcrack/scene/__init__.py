@@ -59,6 +59,7 @@ from .types import (
     BoundaryCondition,
     Crack,
     Material,
+    tip_label,
 )
 
 __all__ = [
@@ -88,4 +89,5 @@ __all__ = [
     "SceneError",
     "diameter",
     "polygon_area",
+    "tip_label",
 ]

@@ -81,17 +81,11 @@ def mid(p: Point, q: Point) -> Point:
 
 
 def point_segment_distance(x: Point, p: Point, q: Point) -> float:
-    """Distance from the point x to the closed segment p-q."""
+    """Distance from the point x to the closed segment p-q (points as pairs or numpy arrays)."""
+    x, p, q = ((float(v[0]), float(v[1])) for v in (x, p, q))
     if p == q:
         return dist(x, p)
     return shapely.Point(x).distance(shapely.LineString([p, q]))
-
-
-def segment_distance(p1: Point, p2: Point, q1: Point, q2: Point) -> float:
-    """Distance between two closed segments (0 if they cross or touch)."""
-    a = shapely.LineString([p1, p2]) if p1 != p2 else shapely.Point(p1)
-    b = shapely.LineString([q1, q2]) if q1 != q2 else shapely.Point(q1)
-    return a.distance(b)
 
 
 @functools.lru_cache(maxsize=256)

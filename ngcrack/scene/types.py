@@ -37,6 +37,7 @@ __all__ = [
     "BoundaryCondition",
     "Crack",
     "Material",
+    "tip_label",
 ]
 
 #: Relative geometric tolerance. Two points closer than ``GEOMETRY_RTOL * diameter``
@@ -308,6 +309,12 @@ class Crack:
         if self.pressure is not None:
             d["pressure"] = pressure_to_toml(self.pressure, "crack.pressure")
         return d
+
+
+def tip_label(crack: int, end: str) -> str:
+    """`crack,end`, e.g. `0,last` (crack index, its "first" or "last" point): the one name
+    of a crack end in tables, columns and messages (`ngcrack.tips.Tip.label`)."""
+    return f"{crack},{end}"
 
 
 def check_exact(ex: Any) -> FrozenMap:

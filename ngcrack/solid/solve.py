@@ -72,7 +72,7 @@ def check_options(options: dict) -> dict:
             raise InputError(f"{key} = {v!r}: must be a finite number > 0")
     return {"element": element, "order": int(order), "crack_model": model,
             "linear_solver": options.get("linear_solver") or "auto",
-            "fronts": options.get("fronts", False), "front_points": options.get("front_points")}
+            "fronts": options.get("fronts", True), "front_points": options.get("front_points")}
 
 
 def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options) -> SolidSolution:

@@ -1,0 +1,281 @@
+"""K_I, K_II, K_III and G at points along every crack front: a domain interaction integral.
+
+At a front point P with the local frame e1 (in the crack plane, normal to the front,
+pointing away from the crack), e2 (the crack normal) and e3 = e1 x e2 (along the
+front), the domain integrals over the tube around the front weighted by a q-function
+that is 1 at P and falls to 0 along the front and away from it,
+
+    J   = int ( sigma_ij u_i,1 - W delta_1j ) q,j dV / int q ds
+    I_m = int ( sigma_ij u^m_i,1 + sigma^m_ij u_i,1 - sigma_ij eps^m_ij delta_1j ) q,j dV / int q ds
+
+(indices in the front frame, ,1 the derivative along e1) give G = J and, with the
+auxiliary fields u^m of mode m with unit K (the 2D Williams fields of ngcrack.tips in
+plane strain for modes I and II, the antiplane field for mode III),
+
+    K_I = E' I_1 / 2,   K_II = E' I_2 / 2,   K_III = mu I_3,     E' = E / (1 - nu^2).
+
+q(x) = h(s) g(r): s the arc length of x's foot on the front from P, r the distance from
+the front in the plane normal to it; h = cos^2(pi s / 2 L) for |s| < L (a smooth bump
+of half-width L along the front), g = 1 for r < R/4 falling linearly to 0 at r = R.
+Both and their gradients are evaluated exactly at the quadrature points (numpy; the
+fields come from vectorized NGSolve evaluations). The gradient of u is that of 2D
+TDNNS: the strain from the stress (A sigma) plus the skew part of grad u.
+
+Approximations, stated: the auxiliary fields are the straight-front fields in the local
+frame (their curvature terms vanish as R -> 0); the crack-face traction terms of the 2D
+integral are left out, which is exact for frictionless faces that are open (no
+traction) and for closed ones for K_II and K_III (no shear); where the faces at P are
+closed K_I is set to 0 (it is the multiplier's, not the field's).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from ..tips import williams_displacement, williams_dx1, williams_stress
+
+#: the tube radius R and the half-width L along the front, in front_h (the mesh size at the front)
+TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 2.0
+#: q's plateau: g = 1 for r < PLATEAU_FRACTION * R
+PLATEAU_FRACTION = 0.25
+#: quadrature order on the tetrahedra in the tube
+QUADRATURE_ORDER = 6
+
+
+@dataclass
+class FrontParameters:
+    """The fracture parameters at points along one crack's front."""
+
+    crack: int
+    points: np.ndarray  # (n, 3)
+    K_I: np.ndarray
+    K_II: np.ndarray
+    K_III: np.ndarray
+    G: np.ndarray
+    closed: np.ndarray  # the faces at the point are closed (K_I set to 0)
+    angle: np.ndarray  # the front's parameter at each point (disc, ellipse: the angle; polygon: arc length)
+
+    def to_json_dict(self) -> dict:
+        return {"crack": self.crack, "points": self.points.tolist(), "K_I": self.K_I.tolist(),
+                "K_II": self.K_II.tolist(), "K_III": self.K_III.tolist(), "G": self.G.tolist()}
+
+
+# ------------------------------------------------------------------------ front geometry
+class FrontGeometry:
+    """The front of a disc or an ellipse: points, frames and the coordinates of space points."""
+
+    def __init__(self, crack):
+        self.crack = crack
+        self.a, self.b = crack.semi_axes
+        self.c = crack.center
+        self.ea, self.eb, self.n = crack.e_a, crack.e_b, crack.normal
+
+    def point(self, phi):
+        return self.c + np.multiply.outer(self.a * np.cos(phi), self.ea) + np.multiply.outer(self.b * np.sin(phi), self.eb)
+
+    def frame(self, phi):
+        """(e1, e2, e3) at the angle(s) phi: e1 outward in the plane, e2 the normal, e3 = e1 x e2."""
+        t = np.multiply.outer(-self.a * np.sin(phi), self.ea) + np.multiply.outer(self.b * np.cos(phi), self.eb)
+        t = t / np.linalg.norm(t, axis=-1, keepdims=True)
+        e1 = np.cross(t, self.n)
+        e2 = np.broadcast_to(self.n, e1.shape)
+        return e1, e2, np.cross(e1, e2)
+
+    def speed(self, phi):
+        """ds/dphi on the front."""
+        return np.hypot(self.a * np.sin(phi), self.b * np.cos(phi))
+
+    def coordinates(self, x: np.ndarray):
+        """For points x (k, 3): the foot's angle phi, (x1, x2) in the frame there and d(phi)/d(x3)."""
+        d = x - self.c
+        u, v, z = d @ self.ea, d @ self.eb, d @ self.n
+        phi = np.arctan2(v / self.b, u / self.a)
+        if self.a != self.b:  # a few Newton steps towards the nearest point of the ellipse
+            for _ in range(4):
+                c, s = np.cos(phi), np.sin(phi)
+                f = (self.a * c - u) * (-self.a * s) + (self.b * s - v) * (self.b * c)
+                df = (self.a * s) ** 2 + (self.b * c) ** 2 + (self.a * c - u) * (-self.a * c) + (self.b * s - v) * (-self.b * s)
+                phi = phi - f / np.where(np.abs(df) > 1e-14, df, 1e-14)
+        e1, _, e3 = self.frame(phi)
+        rel = x - self.point(phi)
+        x1 = np.sum(rel * e1, axis=1)
+        # curvature of the front: moving by x1 along e1 stretches the arc by (1 + kappa x1)
+        kappa = self.a * self.b / self.speed(phi) ** 3
+        dphi_dx3 = 1.0 / (self.speed(phi) * (1.0 + kappa * x1))
+        return phi, x1, z, dphi_dx3
+
+    def turning(self, phi, x1):
+        """d e1 / d x3 . e3 at the point: the rate at which the frame turns along the front there."""
+        kappa = self.a * self.b / self.speed(phi) ** 3
+        return kappa / (1.0 + kappa * x1)
+
+
+def _wrap(d):
+    return (d + np.pi) % (2 * np.pi) - np.pi
+
+
+# --------------------------------------------------------------------- the domain integral
+def _tube_points(sol, geom: FrontGeometry, R: float):
+    """Quadrature points of the tetrahedra within R (plus a cell) of the front, with weights."""
+    mesh = sol.smesh.mesh
+    pts = sol.smesh.points
+    _, x1, x2, _ = geom.coordinates(pts)
+    dist = np.hypot(x1, x2)
+    h = sol.smesh.sizes["front_h"]
+    near = dist < R + 2.0 * h
+    tets = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)])
+    sel = np.flatnonzero(near[tets].any(axis=1))
+    rule = ngs.IntegrationRule(ngs.TET, QUADRATURE_ORDER)
+    k = len(rule.weights)
+    mp = mesh.MapToAllElements(rule, ngs.VOL).reshape(mesh.ne, k)[sel].ravel()
+    jac = np.asarray(ngs.specialcf.JacobianMatrix(3)(mp)).reshape(-1, 3, 3)
+    w = np.abs(np.linalg.det(jac)) * np.tile(np.array(rule.weights), len(sel))
+    xyz = np.column_stack([np.asarray(c(mp)).ravel() for c in (ngs.x, ngs.y, ngs.z)])
+    return mp, xyz, w
+
+
+def _aux_fields(x1, x2, E, nu):
+    """Per point: the auxiliary stresses (3, k, 3, 3), du/dx1 and u (3, k, 3) of modes I, II, III (K = 1), local frame."""
+    mu = E / (2 * (1 + nu))
+    kappa = 3 - 4 * nu
+    r = np.hypot(x1, x2)
+    th = np.arctan2(x2, x1)
+    k = len(r)
+    sig = np.zeros((3, k, 3, 3))
+    du = np.zeros((3, k, 3))
+    u = np.zeros((3, k, 3))
+    for m, mode in enumerate((1, 2)):
+        s11, s22, s12 = williams_stress(r, th, mode)
+        sig[m, :, 0, 0], sig[m, :, 1, 1], sig[m, :, 0, 1], sig[m, :, 1, 0] = s11, s22, s12, s12
+        sig[m, :, 2, 2] = nu * (s11 + s22)  # plane strain along the front
+        d1, d2 = williams_dx1(r, th, mode, kappa, mu)
+        du[m, :, 0], du[m, :, 1] = d1, d2
+        u[m, :, 0], u[m, :, 1] = williams_displacement(r, th, mode, kappa, mu)
+    s = 1.0 / np.sqrt(2 * np.pi * r)
+    sig[2, :, 0, 2] = sig[2, :, 2, 0] = -s * np.sin(th / 2)
+    sig[2, :, 1, 2] = sig[2, :, 2, 1] = s * np.cos(th / 2)
+    du[2, :, 2] = -s * np.sin(th / 2) / mu
+    u[2, :, 2] = 2.0 / mu * np.sqrt(r / (2 * np.pi)) * np.sin(th / 2)
+    return sig, du, u
+
+
+def front_parameters(sol, points: int | None = None) -> list[FrontParameters]:
+    """K_I, K_II, K_III and G at `points` points along every front (default: one per 2 front_h, 8 at least)."""
+    out = []
+    for i, crack_faces in enumerate(sol.smesh.cracks):
+        crack = crack_faces.crack
+        if crack.shape == "polygon":
+            continue  # straight fronts with corners: a later step (module docstring of ngcrack.solid)
+        out.append(_one_front(sol, i, FrontGeometry(crack), points))
+    return out
+
+
+def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> FrontParameters:
+    E, nu = sol.scene.material.E, sol.scene.material.nu
+    mu = E / (2 * (1 + nu))
+    e_prime = E / (1 - nu * nu)
+    h = sol.smesh.sizes["front_h"]
+    R, L = TUBE_RADIUS_H * h, HALF_WIDTH_H * h
+    perimeter = float(np.sum(geom.speed(np.linspace(0, 2 * np.pi, 721)[:-1])) * 2 * np.pi / 720)
+    n = n_points or max(8, int(perimeter / (2 * h)))
+    # points equally spaced in arc length
+    phis = np.linspace(0, 2 * np.pi, 2001)
+    arc = np.concatenate([[0.0], np.cumsum(geom.speed(0.5 * (phis[1:] + phis[:-1])) * np.diff(phis))])
+    phi_i = np.interp(np.arange(n) * perimeter / n, arc, phis)
+    s_i = np.arange(n) * perimeter / n
+
+    mp, xyz, w = _tube_points(sol, geom, R)
+    phi, x1, x2, dphi_dx3 = geom.coordinates(xyz)
+    s = np.interp(phi % (2 * np.pi), phis, arc)
+    r = np.hypot(x1, x2)
+    inner = PLATEAU_FRACTION * R
+    g = np.clip((R - r) / (R - inner), 0.0, 1.0)
+    dg = np.where((r > inner) & (r < R), -1.0 / (R - inner), 0.0)
+    # fields in the local frame of each point's foot
+    e1, e2, e3 = geom.frame(phi)
+    Q = np.stack([e1, e2, e3], axis=1)  # rows: local = Q global
+    fields = sol.fields
+    sigma = np.asarray(fields["sigma"](mp)).reshape(-1, 3, 3)
+    sigma = 0.5 * (sigma + np.swapaxes(sigma, 1, 2))
+    grad = np.asarray(fields["grad_u"](mp)).reshape(-1, 3, 3)
+    c_dev, c_tr = (1 + nu) / E, nu / E
+    eps = c_dev * sigma - c_tr * np.trace(sigma, axis1=1, axis2=2)[:, None, None] * np.eye(3)
+    grad = eps + 0.5 * (grad - np.swapaxes(grad, 1, 2))
+    QT = np.swapaxes(Q, 1, 2)
+    sig_l = Q @ sigma @ QT
+    grad_l = Q @ grad @ QT
+    eps_l = 0.5 * (grad_l + np.swapaxes(grad_l, 1, 2))
+    du1, du3 = grad_l[:, :, 0], grad_l[:, :, 2]
+    turn = geom.turning(phi, x1)
+    W = 0.5 * np.sum(sig_l * eps_l, axis=(1, 2))
+    aux_sig, aux_du, aux_u = _aux_fields(x1, x2, E, nu)
+    aux_eps = c_dev * aux_sig - c_tr * np.trace(aux_sig, axis1=2, axis2=3)[..., None, None] * np.eye(3)
+    # the auxiliary displacement turns with the frame along a curved front: its gradient along
+    # e3 gains turn (u_1 e3 - u_3 e1); the strain used is that compatible one
+    aux_du3 = np.zeros_like(aux_du)
+    aux_du3[:, :, 2] = turn * aux_u[:, :, 0]
+    aux_du3[:, :, 0] = -turn * aux_u[:, :, 2]
+    aux_eps[:, :, 2, 2] += aux_du3[:, :, 2]
+    aux_eps[:, :, 0, 2] += 0.5 * aux_du3[:, :, 0]
+    aux_eps[:, :, 2, 0] += 0.5 * aux_du3[:, :, 0]
+
+    K = np.zeros((n, 3))
+    J = np.zeros(n)
+    for k in range(n):
+        ds = _wrap((s - s_i[k]) / perimeter * 2 * np.pi) * perimeter / (2 * np.pi)
+        inside = (np.abs(ds) < L) & (r < R)
+        if not inside.any():
+            continue
+        hk = np.where(inside, np.cos(0.5 * np.pi * ds / L) ** 2, 0.0)
+        dh = np.where(inside, -np.pi / (2 * L) * np.sin(np.pi * ds / L), 0.0)
+        # grad q in the local frame: (dq/dx1, dq/dx2, dq/dx3)
+        rs = np.where(r > 0, r, 1.0)
+        gq = np.column_stack([hk * dg * x1 / rs, hk * dg * x2 / rs, dh * g * geom.speed(phi) * dphi_dx3])
+        sel = np.flatnonzero(inside)
+        wk, gqk = w[sel], gq[sel]
+        sig_gq = np.einsum("kij,kj->ki", sig_l[sel], gqk)
+        # the virtual extension q e1 turns with the front: d(q e1)_k/dx_j has the extra
+        # part q turn delta_k3 delta_j3 (e1 rotates towards e3 along the front)
+        qt = hk[sel] * g[sel] * turn[sel]
+        J[k] = wk @ (np.sum(du1[sel] * sig_gq, axis=1) - W[sel] * gqk[:, 0]
+                     + qt * (np.sum(sig_l[sel][:, :, 2] * du3[sel], axis=1) - W[sel]))
+        for m in range(3):
+            asg = np.einsum("kij,kj->ki", aux_sig[m, sel], gqk)
+            I = wk @ (np.sum(aux_du[m, sel] * sig_gq, axis=1) + np.sum(du1[sel] * asg, axis=1)
+                      - np.sum(sig_l[sel] * aux_eps[m, sel], axis=(1, 2)) * gqk[:, 0]
+                      + qt * (np.sum(aux_sig[m, sel][:, :, 2] * du3[sel], axis=1)
+                              + np.sum(sig_l[sel][:, :, 2] * aux_du3[m, sel], axis=1)
+                              - np.sum(sig_l[sel] * aux_eps[m, sel], axis=(1, 2))))
+            K[k, m] = I
+        length = L  # int h ds = L for the cos^2 bump of half-width L
+        J[k] /= length
+        K[k] /= length
+    K_I, K_II, K_III = 0.5 * e_prime * K[:, 0], 0.5 * e_prime * K[:, 1], mu * K[:, 2]
+    closed = _closed_at(sol, index, geom.point(phi_i))
+    K_I = np.where(closed, 0.0, K_I)
+    return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, phi_i)
+
+
+def _closed_at(sol, index: int, points: np.ndarray) -> np.ndarray:
+    """True where the constraint points of the crack nearest to each front point are all closed."""
+    if sol.contact is None:
+        return np.zeros(len(points), dtype=bool)
+    per = sol._per_face()
+    start = sum(len(c.elements) for c in sol.smesh.cracks[:index]) * per
+    count = len(sol.smesh.cracks[index].elements) * per
+    where = sol.disc.constraint_points[start:start + count]
+    active = sol.contact.active[start:start + count]
+    out = np.zeros(len(points), dtype=bool)
+    for k, p in enumerate(points):
+        near = np.argsort(np.linalg.norm(where - p, axis=1))[:6]
+        out[k] = bool(active[near].all())
+    return out
+
+
+def sneddon_K_I(pressure: float, radius: float) -> float:
+    """K_I of a penny crack of radius a under remote tension p in an infinite body: 2 p sqrt(a / pi)."""
+    return 2.0 * pressure * math.sqrt(radius / math.pi)
