@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
+from ngcrack.cli import main
 from ngcrack.growth import criteria, fatigue, holes, paths
 from ngcrack.scenes.handbook import centre_cracked_K, centre_cracked_strip
 
@@ -206,10 +207,13 @@ def _hole_crack():
     return nc.scenes.load("hole-crack").with_(cracks=[nc.Crack(points=((12.6, 10.0), (15.0, 10.0)))])
 
 
-def test_bad_at_hole_refused_before_any_solve():
+def test_bad_at_hole_refused_before_any_solve(tmp_path, capsys):
     for bad in ("go", -1.0, True, 100.0):
         with pytest.raises(nc.InputError, match="^at_hole = "):
             nc.grow(_hole_crack(), da=0.25, steps=1, at_hole=bad)
+    out = tmp_path / "bad.json"
+    code = main(["grow", "hole-crack", "--da", "0.25", "--steps", "1", "--at-hole", "go", "--json", str(out)])
+    assert code == 2 and "at_hole" in capsys.readouterr().err and not out.exists()
 
 
 def test_a_crack_through_a_hole_leaves_it_where_the_hoop_stress_is_largest():

@@ -20,11 +20,16 @@ The closest approach of every crack to every hole is reported in `result.holes` 
 from __future__ import annotations
 
 import math
+import re
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import InputError
+from ..scene import SceneError
 
+#: a tip's frozen reason when it stopped at a hole (paths.extend_tip)
+HOLE_REASON = re.compile(r"reached hole\[(\d+)\]")
 #: the hoop stress is sampled at this many points around the hole
 SAMPLES = 360
 #: ... this fraction of the hole's radius into the body
@@ -77,3 +82,42 @@ def new_crack(scene, sol, hole_index: int, tip_xy, length: float, friction: floa
     d = np.array([math.cos(phi[k]), math.sin(phi[k])])
     start = c + (hole.radius + NEW_CRACK_GAP * scene.diameter) * d
     return Crack(((float(start[0]), float(start[1])), tuple(map(float, start + length * d))), friction)
+
+
+@dataclass
+class Left:
+    """What `leave_holes` did: the scene with the new cracks (None: none) and the events."""
+
+    scene: object = None
+    events: list = field(default_factory=list)
+
+
+def leave_holes(scene, sol, values, frozen, passed: set, length: float) -> Left:
+    """For every tip that has just stopped at a hole no crack has left yet: a new crack of `length`
+    leaving that hole (holes.new_crack) added to `scene`."""
+    out = Left()
+    cracks = list(scene.cracks)
+    for v in values:
+        lab = v["label"]
+        m = HOLE_REASON.search(frozen.get(lab, ""))
+        if m is None or lab in passed:
+            continue
+        passed.add(lab)
+        i = int(m.group(1))
+        if ("hole", i) in passed:
+            continue
+        passed.add(("hole", i))
+        c = new_crack(scene, sol, i, (v["x"], v["y"]), length, scene.cracks[v["crack"]].friction)
+        if isinstance(c, str):
+            out.events.append((lab, c))
+            continue
+        cracks.append(c)
+        (x0, y0), (x1, y1) = c.points
+        out.events.append((lab, f"crack {len(cracks) - 1} leaves hole[{i}] from ({x0:.4g}, {y0:.4g}) to "
+                                f"({x1:.4g}, {y1:.4g}), where its hoop stress is largest"))
+    if len(cracks) > len(scene.cracks):
+        try:
+            out.scene = scene.with_(cracks=cracks)
+        except SceneError as exc:
+            out.events.append(("", f"the new crack makes no valid scene ({exc})"))
+    return out

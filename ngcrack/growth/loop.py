@@ -44,14 +44,13 @@ compression, da = a/10, bdm): the K_II at the tip of a new segment responds to i
 angle at about 1.5 K_I per radian, three times the small-kink value K_I/2 that the MTS
 angle -2 K_II/K_I assumes, so each explicit MTS step overcorrects about threefold and the
 path zig-zags with a growing amplitude (kinks +7, -24, +22, -36, +40, -49 degrees), while
-PLS turns smoothly (kinks -4.6, -4.1, -2.9, -2.5, -1.8 degrees) at about 1.5 solves per
-step. On a straight path both agree: |K_II| below KINK_NOISE_RTOL K_eq is taken as 0.
+PLS turns smoothly (kinks -4.6, -4.1, -2.9, -2.5, -1.8 degrees), at 1.25 solves per step
+on the README's teaching scene (benchmarks/growth.py). On a straight path both agree: |K_II| below KINK_NOISE_RTOL K_eq is taken as 0.
 """
 
 from __future__ import annotations
 
 import math
-import re
 import time
 from dataclasses import dataclass, field
 
@@ -78,7 +77,7 @@ from .criteria import (
     secant_angle,
 )
 from .fatigue import Cycles, check_paris
-from .holes import check_at_hole
+from .holes import check_at_hole, leave_holes
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
 
 #: the most steps a growth run may take
@@ -112,8 +111,6 @@ DRIVE_NOISE_RTOL = 1e-3
 #: the parts of a solve's cost recorded per step (table columns PART_s), from the solve's timings
 COST_PARTS = {"mesh": ("mesh",), "assembly": ("assemble",), "linear": ("factorize", "solve", "recover"),
               "crack": ("schur", "qp"), "post": ("tips", "estimate")}
-#: a tip's frozen reason when it stopped at a hole (paths.extend_tip)
-_HOLE_REASON = re.compile(r"reached hole\[(\d+)\]")
 #: solve options grow sets itself
 _RESERVED = ("warm_start", "crack_mesh", "loads")
 
@@ -223,7 +220,9 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     column counts the cycles (Paris law da/dN = C Delta_K^m integrated over the step), and
     the run stops when K_max reaches K_Ic.
     A tip reaching the boundary stops there; where the cracks then cut the body in pieces the
-    run ends ("cut through", the last segment kept in `paths`). Tips stop before meeting a
+    run ends ("cut through", the last segment kept in `paths`). A tip reaching a hole grows up
+    to it and stops; at_hole: "stop" (the default), or a length L0: a new crack of that length
+    leaves the hole where its hoop stress is largest (holes.py). Tips stop before meeting a
     crack, or where their new tip would close (frozen, with the reason); the run stops after
     `steps` steps, when no tip is left inside the body, or when none can grow.
     """
@@ -331,7 +330,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             stopped = next_scene
             break
         if hole_crack is not None and not failed:
-            left = _leave_holes(scene if next_scene is None else next_scene, sol, values, frozen, passed, hole_crack)
+            left = leave_holes(scene if next_scene is None else next_scene, sol, values, frozen, passed, hole_crack)
             for lab, what in left.events:
                 result.events.append((n, lab, what))
             if left.scene is not None:
@@ -363,47 +362,6 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     result.solution = sol
     result.frozen = dict(frozen)
     return result
-
-
-@dataclass
-class _Left:
-    """What `_leave_holes` did: the scene with the new cracks (None: none) and the events."""
-
-    scene: object = None
-    events: list = field(default_factory=list)
-
-
-def _leave_holes(scene, sol, values, frozen, passed: set, length: float) -> _Left:
-    """For every tip that has just stopped at a hole no crack has left yet: a new crack of `length`
-    leaving that hole (holes.new_crack) added to `scene`."""
-    from .holes import new_crack
-
-    out = _Left()
-    cracks = list(scene.cracks)
-    for v in values:
-        lab = v["label"]
-        m = _HOLE_REASON.search(frozen.get(lab, ""))
-        if m is None or lab in passed:
-            continue
-        passed.add(lab)
-        i = int(m.group(1))
-        if ("hole", i) in passed:
-            continue
-        passed.add(("hole", i))
-        c = new_crack(scene, sol, i, (v["x"], v["y"]), length, scene.cracks[v["crack"]].friction)
-        if isinstance(c, str):
-            out.events.append((lab, c))
-            continue
-        cracks.append(c)
-        (x0, y0), (x1, y1) = c.points
-        out.events.append((lab, f"crack {len(cracks) - 1} leaves hole[{i}] from ({x0:.4g}, {y0:.4g}) to "
-                                f"({x1:.4g}, {y1:.4g}), where its hoop stress is largest"))
-    if len(cracks) > len(scene.cracks):
-        try:
-            out.scene = scene.with_(cracks=cracks)
-        except SceneError as exc:
-            out.events.append(("", f"the new crack makes no valid scene ({exc})"))
-    return out
 
 
 def _extend(scene, region, angles: dict, growing: list[dict], da: float, frozen: dict) -> list:
