@@ -81,13 +81,15 @@ def __dir__() -> list[str]:
 
 
 class _Package(types.ModuleType):
-    """The package's module type: importing the submodule ``ngcrack.solve`` binds it as an
-    attribute of the package (Python's import system does), which would hide the function
-    ``nc.solve``; the function stays the package's ``solve``, as with eager imports."""
+    """The package's module type. Importing a submodule that shares its name with a public
+    function (``ngcrack.solve``, ``ngcrack.hydrofrac``) binds the submodule as an attribute
+    of the package (Python's import system does), which would hide the function; that
+    binding is skipped, so the name stays the function's (resolved on first use, as with
+    eager imports) and the submodule stays in sys.modules."""
 
     def __setattr__(self, name, value):
         if isinstance(value, types.ModuleType) and name in _EXPORTS and name not in _MODULES:
-            value = getattr(value, name)
+            return
         super().__setattr__(name, value)
 
 

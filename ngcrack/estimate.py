@@ -74,6 +74,7 @@ from .local_fields import (
     _topology,
 )
 from .materials import compliance, lame_parameters
+from .scene.pressure import pressure_values
 
 #: the crack models with an estimate (the sign condition on [w].nu differs per model)
 ESTIMATE_CRACK_MODELS = ("contact", "free", "bonded")
@@ -304,7 +305,8 @@ def _crack_jump_quadrature(W: np.ndarray, cmesh: CrackMesh, top: _Topology, degr
         x = c.a[:, None, :] + t[None, :, None] * (c.b - c.a)[:, None, :]
         L = c.length
         parts.append({"x": x, "w": 0.5 * wg[None, :] * L[:, None], "j": j, "nu": nu,
-                      "edge": np.asarray(c.edge, dtype=int), "L": L})
+                      "edge": np.asarray(c.edge, dtype=int), "L": L,
+                      "s": c.s_mid[:, None] + (t[None, :] - 0.5) * L[:, None], "crack": np.full(len(c), c.index)})
     if not parts:
         return None
     return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
@@ -349,7 +351,8 @@ def _admissible_displacement(sol, loads, crack_model: str, top: _Topology) -> tu
 
 
 def _contact_term(sol, W: np.ndarray, top: _Topology, degree: int) -> tuple[np.ndarray, float]:
-    """2 int_e |sigma_h,n| [w].nu per crack edge, split between its two triangles; and min [w].nu."""
+    """2 int_e |sigma_h,n + p| [w].nu per crack edge (p the crack-face pressure, 0 without one:
+    the contact's part of the traction), split between its two triangles; and min [w].nu."""
     cmesh = sol.crack_mesh
     mesh = cmesh.mesh
     out = np.zeros(mesh.ne)
@@ -361,6 +364,11 @@ def _contact_term(sol, W: np.ndarray, top: _Topology, degree: int) -> tuple[np.n
     sig = np.asarray(sol.sigma(mesh(pts[:, 0], pts[:, 1]))).reshape(len(q["edge"]), -1, 2, 2)
     nu = q["nu"]
     sn = np.einsum("ei,epij,ej->ep", nu, sig, nu)
+    # the contact's part of the normal traction: a crack-face pressure p is load data (sigma_n = -p - lam)
+    for k, crack in enumerate(sol.scene.cracks):
+        if getattr(crack, "pressure", None) is not None:
+            on = q["crack"] == k
+            sn[on] += pressure_values(crack.pressure, q["s"][on])
     per_edge = 2.0 * np.sum(q["w"] * np.abs(sn) * q["j"], axis=1)
     kept = top.__dict__.setdefault("_edge_elements", {})  # mesh data: kept with the topology
     for e, value in zip(q["edge"], per_edge):

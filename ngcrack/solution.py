@@ -17,8 +17,33 @@ from .constraints import KKT_KEYS
 from .contact import QPResult
 from .elements import Discretization
 from .geometry import CrackMesh
+from .options import SolveOptions
 from .post import CrackProfile
 from .scene import Scene
+
+
+@dataclass(frozen=True)
+class Backend:
+    """What a solve chose where its options left the choice open (typed, for the stages
+    after the solve and for the report): `qp_solver` the crack problem's solver,
+    `linear_solver` the sparse factorization's back end ("auto" resolved), `schur` the
+    Schur-complement method, `largest_dense` the largest dense block it formed,
+    `tangential` whether the crack problem kept the tangential jumps (friction applied),
+    `friction` each crack's Coulomb coefficient as applied (0 without contact)."""
+
+    qp_solver: str
+    linear_solver: str
+    schur: str
+    largest_dense: int
+    tangential: bool
+    friction: tuple[float, ...]
+
+    def report(self, options: SolveOptions) -> dict:
+        """The options and choices of a solve by name (`Solution.options`: what is printed and compared)."""
+        return {"qp_solver": self.qp_solver, "linear_solver": self.linear_solver, "schur": self.schur,
+                "largest_dense": self.largest_dense, "tip_h": options.tip_h, "crack_model": options.crack_model,
+                "order": options.order, "friction": list(self.friction), "friction_method": options.friction_method,
+                "tangential": self.tangential, "hp": options.hp or 0}
 
 
 @dataclass
@@ -43,6 +68,11 @@ class Solution:
     a P1 jump sampled on the edge where contact ends carries both a small opening and a
     small pressure). No crack: all zero. `timings` in seconds, `ndof` counts (total,
     global after condensation, contact), `built` lists what was built.
+
+    `solve_options` are the options the solve was asked for (`SolveOptions`), `backend`
+    what it chose (`Backend`); `options` names both for printing and comparing (and holds
+    what a loop around the solve reports: `adapt`). `no_estimate` says why a solve has no
+    error estimate ("" where it has one).
     """
 
     scene: Scene
@@ -63,10 +93,61 @@ class Solution:
     tips: list = field(default_factory=list)
     kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
     forces: np.ndarray | None = None
-    #: the a posteriori estimate of the stress error (estimate.py), None where none exists
-    error_estimate: object = None
     #: with adapt=TOL: one row per refinement step (adapt.py), a pandas DataFrame
     adapt_history: object = None
+    #: the options the solve was asked for, and what it chose where they left it open
+    solve_options: SolveOptions | None = None
+    backend: Backend | None = None
+    #: the error estimate once computed, why there is none, and the computation a solve
+    #: leaves pending (`error_estimate`, `no_estimate`)
+    _estimate: object = field(default=None, repr=False)
+    _no_estimate: str = field(default="", repr=False)
+    _pending_estimate: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def error_estimate(self):
+        """The a posteriori estimate of the stress error (estimate.py), None where none exists.
+
+        Computed on first access (a run that does not ask for it skips its cost, about a
+        tenth of a small solve); `sol.timings["estimate"]` is its time from then on."""
+        if self._pending_estimate is not None:
+            pending, self._pending_estimate = self._pending_estimate, None
+            self._estimate = pending()
+        return self._estimate
+
+    @error_estimate.setter
+    def error_estimate(self, value) -> None:
+        self._pending_estimate = None
+        self._estimate = value
+
+    @property
+    def no_estimate(self) -> str:
+        """Why the solve has no error estimate ("" where it has one)."""
+        self.error_estimate  # noqa: B018 -- a pending estimate decides
+        return self._no_estimate
+
+    @no_estimate.setter
+    def no_estimate(self, value: str) -> None:
+        self._no_estimate = value
+
+    def defer_estimate(self, compute) -> None:
+        """`compute()` gives the error estimate (or None, setting `no_estimate`) when first asked for."""
+        self._estimate, self._pending_estimate = None, compute
+
+    @property
+    def estimate_pending(self) -> bool:
+        """True while the error estimate is still to be computed."""
+        return self._pending_estimate is not None
+
+    @property
+    def crack_model(self) -> str:
+        """The crack model the solve used ("contact" unless its options say otherwise)."""
+        return self.solve_options.crack_model if self.solve_options is not None else "contact"
+
+    @property
+    def friction_applied(self) -> bool:
+        """Whether the crack problem kept the tangential jumps, i.e. friction acted."""
+        return bool(self.backend is not None and self.backend.tangential)
 
     @property
     def mesh(self) -> ngs.Mesh:

@@ -410,7 +410,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     open crack's faces.
     """
     prof = sol.profiles[k]
-    model = sol.options.get("crack_model", "contact")
+    model = sol.crack_model
     sn = np.asarray(prof.normal_stress, dtype=float)
     # the crack-face pressure p loads the open faces: sigma_n = -p there
     applied_p = -pressure_values(getattr(sol.scene.cracks[k], "pressure", None), prof.s)
@@ -421,7 +421,7 @@ def face_traction(sol, k: int) -> tuple[np.ndarray, np.ndarray]:
     closed = faces_closed(jn, scale)
     sn = np.where(closed, sn, applied_p)
     # friction acts only where the solve applied it (unilateral contact with the tangential jumps kept)
-    applied = bool(sol.options.get("tangential"))
+    applied = sol.friction_applied
     friction = float(getattr(sol.scene.cracks[k], "friction", 0.0) or 0.0) if applied else 0.0
     tau = np.where(closed, np.asarray(prof.shear_stress, dtype=float), 0.0) if friction > 0 else np.zeros_like(sn)
     return sn, tau

@@ -68,6 +68,14 @@ def _free_port() -> int:
 #: the cells added at the notebook's end: a widget with the webgui view, and a bad construction (last: run-all
 #: stops there)
 EXTRA_CELLS = ['w3 = nc.explore("griffith-plate", maxh=2.0, webgui=True)\nw3',
+               'import warnings\n'
+               'wings = nc.scenes.inclined_crack(angle=45.0, load=-1.0).with_(friction=0.3)\n'
+               'with warnings.catch_warnings():  # (a coarse mesh on purpose: quick)\n'
+               '    warnings.simplefilter("ignore")\n'
+               '    res = nc.grow(wings, da=0.1, steps=2, K_Ic=1.0, maxh=2.0, tip_h=0.05)\n'
+               'res.animate("wings.gif")  # a file: the figures after it still show\n'
+               'g = nc.explore_growth(res)\ng',
+               'plt.figure(figsize=(3, 2))\nplt.plot([0, 1], [0, 1])\nplt.title("shown after the GIF")\nplt.show()',
                'nc.explore("inclined-crack", element="q2")']
 
 
@@ -315,6 +323,52 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             page.wait_for_timeout(300)
             page.screenshot(path=str(shots / "6-free-compression.png"))
             figure.screenshot(path=str(shots / "6-free-overlap-figure.png"))
+            # 4b. a refused combination: nu = 1/2 (fine for bdm), then the displacement element h1p1
+            _type(page, "nu", "0.5")
+            _wait_data(page, "d.state.nu === 0.5 && d.error === null", MOVE_TIMEOUT)
+            element = page.locator(".widget-dropdown:has(label:text-is('element')) select").first
+            element.select_option("h1p1")
+            page.wait_for_selector(".ngcrack-status:has-text('cannot take')", timeout=MOVE_TIMEOUT * 1000)
+            _wait_idle(page, MOVE_TIMEOUT)
+            page.wait_for_timeout(300)
+            seen["combination"] = _data(page)
+            seen["combination_status"] = page.locator(".ngcrack-status").first.inner_text()
+            seen["element_menu"] = element.input_value()
+            page.screenshot(path=str(shots / "6b-refused-combination.png"))
+            _type(page, "nu", "0.3")
+            _wait_data(page, "d.state.nu === 0.3 && d.error === null", MOVE_TIMEOUT)
+            # a load change and a remesh, from input to figure, in the browser
+            latency = {}
+            for control, value, key in (("load", "-0.5", "load change"), ("angle", "35", "remesh (crack angle)")):
+                t_in = time.monotonic()
+                _type(page, control, value)  # (the hidden data is written after the figure: its change is the figure's)
+                page.wait_for_function(f"() => {{ const e = document.querySelector('.ngcrack-data'); return e &&"
+                                       f" JSON.parse(e.textContent).state.{control} === {float(value)}; }}",
+                                       timeout=MOVE_TIMEOUT * 1000)
+                latency[key] = time.monotonic() - t_in
+                _wait_idle(page, MOVE_TIMEOUT)
+                latency[key + ", kernel side"] = _data(page)["timing"]
+            seen["latency"] = latency
+            figure.screenshot(path=str(shots / "6c-after-remesh-figure.png"))
+            # 4c. the growth view: a step typed out of range is refused in one red line
+            gfig = page.locator("img.ngcrack-growth-figure").first
+            gfig.scroll_into_view_if_needed()
+            g_src = gfig.get_attribute("src")
+            gbox = page.locator(".ngcrack-growth-typed-step input").first
+            gbox.click()
+            gbox.fill("99")
+            gbox.press("Enter")
+            page.wait_for_selector("text=Step 99 is out of range", timeout=MOVE_TIMEOUT * 1000)
+            seen["growth_refused"] = gbox.input_value()
+            page.screenshot(path=str(shots / "6d-growth-step-refused.png"))
+            gbox.click()
+            gbox.fill("2")
+            gbox.press("Enter")
+            page.wait_for_function("(src) => { const i = document.querySelector('img.ngcrack-growth-figure');"
+                                   " return i && i.src !== src; }", arg=g_src, timeout=MOVE_TIMEOUT * 1000)
+            _wait_idle(page, MOVE_TIMEOUT)
+            gfig.screenshot(path=str(shots / "6e-growth-step-2.png"))
+            seen["after_gif_images"] = page.locator(".jp-Cell:has-text('shown after the GIF') .jp-OutputArea img").count()
             # 5. the webgui view of the third widget
             box = page.locator(".widget-checkbox:has-text('NGSolve webgui')").first
             box.scroll_into_view_if_needed()
@@ -339,6 +393,11 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
     print(f"[browser] {time.monotonic() - t0:.1f} s; one key press to a new figure {one_step:.2f} s, "
           f"{PRESSES - 1} more presses settled {settle:.1f} s after the last (including 1 s of stillness); "
           f"screenshots in {shots}")
+    for key, value in seen.get("latency", {}).items():  # (measured, not a threshold: the machine may be loaded)
+        if isinstance(value, dict):
+            print(f"[browser]   {key}: " + " + ".join(f"{k} {v:.2f}" for k, v in value.items()) + " s")
+        else:
+            print(f"[browser] input to figure, {key}: {value:.2f} s")
     assert seen["broken"] == 0, f"{seen['broken']} widgets not displayed"
     # 1. slider
     d = seen["slider"]
@@ -360,6 +419,14 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
     # 4. free under compression: overlap, no gap
     d = seen["free"]
     assert d["max_overlap"] > 0 and d["max_gap"] == 0, d
+    # 4b. the refused combination: one sentence naming what to do, the menu back on bdm
+    d = seen["combination"]
+    sentence = seen["combination_status"].strip().split("\n")[0]
+    assert "h1p1 cannot take Poisson's ratio 1/2" in sentence and "Error" not in sentence, sentence
+    assert seen["element_menu"] == "bdm" and d["state"]["element"] == d["controls"]["element"] == "bdm"
+    # 4c. the growth view refuses step 99 and keeps the step shown; a figure after the GIF still shows
+    assert seen["growth_refused"] == "0"
+    assert seen["after_gif_images"] == 1
     # 5. webgui
     assert seen["canvases"] >= 1
     # 6. the construction error

@@ -193,8 +193,11 @@ def test_held_scales_depend_on_the_controls_not_on_their_history():
     assert a.reference_scales("sigma_nu") == ref
     a.update(load=-1.0, crack_model="free", load_angle=30.0)
     assert a.reference_scales("sigma_nu") == ref
-    b = nc.Explorer("inclined-crack", maxh=MAXH, E=1000.0, load=-0.5)
+    b = nc.Explorer("inclined-crack", maxh=MAXH, E=1000.0, load=-0.5)  # (a solve at the reference load)
     assert b.reference_scales("sigma_nu") == pytest.approx(ref, rel=1e-9)
+    c = nc.Explorer("inclined-crack", maxh=MAXH, load=0.4)  # (L = 0.4 > 0: the answer scaled by 1/L, no solve)
+    runs = dict(c.counts)
+    assert c.reference_scales("sigma_nu") == pytest.approx(ref, rel=1e-6) and c.counts == runs
     # they follow the material and the geometry: stresses do not depend on E, displacements do
     a.update(E=100.0)
     soft = a.reference_scales("sigma_nu")
@@ -602,7 +605,8 @@ def test_scales_are_held_while_the_load_changes():
     # the time split adds up: the model's update plus the drawing
     w.controls["load"].value = 0.8
     r = w.model.readouts()
-    assert sum(w.timing.values()) == pytest.approx(r["latency_s"] + w.timing["drawing"], rel=1e-9, abs=1e-12)
+    assert sum(w.timing.values()) == pytest.approx(r["latency_s"] + w.timing["drawing"] + w.timing.get("scales", 0.0),
+                                                   rel=1e-9, abs=1e-12)
     # K values tied to their tips, three significant digits
     tips = w.drawing.data["tips"]
     assert len(tips) == 2 and tips[0].startswith(("left tip (", "right tip (")) and "K_I = " in tips[0]
@@ -629,3 +633,43 @@ def test_webgui_field_is_the_figure_field():
     cf, name = webgui_field(stress, "von_mises")
     vals = np.asarray(cf(stress.mesh(cent[:, 0], cent[:, 1]))).reshape(-1)
     assert "plane stress" in name and np.allclose(vals, ex.stress_values(stress, "von_mises"), rtol=1e-12)
+
+
+def test_a_closed_tip_shows_K_I_zero_by_the_one_state_rule():
+    """Under compression the inclined crack is closed at both tips (the state of the crack
+    sample nearest each tip, the rule the growth loop uses): K_I is shown as 0, not as the
+    method's small error about zero; in tension the computed K_I is shown."""
+    from ngcrack.explorer.fields import tip_closed
+
+    study = nc.Explorer("inclined-crack", maxh=MAXH)
+    d = ex.Drawing()
+    d.render(study.solution)
+    sol = study.solution
+    assert all(tip_closed(sol, t) for t in sol.tips) and max(abs(t.K_I) for t in sol.tips) < 0.05
+    assert all("K_I = 0 (faces closed)" in t for t in d.data["tips"])
+    study.update(load=-1.0)
+    d.render(study.solution)
+    assert not any(tip_closed(study.solution, t) for t in study.solution.tips)
+    assert all(f"K_I = {t.K_I:#.3g}".rstrip(".") in s for t, s in zip(study.solution.tips, d.data["tips"]))
+
+
+def test_webgui_view_draws_the_figures_deformation_faces_and_limits():
+    """The 3D view's deformation is the figure's, to round-off (each triangle's affine map
+    through its corners' displacements); the crack faces are lines; the colours are fixed
+    at the figure's limits, not the tip's peak."""
+    from ngcrack.explorer.webgui import deformation_cf, webgui_scene
+    from ngcrack.plots import element_displacements
+
+    sol = nc.Explorer("inclined-crack", maxh=MAXH, load=-1.0).solution
+    corners, disp = element_displacements(sol)
+    c = corners.mean(axis=1)
+    pts = (0.8 * corners + 0.2 * c[:, None, :]).reshape(-1, 2)
+    vals = np.asarray(deformation_cf(sol, 2.0)(sol.mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 3)
+    expected = 2.0 * (0.8 * disp + 0.2 * disp.mean(axis=1)[:, None, :]).reshape(-1, 2)
+    assert np.max(np.abs(vals[:, :2] - expected)) <= 1e-12 * np.max(np.abs(expected)) and np.all(vals[:, 2] == 0)
+    kw = webgui_scene(sol, 100.0, (-0.9, 0.9), "sigma_nu")
+    (lines,) = kw["objects"]
+    n_edges = sum(len(cr) for cr in sol.crack_mesh.cracks)
+    assert lines["type"] == "lines" and len(lines["position"]) == 2 * n_edges * 6  # two faces, a point pair an edge
+    assert kw["settings"]["Colormap"] == {"autoscale": False, "min": -0.9, "max": 0.9, "ncolors": 24}
+    assert kw["caption"].startswith("sigma_nu: colours from -0.9 to 0.9") and "× 100" in kw["caption"]

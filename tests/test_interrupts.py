@@ -164,7 +164,7 @@ def _signal_in_step(monkeypatch, at_call: int, then):
 
     real, calls = loop.tip_values, []
 
-    def tip_values(sol):
+    def tip_values(*args, **kwargs):
         calls.append(1)
         if len(calls) == at_call:
             try:
@@ -172,7 +172,7 @@ def _signal_in_step(monkeypatch, at_call: int, then):
                 time.sleep(5)  # the handler raises here
             except KeyboardInterrupt as exc:
                 then(exc)
-        return real(sol)
+        return real(*args, **kwargs)
 
     monkeypatch.setattr(loop, "tip_values", tip_values)
 

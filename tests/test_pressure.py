@@ -52,6 +52,8 @@ def test_superposition_with_remote_tension(element):
     assert np.allclose(b.profiles[0].normal_stress, -1.0, atol=1e-9)
     assert set(b.profiles[0].state) == {"open"}
     assert max(b.kkt_sampled.values()) < 1e-10
+    # the error estimate takes the pressure as load data: the same stress error, the same estimate
+    assert abs(b.error_estimate.energy / a.error_estimate.energy - 1) < 1e-3
 
 
 def test_zero_pressure_is_the_unloaded_answer():
@@ -73,7 +75,7 @@ def _sneddon(tip_h):
 
 
 def test_sneddon_within_a_tenth_of_a_percent():
-    coarse, fine = _sneddon(0.01), _sneddon(0.005)
+    coarse, fine = _sneddon(0.008), _sneddon(0.004)
     converged = 2 * fine - coarse  # the opening and the volume converge as h (measured), K_I faster
     assert np.all(np.abs(fine / converged - 1) < 1e-3), fine / converged
     exact = np.array([math.sqrt(math.pi), 4 / E_PRIME, math.pi / E_PRIME])
@@ -131,3 +133,29 @@ def test_pressure_round_trips_through_toml():
     assert Scene.from_toml_string(half_plate(10.0, 2.5).to_toml_string()).cracks[0].pressure == 2.5
     with pytest.raises(SceneError, match="callable cannot be written"):
         half_plate(10.0, lambda s: 1.0).to_toml_string()
+
+
+def test_explorer_pressure_control():
+    model = nc.Explorer("griffith", "tdnns", maxh=2.0, solve_options=dict(tip_h=0.02, crack_h=0.1))
+    K_tension = model.solution.tips[0].K_I
+    model.update(pressure=1.0)  # the remote tension and the pressure add up
+    assert abs(model.solution.tips[0].K_I / K_tension - 2) < 1e-8
+    factorized = model.counts["factorize"]
+    model.update(load=0.0)  # the pressure alone: Griffith's answer, one more solve on the same factorization
+    assert abs(model.solution.tips[0].K_I / K_tension - 1) < 1e-8
+    assert model.counts["factorize"] == factorized
+    model.update(pressure=1e9)
+    assert model.error is not None and "pressure" in model.error and model.state["pressure"] == 1.0
+
+
+def test_pressure_lowers_the_friction_of_a_closed_crack():
+    """The inclined crack under compression with Coulomb friction: a fluid pressure p_f < |sigma_n|
+    keeps it closed and lowers the normal traction to sigma_n + p_f, so it slips with
+    K_II = (|tau| - mu |sigma_n + p_f|) sqrt(pi a)."""
+    scene = nc.scenes.load("inclined-compression").with_(friction=0.3, pressure=0.5)
+    sol = nc.solve(scene, maxh=2.0, tip_h=0.01, crack_h=0.05)
+    tau, sigma_n = math.sin(math.radians(30)) * math.cos(math.radians(30)), 0.75
+    exact = (tau - 0.3 * (sigma_n - 0.5)) * math.sqrt(math.pi)
+    assert all(abs(abs(t.K_II) / exact - 1) < 0.01 for t in sol.tips)
+    assert set(sol.profiles[0].state) == {"slip"}
+    assert max(sol.kkt.values()) < 1e-12

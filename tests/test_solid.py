@@ -228,3 +228,21 @@ def test_active_set_meets_the_kkt_conditions_with_a_block_diagonal_map():
     assert w.min() > -1e-12 and lam.min() > -1e-12 and np.max(np.abs(w * lam)) < 1e-12
     assert 0 < res.active.sum() < m  # some closed, some open: the test means something
     assert np.allclose(res.lam, lam, atol=1e-12) and all(v < 1e-12 for v in res.kkt.values())
+
+
+@pytest.mark.slow
+def test_ellipse_front_follows_irwin():
+    from scipy.special import ellipe
+
+    d = penny(crack=[{"shape": "ellipse", "center": [0, 0, 0], "normal": [0, 0, 1], "semi_axes": [1.0, 0.5],
+                      "major_axis": [1, 0, 0]}], mesh={"maxh": 5.0, "crack_h": 0.3, "front_h": 0.15})
+    sol = nc.solve(SolidScene.from_dict(d))
+    (front,) = sol.fronts
+    a, b = 1.0, 0.5
+    irwin = math.sqrt(math.pi * b) / ellipe(1 - b * b / (a * a)) * (
+        np.sin(front.angle) ** 2 + (b / a) ** 2 * np.cos(front.angle) ** 2) ** 0.25
+    assert np.all(np.abs(front.K_I / irwin - 1.0) < 0.08), front.K_I / irwin
+    # pure mode I: the shear modes are noise, largest beside the major axis' ends where the tube is
+    # narrowed to half the radius of curvature (b^2/a = 0.25 = 1.7 front_h here)
+    for K in (front.K_II, front.K_III):
+        assert np.median(np.abs(K) / irwin) < 0.02 and np.max(np.abs(K) / irwin) < 0.2

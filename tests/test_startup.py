@@ -63,9 +63,11 @@ def test_every_public_name_resolves():
         nc.no_such_name  # noqa: B018
 
 
-def test_solve_stays_the_function_after_its_module_is_imported():
+def test_a_function_stays_the_function_after_its_module_is_imported():
     code = ("import ngcrack as nc, ngcrack.pipeline; import ngcrack.solve; from ngcrack import solve; "
-            "print(callable(nc.solve) and nc.solve is solve and nc.solve.__module__ == 'ngcrack.solve')")
+            "import ngcrack.hydrofrac.cli; "
+            "print(callable(nc.solve) and nc.solve is solve and nc.solve.__module__ == 'ngcrack.solve' "
+            "and callable(nc.hydrofrac) and nc.hydrofrac.__module__ == 'ngcrack.hydrofrac.loop')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "True"
 

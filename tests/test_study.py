@@ -236,9 +236,9 @@ def test_csv_and_dataframe_schema(tmp_path):
     assert (df.reference_ndof[df.maxh == 0.3].to_numpy() == df.ndof_total[df.maxh == 0.2].to_numpy()).all()
     assert df.err_opening.isna().all()
     assert (df.crack_model == "contact").all() and (df.reference_element == "").all()
-    # the CSV: header = ROW_COLUMNS, one line per row, read back to the same values
+    # the CSV: header = ROW_COLUMNS, the tips and the rows' digest, one line per row, read back to the same values
     lines = out.read_text().splitlines()
-    assert lines[0] == ",".join(list(ROW_COLUMNS) + [f'"{c}"' for c in tips]) and len(lines) == 9
+    assert lines[0] == ",".join(list(ROW_COLUMNS) + [f'"{c}"' for c in tips] + ["row_check"]) and len(lines) == 9
     back = study.read_results(out)
     assert list(back.columns) == list(ROW_COLUMNS) + tips
     assert np.isfinite(back[tips]).all().all()

@@ -21,7 +21,7 @@ from ..errors import InputError
 #: the names the widget shows (the keyword is what `nc.explore` and `update` take)
 LABELS = {
     "load": "load factor", "load_angle": "load angle", "E": "Young's modulus", "nu": "Poisson's ratio",
-    "friction": "friction coefficient",
+    "friction": "friction coefficient", "pressure": "crack pressure",
     "maxh": "mesh size", "element": "element", "crack_model": "crack model", "field": "stress shown",
     "scales": "scales", "magnification": "magnification",
     "angle": "crack angle", "half_length": "crack half length", "center_x": "crack centre x",
@@ -35,6 +35,7 @@ HELP = {
     "E": "Young's modulus, in the scene's stress units (the stresses of a load do not depend on it)",
     "nu": "Poisson's ratio (1/2: incompressible, only for the mixed elements)",
     "friction": "Coulomb friction coefficient of the crack faces",
+    "pressure": "a uniform pressure on every crack's faces, pushing them apart (stress units; negative: suction)",
     "maxh": "largest triangle size (finer: more unknowns, slower)",
     "magnification": "displacements drawn times this factor (0: automatic, the largest displacement 8% of the body)",
 }
@@ -54,7 +55,7 @@ SCALES = {"auto": "hold for load changes", "hold": "hold always", "fit": "fit ev
 CRACK_MODEL_LABELS = {"contact": "contact (Signorini)", "free": "free (no contact)", "bonded": "bonded (faces glued)"}
 
 #: controls whose change keeps the held scales in "auto" (the rest re-fit them)
-HOLD_ON = frozenset({"load", "load_angle", "friction", "crack_model", "magnification", "scales"})
+HOLD_ON = frozenset({"load", "load_angle", "friction", "pressure", "crack_model", "magnification", "scales"})
 
 #: the finest mesh size offered gives at most this many unknowns (sizing.py's estimate)
 MAX_UNKNOWNS = 2.0e5
@@ -162,3 +163,18 @@ def mesh_size_range(scene, element: str, maxh: float | None, solve_options: dict
     rounded = float(f"{finest:.3g}")
     low = min(rounded if rounded >= finest else finest, h0)
     return Range(low, high, 0.05, log=True), h0
+
+
+def pressure_range(scene) -> Range:
+    """The crack pressures offered: up to PRESSURE_SPAN times the scene's largest traction
+    (E / 1000 when it has none, a strain of 1e-3), either sign, and the scene's own uniform
+    pressures if larger."""
+    loads = [math.hypot(*bc.value) for bc in scene.boundary.values() if bc.type == "traction" and bc.value]
+    own = [abs(c.pressure) for c in scene.cracks if isinstance(c.pressure, float)]
+    scale = max(loads, default=0.0) or 1e-3 * scene.material.E
+    high = max([PRESSURE_SPAN * scale] + own)
+    return Range(-high, high, high / 40.0)
+
+
+#: the pressure slider spans this many times the scene's largest traction
+PRESSURE_SPAN = 2.0

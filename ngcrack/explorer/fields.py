@@ -23,6 +23,24 @@ def tip_value(tip, key):
     return tip.get(key) if isinstance(tip, dict) else getattr(tip, key, None)
 
 
+def tip_closed(sol, tip) -> bool:
+    """Whether the faces at `tip` touch: the state of the crack sample nearest it is not
+    "open" (the crack problem's one state rule, post.profile_states, as the growth loop
+    reads it). A closed tip's K_I is shown as 0: the crack cannot open there, and the
+    computed value is the method's error about zero."""
+    profiles = getattr(sol, "profiles", None) or []
+    k = tip_value(tip, "crack")
+    if k is None or k >= len(profiles):
+        return False
+    prof = profiles[k]
+    state = getattr(prof, "state", None)
+    if state is None or not len(state):
+        return False
+    x, y = tip_value(tip, "x"), tip_value(tip, "y")
+    i = int(np.argmin((np.asarray(prof.x) - x) ** 2 + (np.asarray(prof.y) - y) ** 2))
+    return str(state[i]) != "open"
+
+
 def significant(value: float, digits: int = K_DIGITS) -> str:
     """`value` at `digits` significant digits, trailing zeros kept (0.500, 1.20e-05)."""
     return f"{value:#.{digits}g}".rstrip(".")

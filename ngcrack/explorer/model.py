@@ -48,7 +48,7 @@ from ..scene import Scene
 from ..scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
 from ..scenes import load as _load_scene
 from ..scenes import names as _scene_names
-from .controls import FIXED, SCALES, ControlRefused, Range, check_choice, e_range, mesh_size_range
+from .controls import FIXED, SCALES, ControlRefused, Range, check_choice, e_range, mesh_size_range, pressure_range
 from .figure import FIELDS
 from .loads import scaled_loads
 from .messages import refusal
@@ -72,7 +72,7 @@ FIGURE_DPI = 80
 LEVELS = ("view", "load", "assemble", "mesh")
 _CONTROL_LEVEL = {
     "field": "view", "scales": "view", "magnification": "view",
-    "load": "load", "load_angle": "load", "friction": "load", "crack_model": "load",
+    "load": "load", "load_angle": "load", "friction": "load", "pressure": "load", "crack_model": "load",
     "E": "assemble", "nu": "assemble", "element": "assemble",
     "maxh": "mesh",
 }
@@ -133,13 +133,15 @@ class Explorer:
                                       "load": load, "load_angle": load_angle, "scales": "auto", "magnification": 0.0}
         if self.function is not None:
             self.state.update({p.name: p.default for p in self.function.parameters if p.kind == "geometry"})
-        unknown = [k for k in params if k not in self.state and k not in ("E", "nu", "friction")]
+        unknown = [k for k in params if k not in self.state and k not in ("E", "nu", "friction", "pressure")]
         if unknown:
             raise InputError(f"unknown control{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
                               f"allowed: {', '.join(self.controls())}")
         self.state.update(params)
         # the friction control overrides the scene's per-crack coefficients only once it is set
         self._friction_set = "friction" in params
+        # likewise the pressure control overrides the cracks' own pressures once it is set
+        self._pressure_set = "pressure" in params
         if self.function is not None:
             ref = self.function()  # the material and mesh-size defaults (the geometry is checked by the first update)
         else:
@@ -147,10 +149,13 @@ class Explorer:
         self.state.setdefault("E", ref.material.E)
         self.state.setdefault("nu", ref.material.nu)
         self.state.setdefault("friction", ref.cracks[0].friction if ref.cracks else 0.0)
+        own = ref.cracks[0].pressure if ref.cracks else None
+        self.state.setdefault("pressure", own if isinstance(own, float) else 0.0)
         # every value checked before anything is built: ValueError naming the control and what it allows
         check_choice("element", element, ELEMENTS)
         self.ranges: dict[str, Range] = dict(FIXED)
         self.ranges["E"] = e_range(self.state["E"])
+        self.ranges["pressure"] = pressure_range(ref)
         self.ranges["maxh"], self.start_maxh = mesh_size_range(ref, element, maxh, self.solve_options)
         if self.function is not None:
             self.ranges.update({p.name: Range(p.low, p.high, p.step) for p in self.function.geometry()})
@@ -173,7 +178,7 @@ class Explorer:
     # ------------------------------------------------------------------ controls
     def controls(self) -> tuple[str, ...]:
         """The names `update` accepts."""
-        names = ["load", "load_angle", "E", "nu", "friction"]
+        names = ["load", "load_angle", "E", "nu", "friction", "pressure"]
         names += ["maxh", "element", "crack_model", "field", "scales", "magnification"]
         if self.function is not None:
             names += [p.name for p in self.function.geometry()]
@@ -210,6 +215,8 @@ class Explorer:
         scene = scaled_loads(self._base_scene(), st["load"], st["load_angle"]).with_(E=st["E"], nu=st["nu"])
         if scene.cracks and self._friction_set:
             scene = scene.with_(friction=st["friction"])
+        if scene.cracks and self._pressure_set:
+            scene = scene.with_(pressure=st["pressure"])
         return scene
 
     # ------------------------------------------------------------------ update
@@ -226,7 +233,7 @@ class Explorer:
         """
         t0 = time.perf_counter()
         self.redone = []
-        before, friction_before = dict(self.state), self._friction_set
+        before, set_before = dict(self.state), (self._friction_set, self._pressure_set)
         try:
             unknown = [k for k in changes if k not in self.controls()]
             if unknown:
@@ -239,6 +246,7 @@ class Explorer:
             changes = {k: self.check(k, v) for k, v in changes.items()}
             self.state.update(changes)
             self._friction_set = self._friction_set or "friction" in changes
+            self._pressure_set = self._pressure_set or "pressure" in changes
             if self.solution is not None and changes and all(self.level(k) == "view" for k in changes) \
                     and self.error is None:
                 self.redone = ["figure"]
@@ -251,7 +259,7 @@ class Explorer:
             self.error, self.error_detail = refusal(exc, changes, self.state)
             self.refused = tuple(changes)
             if self.solution is not None:  # back to the controls of the answer shown
-                self.state, self._friction_set = before, friction_before
+                self.state, (self._friction_set, self._pressure_set) = before, set_before
             return None
         finally:
             self.latency = time.perf_counter() - t0
@@ -271,7 +279,7 @@ class Explorer:
     # ------------------------------------------------------------------ scales
     #: the controls the held scales do not depend on ("hold for load changes"): the scales
     #: are those of the reference load whatever their values
-    HELD_AT_REFERENCE = ("load", "load_angle", "friction", "crack_model")
+    HELD_AT_REFERENCE = ("load", "load_angle", "friction", "pressure", "crack_model")
 
     def reference_controls(self) -> dict[str, Any]:
         """The controls of the scales' reference: the current ones with the scene's own load
@@ -283,8 +291,11 @@ class Explorer:
         answer at the scene's reference load (load factor 1, load angle 0, the scene's own
         friction, crack model contact) for the current material, element, mesh size and
         geometry. They depend on these controls only, never on the order in which the
-        controls were changed: a load change keeps them, any other change re-fits them
-        (one extra solve on the same mesh where the current load is not the reference)."""
+        controls were changed: a load change keeps them, any other change re-fits them.
+        Where the current answer is a positive multiple L of the reference's (load factor
+        L > 0, load angle 0, crack model contact, the scene's friction: the problem is
+        positively homogeneous in the load) they are the current answer's scaled by 1/L;
+        otherwise one extra solve at the reference load on the same mesh gives them."""
         from .fields import fit_scales
 
         field = field or self.state["field"]
@@ -293,20 +304,28 @@ class Explorer:
                     and k not in ("field", "scales", "magnification"))
         cached = getattr(self, "_reference", None)
         if cached is None or cached[0] != key:
-            same = all(self.state[k] == ref[k] for k in ("load", "load_angle", "crack_model")) \
-                and not self._friction_set
-            sol = self.solution if same and self.error is None else None
-            if sol is None:
+            st = self.state
+            proportional = st["load_angle"] == ref["load_angle"] and st["crack_model"] == "contact" \
+                and not self._friction_set and not self._pressure_set and self.error is None \
+                and self.solution is not None
+            if proportional and st["load"] > 0:
+                # contact (and friction) under one proportional load: the answer at load factor
+                # L is L times the reference's (positively homogeneous), so no solve is needed
+                sol, factor = self.solution, float(st["load"])
+            else:
                 base = self._base_scene()
                 scene = scaled_loads(base, 1.0, 0.0).with_(E=ref["E"], nu=ref["nu"])
                 opts = SolveOptions.of(**{k: v for k, v in self.solve_options.items() if k != "warm_start"},
                                        element=ref["element"], maxh=ref["maxh"], crack_model="contact")
-                sol = self.pipeline.run(scene, opts)
-            cached = (key, sol, {})
+                sol, factor = self.pipeline.run(scene, opts), 1.0
+            cached = (key, sol, factor, {})
             self._reference = cached
-        if field not in cached[2]:
-            cached[2][field] = fit_scales(cached[1], field)
-        return dict(cached[2][field])
+        _, sol, factor, fitted = cached
+        if field not in fitted:
+            sc = fit_scales(sol, field)
+            fitted[field] = {"scale": sc["scale"] * factor, "clim": sc["clim"] / factor, "jump": sc["jump"] / factor,
+                             "traction": sc["traction"] / factor, "load": sc["load"] / factor}
+        return dict(fitted[field])
 
     @property
     def counts(self) -> dict[str, int]:

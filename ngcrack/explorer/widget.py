@@ -144,7 +144,7 @@ class _ExplorerView:
         self.drawing = Drawing()
         style = {"description_width": "125px"}
         rows = []
-        numeric = ["load", "load_angle", "E", "nu"] + (["friction"] if "friction" in st else []) + ["maxh"]
+        numeric = ["load", "load_angle", "E", "nu"] + [k for k in ("friction", "pressure") if k in st] + ["maxh"]
         if model.function is not None:
             numeric += [p.name for p in model.function.geometry()]
         for name in numeric:
@@ -254,16 +254,18 @@ class _ExplorerView:
     # ------------------------------------------------------------------ drawing
     def _refresh(self, hold: bool = False, t0: float | None = None) -> None:
         m = self.model
-        draw_s = 0.0
+        draw_s = scales_s = 0.0
         if m.error is None and m.solution is not None:
             try:
-                t_draw = time.perf_counter()
+                t_scales = time.perf_counter()
                 scales = None
                 if m.state["scales"] == "auto":  # the reference load's scales (a documented rule, not history)
                     try:
                         scales = m.reference_scales(m.state["field"])
                     except Exception:  # noqa: BLE001  (no reference answer: the frame's own scales)
                         scales = None
+                t_draw = time.perf_counter()
+                scales_s = t_draw - t_scales
                 self._png = self.drawing.render(m.solution, m.state["field"], title=m.name, hold=hold,
                                                 magnification=m.state["magnification"],
                                                 load_factor=m.state["load"], scales=scales)
@@ -277,12 +279,12 @@ class _ExplorerView:
                            f"{_escape(CRACK_MODEL_HELP.get(m.state['crack_model'], ''))}. <b>load factor</b> "
                            f"{_escape(LOAD_HELP)}.</div>")
         if m.error is None:  # (after a failure the readout stays that of the figure shown)
-            self._readout(draw_s)
+            self._readout(draw_s, scales_s)
         self._data()
         if self.webgui is not None and getattr(self, "_webgui_on", False):
             self._draw_webgui(True)
 
-    def _readout(self, draw_s: float) -> None:
+    def _readout(self, draw_s: float, scales_s: float = 0.0) -> None:
         m = self.model
         r = m.readouts()
         if not r:
@@ -294,6 +296,8 @@ class _ExplorerView:
         else:
             split = {k: t[k] for k in ("mesh", "assemble", "linear", "contact", "tips", "estimate")}
             split["rest of the solve"] = max(0.0, r["latency_s"] - sum(split.values()))
+            if scales_s >= 0.005:  # the reference load's answer, solved for the held scales
+                split["scales"] = scales_s
             split["drawing"] = draw_s
         self.timing = split
         total = sum(split.values())
@@ -328,9 +332,14 @@ class _ExplorerView:
             return
         with self.webgui:
             try:
-                show_webgui(*webgui_field(self.model.solution, self.model.state["field"]), self.model.solution.mesh)
+                from .webgui import webgui_scene
+
+                d = self.drawing.data
+                cf, name = webgui_field(self.model.solution, self.model.state["field"])
+                show_webgui(cf, name, self.model.solution.mesh,
+                            **webgui_scene(self.model.solution, d.get("magnification") or 0.0, d.get("clim"), name))
             except Exception as exc:  # noqa: BLE001
-                print(_one_line(exc))
+                print("The 3D view could not be drawn: " + _one_line(exc))
 
 
 def webgui_field(sol, field: str) -> tuple[Any, str]:
@@ -351,14 +360,20 @@ def webgui_field(sol, field: str) -> tuple[Any, str]:
     return vm, f"von Mises (plane {mat.plane})"
 
 
-def show_webgui(cf, name: str, mesh) -> None:
+def show_webgui(cf, name: str, mesh, deformation=None, objects=None, settings=None, caption: str = "") -> None:
     """NGSolve's webgui view of `cf` on `mesh`, displayed: through webgui_jupyter_widgets
     where it is installed (its JavaScript ships with it, so the view works offline), else
-    through ngsolve.webgui's own widget (anywidget; it loads its JavaScript from a CDN)."""
-    from IPython.display import display
+    through ngsolve.webgui's own widget (anywidget; it loads its JavaScript from a CDN).
+    ``deformation`` (a 3-vector CoefficientFunction), ``objects`` (lines, text) and
+    ``settings`` (the colour map's limits) go to `Draw`; ``caption`` is shown above it."""
+    from IPython.display import HTML, display
     from ngsolve.webgui import Draw
 
-    scene = Draw(cf, mesh, name, show=False)
+    if caption:
+        display(HTML(f"<div class='ngcrack-webgui-caption' style='font-size:13px'>{_escape(caption)}</div>"))
+    kw = {k: v for k, v in (("deformation", deformation), ("objects", objects), ("settings", settings))
+          if v is not None}
+    scene = Draw(cf, mesh, name, show=False, **kw)
     try:
         import ipywidgets
         from webgui_jupyter_widgets import WebGuiWidget

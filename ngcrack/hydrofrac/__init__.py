@@ -7,7 +7,32 @@ advanced by the growth package's MTS kink and path extension); result.py:
 HydrofracResult (the JSON contract, the table, the animation); cli.py: `ngcrack hydrofrac`.
 """
 
-from .loop import KIC_RTOL, check_hydrofrac_options, hydrofrac
-from .result import HydrofracResult
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+#: public name -> its module, imported on first use (the command line's parser loads cli.py
+#: only, and with it this package: it must not load the solver)
+_EXPORTS = {"KIC_RTOL": ".loop", "check_hydrofrac_options": ".loop", "hydrofrac": ".loop", "HydrofracResult": ".result"}
 
 __all__ = ["KIC_RTOL", "HydrofracResult", "check_hydrofrac_options", "hydrofrac"]
+
+
+def __getattr__(name: str):
+    """A public name, imported from its module on first use."""
+    where = _EXPORTS.get(name)
+    if where is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(where, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:
+    from .loop import KIC_RTOL, check_hydrofrac_options, hydrofrac
+    from .result import HydrofracResult

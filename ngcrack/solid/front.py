@@ -42,6 +42,9 @@ from ..tips import williams_displacement, williams_dx1, williams_stress
 TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 2.0
 #: q's plateau: g = 1 for r < PLATEAU_FRACTION * R
 PLATEAU_FRACTION = 0.25
+#: the tube radius at a front point is at most this fraction of the front's radius of curvature
+#: there (the ends of an ellipse's major axis: b^2 / a), so that the tube does not fold over
+CURVATURE_FRACTION = 0.5
 #: quadrature order on the tetrahedra in the tube
 QUADRATURE_ORDER = 6
 
@@ -105,13 +108,13 @@ class FrontGeometry:
         x1 = np.sum(rel * e1, axis=1)
         # curvature of the front: moving by x1 along e1 stretches the arc by (1 + kappa x1)
         kappa = self.a * self.b / self.speed(phi) ** 3
-        dphi_dx3 = 1.0 / (self.speed(phi) * (1.0 + kappa * x1))
+        dphi_dx3 = 1.0 / (self.speed(phi) * np.maximum(1.0 + kappa * x1, 1e-3))
         return phi, x1, z, dphi_dx3
 
     def turning(self, phi, x1):
         """d e1 / d x3 . e3 at the point: the rate at which the frame turns along the front there."""
         kappa = self.a * self.b / self.speed(phi) ** 3
-        return kappa / (1.0 + kappa * x1)
+        return kappa / np.maximum(1.0 + kappa * x1, 1e-3)  # used where 1 + kappa x1 >= 1/2 only
 
 
 def _wrap(d):
@@ -192,9 +195,7 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
     phi, x1, x2, dphi_dx3 = geom.coordinates(xyz)
     s = np.interp(phi % (2 * np.pi), phis, arc)
     r = np.hypot(x1, x2)
-    inner = PLATEAU_FRACTION * R
-    g = np.clip((R - r) / (R - inner), 0.0, 1.0)
-    dg = np.where((r > inner) & (r < R), -1.0 / (R - inner), 0.0)
+    radius_i = np.minimum(R, CURVATURE_FRACTION / (geom.a * geom.b / geom.speed(phi_i) ** 3))
     # fields in the local frame of each point's foot
     e1, e2, e3 = geom.frame(phi)
     Q = np.stack([e1, e2, e3], axis=1)  # rows: local = Q global
@@ -227,7 +228,11 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
     J = np.zeros(n)
     for k in range(n):
         ds = _wrap((s - s_i[k]) / perimeter * 2 * np.pi) * perimeter / (2 * np.pi)
-        inside = (np.abs(ds) < L) & (r < R)
+        Rk = radius_i[k]
+        inner = PLATEAU_FRACTION * Rk
+        g = np.clip((Rk - r) / (Rk - inner), 0.0, 1.0)
+        dg = np.where((r > inner) & (r < Rk), -1.0 / (Rk - inner), 0.0)
+        inside = (np.abs(ds) < L) & (r < Rk)
         if not inside.any():
             continue
         hk = np.where(inside, np.cos(0.5 * np.pi * ds / L) ** 2, 0.0)
