@@ -13,6 +13,7 @@ hole's edge and stops there (holes.py: what then).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -180,7 +181,10 @@ def extended_cracks(scene, extensions) -> list:
             pts[ext.crack].append(ext.point)
         else:
             pts[ext.crack].insert(0, ext.point)
-    return [Crack(tuple(p), c.friction) for p, c in zip(pts, scene.cracks)]
+    # each crack keeps its other fields (friction, face pressure; a pressure table stays in the
+    # arc length from the crack's first point, which moves when that end grows)
+    return [dataclasses.replace(c, points=tuple(p)) if isinstance(c, Crack) else Crack(tuple(p), c.friction)
+            for p, c in zip(pts, scene.cracks)]
 
 
 def hole_approaches(scene, paths) -> list[dict]:
