@@ -7,9 +7,11 @@
         constraint points and at the profiles' samples, the consistent tractions
     tips and estimate (`tips_stage`, `estimate_stage`): on the Solution
 
-`ngcrack.pipeline.Pipeline.run` calls them in this order. Nothing here depends on the
-dimension of the body: the 2D parts (the element, the mesh, the profiles' sampling) are
-reached through the Discretization, the CrackMesh and ngcrack.post.
+`ngcrack.pipeline.Pipeline.run` calls them in this order. The crack problem and the
+recovery are dimension-free (they see the element through `ngcrack.discretization`); the
+crack faces, the tips and the estimate still call the 2D post-processing by name
+(ngcrack.post, ngcrack.tips, ngcrack.estimate): the edges tests/test_layers.py lists in
+KNOWN_2D_IMPORTS, to be reached through the element and the mesh when a 3D body comes.
 """
 
 from __future__ import annotations
@@ -17,17 +19,17 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import ngsolve as ngs
 import numpy as np
 
 from .constraints import discrete_contact_forces, kkt_at_constraints
 from .contact import QPResult, constraint_positions, solve_qp, warm_start_data
-from .elements import Discretization, Loads
+from .discretization import Discretization, Loads
 from .errors import InputError
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
-from .geometry import CrackMesh
 from .hybrid import CondensedSystem, ContactReduction
 from .options import SolveOptions
 from .post import (
@@ -44,6 +46,9 @@ from .post import (
 from .scene.pressure import pressure_values
 from .solution import Solution
 from .tips import tip_parameters
+
+if TYPE_CHECKING:
+    from .geometry import CrackMesh
 
 
 class SolveError(RuntimeError):

@@ -205,6 +205,13 @@ def test_series_writes_one_file_per_step_and_their_collection(solutions, tmp_pat
     assert not (tmp_path / "bad").exists()
 
 
+def test_a_target_that_is_a_directory_is_named_and_nothing_is_written(solutions, tmp_path):
+    (tmp_path / "r_cracks.vtu").mkdir()
+    with pytest.raises(nc.InputError, match=r"r_cracks.vtu' is a directory"):
+        save_vtk(solutions["bdm"], tmp_path / "r")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r_cracks.vtu"]  # neither file, no temporary folder
+
+
 def test_a_reused_series_leaves_no_stale_step_file(solutions, tmp_path):
     """A second series on the same path (a shorter run) removes the first one's step files, and only those."""
     from ngcrack.vtk import SeriesWriter
