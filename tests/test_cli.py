@@ -239,8 +239,7 @@ def test_paper_quick_runs_in_time_and_writes_everything(tmp_path):
     from ngcrack.paper import mixed_elements
 
     check_paper_output(out, proc.stdout, mixed_elements(), 3)
-    print(f"[cli] paper --quick: {elapsed:.0f} s")
-    assert elapsed < 180
+    print(f"[cli] paper --quick: {elapsed:.0f} s")  # (its time goes to BENCHMARKS, not into a threshold)
 
 
 def test_solve_order_is_passed_and_checked(tmp_path):
