@@ -235,8 +235,10 @@ class Drawing:
             for a in (ax, axz):
                 self._temporary += a.plot([at[0]], [at[1]], marker="o", ms=9, mfc="none", mec="k", mew=1.2,
                                           zorder=7)
+            right = at[0] > float(np.mean(poly[:, 0]))  # (the label towards the body's middle, off the colour bar)
             self._temporary.append(ax.annotate(f"peak {significant(float(vals[peak]))} (beyond the colour bar)",
-                                               at, xytext=(8, -12), textcoords="offset points", zorder=7,
+                                               at, xytext=(-8 if right else 8, -12), textcoords="offset points",
+                                               ha="right" if right else "left", zorder=7,
                                                fontsize=FONT_SIZE - 0.5, bbox={"boxstyle": "round,pad=0.2",
                                                                                "fc": "white", "alpha": 0.8,
                                                                                "lw": 0}))
