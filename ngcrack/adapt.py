@@ -114,6 +114,7 @@ def solve_adaptive(scene, options: SolveOptions | str, adapt: float | None = Non
     budget = DEFAULT_MAX_DOF if options.max_dof is None else options.max_dof
     step_options = options.replace(adapt=None)
     pipeline = pipeline if pipeline is not None else Pipeline()
+    pipeline.check(scene, step_options, loads)  # the checks of Pipeline.run, the size guard on the first mesh
     t_start = time.perf_counter()
     t0 = time.perf_counter()
     cmesh = pipeline.mesh(scene, step_options)

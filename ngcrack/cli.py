@@ -21,7 +21,10 @@ line naming the command and asking for a report, with the advice to run again wi
 --debug (which prints the traceback). Warnings are one
 line each. Output files are written only after a successful solve, atomically (a
 temporary file renamed into place), so none is left half-written and an existing one
-is untouched on failure; an output that cannot be written is refused before the solve.
+is untouched on failure; an output that cannot be written, or two outputs on one file,
+are refused before the solve. SIGTERM and SIGINT act within about a second in every stage
+(ngcrack.interrupts: netgen's mesher is stopped, a long C call ended): exit code 128 + the
+signal and one line saying what was written (`grow` writes the steps it finished).
 `sweep` writes its CSV one complete line per finished run and resumes (ngcrack.sweeps);
 `paper` runs the paper's study (ngcrack.paper).
 """
@@ -36,8 +39,19 @@ import signal
 import sys
 import traceback
 import warnings
+from contextlib import contextmanager
 
-from .cli_errors import EXIT_INPUT, Terminated, check_finite, classify, one_line, one_line_warning
+from .cli_errors import (
+    EXIT_INPUT,
+    EXIT_SOLVE,
+    NotSolvedError,
+    Terminated,
+    _causes,
+    check_finite,
+    classify,
+    one_line,
+    one_line_warning,
+)
 from .errors import InputError
 from .files import PathError, check_distinct, check_output, check_output_folder, check_output_stem
 from .interrupts import Interrupts
@@ -47,6 +61,11 @@ from .interrupts import check as check_interrupt
 SIZE_RANGE = (1e-100, 1e100)
 
 
+#: the address space the libraries of a solve map (measured: a solve of paper-2 at maxh 0.3 peaks at
+#: 1.1 GB of address space with one thread and 1.55 GB with two; importing them alone takes 0.7-0.9 GB)
+MIN_ADDRESS_SPACE = 2**30
+#: the commands that solve (and load the numerical libraries)
+SOLVING = ("solve", "sweep", "paper", "grow", "stability", "hydrofrac")
 #: the files of `solve --vtk OUT`: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
 VTK_PARTS = (".vtu", "_cracks.vtu")
 
@@ -252,9 +271,10 @@ def cmd_sweep(args) -> int:
         raise UsageError("--maxh: give the mesh sizes (or --adapt with tolerances)")
     from .options import DEFAULT_ELEMENT
 
-    df = sweep(scene, elements=args.element or [DEFAULT_ELEMENT], maxh=args.maxh, nu=args.nu, friction=args.friction,
-               reference_maxh=args.reference_maxh, reference_element=args.reference_element, out=out,
-               solve_options=solve_options, max_dof=args.max_dof, vtk=args.vtk, **opts, **adaptive)
+    with _workers_lost(out):
+        df = sweep(scene, elements=args.element or [DEFAULT_ELEMENT], maxh=args.maxh, nu=args.nu,
+                   friction=args.friction, reference_maxh=args.reference_maxh, reference_element=args.reference_element,
+                   out=out, solve_options=solve_options, max_dof=args.max_dof, vtk=args.vtk, **opts, **adaptive)
     after = len(open(out).read().splitlines()) - 1 if out.exists() else 0
     cols = ["element", "maxh", "nu", "ndof_total"] + [f"err_{q}" for q in QUANTITIES] + ["estimate", "time_total"]
     if args.friction is not None:
@@ -280,8 +300,9 @@ def cmd_paper(args) -> int:
     out = check_output_folder(args.out, "--out")
     from .paper import run
 
-    res = run(out, quick=args.quick, elements=args.element, maxh=args.maxh, reference_maxh=args.reference_maxh,
-              **opts)
+    with _workers_lost(out):
+        res = run(out, quick=args.quick, elements=args.element, maxh=args.maxh, reference_maxh=args.reference_maxh,
+                  **opts)
     with _pandas_display():
         for scene, g in res.rates.groupby("scene", sort=False):
             piv = g.pivot(index="element", columns="quantity", values="rate_dof")
@@ -289,6 +310,34 @@ def cmd_paper(args) -> int:
             print(f"{scene}: fitted rates in dof (paper, example 1: u1 0.81, u2 0.65, sigma_t 0.93, sigma_nu 0.78)")
             print(piv.to_string(float_format=lambda v: f"{v:.2f}"))
     return 0
+
+
+@contextmanager
+def _workers_lost(out):
+    """A worker process that dies (a signal, the kernel's out-of-memory killer) ends the sweep with one line."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    try:
+        yield
+    except Exception as exc:
+        lost = next((c for c in _causes(exc) if isinstance(c, BrokenProcessPool)), None)
+        if lost is None:
+            raise
+        raise NotSolvedError(f"a worker process of the sweep ended abruptly (killed by a signal, or by the system "
+                             f"when memory ran out); the finished runs are saved in {str(out)!r}: run the same "
+                             f"command again to resume") from None
+
+
+def _check_address_space() -> None:
+    """Refuse to start work under an address-space limit (ulimit -v) that the libraries alone exceed: there
+    OpenBLAS aborts or loops while loading, with no message of ngcrack's."""
+    from .memory import address_space_limit
+
+    limit = address_space_limit()
+    if limit is not None and limit < MIN_ADDRESS_SPACE:
+        raise NotSolvedError(f"out of memory: the address-space limit (ulimit -v) is {limit / 2**20:.0f} MB, and "
+                             f"NGSolve, SciPy and OpenBLAS map about {MIN_ADDRESS_SPACE / 2**30:.1f} GB before the "
+                             f"first solve; raise the limit (ulimit -v {2 * MIN_ADDRESS_SPACE // 1024}) or remove it")
 
 
 def cmd_stability(args) -> int:
@@ -458,6 +507,12 @@ def main(argv=None) -> int:
     argv = [str(a) for a in argv]
     debug = "--debug" in argv
     argv = [a for a in argv if a != "--debug"]
+    if next((a for a in argv if not a.startswith("-")), None) in SOLVING:  # before the parser loads numpy
+        try:
+            _check_address_space()
+        except NotSolvedError as exc:
+            print(f"ngcrack: error: {exc}", file=sys.stderr)
+            return EXIT_SOLVE
     parser = build_parser()
     args = parser.parse_args(argv)
     shown = warnings.showwarning

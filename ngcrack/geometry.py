@@ -17,7 +17,6 @@ from __future__ import annotations
 import re
 import threading
 import warnings
-from collections import OrderedDict
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -205,6 +204,20 @@ def graded_polyline(pts: np.ndarray, tip_h: float, target_h: float, grading: flo
     return np.array([pts[0], *head, *pts[1:-1], *tail, pts[-1]])
 
 
+#: The fewest mesh segments on an edge whose displacement is held (clamped or prescribed):
+#: a constant facet trace on a single segment fixes a rotation about its mid point only
+#: through round-off (measured: a unit square clamped on one bottom edge 1e-4 long, peers's
+#: condensed system singular to working precision with one segment, equilibrium within 0.2%
+#: with two).
+SUPPORT_SEGMENTS_MIN = 2
+
+
+def _holds_displacement(scene: Scene, label: str) -> bool:
+    """Whether the boundary condition of edge label `label` prescribes both displacement components."""
+    bc = scene.boundary.get(label)
+    return bc is not None and bc.type in ("clamped", "displacement")
+
+
 def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | None = None,
                    frame: tuple[np.ndarray, float] | None = None, maxh: float | None = None,
                    grading: float = 0.3) -> SplineGeometry:
@@ -262,8 +275,12 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
     for i in range(n):
         chain = [poly[i]] + [x for _, x in sorted(inserted[i], key=lambda tx: tx[0])]
         chain.append(poly[(i + 1) % n])
+        held = _holds_displacement(scene, scene.labels[i])
         for p, q in zip(chain[:-1], chain[1:]):
-            geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=0, bc=scene.labels[i])
+            # a supporting edge meshed by one segment fixes the rotation of a constant facet
+            # trace (peers) only through round-off: give it two segments at least
+            h = {"maxh": float(np.linalg.norm(q - p)) / SUPPORT_SEGMENTS_MIN} if held else {}
+            geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=0, bc=scene.labels[i], **h)
     for hole in scene.holes:
         _append_hole(geo, point, hole, center, scale)
     for k, pts in enumerate(cracks):
@@ -355,36 +372,6 @@ def mesh_quality(P: np.ndarray, T: np.ndarray) -> float:
     return float(np.min(4.0 * np.sqrt(3.0) * area / sides))
 
 
-#: how many meshes `reuse_meshes` keeps (the most recently used ones)
-MESH_CACHE_SIZE = 2
-_mesh_cache: OrderedDict = OrderedDict()
-_reusing = 0
-
-
-@contextmanager
-def reuse_meshes():
-    """Inside this context, `make_mesh` reuses the meshes of earlier calls.
-
-    A mesh depends on the scene's geometry (polygon, labels, crack polylines) and the
-    mesh sizes only, not on the material or the loads: a sweep over elements or Poisson
-    ratios meshes each size once. The last MESH_CACHE_SIZE meshes are kept between
-    contexts (a sweep worker enters it for every case); outside the context nothing is
-    reused or stored, so code that changes a mesh (refinement) gets a fresh one.
-    """
-    global _reusing
-    _reusing += 1
-    try:
-        yield
-    finally:
-        _reusing -= 1
-
-
-def _mesh_key(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> tuple:
-    return (tuple(map(tuple, np.asarray(scene.polygon, float).tolist())), tuple(scene.labels),
-            tuple(tuple(map(tuple, np.asarray(c.points, float).tolist())) for c in scene.cracks),
-            scene.holes, float(maxh), tip_h, crack_h, float(grading))
-
-
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
               crack_h: float | None = None, grading: float | None = None) -> CrackMesh:
     """Mesh the scene with netgen; the arguments override the scene's [mesh] values, and
@@ -392,24 +379,12 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     tenth of the diameter; crack_h and tip_h from the shortest crack, graded).
 
     Warns if netgen produced a triangle of quality below MIN_QUALITY (a strong grading
-    can do that); such a triangle spoils the accuracy nearby. Inside `reuse_meshes()`
-    the mesh of an earlier call with the same geometry and sizes is returned.
+    can do that); such a triangle spoils the accuracy nearby. Every call meshes: the
+    reuse of a mesh is the mesh stage's of `ngcrack.pipeline.Pipeline`.
     """
     check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     maxh, tip_h, crack_h, grading = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
-    if not _reusing:
-        return _make_mesh(scene, maxh, tip_h, crack_h, grading)
-    key = _mesh_key(scene, maxh, tip_h, crack_h, grading)
-    if key in _mesh_cache:
-        _mesh_cache.move_to_end(key)
-        cached = _mesh_cache[key]
-        _warn_quality(scene, cached.quality, maxh, grading, stacklevel=3)
-        return cached
-    cmesh = _make_mesh(scene, maxh, tip_h, crack_h, grading)
-    _mesh_cache[key] = cmesh
-    while len(_mesh_cache) > MESH_CACHE_SIZE:
-        _mesh_cache.popitem(last=False)
-    return cmesh
+    return _make_mesh(scene, maxh, tip_h, crack_h, grading)
 
 
 def _warn_quality(scene: Scene, quality: float, maxh: float, grading: float, stacklevel: int) -> None:

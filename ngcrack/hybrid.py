@@ -33,7 +33,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from .elements import Discretization, Loads
+from .discretization import Discretization, Loads
 from .held_means import constraint_rows, eliminate
 from .parallel import task_manager
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["available_memory", "memory_limits"]
+__all__ = ["address_space_limit", "available_memory", "memory_limits"]
 
 
 def _read_number(path: str) -> float | None:
@@ -89,3 +89,14 @@ def available_memory() -> float | None:
     memory, its address-space limit and its cgroup's limit (`memory_limits`), or None."""
     limits = memory_limits()
     return min(limits.values()) if limits else None
+
+
+def address_space_limit() -> float | None:
+    """The process's soft address-space limit (``ulimit -v``, RLIMIT_AS) in bytes, or None if unlimited."""
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, OSError, ValueError):
+        return None
+    return None if soft in (resource.RLIM_INFINITY, -1) or soft <= 0 else float(soft)

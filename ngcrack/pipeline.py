@@ -29,7 +29,6 @@ data. `nc.solve` is the one-shot use: a fresh Pipeline, one run.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import time
 import weakref
@@ -38,35 +37,29 @@ import ngsolve as ngs
 import numpy as np
 
 from . import elements as _elements
-from .constraints import discrete_contact_forces, kkt_at_constraints
-from .contact import constraint_positions, solve_qp, warm_start_data
 from .crack_loads import pressure_cf
 from .elements import Discretization, Loads
 from .errors import InputError
-from .friction import FrictionResult, solve_crack_problem
-from .friction_setup import crack_problem
 from .geometry import CrackMesh, make_mesh
 from .hp import hp_mesh
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .materials import compliance
 from .options import SolveOptions
-from .post import (
-    CrackProfile,
-    component_forces,
-    consistent_tractions,
-    crack_profile,
-    endpoint_map,
-    field_scales,
-    kkt_residuals,
-    lumped_traction,
-    tributary_lengths,
-)
 from .scene import BoundaryCondition, Scene
 from .scene.points import held_directions
-from .scene.pressure import pressure_kind, pressure_values
+from .scene.pressure import pressure_kind
 from .sizing import check_request
 from .solution import Backend, Solution
-from .tips import tip_parameters
+from .stages import (
+    SolveError,
+    built_line,
+    condition_estimates,
+    crack_stage,
+    estimate_stage,
+    faces_stage,
+    recovery_stage,
+    tips_stage,
+)
 
 #: scaled forward residual of the condensed solve above which a definite system counts
 #: as singular: a safety net behind the exact rigid-motion check of the supports.
@@ -76,10 +69,6 @@ RESIDUAL_TOL = 1.0
 
 #: the stages whose runs `Pipeline.counts` records
 STAGES = ("mesh", "assemble", "load", "condense", "factorize")
-
-
-class SolveError(RuntimeError):
-    """A solve produced something unusable (a singular system, non-finite numbers)."""
 
 
 # ------------------------------------------------------------------ loads
@@ -203,55 +192,6 @@ def relative_residual(system: CondensedSystem, x_rest: np.ndarray) -> float:
     return float(np.linalg.norm(D * ((K @ y)[r] - system.F[r])) / norm_F) if norm_F > 0 else 0.0
 
 
-def condition_estimates(red: ContactReduction) -> dict:
-    """1-norm condition estimates of D K_rr D and of D_S S D_S (Hager/Higham).
-
-    D = diag(K_rr)^(-1/2) (1 on a zero diagonal): the Jacobi-scaled matrices, whose
-    condition does not depend on the units of the unknowns (PEERS mixes rotations and
-    displacements) and is what the factorization and the QP (scaled the same way) see.
-    Keys "K" and "S" (S only with a crack). The inverse goes through the factorization.
-    """
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
-
-    sysm = red.system
-    K_rr = sysm.K[sysm.rest][:, sysm.rest]
-    n = K_rr.shape[0]
-    diag = np.abs(K_rr.diagonal())
-    d = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
-    scaled = sp.diags(d) @ K_rr @ sp.diags(d)
-
-    def solve_scaled(b):
-        b = np.asarray(b, dtype=float)
-        dd = d if b.ndim == 1 else d[:, None]
-        return red.factorization.solve(b / dd) / dd
-
-    inv = spla.LinearOperator((n, n), matvec=solve_scaled, rmatvec=solve_scaled, matmat=solve_scaled, dtype=float)
-    out = {"K": float(spla.onenormest(scaled) * spla.onenormest(inv))}
-    if red.S.size:
-        ds = 1.0 / np.sqrt(np.abs(np.diag(red.S)))
-        out["S"] = float(np.linalg.cond(ds[:, None] * red.S * ds[None, :], 1))
-    return out
-
-
-def constraint_kkt(system: CondensedSystem, y: np.ndarray, contact: np.ndarray, G, cmesh: CrackMesh,
-                   profiles: list[CrackProfile], u_scale: float, sigma_scale: float) -> tuple[dict, np.ndarray | None]:
-    """(kkt, forces) at the QP's constraint points: w = G j from the answer, the forces from its residual.
-
-    W = the largest jump on the crack (|w| at the constraint points, |[u]| at the edge mid
-    points); the body scales are max |u| and max |sigma| times the mean crack edge length.
-    """
-    if G is None or not len(contact):
-        return kkt_at_constraints(np.zeros(0), np.zeros(0), 0.0), None
-    w = G @ y[contact]
-    forces, bound = discrete_contact_forces(system.K, system.F, y, contact, G)
-    jump_max = max([float(np.max(np.abs(w)))] + [float(np.max(np.hypot(p.normal_jump, p.tangential_jump)))
-                                                   for p in profiles])
-    edge = float(np.mean(np.concatenate([c.length for c in cmesh.cracks])))
-    kkt = kkt_at_constraints(w, forces, jump_max, jump_scale=u_scale, force_scale=sigma_scale * edge, lam_bound=bound)
-    return kkt, forces
-
-
 # ------------------------------------------------------------------ the pipeline
 
 class Pipeline:
@@ -280,7 +220,13 @@ class Pipeline:
 
     def clear(self) -> None:
         """Forget every cached stage (the counts stay)."""
-        self._mesh = self._disc = None
+        self._mesh = None
+        self.keep_mesh_only()
+
+    def keep_mesh_only(self) -> None:
+        """Forget every stage after the mesh (the assembled forms, the factorizations): what
+        a sweep's worker keeps between its runs, which share meshes but rarely more."""
+        self._disc = None
         self._systems, self._reductions = {}, {}
 
     # -------------------------------------------------------------- stages
@@ -357,6 +303,20 @@ class Pipeline:
         self.redone.append("factorization and S")
         return red
 
+    # -------------------------------------------------------------- checks
+    @staticmethod
+    def check(scene: Scene, options: SolveOptions, loads: Loads | None = None, size: bool = True) -> None:
+        """Every check of a request that needs the scene, before any work: the options
+        against the scene (friction), the size guard and the thin parts (`size`), the
+        supports of given loads, an undetermined pressure."""
+        o = options
+        o.check_for(scene)
+        if size:
+            check_request(scene, o.element, o.maxh, o.tip_h, o.crack_h, o.grading, order=o.order, max_dof=o.max_dof)
+        if loads is not None:
+            check_supports(scene, loads)
+        check_pressure_determined(scene, loads)
+
     # -------------------------------------------------------------- one run
     def run(self, scene: Scene, options: SolveOptions | None = None, *, loads: Loads | None = None,
             warm_start=None, crack_mesh: CrackMesh | None = None, check_size: bool = True) -> Solution:
@@ -366,17 +326,16 @@ class Pipeline:
         Solution or an active set (contact zone carried over); `crack_mesh` a ready mesh of
         the scene (no meshing, no size guard). `check_size`: run the size guard before
         meshing (sizing.check_request). Adaptivity is not a stage: see ngcrack.adapt.
+
+        The stages, in order: checks, mesh, discretization, condensed system, reduction,
+        crack problem, recovery, crack faces (profiles and KKT), tips, estimate.
         """
         o = options if options is not None else SolveOptions()
         self.redone = []
-        o.check_for(scene)
-        if crack_mesh is None and check_size:  # the size guard and the thin-part check, before any meshing
-            check_request(scene, o.element, o.maxh, o.tip_h, o.crack_h, o.grading, order=o.order, max_dof=o.max_dof)
-        if loads is not None:
-            check_supports(scene, loads)
-        check_pressure_determined(scene, loads)
+        self.check(scene, o, loads, size=crack_mesh is None and check_size)
         t_start = time.perf_counter()
         timings: dict[str, float] = {}
+        case = f"scene {scene.name!r}, element {o.element!r}"
 
         t0 = time.perf_counter()
         cmesh = crack_mesh if crack_mesh is not None else self.mesh(scene, o)
@@ -388,169 +347,64 @@ class Pipeline:
         tangential = o.tangential_for(scene) and disc.jn is not None
         system = self.system(disc, loads, tangential)
         timings["assemble"] = time.perf_counter() - t0
-
         # the crack normal jumps' rows, whatever the crack model (with friction the tangential
         # jumps follow them in system.contact)
-        contact = system.contact if system.n_normal is None else system.contact[:system.n_normal]
-        normal_contact = contact
+        normal_contact = system.contact if system.n_normal is None else system.contact[:system.n_normal]
         if o.crack_model == "free":
             system = system.without_contact()
-        case = f"scene {scene.name!r}, element {o.element!r}"
-        if not (np.all(np.isfinite(system.K.data)) and np.all(np.isfinite(system.F))):
-            raise SolveError(f"{case}: the assembled system has non-finite entries (check the loads and material data)")
-        try:
-            red = self.reduction(system, o)
-        except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
-            raise SolveError(f"{case}: the condensed system is singular ({exc}); is every part of the body held?") from exc
-        if not (np.all(np.isfinite(red.x0)) and np.all(np.isfinite(red.S))):
-            raise SolveError(f"{case}: the condensed solve gave non-finite values (singular system; "
-                             "is every part of the body held?)")
-        residual = relative_residual(system, red.x0) if disc.definite else 0.0
-        if residual > RESIDUAL_TOL:
-            raise SolveError(f"{case}: the condensed system is singular to working precision (relative residual "
-                             f"{residual:.1e} of its solve); is every part of the body held?")
-        m = len(system.contact)
+
+        red = self._reduce(system, o, case)
         timings.update(red.timings)
-
-        qp, G, jn, t0 = None, None, None, time.perf_counter()
-        if len(contact):
-            jn_space = disc.fes.components[disc.jn]
-            G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(jn_space, cmesh,
-                                                                                            disc.facet_order)
-        if m and o.crack_model == "contact":
-            if tangential:
-                qp = solve_crack_problem(crack_problem(red, disc, cmesh, G, mu), solver=o.qp_solver,
-                                         solver_options=o.qp_options, method=o.friction_method)
-                jn = qp.z
-            else:
-                positions = constraint_positions(disc, cmesh)
-                initial_active, initial_guess = warm_start_data(warm_start, *positions)
-                qp = dataclasses.replace(
-                    solve_qp(red.S, red.b, G=G, solver=o.qp_solver, solver_options=o.qp_options,
-                             initial_active=initial_active, initial_guess=initial_guess),
-                    crack=positions[0], s=positions[1])
-                jn = qp.j
-        else:  # no crack, or a bonded crack: jn = 0
-            jn = np.zeros(len(system.contact))
-        timings["qp"] = time.perf_counter() - t0
-
+        answer = crack_stage(red, disc, cmesh, normal_contact, o, tangential, mu, warm_start)
+        timings["qp"] = answer.time
         conditioning = condition_estimates(red) if o.condition else {}
+        rec = recovery_stage(red, system, disc, answer.jn, case)
+        timings["recover"] = rec.time
+        faces = faces_stage(system, disc, cmesh, rec, answer, normal_contact, mu if tangential else None,
+                            [c.pressure for c in scene.cracks], case)
 
-        t0 = time.perf_counter()
-        y = red.recover(jn)
-        if not np.all(np.isfinite(y)):
-            raise SolveError(f"{case}: the condensed solve gave non-finite values (singular system)")
-        gf = system.expand(y)
-        timings["recover"] = time.perf_counter() - t0
-        if not np.all(np.isfinite(gf.vec.FV().NumPy())):
-            raise SolveError(f"{case}: the local recovery gave non-finite values")
-
-        fields = disc.fields(gf)
-        profiles = crack_profiles(disc, cmesh, gf, fields, mu if tangential else None,
-                                  [c.pressure for c in scene.cracks])
-        scales = field_scales(cmesh, fields["u"], fields["sigma"]) if profiles else (0.0, 0.0)
-        kkt, forces = constraint_kkt(system, y, normal_contact, G, cmesh, profiles, *scales)
-        profiles = with_tractions(profiles, disc, system, y, cmesh, G, forces)
-        kkt_sampled = kkt_residuals(profiles, *scales)
-        # the discrete Coulomb law at the QP's constraint points (0 without friction)
-        kkt["friction"] = float(qp.kkt["friction"]) if isinstance(qp, FrictionResult) else 0.0
-        sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__ if k != "state"] + [
-            np.array(list(kkt.values()) + list(kkt_sampled.values()))]
-        if not all(np.all(np.isfinite(a)) for a in sampled):
-            raise SolveError(f"{case}: the crack profiles or KKT residuals hold non-finite values")
         # linear: the factorization and solves a plain linear solve needs too (with the
         # local recovery); contact: what the crack adds (Schur complement and QP)
         timings["linear"] = timings["factorize"] + timings["solve"] + timings["recover"]
         timings["contact"] = timings["schur"] + timings["qp"]
         timings["total"] = time.perf_counter() - t_start
+        m = len(system.contact)
         backend = Backend(qp_solver=o.qp_solver, linear_solver=red.factorization.backend, schur=red.method,
                           largest_dense=red.largest_dense, tangential=bool(tangential),
                           friction=tuple(float(f) if o.crack_model == "contact" else 0.0 for f in mu))
         sol = Solution(
-            scene=scene, element=o.element, crack_mesh=cmesh, disc=disc, gf=gf, fields=fields, profiles=profiles,
-            kkt=kkt, qp=qp, timings=timings, ndof={"total": disc.fes.ndof, "global": system.n, "contact": m},
-            built=list(disc.built) + [_built_line(qp, m, o, disc)],
+            scene=scene, element=o.element, crack_mesh=cmesh, disc=disc, gf=rec.gf, fields=rec.fields,
+            profiles=faces.profiles, kkt=faces.kkt, qp=answer.qp, timings=timings,
+            ndof={"total": disc.fes.ndof, "global": system.n, "contact": m},
+            built=list(disc.built) + [built_line(answer.qp, m, o, disc)],
             options=backend.report(o), solve_options=o, backend=backend,
-            conditioning=conditioning, kkt_sampled=kkt_sampled, forces=forces,
+            conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces,
         )
         self.post_process(sol, loads)
         self._pending = [r for r in self._pending if r() is not None and r().estimate_pending] + [weakref.ref(sol)]
         return sol
 
+    def _reduce(self, system: CondensedSystem, options: SolveOptions, case: str) -> ContactReduction:
+        """The reduction stage with its checks: a finite system, a regular factorization, a finite solve."""
+        if not (np.all(np.isfinite(system.K.data)) and np.all(np.isfinite(system.F))):
+            raise SolveError(f"{case}: the assembled system has non-finite entries (check the loads and material data)")
+        try:
+            red = self.reduction(system, options)
+        except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
+            raise SolveError(f"{case}: the condensed system is singular ({exc}); is every part of the body held?") from exc
+        if not (np.all(np.isfinite(red.x0)) and np.all(np.isfinite(red.S))):
+            raise SolveError(f"{case}: the condensed solve gave non-finite values (singular system; "
+                             "is every part of the body held?)")
+        residual = relative_residual(system, red.x0) if system.disc.definite else 0.0
+        if residual > RESIDUAL_TOL:
+            raise SolveError(f"{case}: the condensed system is singular to working precision (relative residual "
+                             f"{residual:.1e} of its solve); is every part of the body held?")
+        return red
+
     @staticmethod
     def post_process(sol: Solution, loads: Loads) -> None:
         """The tips' K_I, K_II, G and the error estimate of a solved `sol` (their times in sol.timings)."""
-        t0 = time.perf_counter()
-        sol.tips = tip_parameters(sol, body_force=loads.body_force)
-        sol.timings["tips"] = time.perf_counter() - t0
-        sol.timings["total"] += sol.timings["tips"]
+        tips_stage(sol, loads)
         # computed when first asked for; the Parameters of `loads` change with the next load value,
         # so a pending estimate is settled before that (Pipeline.discretization)
-        sol.defer_estimate(functools.partial(_estimate, sol, loads, sol.crack_model))
-
-
-def crack_profiles(disc: Discretization, cmesh: CrackMesh, gf: ngs.GridFunction, fields: dict,
-                   friction: list[float] | None, pressures: list | None = None) -> list[CrackProfile]:
-    """One CrackProfile per crack from the solved GridFunction (no crack: an empty list);
-    `pressures`: each crack's face pressure (scene.pressure fields), kept in the profiles."""
-    if disc.jn is None:
-        return []
-    comps = gf.components
-    jn_vals = comps[disc.jn].vec.FV().NumPy()
-    jt_vals = comps[disc.jt].vec.FV().NumPy() if disc.jt is not None else None
-    displacement = disc.tangential_jump(gf) if disc.tangential_jump is not None else None
-    jump_space = disc.fes.components[disc.jn]
-    profiles = []
-    for k, crack in enumerate(cmesh.cracks):
-        jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
-        prof = crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
-                             displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction,
-                             friction=friction[k] if friction is not None else 0.0)
-        if pressures is not None and pressures[k] is not None:
-            prof = dataclasses.replace(prof, face_pressure=pressure_values(pressures[k], prof.s))
-        profiles.append(prof)
-    return profiles
-
-
-def with_tractions(profiles: list[CrackProfile], disc: Discretization, system: CondensedSystem, y: np.ndarray,
-                   cmesh: CrackMesh, G, forces) -> list[CrackProfile]:
-    """The profiles with the element's consistent (or, for the baselines, lumped nodal) crack tractions."""
-    if not profiles or not any(c is not None for c in disc.traction_rows):
-        return profiles
-    lumped = disc.traction_rows[0] is not None and forces is not None  # nodal contact forces
-    tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress", "shear_stress") if lumped else ())
-    if lumped:
-        space = disc.fes.components[disc.jn]
-        w = tributary_lengths(space, cmesh, G)
-        normal = lumped_traction(space, cmesh, G, forces, w)
-        # the nodal forces are the contact's; the faces carry the crack-face pressure besides
-        normal = [nv - p.face_pressure for nv, p in zip(normal, profiles)]
-        shear = lumped_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G), w)
-        tractions = [dict(t, normal_stress=n, shear_stress=q) for t, n, q in zip(tractions, normal, shear)]
-    return [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
-
-
-def _built_line(qp, m: int, o: SolveOptions, disc: Discretization) -> str:
-    """What the crack stage did, for `sol.built`."""
-    if isinstance(qp, FrictionResult):
-        return (f"crack problem with friction: {len(qp.w)} normal and {len(qp.wt)} tangential values, solver "
-                f"{o.qp_solver}, {qp.method}: {qp.coulomb_iterations} iterations, {qp.steps} active-set steps")
-    if qp is not None:
-        return f"contact QP: {m} unknowns, solver {o.qp_solver}"
-    if disc.jn is None:
-        return "no crack: one linear solve, no QP"
-    return f"crack model {o.crack_model!r}: one linear solve, no QP"
-
-
-def _estimate(sol: Solution, loads: Loads, crack_model: str):
-    """The solve's error estimate (estimate.py), or None where none exists (with the reason
-    in sol.no_estimate)."""
-    from .estimate import estimate
-
-    try:
-        est = estimate(sol, loads, crack_model)
-    except InputError as exc:
-        sol.no_estimate = str(exc)
-        return None
-    sol.timings["estimate"] = est.time
-    return est
+        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model))

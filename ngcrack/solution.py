@@ -9,17 +9,20 @@ names on it: `sol.gfu` (the GridFunction), `sol.fes` (its space), `sol.mesh`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import ngsolve as ngs
 import numpy as np
 
 from .constraints import KKT_KEYS
 from .contact import QPResult
-from .elements import Discretization
-from .geometry import CrackMesh
+from .discretization import Discretization
 from .options import SolveOptions
-from .post import CrackProfile
-from .scene import Scene
+
+if TYPE_CHECKING:  # the 2D types (a 3D body brings its own scene, mesh and profiles)
+    from .geometry import CrackMesh
+    from .post import CrackProfile
+    from .scene import Scene
 
 
 @dataclass(frozen=True)

@@ -10,14 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .adapt import check_adapt_options, solve_adaptive
+from .adapt import solve_adaptive
 from .elements import Loads
 from .errors import InputError
 from .geometry import CrackMesh
 from .options import CRACK_MODELS, SolveOptions, qp_solvers
 from .pipeline import Pipeline, SolveError, scene_loads
 from .scene import Scene
-from .sizing import check_request
 from .solution import Solution
 
 __all__ = ["CRACK_MODELS", "Pipeline", "Solution", "SolveError", "SolveOptions", "as_scene", "qp_solvers",
@@ -106,11 +105,7 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     if crack_mesh is not None:
         raise InputError("crack_mesh: adapt=TOL makes its own first mesh from maxh, tip_h, crack_h and grading; "
                           "give either adapt or crack_mesh")
-    check_adapt_options(opts, scene)
-    opts.check_for(scene)
-    check_request(scene, opts.element, opts.maxh, opts.tip_h, opts.crack_h, opts.grading, order=opts.order,
-                  max_dof=opts.max_dof)
-    return solve_adaptive(scene, opts, loads=loads, pipeline=pipeline)
+    return solve_adaptive(scene, opts, loads=loads, pipeline=pipeline)  # (it checks the request, as run does)
 
 
 def as_scene(scene) -> Scene:

@@ -312,13 +312,22 @@ class TipParameters:
     def to_dict(self) -> dict:
         """The `tips` entry of the JSON contract."""
         return {"crack": int(self.crack), "end": self.end, "x": float(self.x), "y": float(self.y),
-                "K_I": float(self.K_I), "K_II": float(self.K_II), "G": float(self.G)}
+                "K_I": float(self.K_I), "K_II": float(self.K_II), "G": float(self.G), "T": float(self.T)}
 
 
 def displacement_gradient(sol):
     """grad u (row i: grad u_i) as the domain integral uses it (see the module docstring)."""
+    fields, how = sol.fields, sol.disc.traits.gradient
+    if how == "gradient":  # displacement elements: grad u itself
+        return fields["grad_u"]
     mat = sol.scene.material
-    return sol.disc.traits.displacement_gradient(sol.fields, _compliance(mat.E, mat.nu, mat.plane))
+    sig = fields["sigma"]
+    eps = _compliance(mat.E, mat.nu, mat.plane).apply(0.5 * (sig + sig.trans))
+    if how == "rotation":  # the strain of the stress plus the element's rotation (peers, bdm)
+        r = fields["rotation"]
+        return eps + ngs.CF((0.0, -r, r, 0.0), dims=(2, 2))
+    grad = fields["grad_u"]  # "skew": plus the skew part of grad_u (tdnns)
+    return eps + 0.5 * (grad - grad.trans)
 
 
 def _quadrature(sol, tip: Tip, radius: float):

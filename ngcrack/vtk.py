@@ -45,7 +45,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .errors import InputError
-from .files import forget_temporary, register_temporary
+from .files import PathError, forget_temporary, register_temporary
 
 #: the `state` cell data of the crack data set: the code of each crack-face state
 STATE_CODES = {"open": 0, "stick": 1, "slip": 2}
@@ -171,8 +171,14 @@ def save_vtk(sol, path, subdivision: int = 0) -> list[Path]:
                                                          cell_data={k: [v] for k, v in cells.items()}),
                          binary=True)
             written.append((tmp / "cracks.vtu", base.with_name(base.name + CRACK_SUFFIX + ".vtu")))
+        for _, dst in written:  # both files or neither
+            if dst.is_dir():
+                raise PathError(f"path = {str(path)!r}: {str(dst)!r} is a directory; give another name")
         for src, dst in written:
-            os.replace(src, dst)
+            try:
+                os.replace(src, dst)
+            except OSError as exc:  # the target, not the temporary folder, is what the user can change
+                raise PathError(f"path = {str(path)!r}: cannot write {str(dst)!r} ({exc.strerror or exc})") from None
         return [dst for _, dst in written]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -43,8 +43,8 @@ SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 #
 # The built-in scene `kgd` has GEOS's parameters ($Q_0 = 10^{-4}$ m²/s, $E = 30$ GPa,
 # $\nu = 0.25$, $K_{Ic} = 1$ MPa$\sqrt{\rm m}$): at $t = 10$ s, $l = 4.335$ m, $p = 0.2710$ MPa,
-# $w_0 = 146.8$ µm. Its body is 200 initial half-lengths wide (doubling it moves $l$ by under 0.1%),
-# and the tips are meshed at $l_0/20$.
+# $w_0 = 146.8$ µm. Its body is 400 m wide, 200 initial half-lengths (measured at $l = 6$ m: doubling it
+# moves $l(t)$ by 0.002% and $p$ by 0.13%), and the tips are meshed at $l_0/20$.
 
 # %%
 Q0, K_IC = 1e-4, 1e6

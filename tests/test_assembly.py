@@ -8,15 +8,13 @@ full cubic element) to round-off. Also: the sweep's mesh cache and the thread co
 
 from __future__ import annotations
 
-import warnings
-
 import ngsolve as ngs
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
+import ngcrack as nc
 import ngcrack.scenes as scenes
-from ngcrack import geometry
 from ngcrack.elements import base, bdm, peers
 from ngcrack.geometry import crack_frame_cf, make_mesh
 from ngcrack.hybrid import _congruence, _to_scipy, condense
@@ -126,22 +124,25 @@ def test_condense_reproduces_the_condensed_form(griffith):
     assert _rel(system.K, ref) < ROUND_OFF
 
 
-def test_mesh_reuse_only_inside_the_context():
+def test_a_sweep_worker_runs_through_one_pipeline_sharing_each_mesh():
+    """The runs of a sweep's worker go through its one Pipeline: another element or
+    Poisson ratio at the same size meshes nothing, another size meshes once; only the
+    mesh is kept between runs (the assembly and the factorization are released)."""
+    from ngcrack.sweeps.cases import Case, run_case, worker_pipeline
+
     sc = scenes.load("paper-1")
-    with geometry.reuse_meshes():
-        a = make_mesh(sc, maxh=0.2)
-        b = make_mesh(sc.with_(nu=0.45), maxh=0.2)  # another material: the same mesh
-        c = make_mesh(sc, maxh=0.3)
-    assert a is b and a is not c
-    with geometry.reuse_meshes():
-        assert make_mesh(sc, maxh=0.2) is a  # kept between contexts (a sweep worker's cases)
-    assert make_mesh(sc, maxh=0.2) is not a  # outside: always a fresh mesh
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        with geometry.reuse_meshes():
-            for h in (0.5, 0.45, 0.4):
-                make_mesh(sc, maxh=h)
-    assert len(geometry._mesh_cache) == geometry.MESH_CACHE_SIZE
+    pipeline = worker_pipeline()
+    assert worker_pipeline() is pipeline
+    before = dict(pipeline.counts)
+    setup = {"reference_element": "", "reference_maxh": 0.25, "crack_model": "contact", "qp_solver": "pdas",
+             "adapt": False}
+    rows = [run_case(Case(sc, el, h, nu, {}, setup=setup))[0] for el, h, nu in
+            [("bdm", 0.25, 0.3), ("tdnns", 0.25, 0.3), ("bdm", 0.25, 0.45), ("bdm", 0.3, 0.3)]]
+    assert pipeline.counts["mesh"] - before["mesh"] == 2
+    assert pipeline.counts["assemble"] - before["assemble"] == 4  # nothing after the mesh is kept
+    assert pipeline._disc is None and not pipeline._reductions
+    assert rows[0]["n_elements"] == rows[1]["n_elements"] == rows[2]["n_elements"] != rows[3]["n_elements"]
+    assert make_mesh(sc, maxh=0.3) is not pipeline.mesh(sc, nc.SolveOptions.of(maxh=0.3))  # outside: a fresh mesh
 
 
 def test_thread_count(monkeypatch):

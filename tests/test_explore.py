@@ -193,8 +193,11 @@ def test_held_scales_depend_on_the_controls_not_on_their_history():
     assert a.reference_scales("sigma_nu") == ref
     a.update(load=-1.0, crack_model="free", load_angle=30.0)
     assert a.reference_scales("sigma_nu") == ref
-    b = nc.Explorer("inclined-crack", maxh=MAXH, E=1000.0, load=-0.5)
+    b = nc.Explorer("inclined-crack", maxh=MAXH, E=1000.0, load=-0.5)  # (a solve at the reference load)
     assert b.reference_scales("sigma_nu") == pytest.approx(ref, rel=1e-9)
+    c = nc.Explorer("inclined-crack", maxh=MAXH, load=0.4)  # (L = 0.4 > 0: the answer scaled by 1/L, no solve)
+    runs = dict(c.counts)
+    assert c.reference_scales("sigma_nu") == pytest.approx(ref, rel=1e-6) and c.counts == runs
     # they follow the material and the geometry: stresses do not depend on E, displacements do
     a.update(E=100.0)
     soft = a.reference_scales("sigma_nu")
@@ -602,7 +605,8 @@ def test_scales_are_held_while_the_load_changes():
     # the time split adds up: the model's update plus the drawing
     w.controls["load"].value = 0.8
     r = w.model.readouts()
-    assert sum(w.timing.values()) == pytest.approx(r["latency_s"] + w.timing["drawing"], rel=1e-9, abs=1e-12)
+    assert sum(w.timing.values()) == pytest.approx(r["latency_s"] + w.timing["drawing"] + w.timing.get("scales", 0.0),
+                                                   rel=1e-9, abs=1e-12)
     # K values tied to their tips, three significant digits
     tips = w.drawing.data["tips"]
     assert len(tips) == 2 and tips[0].startswith(("left tip (", "right tip (")) and "K_I = " in tips[0]

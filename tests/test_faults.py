@@ -10,6 +10,10 @@ What is checked, and against what:
   naming the file, the row and the column, by the reader and by a resumed sweep;
 - scene names become file names only sanitised: `../../escaped` and `my/scene` write
   their reference cache inside the output folder.
+- a worker of `sweep --jobs 2` killed by SIGTERM ends the sweep with exit code 3 and one line
+  saying so (not an unexpected BrokenProcessPool), the finished rows kept;
+- under an address-space limit the libraries alone exceed (ulimit -v 500000), a solve
+  exits with 3 and one line saying "out of memory" (OpenBLAS aborted or looped before);
 (The resume after SIGKILL of a serial sweep is in tests/test_study.py.)
 """
 
@@ -162,6 +166,8 @@ def _corrupt(text: str, row: int, column: str, value: str) -> str:
     ("bool", "row 1 (line 2), column 'reference': 'yes' is not True or False"),
     ("short", "row 2 (line 3) has"),
     ("duplicate", "rows 1 and 4 (lines 2 and 5) are the same run"),
+    ("edited-nu", "row 2 (line 3) was changed after the sweep wrote it (scene = paper-2, element = tdnns, "
+                  "maxh = 0.3, nu = 0.3,"),
 ])
 def test_a_corrupted_csv_is_refused_naming_file_row_and_column(results, tmp_path, capsys, how, message):
     good, text = results
@@ -174,6 +180,7 @@ def test_a_corrupted_csv_is_refused_naming_file_row_and_column(results, tmp_path
         "bool": lambda: _corrupt(text, 1, "reference", "yes"),
         "short": lambda: "".join(lines[:2] + [lines[2].rsplit(",", 1)[0] + "\n"] + lines[3:]),
         "duplicate": lambda: text + lines[1],
+        "edited-nu": lambda: _corrupt(text, 2, "nu", "0.3"),  # would pass for a run at nu = 0.3
     }[how]()
     bad.write_text(corrupted)
     with pytest.raises(ValueError) as info:
@@ -201,3 +208,46 @@ def test_scene_names_stay_inside_the_output_folder(tmp_path, name):
     # resumed: the cache is found again, nothing new is computed
     again = sweep(scene, maxh=[0.4], reference_maxh=0.3, out=work / "r.csv")
     assert len(again) == 1 and list((work / "r.csv.refs").iterdir()) == [cache]
+
+
+@pytest.mark.skipif(not LINUX, reason="reads the process table from /proc")
+def test_a_killed_sweep_worker_ends_the_sweep_with_one_line(tmp_path):
+    out = tmp_path / "r.csv"
+    cmd = [sys.executable, "-m", "ngcrack.cli", "sweep", "paper-2", *GRID, "--jobs", "2", "--out", str(out),
+           "--no-progress"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=tmp_path,
+                            start_new_session=True, text=True)
+    try:
+        assert _wait(lambda: len(_session(proc.pid)) >= 3, timeout=120), "the workers did not start"
+        time.sleep(1.0)  # the workers have their runs
+        worker = max(p for p in _session(proc.pid) if p != proc.pid)
+        os.kill(worker, signal.SIGTERM)
+        proc.wait(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        for p in _session(proc.pid):
+            os.kill(p, signal.SIGKILL)
+        proc.wait(timeout=30)
+    err = proc.stderr.read().splitlines()
+    assert proc.returncode == 3, err
+    assert len(err) == 1 and "a worker process of the sweep ended abruptly" in err[0], err
+    assert "unexpected" not in err[0] and "BrokenProcessPool" not in err[0]
+    if out.exists():
+        assert read_results(out)["maxh"].is_unique
+
+
+@pytest.mark.skipif(not LINUX, reason="RLIMIT_AS")
+def test_an_address_space_limit_is_reported_as_out_of_memory(tmp_path):
+    import resource
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (500000 * 1024, resource.RLIM_INFINITY))
+
+    proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", "solve", "paper-2", "--maxh", "0.3", "--json",
+                           "r.json"], cwd=tmp_path, capture_output=True, text=True, timeout=120, preexec_fn=limit)
+    err = proc.stderr.splitlines()
+    assert proc.returncode == 3, proc.stderr
+    assert len(err) == 1 and err[0].startswith("ngcrack: error: out of memory: the address-space limit (ulimit -v) "
+                                               "is 488 MB"), err
+    assert list(tmp_path.iterdir()) == []

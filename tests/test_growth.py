@@ -138,7 +138,7 @@ def test_json_contract(tension_mts):
         assert list(s) == ["step", "load_factor", "ndof", "time_s", "kkt", "error_estimate", "tips", "force",
                            "displacement"]
         for t in s["tips"]:
-            assert list(t) == ["crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "grew", "T"]
+            assert list(t) == ["crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "grew", "T", "stopped"]
         assert max(s["kkt"].values()) < 1e-8
     assert [t["grew"] for t in d["steps"][0]["tips"]] == [True, True]
     assert [t["grew"] for t in d["steps"][1]["tips"]] == [False, False]

@@ -14,6 +14,7 @@ import json
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import ngcrack as nc
@@ -78,7 +79,13 @@ def test_json_contract_and_bad_options(tmp_path):
         assert main(argv) == 2
         assert not out.exists()
     assert main(["hydrofrac", "kgd", "--rate", "1e-4", "--K-Ic", "1e6", "--da", "0.1", "--steps", "1",
-                 "--json", str(out), "--csv", str(tmp_path / "h.csv")]) == 0
+                 "--json", str(out), "--csv", str(tmp_path / "h.csv"), "--gif", str(tmp_path / "h.gif")]) == 0
+    from PIL import Image
+
+    with Image.open(tmp_path / "h.gif") as gif:
+        assert gif.n_frames == 2  # one frame per step
+    table = pd.read_csv(tmp_path / "h.csv")
+    assert len(table) == 4 and set(table["end"]) == {"first", "last"}
     data = json.loads(out.read_text())
     assert list(data) == ["scene", "element", "rate", "K_Ic", "stopped", "steps", "cracks"]
     assert [list(s) for s in data["steps"]] == [list(STEP_KEYS) + ["tips"]] * 2
@@ -98,3 +105,17 @@ def test_bad_arguments_refused_by_name(kwargs, words):
     args.update(kwargs)
     with pytest.raises(nc.InputError, match=words):
         nc.hydrofrac(kgd_body(20.0), **args)
+
+
+@pytest.mark.slow
+def test_kgd_geos_values_at_ten_seconds():
+    """The built-in kgd scene grown to l = 4.5 m: at t = 10 s GEOS's closed-form values
+    l = 4.335 m, p = 0.2710 MPa, w0 = 146.8 um (measured: 4.328 m, 0.2711 MPa, 146.9 um)."""
+    result = nc.hydrofrac("kgd", rate=Q0, K_Ic=K_IC, da=0.1, steps=35)
+    t = np.array([s["time"] for s in result.steps])
+    assert t[0] < 10.0 < t[-1]
+    at = {k: float(np.interp(10.0, t, [s[k] for s in result.steps]))
+          for k in ("half_length", "pressure", "opening_at_injection")}
+    assert abs(at["half_length"] / 4.335 - 1) < 0.01
+    assert abs(at["pressure"] / 0.2710e6 - 1) < 0.01
+    assert abs(at["opening_at_injection"] / 146.8e-6 - 1) < 0.01

@@ -7,7 +7,8 @@ What is checked, and against what:
   128 + signal, one line, no file;
 - a main thread held in a C call that checks no flag (libc's system(), which waits for its
   child whatever the signals) is ended by the watcher after its grace period: exit code
-  128 + 15, the command's line, the temporary files of outputs being written removed;
+  128 + 15, the command's line, the temporary files of outputs being written removed; a
+  `grow` held so in a solve still writes the steps it finished;
 - `grow` stopped after a step writes the finished steps (JSON and CSV, whole, marked
   "stopped": "interrupted: ...") and says so, also when the signal is swallowed by a library
   or comes back as another exception type (never lost, never "unexpected").
@@ -132,9 +133,9 @@ def _grow_files(place: Path, steps_at_least: int, signame: str):
     return data
 
 
+@pytest.mark.slow  # the default run has the grow held in a C call and the in-process cases below
 @pytest.mark.skipif(not LINUX, reason="POSIX signals")
-@pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGINT, marks=pytest.mark.slow)],
-                         ids=["SIGTERM", "SIGINT"])
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
 def test_an_interrupted_grow_writes_its_finished_steps(tmp_path, sig):
     cmd = [sys.executable, "-m", "ngcrack.cli", *GROW, "--steps", "30", "--json", "g.json", "--csv", "g.csv",
            "--gif", "g.gif"]
@@ -157,6 +158,48 @@ def test_an_interrupted_grow_writes_its_finished_steps(tmp_path, sig):
     assert not (tmp_path / "g.gif").exists()
 
 
+@pytest.mark.skipif(not LINUX, reason="libc's system() through ctypes")
+def test_a_grow_held_in_a_long_c_call_still_writes_its_finished_steps(tmp_path):
+    """The solve after step 1 (the step 2 -> 3 extension) never returns to Python (libc's system()):
+    the watcher writes steps 0 and 1 itself."""
+    script = textwrap.dedent(f"""
+        import ctypes, sys
+        from ngcrack import cli
+        from ngcrack.growth import loop
+
+        real, calls = loop.solve_step, []
+
+        def solve_step(*args, **kwargs):
+            calls.append(1)
+            if len(calls) == 4:  # step 0's, then one a step: the 4th makes step 3, after "step 1" is printed
+                ctypes.CDLL(None).system(b"sleep 60")
+            return real(*args, **kwargs)
+
+        loop.solve_step = solve_step
+        sys.exit(cli.main({[*GROW, "--steps", "5", "--json", "g.json", "--csv", "g.csv"]!r}))
+    """)
+    proc = subprocess.Popen([sys.executable, "-c", script], cwd=tmp_path, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"),
+                            start_new_session=True)
+    try:
+        for line in proc.stdout:
+            if line.startswith("step 1:"):
+                break
+        time.sleep(0.5)  # into the next solve, in system()
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=60)
+        latency = time.monotonic() - sent
+    finally:
+        _stop(proc)
+    err = proc.stderr.read().splitlines()
+    assert proc.returncode == 128 + signal.SIGTERM, err
+    assert err == ['ngcrack: terminated; wrote g.json and g.csv with the 2 finished steps, marked "stopped": '
+                   '"interrupted: ..."'], err
+    assert len(_grow_files(tmp_path, 2, "SIGTERM")["steps"]) == 2
+    assert latency <= 60 / 4  # the child sleeps 60 s; the watcher acts after its grace period (1 s)
+
+
 def _signal_in_step(monkeypatch, at_call: int, then):
     """Send SIGTERM to this process inside the loop's `at_call`-th tip evaluation; `then(exc)` decides
     what the library does with the KeyboardInterrupt (swallow it, or raise its own error)."""
@@ -164,7 +207,7 @@ def _signal_in_step(monkeypatch, at_call: int, then):
 
     real, calls = loop.tip_values, []
 
-    def tip_values(sol):
+    def tip_values(*args, **kwargs):
         calls.append(1)
         if len(calls) == at_call:
             try:
@@ -172,7 +215,7 @@ def _signal_in_step(monkeypatch, at_call: int, then):
                 time.sleep(5)  # the handler raises here
             except KeyboardInterrupt as exc:
                 then(exc)
-        return real(sol)
+        return real(*args, **kwargs)
 
     monkeypatch.setattr(loop, "tip_values", tip_values)
 

@@ -138,3 +138,13 @@ def test_midspan_deflection_against_timoshenko_and_a_wrong_support():
     assert abs(wrong / expected - 1.0) > 0.3
     v = load_point_values(sol)
     assert abs(v["point0"]["force"][0] + v["point1"]["force"][0]) < 1e-9 and v["point0"]["force"][0] > 0.5
+
+
+def test_default_width_follows_the_mesh_size_and_points_can_be_removed():
+    s = beam()
+    free = s.with_(points=[{"at": p.at, "type": p.type, **({"value": p.value} if p.value else {})} for p in s.points])
+    assert [p.width for p in free.points] == pytest.approx([0.5 * 0.1 * s.diameter] * 3)  # no maxh: a tenth of it
+    fine = s.with_(maxh=0.2, points=[{"at": (3.0, 0.0), "type": "pin"}, *s.points[1:]])
+    assert fine.points[0].width == pytest.approx(0.1)
+    plain = s.with_(points=[], boundary={"bottom": {"type": "clamped"}})
+    assert len(plain.polygon) == 4 and plain.labels == ("bottom", "right", "top", "left") and not plain.boundary.get("load")

@@ -159,3 +159,13 @@ def test_pressure_lowers_the_friction_of_a_closed_crack():
     assert all(abs(abs(t.K_II) / exact - 1) < 0.01 for t in sol.tips)
     assert set(sol.profiles[0].state) == {"slip"}
     assert max(sol.kkt.values()) < 1e-12
+
+
+def test_growth_keeps_the_pressure():
+    """A pressurized crack grown by nc.grow keeps its pressure: at the grown length a + da,
+    K_I = p sqrt(pi (a + da)) (the load factor rescales the pressure with the other loads)."""
+    res = nc.grow(half_plate(10.0, 1.0), da=0.1, steps=1, K_Ic=1.0, criterion="mts", frames=False,
+                  maxh=2.0, tip_h=0.02, crack_h=0.05)
+    assert res.scenes[1].cracks[0].pressure == 1.0
+    K = res.table.query("step == 1")["K_I"].iloc[0]
+    assert abs(K / math.sqrt(math.pi * 1.1) - 1) < 0.02

@@ -205,6 +205,32 @@ def test_series_writes_one_file_per_step_and_their_collection(solutions, tmp_pat
     assert not (tmp_path / "bad").exists()
 
 
+def test_a_target_that_is_a_directory_is_named_and_nothing_is_written(solutions, tmp_path):
+    (tmp_path / "r_cracks.vtu").mkdir()
+    with pytest.raises(nc.InputError, match=r"r_cracks.vtu' is a directory"):
+        save_vtk(solutions["bdm"], tmp_path / "r")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r_cracks.vtu"]  # neither file, no temporary folder
+
+
+def test_a_reused_series_leaves_no_stale_step_file(solutions, tmp_path):
+    """A second series on the same path (a shorter run) removes the first one's step files, and only those."""
+    from ngcrack.vtk import SeriesWriter
+
+    sol = next(iter(solutions.values()))
+    first = SeriesWriter(tmp_path / "run")
+    for k in range(3):
+        first.add(sol, k)
+    for other in ("run_extra.vtu", "other_0001.vtu", "run_0001.txt"):
+        (tmp_path / other).write_text("not ours")
+    second = SeriesWriter(tmp_path / "run")
+    second.add(sol, 0)
+    left = sorted(p.name for p in tmp_path.iterdir())
+    assert left == ["other_0001.vtu", "run.pvd", "run_0000.vtu", "run_0000_cracks.vtu", "run_0001.txt",
+                    "run_extra.vtu"]
+    rows = ET.parse(second.collection).getroot().find("Collection").findall("DataSet")
+    assert [r.get("file") for r in rows] == ["run_0000.vtu", "run_0000_cracks.vtu"]
+
+
 def test_growth_writes_one_file_per_step_through_its_progress_callback(tmp_path):
     """nc.grow(..., progress=SeriesWriter(path)): one body and one crack file per step, the
     collection listing them at the step numbers, each crack file the crack of its step

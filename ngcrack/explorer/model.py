@@ -233,7 +233,7 @@ class Explorer:
         """
         t0 = time.perf_counter()
         self.redone = []
-        before, friction_before = dict(self.state), self._friction_set
+        before, set_before = dict(self.state), (self._friction_set, self._pressure_set)
         try:
             unknown = [k for k in changes if k not in self.controls()]
             if unknown:
@@ -259,7 +259,7 @@ class Explorer:
             self.error, self.error_detail = refusal(exc, changes, self.state)
             self.refused = tuple(changes)
             if self.solution is not None:  # back to the controls of the answer shown
-                self.state, self._friction_set = before, friction_before
+                self.state, (self._friction_set, self._pressure_set) = before, set_before
             return None
         finally:
             self.latency = time.perf_counter() - t0
@@ -291,8 +291,11 @@ class Explorer:
         answer at the scene's reference load (load factor 1, load angle 0, the scene's own
         friction, crack model contact) for the current material, element, mesh size and
         geometry. They depend on these controls only, never on the order in which the
-        controls were changed: a load change keeps them, any other change re-fits them
-        (one extra solve on the same mesh where the current load is not the reference)."""
+        controls were changed: a load change keeps them, any other change re-fits them.
+        Where the current answer is a positive multiple L of the reference's (load factor
+        L > 0, load angle 0, crack model contact, the scene's friction: the problem is
+        positively homogeneous in the load) they are the current answer's scaled by 1/L;
+        otherwise one extra solve at the reference load on the same mesh gives them."""
         from .fields import fit_scales
 
         field = field or self.state["field"]
@@ -301,20 +304,28 @@ class Explorer:
                     and k not in ("field", "scales", "magnification"))
         cached = getattr(self, "_reference", None)
         if cached is None or cached[0] != key:
-            same = all(self.state[k] == ref[k] for k in ("load", "load_angle", "crack_model")) \
-                and not self._friction_set and not self._pressure_set
-            sol = self.solution if same and self.error is None else None
-            if sol is None:
+            st = self.state
+            proportional = st["load_angle"] == ref["load_angle"] and st["crack_model"] == "contact" \
+                and not self._friction_set and not self._pressure_set and self.error is None \
+                and self.solution is not None
+            if proportional and st["load"] > 0:
+                # contact (and friction) under one proportional load: the answer at load factor
+                # L is L times the reference's (positively homogeneous), so no solve is needed
+                sol, factor = self.solution, float(st["load"])
+            else:
                 base = self._base_scene()
                 scene = scaled_loads(base, 1.0, 0.0).with_(E=ref["E"], nu=ref["nu"])
                 opts = SolveOptions.of(**{k: v for k, v in self.solve_options.items() if k != "warm_start"},
                                        element=ref["element"], maxh=ref["maxh"], crack_model="contact")
-                sol = self.pipeline.run(scene, opts)
-            cached = (key, sol, {})
+                sol, factor = self.pipeline.run(scene, opts), 1.0
+            cached = (key, sol, factor, {})
             self._reference = cached
-        if field not in cached[2]:
-            cached[2][field] = fit_scales(cached[1], field)
-        return dict(cached[2][field])
+        _, sol, factor, fitted = cached
+        if field not in fitted:
+            sc = fit_scales(sol, field)
+            fitted[field] = {"scale": sc["scale"] * factor, "clim": sc["clim"] / factor, "jump": sc["jump"] / factor,
+                             "traction": sc["traction"] / factor, "load": sc["load"] / factor}
+        return dict(fitted[field])
 
     @property
     def counts(self) -> dict[str, int]:

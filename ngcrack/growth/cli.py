@@ -70,6 +70,9 @@ def run(args) -> int:
         from ngcrack.vtk import SeriesWriter
 
         series = SeriesWriter(stem)  # its stale step files go when it writes the first step
+    from ngcrack.sweeps import check_friction_applies
+
+    check_friction_applies(args.friction, args.crack_model, "--friction")  # as solve refuses it
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:

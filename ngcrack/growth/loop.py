@@ -69,6 +69,9 @@ from .paths import body_region, extend_tip, extended_cracks, tip_direction
 MAX_STEPS = 1000
 #: da may be at most this fraction of the body's diameter
 MAX_DA_FRACTION = 0.1
+#: da must be at least this fraction of the mesh size at the tips: a shorter segment is below
+#: what the mesh resolves (da = 1e-6 on a tip mesh of 5e-3 was taken for a cut-through)
+MIN_DA_TIP_FRACTION = 0.1
 #: tips whose load factor lies within this fraction of the smallest grow together
 GROW_TOGETHER_RTOL = 0.02
 #: PLS: |K_II| at every new tip at most this fraction of its K_eq ends the trials (about 1 degree
@@ -97,12 +100,19 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     def number(v):
         return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
 
+    check_growth_solve_options(scene, solve_options)
+
     if K_Ic is not None and not (number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
         raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness), or None")
     limit = MAX_DA_FRACTION * scene.diameter
     if not (number(da) and math.isfinite(da) and 0 < da <= limit):
         raise InputError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_FRACTION:g} of the "
                           f"body's diameter {scene.diameter:.4g})")
+    shortest = min_da(scene, solve_options)
+    if da < shortest:
+        raise InputError(f"da = {da!r}: must be at least {MIN_DA_TIP_FRACTION:g} of the mesh size at the crack tips "
+                         f"({shortest / MIN_DA_TIP_FRACTION:.4g}), i.e. >= {shortest:.4g}: a shorter segment is not "
+                         f"resolved by the mesh; give a larger da or a smaller tip_h")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
         raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
     bad = [k for k in _RESERVED if k in solve_options]
@@ -111,6 +121,31 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     if not tip_labels(scene):
         raise InputError(f"scene {scene.name!r}: has no crack tip inside the body (every crack end lies on the "
                           f"boundary or on another crack), so no crack can grow")
+
+
+def min_da(scene, solve_options) -> float:
+    """The shortest segment a step may add: MIN_DA_TIP_FRACTION of the mesh size at the tips (tip_h,
+    else crack_h, else maxh, as the mesh resolves them from the options and the scene)."""
+    from ngcrack.sizing import mesh_sizes
+
+    sizes = {k: solve_options.get(k) for k in ("maxh", "tip_h", "crack_h", "grading")}
+    try:
+        maxh, tip_h, crack_h, _ = mesh_sizes(scene, **sizes)
+    except (TypeError, ValueError):  # a bad size is refused, naming it, by the solve options' check
+        return 0.0
+    h = next(v for v in (tip_h, crack_h, maxh) if v is not None)
+    return MIN_DA_TIP_FRACTION * float(h)
+
+
+def check_growth_solve_options(scene, solve_options) -> None:
+    """What a solve alone accepts but growth cannot use: friction on cracks that have no contact."""
+    model = solve_options.get("crack_model") or "contact"
+    if model != "contact":
+        mu = max((float(getattr(c, "friction", 0.0) or 0.0) for c in scene.cracks), default=0.0)
+        if mu:
+            raise InputError(f"crack_model = {model!r}: the scene's cracks have friction {mu:g}, which acts only "
+                             f"with crack_model 'contact' (free and bonded cracks have no contact); drop the friction "
+                             f"(scene.with_(friction=0)) or use crack_model 'contact'")
 
 
 @dataclass
@@ -181,8 +216,18 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     Tips stop at the boundary (the crack then cuts through) or before meeting a crack; the
     run stops after `steps` steps, when no tip is left inside the body, or when none can grow.
     """
+    from ngcrack.scene import Scene
+    from ngcrack.solve import as_scene
+
     from .result import GrowthResult
 
+    if not isinstance(scene, (Scene, str)):
+        raise InputError(f"scene = {scene!r}: must be a Scene (nc.Scene.from_toml, nc.scenes.load) or the name of a "
+                         f"built-in scene")
+    scene = as_scene(scene)
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress = {progress!r}: must be None or a callable, called as progress(step, result) "
+                         f"after every step")
     check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
     r_c = check_r_c(r_c, criterion)
     if not (isinstance(together, (int, float)) and 0 <= together < 1):
@@ -238,6 +283,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         lam_step = min((v["lambda"] for v in values if v["label"] in grew), default=None)
         if lam_step is None:
             lam_step = min((v["lambda"] for v in values if v["label"] not in frozen), default=math.inf)
+        for v in values:  # a tip that stopped inside the body: why, in the step's row
+            v["stopped"] = frozen.get(v["label"], "")
         result.add_step(n, scene, sol, values, lam_step, grew, elapsed, trials, frames=frames)
         result.solution = sol  # this step's solve, for the progress callback (ngcrack.vtk.SeriesWriter)
         if progress is not None:

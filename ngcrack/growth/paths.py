@@ -10,6 +10,7 @@ cross its own crack, the tip stops where it is (junctions are not supported).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -128,4 +129,7 @@ def extended_cracks(scene, extensions) -> list:
             pts[ext.crack].append(ext.point)
         else:
             pts[ext.crack].insert(0, ext.point)
-    return [Crack(tuple(p), c.friction) for p, c in zip(pts, scene.cracks)]
+    # each crack keeps its other fields (friction, face pressure; a pressure table stays in the
+    # arc length from the crack's first point, which moves when that end grows)
+    return [dataclasses.replace(c, points=tuple(p)) if isinstance(c, Crack) else Crack(tuple(p), c.friction)
+            for p, c in zip(pts, scene.cracks)]

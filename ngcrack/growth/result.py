@@ -14,7 +14,7 @@ from .records import step_loads
 
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "T", "K_eq", "kink_deg", "load_factor",
-           "tip_load_factor", "crack_length", "closed", "grew", "ndof", "solves", "time_s", "error_estimate", "kkt",
+           "tip_load_factor", "crack_length", "closed", "grew", "stopped", "ndof", "solves", "time_s", "error_estimate", "kkt",
            "force", "displacement", "compliance")
 #: the largest crack-face opening drawn in the animation, as a fraction of the body's diameter
 FACE_FRACTION = 0.03
@@ -33,8 +33,10 @@ class GrowthResult:
     that does not grow: the MTS kink of its K, or with PLS the first trial's angle,
     criteria.pls_predictor) relative to its current direction,
     counter-clockwise positive; load_factor the step's (the smallest among the tips that
-    grow), tip_load_factor the tip's own K_Ic / K_eq; closed whether the faces at the tip
-    touch; grew whether the tip advanced after this step; solves the solves that made the
+    grow), tip_load_factor the tip's own K_Ic / K_eq (both empty where no finite load makes
+    a tip grow); closed whether the faces at the tip touch; grew whether the tip advanced
+    after this step; stopped why the tip stopped inside the body (a hole or a crack ahead;
+    empty while it may grow); solves the solves that made the
     step (more than one: PLS trials); kkt the largest of the solve's KKT residuals; force and
     displacement the primary load's P and delta at the step's load factor (records.py: the
     P-delta record; None where the load factor is infinite), compliance delta / P.
@@ -77,13 +79,14 @@ class GrowthResult:
             self.rows.append({"step": n, "crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"],
                               "K_I": v["K_I"], "K_II": v["K_II"], "G": v["G"], "T": v.get("T"), "K_eq": v["K_eq"],
                               "kink_deg": kink,
-                              "load_factor": lam_step, "tip_load_factor": v["lambda"], "crack_length": length,
-                              "closed": v["closed"], "grew": did, "ndof": ndof, "solves": int(solves),
+                              "load_factor": _finite_or_none(lam_step), "tip_load_factor": _finite_or_none(v["lambda"]),
+                              "crack_length": length, "closed": v["closed"], "grew": did,
+                              "stopped": v.get("stopped", ""), "ndof": ndof, "solves": int(solves),
                               "time_s": float(time_s), "error_estimate": est, "kkt": max(kkt.values(), default=0.0),
                               "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
                          "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did,
-                         "T": v.get("T")})
+                         "T": v.get("T"), "stopped": v.get("stopped", "")})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
                            "kkt": kkt, "error_estimate": est, "tips": tips,
                            "force": rec.force, "displacement": rec.displacement})

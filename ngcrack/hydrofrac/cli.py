@@ -37,7 +37,7 @@ def add_parser(subparsers, positive, count):
 def run(args) -> int:
     from ngcrack import scenes
     from ngcrack.cli_errors import check_finite
-    from ngcrack.files import Staged, check_output
+    from ngcrack.files import Staged, check_distinct, check_output
     from ngcrack.options import SolveOptions
 
     from .loop import check_hydrofrac_options, hydrofrac
@@ -45,6 +45,7 @@ def run(args) -> int:
     json_path = check_output(args.json, "--json")
     csv_path = check_output(args.csv, "--csv", ".csv")
     gif_path = check_output(args.gif, "--gif", ".gif")
+    check_distinct({"--json": json_path, "--csv": csv_path, "--gif": gif_path})  # no two outputs on one file
     scene = scenes.resolve(args.scene)
     options = {k: v for k, v in (("element", args.element), ("order", args.order), ("maxh", args.maxh),
                                  ("tip_h", args.tip_h), ("crack_h", args.crack_h),

@@ -78,8 +78,11 @@ class HydrofracResult:
         with writer.saving(fig, str(path), dpi=fig.dpi):
             for row, f in zip(self.steps, self.frames):
                 ax.clear()
-                xy = np.column_stack([f["x"], f["y"]])
+                ends = np.asarray(f["points"])[[0, -1]]
+                # the mid-point samples, closed at the crack's ends (zero opening there)
+                xy = np.vstack([ends[:1], np.column_stack([f["x"], f["y"]]), ends[1:]])
                 half = 0.5 * scale * np.asarray(f["opening"])[:, None] * np.asarray(f["normal"])
+                half = np.vstack([np.zeros((1, 2)), half, np.zeros((1, 2))])
                 for sign in (1, -1):
                     face = xy + sign * half
                     ax.plot(face[:, 0], face[:, 1], "-", color="tab:blue", lw=1.2)

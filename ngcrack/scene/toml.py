@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -101,8 +102,21 @@ def parse_toml(text: str, source: str) -> dict[str, Any]:
 
 def scene_from_file(cls, path: str | Path):
     """Read a scene file; without a ``name`` key the file's stem is the name."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise SceneError(f"path = {path!r}: expected the name of a scene file (str or os.PathLike)")
     path = Path(path)
-    d = parse_toml(path.read_text(encoding="utf-8"), str(path))
+    if path.is_dir():
+        raise SceneError(f"scene file {str(path)!r}: is a directory; give a .toml file")
+    if not path.is_file():
+        raise SceneError(f"scene file {str(path)!r}: does not exist")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"scene file {str(path)!r}: is not a UTF-8 text file (byte {exc.start}); give a TOML scene "
+                         f"file") from None
+    except OSError as exc:
+        raise SceneError(f"scene file {str(path)!r}: cannot be read ({exc.strerror or exc})") from None
+    d = parse_toml(text, str(path))
     return scene_from_dict(cls, d, name=None if "name" in d else path.stem)
 
 

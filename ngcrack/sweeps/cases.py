@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import sys
+import threading
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -104,9 +105,31 @@ def _mesh_stats(sol) -> tuple[float, int]:
     return float(np.linalg.norm(sides, axis=2).max()), int(len(tris))
 
 
+_worker = threading.local()
+
+
+def worker_pipeline():
+    """The Pipeline of this worker (process or thread): its runs go through one Pipeline,
+    so that the elements, Poisson ratios and friction coefficients of a sweep share each
+    size's mesh (the stages after the mesh are released after every run)."""
+    from ..pipeline import Pipeline
+
+    if getattr(_worker, "pipeline", None) is None:
+        _worker.pipeline = Pipeline()
+    return _worker.pipeline
+
+
 def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     """Solve one case: (its row or None, its Reference or None). Runs in any process."""
-    from ..geometry import reuse_meshes
+
+    pipeline = worker_pipeline()
+    try:
+        return _run_case(case, pipeline)
+    finally:
+        pipeline.keep_mesh_only()  # the next run's assembly does not meet this one's factorization
+
+
+def _run_case(case: Case, pipeline) -> tuple[dict | None, Reference | None]:
     from ..solve import solve
 
     _release_memory()
@@ -116,10 +139,10 @@ def run_case(case: Case) -> tuple[dict | None, Reference | None]:
     if case.adapt_maxh is not None:  # refines its own meshes: none is shared
         with warnings.catch_warnings():  # a budget reached is recorded in the row (estimate > maxh)
             warnings.simplefilter("ignore", UserWarning)
-            sol = solve(scene, element=case.element, maxh=case.adapt_maxh, adapt=case.maxh, **case.solve_options)
+            sol = solve(scene, element=case.element, maxh=case.adapt_maxh, adapt=case.maxh, pipeline=pipeline,
+                        **case.solve_options)
     else:
-        with reuse_meshes():  # the elements and Poisson ratios of a sweep share each size's mesh
-            sol = solve(scene, element=case.element, maxh=case.maxh, **case.solve_options)
+        sol = solve(scene, element=case.element, maxh=case.maxh, pipeline=pipeline, **case.solve_options)
     _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
     if case.vtk is not None and case.row:
         sol.save_vtk(case.vtk)

@@ -3,7 +3,9 @@
 Output. `sweep(..., out="results.csv")` appends one CSV line per finished run (one
 `write` of a complete line, then fsync), so an interruption loses at most the runs in
 progress; running the same sweep again skips the rows already present (keyed by scene,
-element, maxh, nu, friction) and drops a trailing partial line. Reference samples are cached next
+element, maxh, nu, friction) and drops a trailing partial line. The last column,
+`row_check`, is a digest of the row's other cells: a row changed afterwards (a key edited
+by hand) is refused naming the row, not taken for another run. Reference samples are cached next
 to the CSV (`results.csv.refs/`, npz files) so a resumed sweep need not recompute them;
 a missing or unreadable cache file is recomputed.
 """
@@ -11,6 +13,7 @@ a missing or unreadable cache file is recomputed.
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import math
 import os
@@ -76,6 +79,11 @@ ROW_SCHEMA: dict = {
     "estimate_energy": float,     # the same, absolute
 }
 ROW_COLUMNS = tuple(ROW_SCHEMA)
+#: the last column of a results file: a digest of the row's other cells, so that a row changed
+#: after the sweep wrote it (a key edited by hand would otherwise pass for another run) is refused
+CHECK_COLUMN = "row_check"
+#: hexadecimal digits of the digest kept
+CHECK_DIGITS = 16
 #: columns that must agree between a CSV's rows and a resumed sweep asking for the same keys
 _SETUP_COLUMNS = ("reference_element", "reference_maxh", "crack_model", "qp_solver", "adapt")
 
@@ -103,6 +111,22 @@ def csv_line(row: dict, columns: Sequence[str] = ROW_COLUMNS) -> str:
     buf = io.StringIO()
     csv.writer(buf, lineterminator="\n").writerow([_format(row.get(c, math.nan)) for c in columns])
     return buf.getvalue()
+
+
+def row_check(cells: Sequence[str]) -> str:
+    """The digest of a row's cells, as written (the CHECK_COLUMN's value)."""
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow(list(cells))
+    return hashlib.sha256(buf.getvalue().encode()).hexdigest()[:CHECK_DIGITS]
+
+
+def _check_digests(path: Path, header: list[str], records: list[list[str]]) -> None:
+    """Refuse a row whose cells no longer give its digest: changed after the sweep wrote it."""
+    for i, rec in enumerate(records, start=1):
+        if rec[-1] != row_check(rec[:-1]):
+            key = ", ".join(f"{k} = {rec[header.index(k)]}" for k in KEY)
+            raise _corrupted(path, f"row {i} (line {i + 1}) was changed after the sweep wrote it ({key}: its "
+                                   f"{CHECK_COLUMN} does not match its cells)")
 
 
 def typed(df):
@@ -195,21 +219,26 @@ def read_results(path):
         raise InputError(f"{path}: not a CSV file ({exc}); write to another file") from None
     header, records = lines[0], lines[1:]
     n = len(ROW_COLUMNS)
-    if tuple(header[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in header[n:]):
+    checked = bool(header) and header[-1] == CHECK_COLUMN  # files of older versions have no digests
+    data_header = header[:-1] if checked else header
+    if tuple(data_header[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in data_header[n:]):
         raise InputError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
                           f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
     for i, rec in enumerate(records, start=1):
         if len(rec) != len(header):
             raise _corrupted(path, f"row {i} (line {i + 1}) has {len(rec)} cells, the header {len(header)}")
-    _check_cells(path, header, records)
+    _check_cells(path, data_header, records)
     # floats must read back exactly (resume keys, reproducible tables): pandas >= 3 parses
     # round-trip by default, older versions need asking
     exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
     df = pd.read_csv(io.StringIO(text), **exact,
                      dtype={"scene": str, "element": str, "reference_element": str, "crack_model": str,
-                            "qp_solver": str})
+                            "qp_solver": str, CHECK_COLUMN: str})
     df = typed(df)
     _check_unique(path, df)
+    if checked:
+        _check_digests(path, header, records)
+        df = df.drop(columns=CHECK_COLUMN)
     return df
 
 
@@ -224,6 +253,7 @@ class ResultsFile:
         self.path = Path(path)
         self.columns = tuple(columns)
         self._header = ""
+        self._checked = True  # rows carry their digest (CHECK_COLUMN), except in a file of an older version
         if not self.path.parent.exists():
             raise InputError(f"out = {str(self.path)!r}: the directory {str(self.path.parent)!r} does not exist")
         if self.path.is_dir():
@@ -237,13 +267,15 @@ class ResultsFile:
                 with open(self.path, "r+b") as fh:
                     fh.truncate(keep)
             self.existing = read_results(self.path)
+            with open(self.path, newline="") as fh:
+                self._checked = next(csv.reader(fh), [""])[-1] == CHECK_COLUMN
             if tuple(self.existing.columns) != self.columns:
                 raise InputError(f"out = {str(self.path)!r}: its columns are not this sweep's (another scene's "
                                   f"tips?); write to another file")
         else:
             self.existing = None
             buf = io.StringIO()  # tip columns hold a comma (K_I[0,last]): quoted
-            csv.writer(buf, lineterminator="\n").writerow(self.columns)
+            csv.writer(buf, lineterminator="\n").writerow((*self.columns, CHECK_COLUMN))
             self._header = buf.getvalue()
 
     def _append(self, text: str) -> None:
@@ -258,5 +290,10 @@ class ResultsFile:
             os.close(fd)
 
     def append(self, row: dict) -> None:
-        self._append(self._header + csv_line(row, self.columns))
+        cells = [_format(row.get(c, math.nan)) for c in self.columns]
+        if self._checked:
+            cells.append(row_check(cells))
+        buf = io.StringIO()
+        csv.writer(buf, lineterminator="\n").writerow(cells)
+        self._append(self._header + buf.getvalue())
         self._header = ""
