@@ -109,6 +109,12 @@ def sweep(
         from ..vtk import vtk_stem
 
         grid.vtk = str(vtk_stem(vtk))  # refuses a bad place before any run
+        for _, element, h, v, f in grid.keys():  # and a run's file name taken by a folder
+            for part in (".vtu", "_cracks.vtu"):
+                taken = Path(grid.vtk_name(element, h, v, f) + part)
+                if taken.is_dir():
+                    raise InputError(f"vtk = {str(vtk)!r}: {str(taken)!r} (the ParaView file of the run {element}, "
+                                     f"maxh {h:g}, nu {v:g}) is a directory; give another name")
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
     bar = None
