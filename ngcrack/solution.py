@@ -171,6 +171,7 @@ class Solution:
 
     @property
     def mesh(self) -> ngs.Mesh:
+        """The NGSolve mesh (cracks as interior edges)."""
         return self.crack_mesh.mesh
 
     @property
@@ -185,18 +186,22 @@ class Solution:
 
     @property
     def u(self):
+        """The displacement field (a CoefficientFunction)."""
         return self.fields["u"]
 
     @property
     def sigma(self):
+        """The stress field (a 2x2 CoefficientFunction)."""
         return self.fields["sigma"]
 
     @property
     def rotation(self):
+        """The rotation field of the weakly symmetric elements (None for the others)."""
         return self.fields.get("rotation")
 
     @property
     def maxh(self) -> float:
+        """The mesh size the solve was meshed with."""
         return self.crack_mesh.maxh
 
     def crack_profiles(self) -> list[CrackProfile]:
