@@ -123,6 +123,8 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     from ngcrack.tips import tip_labels
 
     check_criterion(criterion)
+    if getattr(scene, "dimension", 2) == 3:
+        raise InputError(f"scene {scene.name!r} is 3D: crack growth takes 2D scenes (3D growth is a later step)")
 
     def number(v):
         return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
