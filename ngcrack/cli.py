@@ -187,9 +187,7 @@ def cmd_solve(args) -> int:
 
         print(format_table(sol.tips))
     if sol.error_estimate is not None:
-        est = sol.error_estimate
-        print(f"error estimate ({est.method}{'' if est.guaranteed else ', not a guaranteed bound'}): "
-              f"energy norm {est.energy:.3e}, relative {est.relative:.2%}")
+        print(sol.error_estimate.line())
     if sol.adapt_history is not None:
         steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
         reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"

@@ -158,14 +158,25 @@ def plot_solution(sol, path=None, levels: int = 20):
                            figsize=(9, 6) if horizontal else (11, 5), constrained_layout=True)
     ax = axes[0]
     tri = Triangulation(verts[:, 0], verts[:, 1], tris)
-    lo, hi = robust_limits(snn)
+    corners = verts[tris]
+    a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    area = np.zeros(len(verts))  # a vertex's share of the area: the tip's many small triangles weigh little
+    np.add.at(area, tris.ravel(), np.repeat(0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 3.0, 3))
+    lo, hi = robust_limits(snn, weights=area)
     bounds = np.linspace(lo, hi, levels + 1)
-    cf = ax.tricontourf(tri, np.clip(snn, lo, hi), levels=bounds, cmap="RdBu_r", extend="both")
+    # red tension, blue compression: a diverging map about 0 where both occur, else one side of it
+    cmap = "RdBu_r" if lo < 0 < hi else ("Reds" if lo >= 0 else "Blues_r")
+    cf = ax.tricontourf(tri, np.clip(snn, lo, hi), levels=bounds, cmap=cmap, extend="both")
     ax.tricontour(tri, snn, levels=bounds, colors="k", linewidths=0.3)
-    fig.colorbar(cf, ax=ax, label=r"$\sigma_\nu$ (colours clipped at the 1st and 99th percentiles)")
+    from matplotlib.ticker import MaxNLocator
+
+    cb = fig.colorbar(cf, ax=ax, label=r"$\sigma_\nu$ (clipped at the area's 1st and 99th percentiles)")
+    ticks = MaxNLocator(7).tick_values(lo, hi)
+    cb.set_ticks(ticks[(ticks >= lo) & (ticks <= hi)])
     for pts in sol.crack_mesh.polylines:
         ax.plot(pts[:, 0], pts[:, 1], "k-", lw=2.0)
-    ax.set_title(rf"$\sigma_\nu$, $\nu$ = ({nu[0] + 0.0:.2f}, {nu[1] + 0.0:.2f}) — {sol.scene.name}, {sol.element}")
+    ax.set_title(rf"$\sigma_\nu$, $\nu$ = ({nu[0] + 0.0:.2f}, {nu[1] + 0.0:.2f})" + f"\n{sol.scene.name}, {sol.element}",
+                 fontsize=10)
     ax = axes[1]
     corners, disp = element_displacements(sol)
     diam = sol.scene.diameter
@@ -180,21 +191,30 @@ def plot_solution(sol, path=None, levels: int = 20):
         for side in ("plus", "minus"):
             moved = f["points"] + scale * f[side]
             ax.plot(moved[:, 0], moved[:, 1], "r-", lw=1.2)
-    ax.set_title(f"deformed body, displacement x {scale:.3g} (red: the crack faces; dashed: undeformed crack)")
+    ax.set_title(f"deformed body, displacement x {scale:.3g}\nred: the crack faces; dashed: the undeformed crack",
+                 fontsize=10)
     for a in axes:
         a.set_aspect("equal")
         a.autoscale_view()
     return _finish(fig, path)
 
 
-def robust_limits(values, low: float = 1.0, high: float = 99.0) -> tuple[float, float]:
-    """Colour limits from the `low`-th and `high`-th percentiles of `values`, symmetric about
-    zero where the values change sign (a crack tip's singular peak is clipped, not the scale)."""
+def robust_limits(values, low: float = 1.0, high: float = 99.0, weights=None) -> tuple[float, float]:
+    """Colour limits from the `low`-th and `high`-th percentiles of `values` (weighted by
+    `weights`, an area, if given), symmetric about zero where the values change sign: a
+    crack tip's singular peak is clipped, it does not set the scale."""
     v = np.asarray(values, float)
-    v = v[np.isfinite(v)]
-    if not len(v):
+    w = np.ones_like(v) if weights is None else np.asarray(weights, float)
+    ok = np.isfinite(v) & (w > 0)
+    if not np.any(ok):
         return -1.0, 1.0
-    lo, hi = float(np.percentile(v, low)), float(np.percentile(v, high))
+    order = np.argsort(v[ok])
+    vs, cum = v[ok][order], np.cumsum(w[ok][order])
+
+    def pct(q):
+        return float(vs[min(int(np.searchsorted(cum, q / 100.0 * cum[-1])), len(vs) - 1)])
+
+    lo, hi = pct(low), pct(high)
     if lo < 0 < hi:
         m = max(-lo, hi)
         return -m, m

@@ -312,7 +312,7 @@ class TipParameters:
     def to_dict(self) -> dict:
         """The `tips` entry of the JSON contract."""
         return {"crack": int(self.crack), "end": self.end, "x": float(self.x), "y": float(self.y),
-                "K_I": float(self.K_I), "K_II": float(self.K_II), "G": float(self.G)}
+                "K_I": float(self.K_I), "K_II": float(self.K_II), "G": float(self.G), "T": float(self.T)}
 
 
 def displacement_gradient(sol):

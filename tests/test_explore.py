@@ -673,3 +673,17 @@ def test_webgui_view_draws_the_figures_deformation_faces_and_limits():
     assert lines["type"] == "lines" and len(lines["position"]) == 2 * n_edges * 6  # two faces, a point pair an edge
     assert kw["settings"]["Colormap"] == {"autoscale": False, "min": -0.9, "max": 0.9, "ncolors": 24}
     assert kw["caption"].startswith("sigma_nu: colours from -0.9 to 0.9") and "× 100" in kw["caption"]
+
+
+def test_robust_colour_limits_clip_a_peak_on_small_triangles():
+    """The solve figure's colour limits: area-weighted percentiles, so that a singular peak
+    on many tiny triangles (a tip's refinement) is clipped instead of setting the scale."""
+    from ngcrack.plots import robust_limits
+
+    body = np.linspace(0.5, 1.5, 1000)  # the plate: 1000 values of area 1
+    peak = np.full(5000, 40.0)  # the tip: 5000 values of area 1e-6
+    values, area = np.r_[body, peak], np.r_[np.ones(1000), np.full(5000, 1e-6)]
+    lo, hi = robust_limits(values, weights=area)
+    assert lo == pytest.approx(0.51, abs=0.002) and hi == pytest.approx(1.49, abs=0.002)
+    assert robust_limits(values)[1] == 40.0  # counted alone, the peak would set the scale
+    assert robust_limits(np.r_[-body, body], weights=np.ones(2000)) == pytest.approx((-1.481, 1.481), abs=0.001)

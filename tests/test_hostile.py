@@ -59,7 +59,8 @@ def place(tmp_path, monkeypatch):
         (tmp_path / name).write_text(text)
     (tmp_path / "adir").mkdir()
     (tmp_path / "adir.csv").mkdir()
-    for name in ("v.vtu", "w_cracks.vtu", "s_0001_cracks.vtu", "p.pvd"):  # output names taken by folders
+    for name in ("v.vtu", "w_cracks.vtu", "s_0001_cracks.vtu", "p.pvd",  # output names taken by folders
+                 "q_paper-2-tdnns-h0.4-nu0.49_cracks.vtu"):
         (tmp_path / name).mkdir()
     (tmp_path / "old.json").write_text('{"kept": true}')
     (tmp_path / "other.csv").write_text("a,b\n1,2\n")
@@ -140,6 +141,9 @@ CASES = [
     (GROW + ["--json", "g.json", "--friction", "0.3", "--crack-model", "bonded"], 2, "crack_model 'contact'"),
     (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "p"] + SWEEP, 2, "--vtk = 'p': p.pvd is a directory"),
     (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "ro/p"] + SWEEP, 2, "cannot write in the directory 'ro'"),
+    (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "q"] + SWEEP, 2,
+     "vtk = 'q': 'q_paper-2-tdnns-h0.4-nu0.49_cracks.vtu' (the ParaView file of the run tdnns, maxh 0.4, nu 0.49) is a "
+     "directory"),
     (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "missing/p"] + SWEEP, 2, "the directory 'missing' does not exist"),
     # ------------------------------------------------------------------ sweep
     (["sweep", "paper-2", "--maxh", "0.4", "--out", "adir.csv", "--no-progress"], 2, "is a directory"),

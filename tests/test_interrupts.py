@@ -107,17 +107,20 @@ def test_a_long_c_call_is_ended_by_the_watcher(tmp_path):
     try:
         assert proc.stdout.readline() == "ready\n"
         time.sleep(0.5)  # into system()
-        sent = time.monotonic()
         proc.send_signal(signal.SIGTERM)
-        proc.wait(timeout=60)
-        latency = time.monotonic() - sent
+        proc.wait(timeout=120)
+        try:  # its `sleep 60` (same process group) outlives it: it did not wait for the C call
+            os.killpg(proc.pid, 0)
+            sleeping = True
+        except ProcessLookupError:
+            sleeping = False
     finally:
         _stop(proc)
     out, err = proc.communicate()
     assert proc.returncode == 128 + signal.SIGTERM
     assert err.splitlines() == ["ngcrack: stopped by 15; nothing was written"]
     assert "not reached" not in out
-    assert latency <= 60 / 4  # the child sleeps 60 s; the watcher acts after its grace period (1 s)
+    assert sleeping  # the watcher ended the process inside system(), before its child's 60 s were over
     assert list(tmp_path.iterdir()) == []
 
 
@@ -133,9 +136,9 @@ def _grow_files(place: Path, steps_at_least: int, signame: str):
     return data
 
 
+@pytest.mark.slow  # the default run has the grow held in a C call and the in-process cases below
 @pytest.mark.skipif(not LINUX, reason="POSIX signals")
-@pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGINT, marks=pytest.mark.slow)],
-                         ids=["SIGTERM", "SIGINT"])
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
 def test_an_interrupted_grow_writes_its_finished_steps(tmp_path, sig):
     cmd = [sys.executable, "-m", "ngcrack.cli", *GROW, "--steps", "30", "--json", "g.json", "--csv", "g.csv",
            "--gif", "g.gif"]
@@ -186,10 +189,13 @@ def test_a_grow_held_in_a_long_c_call_still_writes_its_finished_steps(tmp_path):
             if line.startswith("step 1:"):
                 break
         time.sleep(0.5)  # into the next solve, in system()
-        sent = time.monotonic()
         proc.send_signal(signal.SIGTERM)
-        proc.wait(timeout=60)
-        latency = time.monotonic() - sent
+        proc.wait(timeout=120)
+        try:  # its `sleep 60` (same process group) outlives it: it did not wait for the C call
+            os.killpg(proc.pid, 0)
+            sleeping = True
+        except ProcessLookupError:
+            sleeping = False
     finally:
         _stop(proc)
     err = proc.stderr.read().splitlines()
@@ -197,7 +203,7 @@ def test_a_grow_held_in_a_long_c_call_still_writes_its_finished_steps(tmp_path):
     assert err == ['ngcrack: terminated; wrote g.json and g.csv with the 2 finished steps, marked "stopped": '
                    '"interrupted: ..."'], err
     assert len(_grow_files(tmp_path, 2, "SIGTERM")["steps"]) == 2
-    assert latency <= 60 / 4  # the child sleeps 60 s; the watcher acts after its grace period (1 s)
+    assert sleeping  # the watcher ended the process inside system(), before its child's 60 s were over
 
 
 def _signal_in_step(monkeypatch, at_call: int, then):

@@ -13,6 +13,16 @@ from ngcrack.interrupts import check as check_interrupt
 from ngcrack.interrupts import interruption, pending
 
 
+def _at_hole(text: str):
+    """--at-hole: "stop" or a length (grow checks the value)."""
+    if text == "stop":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        return text  # grow refuses it, naming at_hole and the allowed values
+
+
 def add_parser(subparsers, positive, count):
     """Register `grow` on the ngcrack command's subparsers (`positive`, `count`: its number parsers)."""
     from .criteria import CRITERIA  # (a light module: the parser is built on every command, --help too)
@@ -26,6 +36,9 @@ def add_parser(subparsers, positive, count):
                    help="fracture toughness (default: load factors relative to the first step)")
     p.add_argument("--criterion", default="pls", help=f"kink criterion: {', '.join(CRITERIA)} (default pls)")
     p.add_argument("--r-c", dest="r_c", type=positive, help="the critical distance of --criterion gmts (a material length)")
+    p.add_argument("--at-hole", dest="at_hole", default="stop", type=_at_hole, metavar="stop|LENGTH",
+                   help="a tip that reaches a hole: stop there (default), or a new crack of LENGTH leaves the hole "
+                        "where its hoop stress is largest")
     p.add_argument("--element", default=None, help="tdnns (default), bdm, peers, h1p1 or h1p2")
     p.add_argument("--order", type=int, help="polynomial order of elements that have one")
     p.add_argument("--maxh", type=positive, help="global mesh size (overrides the scene)")
@@ -100,7 +113,7 @@ def run(args) -> int:
 
     try:
         result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion, r_c=args.r_c,
-                      frames=gif_path is not None, progress=progress, **options)
+                      at_hole=args.at_hole, frames=gif_path is not None, progress=progress, **options)
         data = result.to_json_dict()
         check_finite(data)
         check_interrupt()

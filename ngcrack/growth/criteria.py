@@ -26,6 +26,22 @@ taking secant steps in the angle (`secant_angle`). To first order in the kink an
 criteria agree (Cotterell and Rice 1980: k_2(theta) ~ K_II + theta K_I / 2 at the tip of
 a small kink, zero at theta ~ -2 K_II / K_I, MTS's small-angle limit).
 
+Kinked-crack relations (`kink_factors`, `kinked_K`, `pls_kink_angle`). The stress
+intensity factors k_1, k_2 at the tip of an infinitesimal straight kink of angle theta
+are linear in the parent tip's K: k_p(theta) = F_p1(theta) K_I + F_p2(theta) K_II. To
+first order (Cotterell and Rice 1980) F is the singular field's stresses in the
+direction theta, sqrt(2 pi r) (sigma_tt, sigma_rt):
+
+    k_1 = cos(theta/2) [K_I cos^2(theta/2) - 3/2 K_II sin(theta)]
+    k_2 = 1/2 cos(theta/2) [K_I sin(theta) + K_II (3 cos(theta) - 1)]
+
+(`cotterell_rice`), whose k_2 = 0 is exactly the MTS angle. The exact F of Amestoy and
+Leblond (1992) differ at second order; `kink_factors` uses their series in m = theta/pi
+truncated after m^6 (F_11, F_22 even, F_12, F_21 odd), within about 1 degree of their
+exact PLS angles up to the pure mode II angle (77.3 degrees exact, 76.7 from the series).
+The kink of a finite segment da also feels the T-stress and the field's gradients; the
+loop checks the predicted angle by a solve of the grown scene.
+
 Generalized maximum tangential stress (`gmts`; Williams and Ewing 1972, Smith, Ayatollahi
 and Pavier 2001): the hoop stress with the T-stress, taken at a critical distance r_c
 (a material length) instead of its singular limit,
@@ -121,13 +137,74 @@ def newton_angle(theta: float, K_II_new: float, K_I_new: float, limit: float, sl
     return theta + max(-limit, min(limit, step))
 
 
-def pls_predictor(K_I: float, K_II: float, previous: float | None) -> float:
-    """The first trial angle of a PLS step. At a tip's first kink (previous None) or where its
-    faces are closed: the MTS angle. At a grown tip: its previous kink (the path's curvature
-    carried on) corrected by -K_II / (PLS_SLOPE K_I) for the K_II left at its tip."""
-    if previous is None or K_I <= 0:
-        return mts_angle(K_I, K_II)
-    return float(previous) - float(K_II) / (PLS_SLOPE * float(K_I))
+#: a previous kink larger than this (radians) is a kink, not the curvature of a smooth path:
+#: the next step's first trial does not carry it over (the K at the tip says where to go)
+PLS_CARRY_MAX = math.radians(10.0)
+
+
+def pls_predictor(K_I: float, K_II: float, previous: float | None, slope: float | None = None) -> float:
+    """The first trial angle of a PLS step. At a tip's first kink (previous None), where its
+    faces are closed, or where its previous kink was larger than PLS_CARRY_MAX: the PLS angle
+    of the kinked-crack relations for its K (`pls_kink_angle`). At a grown tip on a smooth
+    path: its previous kink (the path's curvature carried on) corrected by
+    -K_II / slope for the K_II left at its tip (slope: dk_2/dtheta measured at the tip's last
+    step, default PLS_SLOPE K_I)."""
+    if previous is None or K_I <= 0 or abs(float(previous)) > PLS_CARRY_MAX:
+        return pls_kink_angle(K_I, K_II)
+    slope = PLS_SLOPE * float(K_I) if slope is None or slope <= 0 else float(slope)
+    return float(previous) - float(K_II) / slope
+
+
+# ---------------------------------------------------------------------- kinked-crack relations
+def cotterell_rice(theta: float) -> tuple[float, float, float, float]:
+    """First-order kinked-crack factors (F_11, F_12, F_21, F_22) at theta (radians): the
+    singular field's sqrt(2 pi r) sigma_tt and sigma_rt in the direction theta per unit K_I, K_II."""
+    c, s = math.cos(0.5 * theta), math.sin(theta)
+    return c ** 3, -1.5 * c * s, 0.5 * c * s, 0.5 * c * (3.0 * math.cos(theta) - 1.0)
+
+
+def kink_factors(theta: float) -> tuple[float, float, float, float]:
+    """Amestoy-Leblond kinked-crack factors (F_11, F_12, F_21, F_22) at theta (radians, |theta| < pi/2
+    where the series holds): k_1 = F_11 K_I + F_12 K_II, k_2 = F_21 K_I + F_22 K_II at the tip of
+    an infinitesimal kink. Their series in m = theta / pi, truncated after m^6."""
+    m = float(theta) / math.pi
+    p2, p4, p6 = math.pi ** 2, math.pi ** 4, math.pi ** 6
+    f11 = 1 - 3 * p2 / 8 * m ** 2 + (p2 - 5 * p4 / 128) * m ** 4 + (p2 / 9 - 11 * p4 / 72 + 119 * p6 / 15360) * m ** 6
+    f12 = math.pi * (-1.5 * m + (10 / 3 + p2 / 16) * m ** 3 + (-2 - 133 * p2 / 180 + 59 * p4 / 1280) * m ** 5)
+    f21 = math.pi * (0.5 * m - (4 / 3 + p2 / 48) * m ** 3 + (-2 / 3 + 13 * p2 / 30 - 59 * p4 / 3840) * m ** 5)
+    f22 = (1 - (4 + 3 * p2 / 8) * m ** 2 + (8 / 3 + 29 * p2 / 18 - 5 * p4 / 128) * m ** 4
+           + (-32 / 15 - 4 * p2 / 9 - 1159 * p4 / 7200 + 119 * p6 / 15360) * m ** 6)
+    return f11, f12, f21, f22
+
+
+def kinked_K(K_I: float, K_II: float, theta: float) -> tuple[float, float]:
+    """(k_1, k_2) at the tip of an infinitesimal kink of angle theta (Amestoy-Leblond)."""
+    f11, f12, f21, f22 = kink_factors(theta)
+    return f11 * K_I + f12 * K_II, f21 * K_I + f22 * K_II
+
+
+def pls_kink_angle(K_I: float, K_II: float) -> float:
+    """The kink angle (radians) with k_2 = 0 at the tip of an infinitesimal kink (Amestoy-Leblond),
+    the one with k_1 > 0, between 0 and the pure mode II angle; K_II = 0: 0. Bisection on
+    k_2(theta), monotone on that interval for K_I >= 0."""
+    K_I, K_II = max(float(K_I), 0.0), float(K_II)
+    if K_II == 0.0:
+        return 0.0
+    sign = -1.0 if K_II > 0 else 1.0  # K_II > 0 kinks clockwise
+    lo, hi = 0.0, sign * math.radians(85.0)
+
+    def k2(t):
+        return kinked_K(K_I, K_II, t)[1]
+
+    g_lo = k2(lo)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        g = k2(mid)
+        if (g > 0) == (g_lo > 0):
+            lo, g_lo = mid, g
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 # ------------------------------------------------------------------ generalized MTS

@@ -185,10 +185,18 @@ def plot_growth(result, path=None):
             k = pn.index(po[0]) if po[0] in pn else 0  # points added at the first end
             segs += [(pn[i], pn[i + 1]) for i in range(k)]
             segs += [(pn[i], pn[i + 1]) for i in range(k + len(po) - 1, len(pn) - 1)]
+        for cn in new.cracks[len(old.cracks):]:  # a crack that left a hole (grow's at_hole)
+            segs += list(zip(cn.points[:-1], cn.points[1:]))
         if segs:
             ax.add_collection(LineCollection(segs, colors=[cmap(n / n_steps)], linewidths=2.0))
+    if result.final_cracks is not None and len(result.scenes) <= len(result.steps):  # the segment that cut through
+        segs = []
+        for co, pn in zip(result.scenes[-1].cracks, result.paths):
+            po, pn = {tuple(p) for p in co.points}, [tuple(p) for p in pn]
+            segs += [(a, b) for a, b in zip(pn[:-1], pn[1:]) if a not in po or b not in po]
+        ax.add_collection(LineCollection(segs, colors=[cmap(1.0)], linewidths=2.0))
     fig.colorbar(ScalarMappable(cmap=cmap, norm=Normalize(0, n_steps)), ax=ax, label="step")
-    xy = np.concatenate([np.asarray(c.points) for c in result.final_scene.cracks])
+    xy = np.concatenate(result.paths)
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     pad = 0.25 * max(hi - lo) + 2 * result.da
     poly = np.asarray(result.scene.polygon)
@@ -224,8 +232,7 @@ def _inset_body(ax, result, lo, hi) -> None:
     hs = size * min(h / w, 1.5) if w else size
     ins = ax.inset_axes([0.01, 1 - hs - 0.05, size, hs])  # (top left: the legend text is at the bottom)
     _draw_body(ins, result.scene, lw=0.6)
-    for c in result.final_scene.cracks:
-        p = np.asarray(c.points)
+    for p in result.paths:
         ins.plot(p[:, 0], p[:, 1], "r-", lw=1.0)
     ins.add_patch(Rectangle(lo, *(hi - lo), fill=False, ec="tab:blue", lw=1.0))
     ins.set_aspect("equal")

@@ -21,19 +21,31 @@ The same K_eq gives the load factor under both criteria (PLS chooses only the di
 
 Kink. `criterion="mts"` kinks each growing tip by the MTS angle of its K; `"pls"` by the
 angle that makes K_II vanish at the new tip: trial extensions of every growing tip at
-once, until |K_II| <= PLS_RTOL K_eq at every new tip or PLS_MAX_TRIALS solves; the last
-trial's solve is the next step's. The first trial angle (criteria.pls_predictor) is the MTS
-angle at a tip's first kink, then the tip's previous kink corrected for the K_II left at
-its tip; the next trials take Newton steps with the measured response dk_2/dtheta ~
-PLS_SLOPE K_I, then secant steps.
+once, until every new tip's K_II is within PLS_ANGLE_TOL of the PLS angle (|K_II| at most
+PLS_ANGLE_TOL times dk_2/dtheta) or MAX_TRIALS solves; the last trial's solve is the next
+step's. The first trial angle (criteria.pls_predictor) is the PLS angle of the kinked-crack
+relations for the tip's K (criteria.pls_kink_angle) at a tip's first kink or after a large
+one, else the tip's previous kink (a smooth path's curvature) corrected for the K_II left
+at its tip by the slope dk_2/dtheta measured at its last trials; the next trials take
+Newton steps with that slope (PLS_SLOPE K_I before any is measured), then secant steps
+within a bracket of K_II = 0. Most steps of a smooth path take one solve.
+
+Open tips only. Both criteria assume that the new tip is open: MTS maximises a tensile hoop
+stress, PLS asks K_II = 0 of a tip that opens (a tip closed and stuck by friction has
+K_II = 0 at any angle, which says nothing of the direction). A trial whose new tip comes out
+closed (faces touching at the tip, or K_I <= 0) is not kept: the tip is tried again at half
+the kink, towards straight ahead; a tip still closed after MAX_TRIALS solves, or closed
+straight ahead, stops (`frozen`, with the reason) and the others grow on. When no tip is
+left to grow the run stops, naming why. A tip whose K_eq is below DRIVE_NOISE_RTOL of the
+run's largest has no driving force (the noise of a closed, stuck crack) and does not grow.
 
 Why PLS is the default (measured on the wings of a 45-degree crack with mu = 0.3 under
 compression, da = a/10, bdm): the K_II at the tip of a new segment responds to its kink
 angle at about 1.5 K_I per radian, three times the small-kink value K_I/2 that the MTS
 angle -2 K_II/K_I assumes, so each explicit MTS step overcorrects about threefold and the
 path zig-zags with a growing amplitude (kinks +7, -24, +22, -36, +40, -49 degrees), while
-PLS turns smoothly (kinks -4.6, -4.1, -2.9, -2.5, -1.8 degrees) at about 1.5 solves per
-step. On a straight path both agree: |K_II| below KINK_NOISE_RTOL K_eq is taken as 0.
+PLS turns smoothly (kinks -4.6, -4.1, -2.9, -2.5, -1.8 degrees), at 1.25 solves per step
+on the README's teaching scene (benchmarks/growth.py). On a straight path both agree: |K_II| below KINK_NOISE_RTOL K_eq is taken as 0.
 """
 
 from __future__ import annotations
@@ -51,6 +63,7 @@ from ngcrack.scene import SceneError, tip_label
 
 from ..errors import InputError
 from .criteria import (
+    PLS_SLOPE,
     check_criterion,
     check_r_c,
     effective_K_I,
@@ -63,7 +76,9 @@ from .criteria import (
     pls_predictor,
     secant_angle,
 )
-from .paths import body_region, extend_tip, extended_cracks, tip_direction
+from .fatigue import Cycles, check_paris
+from .holes import check_at_hole, leave_holes
+from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
 
 #: the most steps a growth run may take
 MAX_STEPS = 1000
@@ -74,17 +89,31 @@ MAX_DA_FRACTION = 0.1
 MIN_DA_TIP_FRACTION = 0.1
 #: tips whose load factor lies within this fraction of the smallest grow together
 GROW_TOGETHER_RTOL = 0.02
-#: PLS: |K_II| at every new tip at most this fraction of its K_eq ends the trials (about 1 degree
-#: from the PLS angle at the measured response PLS_SLOPE; the next step corrects what is left)
-PLS_RTOL = 0.03
-#: PLS: the most trial solves per step (the last one is the next step's solve)
-PLS_MAX_TRIALS = 3
+#: PLS: a trial is kept where its new tip's K_II is at most this angle (radians) times dk_2/dtheta
+#: (the tip's measured slope, else PLS_SLOPE K_I): the angle is within it of the PLS angle. The K_II
+#: left is corrected at the next step's first trial (pls_predictor), so the path does not drift;
+#: the K_II of a new tip scatters by about 3% of its K_I from one mesh to the next (measured on the
+#: wings of the inclined-compression scene), about 1 degree
+PLS_ANGLE_TOL = math.radians(1.5)
+#: a new tip that comes out closed at a kink below this (radians) closes straight ahead too: it stops
+#: without halving the kink further
+CLOSED_STRAIGHT = math.radians(1.0)
+#: the most trial solves per step (PLS trials, and new tips that came out closed; the last one is the
+#: next step's solve); a tip still closed after them stops, and one more solve grows the others
+MAX_TRIALS = 4
+PLS_MAX_TRIALS = MAX_TRIALS
 #: PLS: the largest change of the angle between two trials (radians)
 PLS_MAX_STEP = math.radians(30.0)
 #: |K_II| at most this fraction of K_eq is noise of the computed K (measured: 5e-4 on the
 #: Griffith plate, 1e-3 between the two symmetric tips of a wing crack): the kink is 0
 #: (below 0.6 degrees), and a straight path on a symmetry line stays on it exactly
 KINK_NOISE_RTOL = 5e-3
+#: a tip whose K_eq is below this fraction of the largest K_eq of the run so far has no driving
+#: force (its K is the noise of the computed K, its load factor would be a thousand times the others')
+DRIVE_NOISE_RTOL = 1e-3
+#: the parts of a solve's cost recorded per step (table columns PART_s), from the solve's timings
+COST_PARTS = {"mesh": ("mesh",), "assembly": ("assemble",), "linear": ("factorize", "solve", "recover"),
+              "crack": ("schur", "qp"), "post": ("tips", "estimate")}
 #: solve options grow sets itself
 _RESERVED = ("warm_start", "crack_mesh", "loads")
 
@@ -94,6 +123,8 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     from ngcrack.tips import tip_labels
 
     check_criterion(criterion)
+    if getattr(scene, "dimension", 2) == 3:
+        raise InputError(f"scene {scene.name!r} is 3D: crack growth takes 2D scenes (3D growth is a later step)")
 
     def number(v):
         return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
@@ -156,11 +187,20 @@ class Solver:
 
     options: SolveOptions
     pipeline: Pipeline = field(default_factory=Pipeline)
+    #: seconds spent so far in each part of the solves (COST_PARTS), summed over every solve
+    spent: dict = field(default_factory=lambda: dict.fromkeys(COST_PARTS, 0.0))
+
+    def since(self, before: dict) -> dict:
+        """The seconds of each part spent since the snapshot `before` (a copy of `spent`)."""
+        return {k: self.spent[k] - before[k] for k in COST_PARTS}
 
 
 def solve_step(scene, previous, solver: Solver):
     """One solve of the loop, warm-started from the previous one: the only place the loop solves."""
-    return solver.pipeline.run(scene, solver.options, warm_start=previous)
+    sol = solver.pipeline.run(scene, solver.options, warm_start=previous)
+    for part, keys in COST_PARTS.items():
+        solver.spent[part] += sum(float(sol.timings.get(k, 0.0)) for k in keys)
+    return sol
 
 
 def _closed_at(sol, tip) -> bool:
@@ -199,6 +239,7 @@ def tip_values(sol, criterion: str = "mts", r_c: float | None = None) -> list[di
 
 def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str = "pls", *,
          together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, r_c: float | None = None,
+         paris=None, R: float = 0.0, at_hole="stop",
          **solve_options):
     """Grow the cracks of `scene` quasi-statically by segments of length `da`; a GrowthResult.
 
@@ -211,8 +252,16 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     body of every step for `GrowthResult.animate`. progress: called as progress(step,
     result_so_far) after every step. The other keywords go to every solve
     (element, order, maxh, tip_h, crack_h, grading, qp_solver, crack_model, friction_method, ...).
-    Tips stop at the boundary (the crack then cuts through) or before meeting a crack; the
-    run stops after `steps` steps, when no tip is left inside the body, or when none can grow.
+    paris: (C, m) for fatigue (fatigue.py): the load is the scene's (the cycle's maximum, load
+    factor 1), R the load ratio; every step advances the leading tip by da, the `cycles`
+    column counts the cycles (Paris law da/dN = C Delta_K^m integrated over the step), and
+    the run stops when K_max reaches K_Ic.
+    A tip reaching the boundary stops there; where the cracks then cut the body in pieces the
+    run ends ("cut through", the last segment kept in `paths`). A tip reaching a hole grows up
+    to it and stops; at_hole: "stop" (the default), or a length L0: a new crack of that length
+    leaves the hole where its hoop stress is largest (holes.py). Tips stop before meeting a
+    crack, or where their new tip would close (frozen, with the reason); the run stops after
+    `steps` steps, when no tip is left inside the body, or when none can grow.
     """
     from ngcrack.scene import Scene
     from ngcrack.solve import as_scene
@@ -228,6 +277,9 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                          f"after every step")
     check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
     r_c = check_r_c(r_c, criterion)
+    fatigue = check_paris(paris, R)
+    hole_crack = check_at_hole(at_hole, scene)
+    passed: set = set()  # the holes a new crack has left, and the tips that reached them
     if not (isinstance(together, (int, float)) and 0 <= together < 1):
         raise InputError(f"together = {together!r}: must be a number in [0, 1)")
     da, steps = float(da), int(steps)
@@ -238,67 +290,109 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     t0 = time.perf_counter()
     sol = solve_step(scene, None, options)
     elapsed = time.perf_counter() - t0
+    parts = options.since(dict.fromkeys(COST_PARTS, 0.0))
     trials = 1
     frozen: dict[str, str] = {}
     grown_once: dict = {}  # tip -> its last kink after its first (radians), None after the first
+    slopes: dict = {}  # tip -> dk_2/dtheta measured at its last step's trials (PLS)
+    cycles = Cycles(*fatigue, float(R)) if fatigue else None
+    last_grew: set = set()
     K_ref = K_Ic
+    K_top = 0.0  # the largest K_eq of the run so far: a K_eq below DRIVE_NOISE_RTOL of it is no drive
     stopped = ""
     for n in range(steps + 1):
         values = tip_values(sol, criterion, r_c)
+        K_top = max([K_top] + [v["K_eq"] for v in values])
         if K_ref is None:
             drive = [v["K_eq"] for v in values if v["K_eq"] > 0]
             K_ref = max(drive) if drive else None
         for v in values:
-            v["lambda"] = load_factor(K_ref, v["K_eq"]) if K_ref is not None else math.inf
+            driven = K_ref is not None and v["K_eq"] > DRIVE_NOISE_RTOL * K_top
+            v["lambda"] = load_factor(K_ref, v["K_eq"]) if driven else math.inf
         growing, extensions, next_scene, next_sol, cost, tried = [], [], None, None, 0.0, 0
+        cost_parts = dict.fromkeys(COST_PARTS, 0.0)
         failed = ""
-        if n < steps:
+        fractured = ""
+        if cycles is not None:
+            cycles.grown(scene, values, last_grew)
+            fractured = cycles.fracture(values, K_Ic)
+        if n < steps and not fractured:
             while True:
                 active = [v for v in values if v["label"] not in frozen and math.isfinite(v["lambda"])]
                 if not active:
                     break
                 lam_min = min(v["lambda"] for v in active)
                 growing = [v for v in active if v["lambda"] <= lam_min * (1.0 + together)]
-                t1 = time.perf_counter()
+                t1, before = time.perf_counter(), dict(options.spent)
                 try:
-                    step = _advance(scene, sol, region, growing, da, criterion, options, frozen, grown_once)
+                    step = _advance(scene, sol, region, growing, da, criterion, options, frozen, grown_once, slopes)
                 except (SolveError, InputError) as exc:  # e.g. the grown mesh above max_dof: keep what was done
                     failed = f"solve: the solve after step {n} failed ({exc})"
                     growing = []
                     break
-                cost = time.perf_counter() - t1
+                cost, cost_parts = time.perf_counter() - t1, options.since(before)
                 if step is None:  # every chosen tip froze: choose again among the others
                     growing = []
                     continue
                 extensions, next_scene, next_sol, tried = step
                 break
+            if cycles is not None:
+                cycles.growing(scene, values, {v["label"] for v in growing})
         grew = {tip_label(e.crack, e.end): e for e in extensions if e.point is not None}
+        for e in extensions:  # a tip that has grown up to a hole stops there
+            if e.outcome == "hole":
+                frozen[tip_label(e.crack, e.end)] = e.reason
         if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
             for v in values:
                 if v["label"] not in grew:
                     v["kink"] = pls_predictor(effective_K_I(v["K_I"], v["closed"]), v["K_II_kink"],
-                                              grown_once.get(v["label"]))
+                                              grown_once.get(v["label"]), slopes.get(v["label"]))
         lam_step = min((v["lambda"] for v in values if v["label"] in grew), default=None)
         if lam_step is None:
             lam_step = min((v["lambda"] for v in values if v["label"] not in frozen), default=math.inf)
+        if cycles is not None:  # fatigue: the scene's load, the cycle's maximum
+            lam_step = 1.0
         for v in values:  # a tip that stopped inside the body: why, in the step's row
             v["stopped"] = frozen.get(v["label"], "")
-        result.add_step(n, scene, sol, values, lam_step, grew, elapsed, trials, frames=frames)
+        result.add_step(n, scene, sol, values, lam_step, grew, elapsed, trials, frames=frames, parts=parts,
+                        cycles=None if cycles is None else cycles.total)
         result.solution = sol  # this step's solve, for the progress callback (ngcrack.vtk.SeriesWriter)
         if progress is not None:
             progress(n, result)
         for e in extensions:
-            if e.outcome == "boundary":
+            if e.outcome in ("boundary", "hole"):
                 result.events.append((n, tip_label(e.crack, e.end), e.reason))
+        if fractured:
+            stopped = fractured
+            break
         if n == steps:
             stopped = f"steps: {steps} of {steps} steps done"
             break
         if failed:
             stopped = failed
             break
+        if isinstance(next_scene, CutThrough):  # failure: the run ends with the last segment kept
+            result.add_final(next_scene.scene, cracks=next_scene.cracks)
+            stopped = next_scene.reason
+            break
         if isinstance(next_scene, str):  # the grown scene was refused
             stopped = next_scene
             break
+        if hole_crack is not None and not failed:
+            left = leave_holes(scene if next_scene is None else next_scene, sol, values, frozen, passed, hole_crack)
+            for lab, what in left.events:
+                result.events.append((n, lab, what))
+            if left.scene is not None:
+                t1, before = time.perf_counter(), dict(options.spent)
+                try:
+                    next_sol = solve_step(left.scene, next_sol or sol, options)
+                except (SolveError, InputError) as exc:
+                    stopped = f"solve: the solve after step {n} failed ({exc})"
+                    break
+                next_scene, tried = left.scene, tried + 1
+                cost += time.perf_counter() - t1
+                cost_parts = {k: cost_parts[k] + v for k, v in options.since(before).items()}
+                grew = grew or {"new crack": None}
         if not grew:
             reasons = "; ".join(frozen.values())
             stopped = ("no tip can grow: " + reasons) if reasons else "no tip can grow: no tip has K_eq > 0"
@@ -311,7 +405,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
             result.add_final(scene)
             stopped = "boundary: every tip reached the body's boundary (the cracks cut through)"
             break
-        sol, elapsed, trials = next_sol, cost, tried
+        sol, elapsed, trials, parts = next_sol, cost, tried, cost_parts
+        last_grew = set(grew)
     result.stopped = stopped
     result.solution = sol
     result.frozen = dict(frozen)
@@ -326,13 +421,38 @@ def _extend(scene, region, angles: dict, growing: list[dict], da: float, frozen:
         if v["label"] in frozen:
             continue
         ext = extend_tip(scene, region, v["crack"], v["end"], angles[v["label"]], da, new_segments)
-        if ext.outcome in ("crack", "hole"):
+        if ext.point is None:  # a crack in the way, or a hole right ahead: the tip stops where it is
             frozen[v["label"]] = ext.reason
             continue
         p = (v["x"], v["y"])
         new_segments.append((v["label"], shapely.LineString([p, ext.point])))
         out.append(ext)
     return out
+
+
+@dataclass(frozen=True)
+class CutThrough:
+    """The grown cracks cut the body in two (or more): the end of the run. `cracks`: the grown
+    cracks' points; `scene`: the grown scene where it is a valid one (every piece still held), else None."""
+
+    reason: str
+    cracks: list
+    scene: object = None
+
+
+def _cut(scene, region, extensions) -> CutThrough | None:
+    """A CutThrough where a tip reaching the boundary separates a piece of the body, else None."""
+    ends = [e for e in extensions if e.outcome == "boundary"]
+    if not ends:
+        return None
+    cracks = extended_cracks(scene, extensions)
+    after = [c.points for c in cracks]
+    if not cut_through(region, [c.points for c in scene.cracks], after):
+        return None
+    new = _grown(scene, extensions)
+    where = ", ".join(f"tip {e.crack},{e.end} at ({e.point[0]:.4g}, {e.point[1]:.4g})" for e in ends)
+    return CutThrough(f"cut through: {where} reached the boundary and the cracks cut the body in "
+                      f"{pieces(region, after)} pieces", after, None if isinstance(new, str) else new)
 
 
 def _grown(scene, extensions):
@@ -343,19 +463,66 @@ def _grown(scene, extensions):
         return f"scene: the grown cracks make an invalid scene ({exc})"
 
 
-def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=None):
+def _open_tip(sol, t) -> bool:
+    """Whether the tip `t` of `sol` is open: faces apart at the tip and K_I > 0 (the state MTS and PLS assume)."""
+    return float(t.K_I) > 0.0 and not _closed_at(sol, t)
+
+
+def _closes_reason(lab: str, tried: list, criterion: str) -> str:
+    angles = ", ".join(f"{math.degrees(a):+.1f}" for a in tried)
+    return (f"tip {lab}: the new tip's faces close at every kink tried ({angles} degrees); {criterion} assumes an "
+            "open tip, and a closed tip would grow only in shear, by a criterion ngcrack does not have")
+
+
+def _measured_slope(history: list) -> float | None:
+    """dk_2/dtheta from the last two open trials of a tip (None with fewer, or a slope <= 0,
+    which the kinked-crack relations rule out near the PLS angle)."""
+    if len(history) < 2:
+        return None
+    (a0, g0), (a1, g1) = history[-2:]
+    if a1 == a0 or (g1 - g0) / (a1 - a0) <= 0:
+        return None
+    return (g1 - g0) / (a1 - a0)
+
+
+def _next_angle(history: list, slope: float) -> float:
+    """The next PLS trial angle from the open trials (angle, K_II at the new tip) so far: the
+    secant within the closest pair that brackets K_II = 0 where one does, else the secant of
+    the last two, else a Newton step with `slope` (dk_2/dtheta: the tip's measured one
+    from its last step, else PLS_SLOPE times the new tip's K_I or the parent tip's K_eq)."""
+    a1, g1 = history[-1]
+    pos = [(a, g) for a, g in history if g > 0]
+    neg = [(a, g) for a, g in history if g < 0]
+    if pos and neg:
+        (a0, g0), (a1, g1) = min(((p, q) for p in pos for q in neg), key=lambda pq: abs(pq[0][0] - pq[1][0]))
+        return a0 - g0 * (a1 - a0) / (g1 - g0)
+    if len(history) > 1:
+        a0, g0 = history[-2]
+        return secant_angle(a0, g0, a1, g1, PLS_MAX_STEP)
+    return newton_angle(a1, g1, slope, PLS_MAX_STEP, slope=1.0)
+
+
+def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=None, slopes=None):
     """Extend the growing tips by the criterion: (extensions, next scene, next solution or None, solves),
-    or None if every growing tip froze. The next scene is a string (the reason) if refused."""
+    or None if every growing tip froze. The next scene is a string (the reason) if refused.
+
+    Every trial is a solve of the grown scene. A kink is kept only where the new tip is
+    open (K_I > 0, faces apart), the state both criteria assume: a tip whose new tip comes
+    out closed is tried again at half its kink (towards straight ahead), and one still
+    closed after MAX_TRIALS solves stops (frozen, with the reason), the others grow on."""
     from ngcrack.tips import tip_labels
 
     base = {v["label"]: tip_direction(scene.cracks[v["crack"]], v["end"]) for v in growing}
-    grown = grown or {}
+    grown = grown if grown is not None else {}
+    slopes = slopes if slopes is not None else {}
     if criterion == "pls":
-        theta = {v["label"]: pls_predictor(effective_K_I(v["K_I"], v["closed"]), v["K_II_kink"], grown.get(v["label"]))
+        theta = {v["label"]: pls_predictor(effective_K_I(v["K_I"], v["closed"]), v["K_II_kink"], grown.get(v["label"]),
+                                           slopes.get(v["label"]))
                  for v in growing}
     else:
         theta = {v["label"]: v["theta"] for v in growing}
     history: dict[str, list] = {lab: [] for lab in theta}
+    closed_at: dict[str, list] = {lab: [] for lab in theta}
     solves = 0
     while True:
         extensions = _extend(scene, region, {lab: base[lab] + theta[lab] for lab in theta}, growing, da, frozen)
@@ -364,6 +531,9 @@ def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=
         for e in extensions:
             v = next(v for v in growing if v["label"] == tip_label(e.crack, e.end))
             v["kink"] = theta[v["label"]]
+        cut = _cut(scene, region, extensions)
+        if cut is not None:
+            return extensions, cut, None, solves
         new = _grown(scene, extensions)
         if isinstance(new, str):
             return extensions, new, None, solves
@@ -371,25 +541,37 @@ def _advance(scene, sol, region, growing, da, criterion, options, frozen, grown=
             return extensions, new, None, solves
         new_sol = solve_step(new, sol, options)
         solves += 1
-        if criterion != "pls" or solves >= PLS_MAX_TRIALS:
-            return extensions, new, new_sol, solves
         new_tips = {t.label: t for t in new_sol.tips}
-        done = True
+        done, closing = True, []
         for e in extensions:
             lab = tip_label(e.crack, e.end)
             t = new_tips.get(lab)
             if e.outcome != "grew" or t is None:
                 continue
+            if not _open_tip(new_sol, t):
+                closing.append(lab)
+                closed_at[lab].append(theta[lab])
+                if abs(theta[lab]) < CLOSED_STRAIGHT:  # straight ahead closes: no kink opens it
+                    frozen[lab] = _closes_reason(lab, closed_at[lab], criterion)
+                theta[lab] = 0.5 * theta[lab]
+                continue
+            if criterion != "pls":
+                continue
             v = next(v for v in growing if v["label"] == lab)
-            g, scale = float(t.K_II), max(abs(v["K_eq"]), abs(t.K_I), abs(t.K_II))
+            g = float(t.K_II)
             history[lab].append((theta[lab], g))
-            if abs(g) <= PLS_RTOL * scale:
+            measured = _measured_slope(history[lab])
+            if measured is not None:
+                slopes[lab] = measured
+            slope = slopes.get(lab) or PLS_SLOPE * max(float(t.K_I), abs(v["K_eq"]))
+            if abs(g) <= PLS_ANGLE_TOL * slope:  # within PLS_ANGLE_TOL of the PLS angle
                 continue
             done = False
-            if len(history[lab]) == 1:
-                theta[lab] = newton_angle(theta[lab], g, float(t.K_I), PLS_MAX_STEP)
-            else:
-                (a0, g0), (a1, g1) = history[lab][-2:]
-                theta[lab] = secant_angle(a0, g0, a1, g1, PLS_MAX_STEP)
-        if done:
+            theta[lab] = _next_angle(history[lab], slope)
+        if solves >= MAX_TRIALS:
+            if not closing:
+                return extensions, new, new_sol, solves
+            for lab in closing:  # out of trials: these tips stop, the others grow without them
+                frozen[lab] = _closes_reason(lab, closed_at[lab], criterion)
+        elif done and not closing:
             return extensions, new, new_sol, solves

@@ -1,11 +1,14 @@
 """Crack paths: the body's region, and extending a crack tip by one segment.
 
 A tip at p grows to q = p + da (cos phi, sin phi). Where that segment, lengthened by
-SNAP_FRACTION da, reaches the body's boundary (its outer polygon or a hole), the tip is
+SNAP_FRACTION da, reaches the body's boundary (its outer polygon), the tip is
 taken onto the boundary at the crossing and stops there: the crack then cuts through
 (the end point lies on the boundary and is no longer a tip inside the body). Where the
 segment would cross another crack, or come closer to it than CRACK_CLEARANCE da, or
-cross its own crack, the tip stops where it is (junctions are not supported).
+cross its own crack, the tip stops where it is (junctions are not supported). Where it
+would reach a hole (come closer than HOLE_CLEARANCE_RTOL of the body's diameter: the scene
+refuses a crack touching a hole), the tip grows up to HOLE_STOP times that distance from the
+hole's edge and stops there (holes.py: what then).
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+import shapely.ops
 
 from ..scene import tip_label
 
@@ -31,6 +35,29 @@ CRACK_CLEARANCE = 0.25
 #: diameter stops its tip (the scene checks refuse a crack that near a hole: 1e-3 of the
 #: diameter, scene.planar.MIN_GAP_RTOL, with a margin)
 HOLE_CLEARANCE_RTOL = 2e-3
+
+
+#: a tip that reaches a hole grows up to this many times HOLE_CLEARANCE_RTOL of the diameter from
+#: its edge, and stops there
+HOLE_STOP = 1.25
+#: ... unless that is less than this fraction of da: then it stops where it is
+HOLE_MIN_STEP = 0.1
+
+
+def _approach(p, d, ring, clearance: float, length: float) -> float:
+    """The largest t in [0, length] with the segment p -> p + t d at least `clearance` from `ring`
+    (bisection: the segment's distance falls as it lengthens)."""
+    def far(t):
+        seg = shapely.LineString([p, p + t * d]) if t > 0 else shapely.Point(p)
+        return seg.distance(ring) >= clearance
+
+    if not far(0.0):
+        return 0.0
+    lo, hi = 0.0, length
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if far(mid) else (lo, mid)
+    return lo
 
 
 def body_region(scene) -> shapely.Polygon:
@@ -95,10 +122,17 @@ def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da:
     gap = HOLE_CLEARANCE_RTOL * scene.diameter
     for i, ring in enumerate(region.interiors):
         if reach.distance(ring) < gap:
-            return Extension(k, end, None, "hole", f"tip {label} reached hole[{i}] (a crack ending on a hole is not "
-                                                   "supported: the tip stops before it)")
-    hit = reach.intersection(region.exterior)
-    if not hit.is_empty:  # points, or a piece along the boundary: every coordinate it has
+            reason = (f"tip {label} reached hole[{i}] (a crack may not touch a hole: the tip stops "
+                      f"{HOLE_STOP * HOLE_CLEARANCE_RTOL:g} of the body's diameter before its edge)")
+            t = _approach(p, d, ring, HOLE_STOP * gap, (1.0 + SNAP_FRACTION) * da)
+            if t < HOLE_MIN_STEP * da:
+                return Extension(k, end, None, "hole", reason)
+            q, outcome = p + t * d, "hole"
+            break
+    else:
+        hit = reach.intersection(region.exterior)
+    if outcome == "grew" and not hit.is_empty:
+        # points, or a piece along the boundary: every coordinate it has
         pts = np.array([c for g in getattr(hit, "geoms", [hit]) for c in g.coords], dtype=float)
         dist = np.linalg.norm(pts - p, axis=1)
         ok = dist > 1e-9 * da
@@ -114,7 +148,25 @@ def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da:
     if outcome == "boundary":
         return Extension(k, end, (float(q[0]), float(q[1])), "boundary",
                          f"tip {label} reached the body's boundary at ({q[0]:.4g}, {q[1]:.4g})")
+    if outcome == "hole":
+        return Extension(k, end, (float(q[0]), float(q[1])), "hole", reason)
     return Extension(k, end, (float(q[0]), float(q[1])), "grew")
+
+
+def pieces(region: shapely.Polygon, cracks) -> int:
+    """How many pieces the cracks (sequences of points) cut the body `region` into: the faces
+    of the body's boundary and the crack lines together (a crack with a free end cuts nothing
+    there)."""
+    lines = [region.exterior, *region.interiors] + [shapely.LineString(c) for c in cracks if len(c) > 1]
+    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.unary_union(lines))))
+    inside = [f for f in faces if region.contains(f.representative_point())]
+    return max(len(inside), 1)
+
+
+def cut_through(region: shapely.Polygon, before, after) -> bool:
+    """Whether the grown cracks `after` cut the body into more pieces than `before` (lists of point
+    sequences): a crack reached the boundary or a hole and separated a piece of the body."""
+    return pieces(region, after) > pieces(region, before)
 
 
 def extended_cracks(scene, extensions) -> list:
@@ -133,3 +185,28 @@ def extended_cracks(scene, extensions) -> list:
     # arc length from the crack's first point, which moves when that end grows)
     return [dataclasses.replace(c, points=tuple(p)) if isinstance(c, Crack) else Crack(tuple(p), c.friction)
             for p, c in zip(pts, scene.cracks)]
+
+
+def hole_approaches(scene, paths) -> list[dict]:
+    """The closest approach of the cracks (`paths`: point sequences) to each hole of `scene`:
+    one dict per hole, {"hole", "label", "distance", "crack", "point"} (the crack point nearest
+    the hole's edge; distance to the exact circle for a circular hole)."""
+    out = []
+    lines = [shapely.LineString(p) if len(p) > 1 else shapely.Point(p[0]) for p in paths]
+    for i, hole in enumerate(scene.holes):
+        best = None
+        for k, line in enumerate(lines):
+            if hole.is_circle:
+                centre = shapely.Point(hole.center)
+                q = shapely.ops.nearest_points(line, centre)[0]
+                d = q.distance(centre) - hole.radius
+            else:
+                ring = shapely.LinearRing(hole.polygon)
+                q = shapely.ops.nearest_points(line, ring)[0]
+                d = q.distance(ring)
+            if best is None or d < best[0]:
+                best = (d, k, (float(q.x), float(q.y)))
+        if best is not None:
+            out.append({"hole": i, "label": hole.labels[0] if hole.labels else f"hole[{i}]",
+                        "distance": float(best[0]), "crack": best[1], "point": list(best[2])})
+    return out

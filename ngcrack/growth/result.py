@@ -14,8 +14,8 @@ from .records import step_loads
 
 #: the tidy table's columns, in order (one row per step and tip)
 COLUMNS = ("step", "crack", "end", "x", "y", "K_I", "K_II", "G", "T", "K_eq", "kink_deg", "load_factor",
-           "tip_load_factor", "crack_length", "closed", "grew", "stopped", "ndof", "solves", "time_s", "error_estimate", "kkt",
-           "force", "displacement", "compliance")
+           "tip_load_factor", "crack_length", "closed", "grew", "stopped", "ndof", "solves", "time_s", "mesh_s",
+           "assembly_s", "linear_s", "crack_s", "post_s", "error_estimate", "kkt", "force", "displacement", "compliance")
 #: the largest crack-face opening drawn in the animation, as a fraction of the body's diameter
 FACE_FRACTION = 0.03
 
@@ -35,14 +35,19 @@ class GrowthResult:
     counter-clockwise positive; load_factor the step's (the smallest among the tips that
     grow), tip_load_factor the tip's own K_Ic / K_eq (both empty where no finite load makes
     a tip grow); closed whether the faces at the tip touch; grew whether the tip advanced
-    after this step; stopped why the tip stopped inside the body (a hole or a crack ahead;
-    empty while it may grow); solves the solves that made the
-    step (more than one: PLS trials); kkt the largest of the solve's KKT residuals; force and
+    after this step; stopped why the tip stopped inside the body (a hole, a crack ahead, or
+    its new tip closing; empty while it may grow); solves the solves that made the
+    step (more than one: PLS trials); time_s their wall-clock seconds, of which mesh_s
+    meshing, assembly_s assembly, linear_s the factorization and linear solves, crack_s the
+    crack problem (Schur complement and QP), post_s the tips' K and the error estimate; kkt
+    the largest of the solve's KKT residuals; force and
     displacement the primary load's P and delta at the step's load factor (records.py: the
     P-delta record; None where the load factor is infinite), compliance delta / P.
     `scenes[n]`: the scene of step n (one more at the end if the last growth cut through
     the body); `stopped`: why the run ended; `events`: (step, tip, what) as tips reached the
-    boundary; `frozen`: tip -> why it stopped inside the body; `solution`: the last solve.
+    boundary; `frozen`: tip -> why it stopped inside the body; `solution`: the last solve;
+    `paths`: the final crack paths (with the last segment where it cut the body through: stop
+    reason "cut through", the last scene then kept only if every piece is still held).
     """
 
     scene: object
@@ -59,16 +64,19 @@ class GrowthResult:
     frozen: dict = field(default_factory=dict)
     stopped: str = ""
     solution: object = None
+    final_cracks: list | None = None
     #: the critical distance of criterion "gmts" (None for the others)
     r_c: float | None = None
     #: the load whose P and delta the table's force and displacement columns hold (records.py)
     primary_load: str | None = None
 
     # ------------------------------------------------------------------ filling
-    def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True) -> None:
+    def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True, parts=None,
+                 cycles=None) -> None:
         ndof = int(sol.ndof["total"])
         kkt = {k: float(v) for k, v in sol.kkt.items()}
         est = None if sol.error_estimate is None else float(sol.error_estimate.relative)
+        cost_columns = {f"{k}_s": float(v) for k, v in (parts or {}).items()}
         tips = []
         rec = step_loads(sol, lam_step)
         self.primary_load = self.primary_load or rec.primary
@@ -82,28 +90,45 @@ class GrowthResult:
                               "load_factor": _finite_or_none(lam_step), "tip_load_factor": _finite_or_none(v["lambda"]),
                               "crack_length": length, "closed": v["closed"], "grew": did,
                               "stopped": v.get("stopped", ""), "ndof": ndof, "solves": int(solves),
-                              "time_s": float(time_s), "error_estimate": est, "kkt": max(kkt.values(), default=0.0),
-                              "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance})
+                              "time_s": float(time_s), **cost_columns, "error_estimate": est,
+                              "kkt": max(kkt.values(), default=0.0),
+                              "force": rec.P, "displacement": rec.delta, "compliance": rec.compliance,
+                              **({} if cycles is None else {"cycles": float(cycles)})})
             tips.append({"crack": v["crack"], "end": v["end"], "x": v["x"], "y": v["y"], "K_I": v["K_I"],
                          "K_II": v["K_II"], "G": v["G"], "K_eq": v["K_eq"], "kink_deg": kink, "grew": did,
                          "T": v.get("T"), "stopped": v.get("stopped", "")})
         self.steps.append({"step": n, "load_factor": _finite_or_none(lam_step), "ndof": ndof, "time_s": float(time_s),
                            "kkt": kkt, "error_estimate": est, "tips": tips,
-                           "force": rec.force, "displacement": rec.displacement})
+                           "force": rec.force, "displacement": rec.displacement,
+                           **({} if cycles is None else {"cycles": float(cycles)})})
         self.scenes.append(scene)
         self.profiles.append(list(sol.profiles))
         if frames:
             self.frames.append(_frame(sol))
 
-    def add_final(self, scene) -> None:
-        self.scenes.append(scene)
+    def add_final(self, scene, cracks=None) -> None:
+        """The scene after the last growth; where it is no valid scene (the cracks cut the body and a
+        piece is held by nothing) scene is None and `cracks` (their points) keep the last segments."""
+        if scene is not None:
+            self.scenes.append(scene)
+        if cracks is not None:
+            self.final_cracks = [np.asarray(c, dtype=float) for c in cracks]
 
     # ------------------------------------------------------------------ views
     @property
     def table(self):
         import pandas as pd
 
-        return pd.DataFrame(self.rows, columns=list(COLUMNS))
+        fatigue = bool(self.rows) and "cycles" in self.rows[0]
+        return pd.DataFrame(self.rows, columns=list(COLUMNS) + (["cycles"] if fatigue else []))
+
+    @property
+    def holes(self) -> list[dict]:
+        """The closest approach of the final cracks to each hole of the scene (a near miss, or 0
+        where a tip stopped at it): {"hole", "label", "distance", "crack", "point"} per hole."""
+        from .paths import hole_approaches
+
+        return hole_approaches(self.scene, self.paths)
 
     @property
     def final_scene(self):
@@ -111,7 +136,9 @@ class GrowthResult:
 
     @property
     def paths(self) -> list[np.ndarray]:
-        """The final crack paths, one (n, 2) array of points per crack."""
+        """The final crack paths, one (n, 2) array of points per crack (with the segment that cut through)."""
+        if self.final_cracks is not None:
+            return [np.asarray(c, dtype=float) for c in self.final_cracks]
         return [np.asarray(c.points, dtype=float) for c in self.final_scene.cracks]
 
     def load_factors(self) -> np.ndarray:
@@ -123,7 +150,8 @@ class GrowthResult:
         r_c = {} if self.r_c is None else {"r_c": float(self.r_c)}  # the gmts criterion's critical distance
         return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, **r_c,
                 "da": float(self.da), "K_Ic": self.K_Ic, "stopped": self.stopped, "steps": self.steps,
-                "cracks": [{"points": [[float(x), float(y)] for x, y in c.points]} for c in self.final_scene.cracks]}
+                "cracks": [{"points": [[float(x), float(y)] for x, y in c]} for c in self.paths],
+                **({"holes": self.holes} if self.scene.holes else {})}
 
     def summary(self) -> str:
         df = self.table
@@ -131,6 +159,9 @@ class GrowthResult:
         if len(df):
             cols = ["step", "crack", "end", "x", "y", "K_I", "K_II", "K_eq", "kink_deg", "load_factor", "closed", "grew"]
             lines.append(df[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        for h in self.holes:
+            lines.append(f"closest approach to {h['label']}: {h['distance']:.4g} (crack {h['crack']} at "
+                         f"({h['point'][0]:.4g}, {h['point'][1]:.4g}))")
         return "\n".join(lines)
 
     # ------------------------------------------------------------------ pictures

@@ -35,6 +35,8 @@ def check_sweep(scene, elements=(DEFAULT_ELEMENT,), maxh=(0.2, 0.1, 0.05), nu=No
 
     if isinstance(scene, (str, Path)):
         scene = resolve(scene)
+    if getattr(scene, "dimension", 2) == 3:
+        raise InputError(f"scene {scene.name!r} is 3D: sweeps take 2D scenes (solve a 3D scene with nc.solve)")
     crack_model = (solve_options or {}).get("crack_model")
     check_friction_applies(friction, crack_model)
     if friction is None:
@@ -109,6 +111,12 @@ def sweep(
         from ..vtk import vtk_stem
 
         grid.vtk = str(vtk_stem(vtk))  # refuses a bad place before any run
+        for _, element, h, v, f in grid.keys():  # and a run's file name taken by a folder
+            for part in (".vtu", "_cracks.vtu"):
+                taken = Path(grid.vtk_name(element, h, v, f) + part)
+                if taken.is_dir():
+                    raise InputError(f"vtk = {str(vtk)!r}: {str(taken)!r} (the ParaView file of the run {element}, "
+                                     f"maxh {h:g}, nu {v:g}) is a directory; give another name")
     # connect to a cluster before anything is written: a wrong address leaves no file
     executor = _Dask(dask) if dask is not None else None
     bar = None
