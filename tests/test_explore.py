@@ -330,6 +330,7 @@ def test_widget_wiring_and_failures_without_a_browser():
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and w.status.value == ""
     assert "unknowns" in w.readout.value and "contact check (KKT residual)" in w.readout.value
     assert "<abbr title='contact check: how far the answer is" in w.readout.value  # the glossary, on hover
+    assert "<abbr title='a crack tip, named by where it is" in w.readout.value and "left tip (" in w.readout.value
     w.controls["load"].value = -1.0
     assert w.image.value != png and w.study.counts["factorize"] == 1
     w.controls["element"].value = "h1p1"

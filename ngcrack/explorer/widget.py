@@ -311,7 +311,8 @@ class _ExplorerView:
             f"{_term('contact length', 'contact length')} {r['contact_length']:.3g} of {r['crack_length']:.3g}"
             + (f" &nbsp; <b>faces pass through each other</b> over {r['overlap_length']:.3g}"
                if r["overlap_length"] > 0 else "")
-            + (f"<br>{_term('K', 'K')} {_escape(';  '.join(tips))}" if tips else "") + "</div>")
+            + (f"<br>{_term('tip', 'tips')}, {_term('K', 'K')}: {_escape(';  '.join(tips))}" if tips else "")
+            + "</div>")
 
     def _data(self) -> None:
         m = self.model
