@@ -469,7 +469,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("paper", help="reproduce the paper's study: tables, convergence and isoline figures")
-    p.add_argument("--quick", action="store_true", help="the small study (under 3 minutes on 2 cores)")
+    p.add_argument("--quick", action="store_true", help="the small study (about 70 CPU seconds)")
     p.add_argument("--out", default="paper-results", help="output folder (default paper-results)")
     p.add_argument("--element", nargs="+", help="elements (default: every mixed element)")
     p.add_argument("--maxh", nargs="+", type=_positive, help="override the study's mesh sizes")
