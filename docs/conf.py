@@ -174,6 +174,9 @@ nb_merge_streams = True
 # npm package (`npm pack mathjax@3.2.2`; Apache-2.0, LICENSE beside them); the fonts load
 # from output/chtml/fonts/woff-v2 beside the script, so no page asks a CDN for anything.
 mathjax_path = "mathjax/tex-chtml.js"
+# The explorer's widgets need a running kernel: a page shows the cell without the widget
+# (myst-nb would otherwise load require.js and the widget manager from a CDN).
+nb_ipywidgets_js: dict = {}
 
 # -- HTML ------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"
