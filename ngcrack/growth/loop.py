@@ -445,7 +445,7 @@ def _cut(scene, region, extensions) -> CutThrough | None:
     if not cut_through(region, [c.points for c in scene.cracks], after):
         return None
     new = _grown(scene, extensions)
-    where = ", ".join(f"tip {e.crack},{e.end} at ({e.point[0]:.4g}, {e.point[1]:.4g})" for e in ends)
+    where = ", ".join(f"tip {tip_label(e.crack, e.end)} at ({e.point[0]:.4g}, {e.point[1]:.4g})" for e in ends)
     return CutThrough(f"cut through: {where} reached the boundary and the cracks cut the body in "
                       f"{pieces(region, after)} pieces", after, None if isinstance(new, str) else new)
 
