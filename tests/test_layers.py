@@ -26,7 +26,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("post-processing", ("post", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front")),
     ("options and solution", ("options", "solution", "stages", "solid.output")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
-    ("loops over the pipeline", ("adapt",)),
+    ("loops over the pipeline", ("adapt", "distributed")),
     ("one-shot solve", ("solve", "volume")),
     ("studies", ("study", "sweeps", "stability", "growth", "hydrofrac", "paper", "plots")),
     ("views", ("explorer", "interactive", "cli", "cli_errors", "interrupts", "growth.cli", "hydrofrac.cli", "__main__", "",
