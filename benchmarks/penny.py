@@ -18,6 +18,7 @@ level runs in its own process so that its peak memory is its own. Per level:
 
     python benchmarks/penny.py                      # front_h = 0.2, 0.15, 0.1
     python benchmarks/penny.py --front-h 0.2 0.15 0.1 0.075 --out rows.json
+    python benchmarks/penny.py --order 2 --front-h 0.3 0.2 0.15 --tension-only
 """
 
 from __future__ import annotations
@@ -84,6 +85,7 @@ def run_level(front_h: float, order: int, reverse: bool) -> dict:
                centre_opening=float(w[i0] / math.sqrt(max(1 - r[i0] ** 2, 0.0))),
                sneddon_opening=8 * (1 - nu * nu) / (math.pi * E),
                K_I=front.K_I.tolist(), K_II=front.K_II.tolist(), K_III=front.K_III.tolist(), G=front.G.tolist(),
+               K_I_interaction=front.interaction[:, 0].tolist(),
                sneddon_K=2.0 * math.sqrt(1.0 / math.pi), closed_fraction=sol.crack_summaries()[0]["closed_fraction"])
     return row
 
@@ -115,6 +117,7 @@ def main(argv=None) -> int:
     p.add_argument("--front-h", nargs="+", type=float, default=[0.2, 0.15, 0.1])
     p.add_argument("--order", type=int, default=1)
     p.add_argument("--out", help="write the rows as JSON")
+    p.add_argument("--tension-only", action="store_true", help="skip the reversed load (accuracy only)")
     p.add_argument("--level", type=float, help=argparse.SUPPRESS)
     p.add_argument("--reverse", action="store_true", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
@@ -125,7 +128,7 @@ def main(argv=None) -> int:
 
     rows = []
     for h in args.front_h:
-        for reverse in (False, True):
+        for reverse in (False,) if args.tension_only else (False, True):
             row = _child(h, args.order, reverse)
             rows.append(row)
             print(f"# done front_h {h} {'compression' if reverse else 'tension'}: "
@@ -146,13 +149,14 @@ def main(argv=None) -> int:
     ok = [r for r in rows if "error" not in r and r["load"] == "tension"]
     print("\naccuracy (tension): centre opening and K_I along the front")
     print(f"{'front_h':>7} {'w0/Sneddon':>10} {'K_I mean/S':>10} {'K_I min/S':>9} {'K_I max/S':>9} {'|K_II|/S':>8} "
-          f"{'|K_III|/S':>9} {'G/G_S':>6}")
+          f"{'|K_III|/S':>9} {'G/G_S':>6} {'I-only K_I/S':>12}")
     for r in ok:
         K = np.array(r["K_I"]) / r["sneddon_K"]
         Gs = r["sneddon_K"] ** 2 * (1 - 0.09) / 1000.0
         print(f"{r['front_h']:>7} {r['centre_opening'] / r['sneddon_opening']:>10.4f} {K.mean():>10.4f} {K.min():>9.4f} "
               f"{K.max():>9.4f} {np.max(np.abs(r['K_II'])) / r['sneddon_K']:>8.4f} "
-              f"{np.max(np.abs(r['K_III'])) / r['sneddon_K']:>9.4f} {np.mean(r['G']) / Gs:>6.4f}")
+              f"{np.max(np.abs(r['K_III'])) / r['sneddon_K']:>9.4f} {np.mean(r['G']) / Gs:>6.4f} "
+              f"{np.mean(r['K_I_interaction']) / r['sneddon_K']:>12.4f}")
     if len(ok) >= 3:
         hs = [r["front_h"] for r in ok]
         kl, kr = richardson(hs, [float(np.mean(r["K_I"])) for r in ok])

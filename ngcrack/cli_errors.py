@@ -27,6 +27,7 @@ class NotSolvedError(RuntimeError):
 
 
 def one_line(text) -> str:
+    """`text` on one line: its whitespace runs (newlines too) as single spaces."""
     return " ".join(str(text).split())
 
 
@@ -80,6 +81,7 @@ def classify(exc: BaseException, command: str | None = None) -> tuple[int, str]:
 
 
 def one_line_warning(message, category, filename, lineno, file=None, line=None):
+    """`warnings.showwarning` for the command line: the warning as one line on stderr."""
     print(f"ngcrack: warning: {one_line(message)}", file=sys.stderr if file is None else file)
 
 

@@ -44,6 +44,7 @@ class Loads:
 
     @property
     def dirichlet_labels(self) -> frozenset[str]:
+        """The labels whose displacement is prescribed (clamped or given)."""
         return frozenset(self.clamped) | frozenset(self.displacement)
 
 

@@ -84,6 +84,11 @@ METHODS = {name: t.estimate for name, t in TRAITS.items() if t.estimate}
 CRACK_GAUSS_POINTS = 3
 
 
+#: lambda / mu from which the Prager-Synge number is said to be inflated (nu > 0.4545 in plane
+#: strain; at nu = 0.4999 lambda / mu = 5e3 and its square root 71)
+NEARLY_INCOMPRESSIBLE = 10.0
+
+
 @dataclass
 class ErrorEstimate:
     """The estimate of one solve.
@@ -106,6 +111,32 @@ class ErrorEstimate:
     mesh: ngs.Mesh = field(repr=False)
     time: float = 0.0
     min_jump: float = 0.0
+    #: lambda / mu of the material (0 for the recovery estimate, which does not depend on it)
+    lame_ratio: float = 0.0
+
+    @property
+    def incompressible_note(self) -> str:
+        """Why the number is large for a nearly incompressible material ("" otherwise): the
+        displacement reconstruction's overestimate grows like sqrt(lambda / mu) as nu -> 1/2,
+        while the stress, the jumps and K stay accurate (the estimates guide)."""
+        if self.lame_ratio < NEARLY_INCOMPRESSIBLE:
+            return ""
+        return (f"nearly incompressible (lambda/mu = {self.lame_ratio:.3g}): the displacement reconstruction "
+                f"overestimates by up to about sqrt(lambda/mu) = {math.sqrt(self.lame_ratio):.3g}, so this number "
+                f"is large while the stress, the jumps and K stay accurate")
+
+    def line(self) -> str:
+        """The estimate in one line, as `ngcrack solve` prints it (with why it is large, where it is)."""
+        text = (f"error estimate ({self.method}{'' if self.guaranteed else ', not a guaranteed bound'}): "
+                f"energy norm {self.energy:.3e}, relative {self.relative:.2%}")
+        note = self.incompressible_note
+        return f"{text}\n    ({note})" if note else text
+
+    def __repr__(self) -> str:
+        return f"ErrorEstimate({self.line()})"
+
+    def __str__(self) -> str:
+        return self.line()
 
     @property
     def indicator(self) -> ngs.GridFunction:
@@ -465,9 +496,14 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     energy = float(np.sqrt(np.sum(eta**2)))
     relative = energy / math.sqrt(norm2) if norm2 > 0 else energy
     # no element's bound is guaranteed today (module docstring: weak symmetry, H(div), recovery)
-    return ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=method,
-                         guaranteed=False, notes=notes, mesh=mesh, time=time.perf_counter() - t0,
-                         min_jump=min_jump)
+    lam, mu = lame_parameters(mat.E, mat.nu, mat.plane)
+    ratio = lam / mu if method != "zz-recovery" and math.isfinite(lam) else 0.0
+    est = ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=method,
+                        guaranteed=False, notes=notes, mesh=mesh, time=time.perf_counter() - t0,
+                        min_jump=min_jump, lame_ratio=ratio)
+    if est.incompressible_note:
+        notes.append(est.incompressible_note)
+    return est
 
 
 # ------------------------------------------------------------------ true errors

@@ -10,11 +10,14 @@
     cholespy   cholespy           linear_solver = "cholespy"
     notebooks  jupyterlab, jupytext and the above
 
+`require(package, what)` refuses early (before any work) where a package is missing;
 `missing_extra(exc)` turns the ModuleNotFoundError of such a package into the one line
 that says what to install (the command line prints it).
 """
 
 from __future__ import annotations
+
+import importlib.util
 
 #: top-level package -> the extra that installs it
 EXTRAS = {
@@ -36,3 +39,11 @@ def missing_extra(exc: BaseException) -> str | None:
     if extra is None:
         return None
     return f"this needs the package {package!r}, an optional part of ngcrack: pip install 'ngcrack[{extra}]'"
+
+
+def require(package: str, what: str) -> None:
+    """Raise ModuleNotFoundError (named, so the command line names its extra) if `package`,
+    which `what` needs, is not installed: before any work, not after a solve."""
+    if importlib.util.find_spec(package) is None:
+        raise ModuleNotFoundError(f"{what} needs the package {package!r}: pip install 'ngcrack[{EXTRAS[package]}]'",
+                                  name=package)

@@ -51,6 +51,13 @@ def remove_staged_files() -> None:
         _temporary.discard(path)
 
 
+def _umask() -> int:
+    """The process's file-creation mask (read by setting it and restoring it at once)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 class Staged:
     """Output files written to temporary files beside their targets, renamed into place together.
 
@@ -68,6 +75,7 @@ class Staged:
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
         os.close(fd)
         register_temporary(tmp)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes it 0600: the target gets the user's usual mode
         self.files.append((tmp, path))
         write(tmp)
         return path

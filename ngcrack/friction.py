@@ -102,10 +102,12 @@ class CrackProblem:
 
     @property
     def m(self) -> int:
+        """The number of normal constraint values."""
         return self.Gn.shape[0]
 
     @property
     def nn(self) -> int:
+        """The number of normal crack unknowns."""
         return self.Gn.shape[1]
 
     def point_form(self) -> _PointForm:

@@ -96,6 +96,7 @@ class CondensedSystem:
 
     @property
     def n(self) -> int:
+        """The number of global unknowns (after condensation)."""
         return self.K.shape[0]
 
     def without_contact(self) -> CondensedSystem:
@@ -130,6 +131,7 @@ class CondensedSystem:
                                    timings=dict(self.timings))
 
     def expand(self, y: np.ndarray) -> ngs.GridFunction:
+        """The GridFunction of the global solution `y`, its local unknowns recovered by static condensation."""
         gf = ngs.GridFunction(self.disc.fes)
         vec = gf.vec.FV().NumPy()
         vec[:] = 0.0

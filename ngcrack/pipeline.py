@@ -129,6 +129,7 @@ class ParameterLoads:
         self.set(scene)
 
     def set(self, scene: Scene) -> None:
+        """Copy the load values of `scene` (of the same load structure) into the Parameters."""
         for (kind, label), (px, py) in self.params.items():
             value = scene.body_force if kind == "body" else scene.boundary[label].value
             px.Set(float(value[0]))

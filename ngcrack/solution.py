@@ -107,6 +107,23 @@ class Solution:
     _no_estimate: str = field(default="", repr=False)
     _pending_estimate: object = field(default=None, repr=False, compare=False)
 
+    def __repr__(self) -> str:
+        """A few lines: scene, element, sizes, KKT, the tips' K and the estimate if computed
+        (printing a solution never computes anything nor dumps its arrays)."""
+        nd = self.ndof
+        lines = [f"Solution(scene={self.scene.name!r}, element={self.element!r}, crack_model={self.crack_model!r}, "
+                 f"maxh={self.maxh:g})",
+                 f"  unknowns: {nd.get('total', 0):,} total, {nd.get('global', 0):,} global, "
+                 f"{nd.get('contact', 0):,} contact; {len(self.profiles)} crack(s); "
+                 f"KKT max {max(self.kkt.values(), default=0.0):.1e}"]
+        for t in self.tips:
+            lines.append(f"  tip {t.label}: K_I {t.K_I:.4g}, K_II {t.K_II:.4g}")
+        if self.estimate_pending:
+            lines.append("  error estimate: not computed yet (sol.error_estimate)")
+        elif self._estimate is not None:
+            lines.append(f"  error estimate: relative {self._estimate.relative:.2%}")
+        return "\n".join(lines)
+
     @property
     def error_estimate(self):
         """The a posteriori estimate of the stress error (estimate.py), None where none exists.
@@ -154,6 +171,7 @@ class Solution:
 
     @property
     def mesh(self) -> ngs.Mesh:
+        """The NGSolve mesh (cracks as interior edges)."""
         return self.crack_mesh.mesh
 
     @property
@@ -168,18 +186,22 @@ class Solution:
 
     @property
     def u(self):
+        """The displacement field (a CoefficientFunction)."""
         return self.fields["u"]
 
     @property
     def sigma(self):
+        """The stress field (a 2x2 CoefficientFunction)."""
         return self.fields["sigma"]
 
     @property
     def rotation(self):
+        """The rotation field of the weakly symmetric elements (None for the others)."""
         return self.fields.get("rotation")
 
     @property
     def maxh(self) -> float:
+        """The mesh size the solve was meshed with."""
         return self.crack_mesh.maxh
 
     def crack_profiles(self) -> list[CrackProfile]:

@@ -124,10 +124,13 @@ def as_scene(scene) -> Scene:
     """A Scene, or the built-in scene of that name; anything else is refused naming `scene`."""
     if isinstance(scene, Scene):
         return scene
+    if getattr(scene, "dimension", 2) == 3:
+        raise InputError(f"scene {scene.name!r} is 3D: nc.solve and ngcrack solve take 3D scenes; this one "
+                         "needs a 2D scene")
     if isinstance(scene, str):
         from .scenes import load
 
-        return load(scene)  # refuses an unknown name, listing the built-in scenes
+        return as_scene(load(scene))  # refuses an unknown name, listing the built-in scenes
     raise TypeError(f"scene = {scene!r}: must be a Scene (nc.Scene.from_toml, nc.scenes.load) or the name of a "
                     "built-in scene")
 

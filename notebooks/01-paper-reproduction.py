@@ -20,12 +20,19 @@
 
 # %%
 import os
+import warnings
 from pathlib import Path
 
 from IPython.display import Image, Markdown, display
 
 import ngcrack as nc
-from ngcrack import paper
+from ngcrack import CoarseMeshWarning, paper
+
+# Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
+# h1p1 are known to be more than 20% off: ngcrack warns about each such solve
+# (CoarseMeshWarning, see the size-guard guide); the errors below show it, so the warnings are
+# silenced here.
+warnings.simplefilter("ignore", CoarseMeshWarning)
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 LEVEL = paper.QUICK
@@ -108,3 +115,11 @@ for el, g in p2.groupby("element", sort=False):
 stress = p2[p2.quantity.isin(["sigma_t1", "sigma_nu"])]
 print(f"Stress rates in h on paper-2: {stress.rate_h.min():.2f} to {stress.rate_h.max():.2f} "
       f"(between the crack tips' h^1/2 and the lowest-order h^1).")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+KKT = ["kkt_max_penetration", "kkt_max_tension", "kkt_complementarity"]
+assert rows[KKT].max().max() < 1e-8  # the contact conditions hold at round-off in every row
+assert finest.max() > 937 and rows.reference_ndof.max() > finest.max()  # finer than the paper; the reference finer still
+assert (p2[p2.element == "bdm"].rate_dof > 0).all()  # bdm's errors fall on paper-2 in every quantity
+assert SMOKE or (rates.rate_dof > 0.3).all()  # the full study: every rate in dof between 0.35 and 1.1

@@ -330,6 +330,7 @@ def test_widget_wiring_and_failures_without_a_browser():
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and w.status.value == ""
     assert "unknowns" in w.readout.value and "contact check (KKT residual)" in w.readout.value
     assert "<abbr title='contact check: how far the answer is" in w.readout.value  # the glossary, on hover
+    assert "<abbr title='a crack tip, named by where it is" in w.readout.value and "left tip (" in w.readout.value
     w.controls["load"].value = -1.0
     assert w.image.value != png and w.study.counts["factorize"] == 1
     w.controls["element"].value = "h1p1"
@@ -687,3 +688,15 @@ def test_robust_colour_limits_clip_a_peak_on_small_triangles():
     assert lo == pytest.approx(0.51, abs=0.002) and hi == pytest.approx(1.49, abs=0.002)
     assert robust_limits(values)[1] == 40.0  # counted alone, the peak would set the scale
     assert robust_limits(np.r_[-body, body], weights=np.ones(2000)) == pytest.approx((-1.481, 1.481), abs=0.001)
+
+
+def test_free_faces_keep_their_negative_K_I():
+    """Crack model free under compression: the faces pass through each other, no contact
+    closes them, and the figure shows the computed (negative) K_I, not 0."""
+    study = nc.Explorer("inclined-crack", maxh=MAXH, crack_model="free")
+    d = ex.Drawing()
+    d.render(study.solution)
+    assert all(t.K_I < -0.1 for t in study.solution.tips)
+    assert all("faces closed" not in t and f"K_I = {s.K_I:#.3g}".rstrip(".") in t
+               for s, t in zip(study.solution.tips, d.data["tips"]))
+    assert d.data["peak_clipped"] and "peak" in d.colorbar.ax.get_ylabel()

@@ -136,9 +136,9 @@ def test_a_failed_or_interrupted_sweep_leaves_no_header_alone(tmp_path, monkeypa
     with pytest.raises(plan.SweepError, match="maxh=0.35"):
         sweep("paper-2", maxh=[0.4, 0.35, 0.3], out=out)
     assert out.read_bytes() == before
-    # and on the command line: one line, exit 1 (an unexpected error of a run), the file untouched
+    # and on the command line: one line, exit 3 (not the input: an unexpected error of a run), the file untouched
     code = cli.main(["sweep", "paper-2", "--maxh", "0.4", "0.35", "0.3", "--out", str(out), "--no-progress"])
-    assert code == 1 and out.read_bytes() == before
+    assert code == 3 and out.read_bytes() == before
 
 
 @pytest.fixture(scope="module")

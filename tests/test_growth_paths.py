@@ -5,7 +5,7 @@ of PLS steps.
 
 Measured (tdnns, the scene's default mesh): the zig-zag scene below kinked -47, +54,
 +50, -69, -69, +79 degrees before (a closed new tip accepted; the previous kink carried
-over at a tip with K_II = 0); now -7.9, +1.5, +0.1, +0.1 degrees at load factors 11.7,
+over at a tip with K_II = 0); now -7.9, +1.6, +0.03, -0.03 degrees at load factors 11.7,
 17.8, 21.1, 28.6, then the tip's faces close straight ahead (K_I falls from 0.115 to
 0.038 as it runs into the compressed ligament) and the run stops with that reason.
 """

@@ -119,3 +119,23 @@ def test_kgd_geos_values_at_ten_seconds():
     assert abs(at["half_length"] / 4.335 - 1) < 0.01
     assert abs(at["pressure"] / 0.2710e6 - 1) < 0.01
     assert abs(at["opening_at_injection"] / 146.8e-6 - 1) < 0.01
+
+
+def test_interrupted_run_keeps_the_finished_steps(tmp_path):
+    """SIGTERM after a step: exit 128 + 15, the finished steps written, marked interrupted."""
+    import shutil
+    import signal
+    import subprocess
+
+    out = tmp_path / "h.json"
+    proc = subprocess.Popen([shutil.which("ngcrack"), "hydrofrac", "kgd", "--rate", "1e-4", "--K-Ic", "1e6",
+                             "--da", "0.1", "--steps", "50", "--json", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    for line in proc.stdout:
+        if line.startswith("step 1:"):
+            proc.send_signal(signal.SIGTERM)
+            break
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + signal.SIGTERM, err
+    data = json.loads(out.read_text())
+    assert data["stopped"].startswith("interrupted: SIGTERM") and len(data["steps"]) >= 2

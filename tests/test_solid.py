@@ -246,3 +246,34 @@ def test_ellipse_front_follows_irwin():
     # narrowed to half the radius of curvature (b^2/a = 0.25 = 1.7 front_h here)
     for K in (front.K_II, front.K_III):
         assert np.median(np.abs(K) / irwin) < 0.02 and np.max(np.abs(K) / irwin) < 0.2
+
+
+def test_2d_only_entry_points_refuse_a_3d_scene_by_name():
+    s = nc.scenes.load("penny")
+    calls = [lambda: nc.sweep("penny", elements=["tdnns"], maxh=[1.0]), lambda: nc.grow(s, da=0.1, steps=1, K_Ic=1.0),
+             lambda: nc.explore("penny"), lambda: nc.solve(s, loads=nc.Loads())]
+    for call in calls:
+        with pytest.raises(nc.InputError if hasattr(nc, "InputError") else ValueError, match="penny|3D|loads"):
+            call()
+
+
+@pytest.mark.slow
+def test_cli_solves_a_3d_scene_to_json_and_vtk(tmp_path, capsys):
+    import json
+
+    from ngcrack.cli import main
+
+    path = tmp_path / "penny.toml"
+    path.write_text(SolidScene.from_dict(penny()).to_toml_string())
+    out = tmp_path / "out.json"
+    (tmp_path / "vtk").mkdir()
+    assert main(["solve", str(path), "--json", str(out), "--vtk", str(tmp_path / "vtk" / "penny")]) == 0
+    record = json.loads(out.read_text())
+    assert record["dimension"] == 3 and record["ndof"]["contact"] > 0 and max(record["kkt"].values()) < 1e-12
+    (front,) = record["fronts"]
+    assert set(front) == {"crack", "points", "K_I", "K_II", "K_III", "G"} and len(front["K_I"]) == len(front["points"])
+    assert abs(np.mean(front["K_I"]) / (2 / math.sqrt(math.pi)) - 1) < 0.06
+    assert (tmp_path / "vtk" / "penny.vtu").stat().st_size > 0 and (tmp_path / "vtk" / "penny_cracks.vtu").exists()
+    assert "K_I" in capsys.readouterr().out
+    # a 2D-only option is refused by name with exit code 2, before any meshing
+    assert main(["solve", str(path), "--hp", "2"]) == 2

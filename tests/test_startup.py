@@ -16,7 +16,7 @@ import pytest
 
 import ngcrack as nc
 from ngcrack.cli_errors import EXIT_INPUT, classify
-from ngcrack.extras import EXTRAS, missing_extra
+from ngcrack.extras import EXTRAS, missing_extra, require
 
 #: what no solve needs: the extras and the heavy packages of plots and other QP solvers
 NOT_FOR_A_SOLVE = {"pandas", "tqdm", "ipywidgets", "IPython", "jupytext", "meshio", "dask", "distributed",
@@ -85,3 +85,13 @@ def test_a_missing_optional_package_names_its_extra(package):
 def test_other_missing_modules_are_not_an_extra():
     assert missing_extra(ModuleNotFoundError("No module named 'nothere'", name="nothere")) is None
     assert missing_extra(ValueError("x")) is None
+
+
+def test_require_refuses_a_missing_package_before_any_work(monkeypatch):
+    require("numpy", "a solve")  # installed: nothing happens
+    monkeypatch.setitem(EXTRAS, "ngcrack_no_such_package", "vtk")
+    with pytest.raises(ModuleNotFoundError) as info:
+        require("ngcrack_no_such_package", "--vtk")
+    assert info.value.name == "ngcrack_no_such_package"
+    code, text = classify(info.value)
+    assert code == EXIT_INPUT and "pip install 'ngcrack[vtk]'" in text

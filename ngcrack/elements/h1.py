@@ -59,6 +59,104 @@ def _crack_nodes(crack_mesh: CrackMesh, fixed_vertices: set[int]):
     return free
 
 
+def _fixed_vertices(mesh: ngs.Mesh, loads: Loads) -> set[int]:
+    """The vertices on the Dirichlet edges (a crack vertex there carries no jump)."""
+    if not loads.dirichlet_labels:
+        return set()
+    fixed_bnd = boundary_region(mesh, loads.dirichlet_labels).Mask()
+    return {v.nr for el in mesh.Elements(ngs.BND) if fixed_bnd[el.index] for v in el.vertices}
+
+
+def _jump_space(crack_mesh: CrackMesh, order: int, nodes: dict) -> ngs.FESpace:
+    """P_order on the jump's crack vertices (`nodes`) and the crack edges, compressed."""
+    full = ngs.H1(crack_mesh.mesh, order=order)
+    active = ngs.BitArray(full.ndof)
+    active.Clear()
+    node_ids = [ngs.NodeId(ngs.VERTEX, v) for v in nodes]
+    node_ids += [ngs.NodeId(ngs.EDGE, int(e)) for c in crack_mesh.cracks for e in c.edge]
+    for node in node_ids:
+        for d in full.GetDofNrs(node):
+            active[d] = True
+    return ngs.Compress(full, active_dofs=active)
+
+
+def _nodal_frame(crack_mesh: CrackMesh, nodes: dict) -> tuple[ngs.GridFunction, ngs.GridFunction]:
+    """The nodal normal field nu_h (P1): the nodes' normals, constant across each crack
+    vertex's patch.
+
+    Tips and fixed crack vertices carry no jump; they get a normal for the interpolation.
+    The frame must be constant across each crack vertex's patch: a frame that fell to zero
+    at the patch's other vertices would make the rigid opening of a face cost strain
+    energy of order 1/h and lock the jump (one pass in element order, a vertex taking the
+    value of the first framed vertex of the first triangle that reaches it).
+    """
+    mesh = crack_mesh.mesh
+    nu_x = ngs.GridFunction(ngs.H1(mesh, order=1))
+    nu_y = ngs.GridFunction(ngs.H1(mesh, order=1))
+    frame = {}
+    for c in crack_mesh.cracks:
+        for k in range(len(c)):
+            for v in (int(c.va[k]), int(c.vb[k])):
+                frame.setdefault(v, nodes.get(v, c.normal[k]))
+    framed = bytearray(len(crack_mesh.points))
+    for v in frame:
+        framed[v] = 1
+    for nrs in crack_mesh.triangles.tolist():
+        src = next((v for v in nrs if framed[v]), -1)
+        if src < 0:
+            continue
+        for v in nrs:
+            if not framed[v]:
+                framed[v] = 1
+                frame[v] = frame[src]
+    if frame:
+        where = np.fromiter(frame, dtype=int, count=len(frame))
+        values = np.array(list(frame.values()), dtype=float).reshape(-1, 2)
+        nu_x.vec.FV().NumPy()[where] = values[:, 0]
+        nu_y.vec.FV().NumPy()[where] = values[:, 1]
+    return nu_x, nu_y
+
+
+def _roller_fixed_dofs(fes: ngs.FESpace, mesh: ngs.Mesh, loads: Loads, nodes: dict, jump: ngs.FESpace) -> list[int]:
+    """A crack node on a roller edge: both faces keep u.n_r = 0, so the jump has no
+    component along n_r there (the jn or jt dofs held at zero)."""
+    fixed = []
+    offs = fes.Range(2).start, fes.Range(3).start
+    for el, n_r in roller_edges(mesh, loads.roller):
+        for vtx in (v for v in el.vertices if v.nr in nodes):
+            nrm = nodes[vtx.nr]
+            along_t = abs(nrm[1] * n_r[0] - nrm[0] * n_r[1])  # |t . n_r|
+            which = 1 if along_t > 1 - 1e-9 else (0 if along_t < 1e-9 else None)
+            if which is None:
+                raise InputError("boundary: a crack meets a roller edge obliquely; the h1 baselines support "
+                                 "cracks normal or parallel to roller edges only")
+            fixed += [offs[which] + d for d in jump.GetDofNrs(vtx)]
+    return fixed
+
+
+def _constraint_map(jump: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.ndarray:
+    """Nodal values of jn at crack vertices, and for P2 its values at edge mid points."""
+    G = np.eye(jump.ndof)
+    if order == 1:
+        return G
+    mesh = crack_mesh.mesh
+    gf = ngs.GridFunction(jump)
+    for c in crack_mesh.cracks:
+        mp = mesh(c.mid[:, 0], c.mid[:, 1])
+        edge_dofs = [list(jump.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e)))) for e in c.edge]
+        gf.vec[:] = 0.0
+        for ds in edge_dofs:
+            gf.vec[ds[0]] = 1.0
+        bubble = np.asarray(gf(mp)).reshape(-1)
+        for k, ds in enumerate(edge_dofs):
+            row = ds[0]
+            G[row, :] = 0.0
+            G[row, row] = bubble[k]
+            vertex_dofs = [d for v in (int(c.va[k]), int(c.vb[k])) for d in jump.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))]
+            G[row, [d for d in vertex_dofs if d >= 0]] = 0.5  # tips and fixed vertices have no jump dof (-1)
+    return G
+
+
 def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int = 1) -> Discretization:
     """The P_order displacement discretization with duplicated crack faces."""
     if compliance.spherical <= 0.0 or not math.isfinite(0.5 / compliance.spherical):
@@ -73,55 +171,11 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     built = [f"u: continuous P{order}^2", "stress: post-computed C eps(u)"]
     has_crack = bool(crack_mesh.cracks)
     if has_crack:
-        fixed_bnd = boundary_region(mesh, loads.dirichlet_labels).Mask() if loads.dirichlet_labels else None
-        fixed_vertices = set()
-        if fixed_bnd is not None:
-            for el in mesh.Elements(ngs.BND):
-                if fixed_bnd[el.index]:
-                    fixed_vertices.update(v.nr for v in el.vertices)
-        nodes = _crack_nodes(crack_mesh, fixed_vertices)
-        full = ngs.H1(mesh, order=order)
-        active = ngs.BitArray(full.ndof)
-        active.Clear()
-        for v in nodes:
-            for d in full.GetDofNrs(ngs.NodeId(ngs.VERTEX, v)):
-                active[d] = True
-        for c in crack_mesh.cracks:
-            for e in c.edge:
-                for d in full.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))):
-                    active[d] = True
-        jump = ngs.Compress(full, active_dofs=active)
+        nodes = _crack_nodes(crack_mesh, _fixed_vertices(mesh, loads))
+        jump = _jump_space(crack_mesh, order, nodes)
         spaces += [jump, jump]
         # nodal normal field nu_h (P1) and the side indicator H+
-        nu_x = ngs.GridFunction(ngs.H1(mesh, order=1))
-        nu_y = ngs.GridFunction(ngs.H1(mesh, order=1))
-        # tips and fixed crack vertices carry no jump; give them a normal for the interpolation
-        frame = {}
-        for c in crack_mesh.cracks:
-            for k in range(len(c)):
-                for v in (int(c.va[k]), int(c.vb[k])):
-                    frame.setdefault(v, nodes.get(v, c.normal[k]))
-        # the frame must be constant across each crack vertex's patch: a frame that fell
-        # to zero at the patch's other vertices would make the rigid opening of a face
-        # cost strain energy of order 1/h and lock the jump
-        # (one pass in element order, a vertex taking the value of the first framed vertex of
-        # the first triangle that reaches it)
-        framed = bytearray(len(crack_mesh.points))
-        for v in frame:
-            framed[v] = 1
-        for nrs in crack_mesh.triangles.tolist():
-            a, b, c = nrs
-            src = a if framed[a] else b if framed[b] else c if framed[c] else -1
-            if src >= 0:
-                for v in nrs:
-                    if not framed[v]:
-                        framed[v] = 1
-                        frame[v] = frame[src]
-        if frame:
-            where = np.fromiter(frame, dtype=int, count=len(frame))
-            values = np.array(list(frame.values()), dtype=float).reshape(-1, 2)
-            nu_x.vec.FV().NumPy()[where] = values[:, 0]
-            nu_y.vec.FV().NumPy()[where] = values[:, 1]
+        nu_x, nu_y = _nodal_frame(crack_mesh, nodes)
         nu_cf = ngs.CF((nu_x, nu_y))
         t_cf = ngs.CF((nu_y, -nu_x))
         grad_nu = ngs.CF((ngs.grad(nu_x), ngs.grad(nu_y)), dims=(2, 2))  # row i: grad nu_i
@@ -192,48 +246,10 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         comps = gf.components
         return {"sigma": stress_of(strain(comps)), "u": displacement(comps), "grad_u": grad_displacement(comps)}
 
-    fixed = []
-    if has_crack and loads.roller:
-        # a crack node on a roller edge: both faces keep u.n_r = 0, so the jump has no
-        # component along n_r there
-        offs = fes.Range(2).start, fes.Range(3).start
-        for el, n_r in roller_edges(mesh, loads.roller):
-            for vtx in el.vertices:
-                if vtx.nr not in nodes:
-                    continue
-                nrm = nodes[vtx.nr]
-                along_t = abs(nrm[1] * n_r[0] - nrm[0] * n_r[1])  # |t . n_r|
-                which = 1 if along_t > 1 - 1e-9 else (0 if along_t < 1e-9 else None)
-                if which is None:
-                    raise InputError("boundary: a crack meets a roller edge obliquely; the h1 baselines support "
-                                      "cracks normal or parallel to roller edges only")
-                for d in jump.GetDofNrs(vtx):
-                    fixed.append(offs[which] + d)
+    fixed = _roller_fixed_dofs(fes, mesh, loads, nodes, jump) if has_crack and loads.roller else []
 
     def constraint_map() -> np.ndarray:
-        """Nodal values of jn at crack vertices, and for P2 its values at edge mid points."""
-        n = jump.ndof
-        G = np.eye(n)
-        if order == 1:
-            return G
-        gf = ngs.GridFunction(jump)
-        for c in crack_mesh.cracks:
-            mids = c.mid
-            mp = mesh(mids[:, 0], mids[:, 1])
-            edge_dofs = [list(jump.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e)))) for e in c.edge]
-            gf.vec[:] = 0.0
-            for ds in edge_dofs:
-                gf.vec[ds[0]] = 1.0
-            bubble = np.asarray(gf(mp)).reshape(-1)
-            for k, ds in enumerate(edge_dofs):
-                row = ds[0]
-                G[row, :] = 0.0
-                G[row, row] = bubble[k]
-                for v in (int(c.va[k]), int(c.vb[k])):
-                    for d in jump.GetDofNrs(ngs.NodeId(ngs.VERTEX, v)):
-                        if d >= 0:  # tips and fixed vertices have no jump dof (-1)
-                            G[row, d] = 0.5
-        return G
+        return _constraint_map(jump, crack_mesh, order)
 
     def crack_jumps(gf: ngs.GridFunction, crack) -> tuple[np.ndarray, np.ndarray]:
         mid = crack.mid

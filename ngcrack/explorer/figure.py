@@ -227,19 +227,16 @@ class Drawing:
             self.body.set_edgecolor(colors)
             self.body.set_linewidth(np.where(big, 0.25, 0.4))
             self.body.set_antialiased(True)
-        self.colorbar.set_label(field_label(field, sol.scene), fontsize=FONT_SIZE)
         peak = int(np.argmax(np.abs(vals))) if len(vals) else -1
         clipped = peak >= 0 and abs(float(vals[peak])) > 1.001 * clim
-        if clipped:  # the singular peak beyond the colour bar: marked where it is, with its value
+        label = field_label(field, sol.scene)
+        if clipped:  # the singular peak beyond the colour bar: circled where it is, its value on the bar
             at = moved[peak].mean(axis=0)
             for a in (ax, axz):
                 self._temporary += a.plot([at[0]], [at[1]], marker="o", ms=9, mfc="none", mec="k", mew=1.2,
                                           zorder=7)
-            self._temporary.append(ax.annotate(f"peak {significant(float(vals[peak]))} (beyond the colour bar)",
-                                               at, xytext=(8, -12), textcoords="offset points", zorder=7,
-                                               fontsize=FONT_SIZE - 0.5, bbox={"boxstyle": "round,pad=0.2",
-                                                                               "fc": "white", "alpha": 0.8,
-                                                                               "lw": 0}))
+            label += f"\n○ peak {significant(float(vals[peak]))}, beyond the bar"
+        self.colorbar.set_label(label, fontsize=FONT_SIZE)
         closed = np.vstack([poly, poly[:1]])
         self._temporary += ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
         self._draw_boundary(sol.scene, poly, diam, held["load"])
@@ -284,7 +281,8 @@ class Drawing:
                 where = f"({significant(x)}, {significant(y)})"
             else:
                 where = ""
-            k1 = "0 (faces closed)" if tip_closed(sol, tip) else significant(tip_value(tip, "K_I"))
+            shut = model in (None, "contact") and tip_closed(sol, tip)  # (free faces may overlap: K_I < 0 is real)
+            k1 = "0 (faces closed)" if shut else significant(tip_value(tip, "K_I"))
             tip_text.append(f"{name} {where}: K_I = {k1}, K_II = {significant(tip_value(tip, 'K_II'))}")
         # nu and t on each crack (undeformed directions, at the crack's middle edge)
         arrow = 0.07 * diam

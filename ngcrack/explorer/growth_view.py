@@ -49,9 +49,13 @@ def step_readout(result: GrowthResult, n: int) -> str:
     step = result.steps[n]
     lam = step["load_factor"]
     lines = [f"step {n} of {len(result.steps) - 1}: load factor " + (f"{lam:.4g}" if lam is not None else "none")]
+    rows = result.table[result.table["step"] == n]
+    closed = {(r.crack, r.end): bool(r.closed) for r in rows.itertuples()}
     for t, name in zip(step["tips"], tip_names(step["tips"])):
         kink = "" if t["kink_deg"] is None else f", kink {t['kink_deg']:+.1f}°"
-        lines.append(f"{name} ({t['x']:.4g}, {t['y']:.4g}): K_I = {t['K_I']:.4g}, "
+        # a closed tip's K_I is 0 (the crack cannot open there): the computed value is the method's error
+        k1 = "0 (faces closed)" if closed.get((t["crack"], t["end"])) else f"{t['K_I']:.4g}"
+        lines.append(f"{name} ({t['x']:.4g}, {t['y']:.4g}): K_I = {k1}, "
                      f"K_II = {t['K_II']:.4g}, K_eq = {t['K_eq']:.4g}{kink}" + (" (grew)" if t["grew"] else ""))
     return "\n".join(lines)
 

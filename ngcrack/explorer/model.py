@@ -119,7 +119,7 @@ class Explorer:
             self.function = scene
         elif isinstance(scene, str) and scene in SCENE_FUNCTIONS:
             self.function = scene_function(scene)
-        elif isinstance(scene, str) and scene in _scene_names():
+        elif isinstance(scene, str) and scene in _scene_names() and getattr(_load_scene(scene), "dimension", 2) == 2:
             self.base = _load_scene(scene)
         elif isinstance(scene, Scene):
             self.base = scene

@@ -24,10 +24,13 @@ from typing import Any
 import ngsolve as ngs
 
 from .. import elements as _elements
+from ..constraints import ContactSolverError
 from ..errors import InputError
 from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
+from ..schur import LinearSolverError
+from ..stages import SolveError
 from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, LABELS, SCALES
 from .figure import FIELDS, Drawing
 from .messages import GLOSSARY
@@ -169,7 +172,7 @@ class _ExplorerView:
                                               description="element", **menu)
         self.controls["crack_model"] = w.Dropdown(options=[(CRACK_MODEL_LABELS.get(c, c), c) for c in CRACK_MODELS],
                                                   value=st["crack_model"], description="crack model", **menu)
-        self.controls["field"] = w.Dropdown(options=[("σ_νν (normal to the crack)", "sigma_nu"),
+        self.controls["field"] = w.Dropdown(options=[("σ_νν (crack normal)", "sigma_nu"),
                                                      ("von Mises", "von_mises")],
                                             value=st["field"], description="stress shown", **menu)
         self.controls["scales"] = w.Dropdown(options=[(v, k) for k, v in SCALES.items()], value=st["scales"],
@@ -262,7 +265,7 @@ class _ExplorerView:
                 if m.state["scales"] == "auto":  # the reference load's scales (a documented rule, not history)
                     try:
                         scales = m.reference_scales(m.state["field"])
-                    except Exception:  # noqa: BLE001  (no reference answer: the frame's own scales)
+                    except (InputError, SolveError, ContactSolverError, LinearSolverError):  # no reference answer: the frame's own scales
                         scales = None
                 t_draw = time.perf_counter()
                 scales_s = t_draw - t_scales
@@ -311,7 +314,8 @@ class _ExplorerView:
             f"{_term('contact length', 'contact length')} {r['contact_length']:.3g} of {r['crack_length']:.3g}"
             + (f" &nbsp; <b>faces pass through each other</b> over {r['overlap_length']:.3g}"
                if r["overlap_length"] > 0 else "")
-            + (f"<br>{_term('K', 'K')} {_escape(';  '.join(tips))}" if tips else "") + "</div>")
+            + (f"<br>{_term('tip', 'tips')}, {_term('K', 'K')}: {_escape(';  '.join(tips))}" if tips else "")
+            + "</div>")
 
     def _data(self) -> None:
         m = self.model

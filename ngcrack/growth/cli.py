@@ -80,8 +80,10 @@ def run(args) -> int:
                         for part in (".vtu", "_cracks.vtu")]})
     series = None
     if stem is not None:
+        from ngcrack.extras import require
         from ngcrack.vtk import SeriesWriter
 
+        require("meshio", "--vtk")
         series = SeriesWriter(stem)  # its stale step files go when it writes the first step
     from ngcrack.sweeps import check_friction_applies
 

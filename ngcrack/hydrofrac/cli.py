@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import json
+import signal
+import threading
 
 
 def add_parser(subparsers, positive, count):
@@ -36,8 +38,10 @@ def add_parser(subparsers, positive, count):
 
 def run(args) -> int:
     from ngcrack import scenes
-    from ngcrack.cli_errors import check_finite
-    from ngcrack.files import Staged, check_distinct, check_output
+    from ngcrack.cli_errors import Terminated, check_finite
+    from ngcrack.files import check_distinct, check_output
+    from ngcrack.interrupts import check as check_interrupt
+    from ngcrack.interrupts import interruption, pending
     from ngcrack.options import SolveOptions
 
     from .loop import check_hydrofrac_options, hydrofrac
@@ -45,7 +49,7 @@ def run(args) -> int:
     json_path = check_output(args.json, "--json")
     csv_path = check_output(args.csv, "--csv", ".csv")
     gif_path = check_output(args.gif, "--gif", ".gif")
-    check_distinct({"--json": json_path, "--csv": csv_path, "--gif": gif_path})  # no two outputs on one file
+    check_distinct({"--json": json_path, "--csv": csv_path, "--gif": gif_path})
     scene = scenes.resolve(args.scene)
     options = {k: v for k, v in (("element", args.element), ("order", args.order), ("maxh", args.maxh),
                                  ("tip_h", args.tip_h), ("crack_h", args.crack_h),
@@ -53,24 +57,39 @@ def run(args) -> int:
     # before any work: the run's own options, then the solve options
     check_hydrofrac_options(scene, args.rate, args.K_Ic, args.da, args.steps, args.crack, args.injection, options)
     SolveOptions.of(**options).check_for(scene)
+    finished = _Finished(json_path, csv_path, args.steps)
+    args.on_interrupt = finished.write  # the command line calls it if a signal ends the run in a long C call
 
     def progress(n, result):
+        finished.keep(result)
         s = result.steps[-1]
         print(f"step {n}: t {s['time']:.4g}, half-length {s['half_length']:.4g}, pressure {s['pressure']:.4g}, "
               f"{s['ndof']} dofs, {s['time_s']:.2f} s", flush=True)
+        check_interrupt()  # a signal a library swallowed during the step
 
-    result = hydrofrac(scene, args.rate, args.K_Ic, args.da, args.steps, crack=args.crack,
-                       injection=args.injection, progress=progress, **options)
-    data = result.to_json_dict()
-    check_finite(data)
+    try:
+        result = hydrofrac(scene, args.rate, args.K_Ic, args.da, args.steps, crack=args.crack,
+                           injection=args.injection, progress=progress, **options)
+        data = result.to_json_dict()
+        check_finite(data)
+        check_interrupt()
+        return _write_all(result, data, scene, json_path, csv_path, gif_path)
+    except BaseException as exc:
+        signum = pending()
+        if isinstance(exc, KeyboardInterrupt) or signum is not None:
+            signum = signum or (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+            stop = interruption(signum)
+            stop.note = finished.write(signum)
+            raise stop from exc
+        raise
 
-    def write_json(tmp):
-        with open(tmp, "w") as fh:
-            json.dump(data, fh, indent=1)
+
+def _write_all(result, data, scene, json_path, csv_path, gif_path) -> int:
+    from ngcrack.files import Staged
 
     written = [json_path]
     with Staged() as staged:  # every output or none; existing files untouched on failure
-        staged.write(json_path, write_json)
+        staged.write(json_path, lambda tmp: _dump(data, tmp))
         if csv_path is not None:
             staged.write(csv_path, lambda tmp: result.table.to_csv(tmp, index=False))
             written.append(csv_path)
@@ -81,3 +100,54 @@ def run(args) -> int:
     for path in written:
         print(f"wrote {path}")
     return 0
+
+
+def _dump(data, tmp) -> None:
+    with open(tmp, "w") as fh:
+        json.dump(data, fh, indent=1)
+
+
+class _Finished:
+    """The steps a run has finished, written (JSON and CSV, marked interrupted) if a signal stops it."""
+
+    def __init__(self, json_path, csv_path, steps):
+        self.json_path, self.csv_path, self.steps = json_path, csv_path, steps
+        self.data, self.table = None, None
+        self.note = None
+        self.lock = threading.Lock()
+
+    def keep(self, result) -> None:
+        data = result.to_json_dict()
+        self.data, self.table = data, result.table  # one assignment each: a whole snapshot or the previous
+
+    def write(self, signum) -> str:
+        """Write the finished steps (once); the note says what was written."""
+        if not self.lock.acquire(timeout=0.5):
+            return "the finished steps were being written when the process ended; their files are whole or absent"
+        try:
+            if self.note is None:
+                self.note = self._write(signum)
+            return self.note
+        finally:
+            self.lock.release()
+
+    def _write(self, signum) -> str:
+        from ngcrack.cli_errors import check_finite
+        from ngcrack.files import Staged
+
+        if self.data is None:
+            return "no step had finished, nothing was written"
+        data = dict(self.data)
+        done = len(data["steps"])
+        what = "SIGTERM" if signum == signal.SIGTERM else "SIGINT"
+        data["stopped"] = f"interrupted: {what} after step {done - 1} of {self.steps}; the finished steps are kept"
+        try:
+            check_finite(data)
+            with Staged() as staged:
+                staged.write(self.json_path, lambda tmp: _dump(data, tmp))
+                if self.csv_path is not None:
+                    staged.write(self.csv_path, lambda tmp: self.table.to_csv(tmp, index=False))
+        except Exception as exc:  # noqa: BLE001 -- the interruption is what is reported
+            return f"the finished steps could not be written ({type(exc).__name__}: {exc}), nothing was written"
+        files = " and ".join(str(p) for p in (self.json_path, self.csv_path) if p is not None)
+        return f"wrote {files} with the {done} finished steps, marked \"stopped\": \"interrupted: ...\""

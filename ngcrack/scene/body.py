@@ -77,6 +77,91 @@ __all__ = ["MAX_POLYGON_VERTICES", "Scene"]
 MAX_POLYGON_VERTICES = 4000
 
 
+def _check_name(name, description) -> None:
+    """A non-empty name and a one-line description."""
+    if not isinstance(name, str) or not name.strip():
+        raise SceneError(f"name = {name!r}: must be a non-empty string")
+    if not isinstance(description, str) or "\n" in description:
+        raise SceneError(f"description = {short(description)}: must be a one-line string")
+
+
+def _check_modulus(E: float) -> float:
+    """Young's modulus within the range the solves hold in double precision."""
+    if not 1.0 / MAX_SCALE <= E <= MAX_SCALE:
+        raise SceneError(f"material.E = {fmt(E)}: must lie between {1.0 / MAX_SCALE:g} and "
+                         f"{MAX_SCALE:g} (change the units)")
+    return E
+
+
+def _check_polygon(poly) -> float:
+    """Refuse a polygon out of range, degenerate, self-intersecting or clockwise; its diameter."""
+    for i, p in enumerate(poly):
+        if max(abs(p[0]), abs(p[1])) > MAX_SCALE:
+            raise SceneError(f"domain.polygon[{i}] = {fmt_pt(p)}: coordinates must lie "
+                             f"within +-{MAX_SCALE:g}")
+    diam = diameter(poly)
+    if diam == 0.0:
+        raise SceneError("domain.polygon: all vertices coincide; give 3 or more "
+                         "distinct vertices, counter-clockwise")
+    if diam < 1.0 / MAX_SCALE:
+        raise SceneError(f"domain.polygon: the body is {fmt(diam)} across; its diameter "
+                         f"must be at least {1.0 / MAX_SCALE:g}")
+    tol = GEOMETRY_RTOL * diam
+    check_polyline_simple(poly, "domain.polygon", tol, closed=True, what="edge")
+    area = signed_area(poly)
+    if area <= tol * diam:
+        if area < -tol * diam:
+            raise SceneError("domain.polygon: is clockwise; list the vertices "
+                             "counter-clockwise")
+        raise SceneError("domain.polygon: has zero area; give a simple polygon with "
+                         "its vertices counter-clockwise")
+    return diam
+
+
+def _check_labels(labels, n: int) -> tuple[str, ...]:
+    """One non-empty, unreserved label per edge (e0, e1, ... where none are given)."""
+    if labels is None or (isinstance(labels, Sequence) and len(labels) == 0):
+        labels = tuple(f"e{i}" for i in range(n))
+    if isinstance(labels, (str, bytes)) or not isinstance(labels, Sequence):
+        raise SceneError(f"domain.labels = {short(labels)}: must be a list of "
+                         f"{n} strings, one per edge")
+    if len(labels) != n:
+        raise SceneError(f"domain.labels: {len(labels)} labels for {n} edges; give "
+                         f"one label per edge (edge i runs from vertex i to vertex "
+                         f"i+1)")
+    for i, lab in enumerate(labels):
+        if not isinstance(lab, str) or not lab:
+            raise SceneError(f"domain.labels[{i}] = {lab!r}: must be a non-empty "
+                             f"string")
+        if lab.startswith(RESERVED_LABEL_PREFIX):
+            raise SceneError(f"domain.labels[{i}] = {lab!r}: labels starting with "
+                             f"{RESERVED_LABEL_PREFIX!r} are reserved (the mesher names the "
+                             f"crack faces so); choose another label")
+    return tuple(labels)
+
+
+def _check_mesh_values(scene, diam: float) -> dict[str, float]:
+    """The [mesh] values given (maxh, tip_h, crack_h within range of the diameter; grading
+    in (0, 1]), checked and as floats."""
+    out = {}
+    for key in ("maxh", "tip_h", "crack_h"):
+        if getattr(scene, key) is not None:
+            h = positive(getattr(scene, key), f"mesh.{key}")
+            if not MIN_SIZE_RTOL * diam <= h <= MAX_SCALE * diam:
+                raise SceneError(
+                    f"mesh.{key} = {fmt(h)}: must lie between {MIN_SIZE_RTOL:g} and "
+                    f"{MAX_SCALE:g} times the body's diameter {fmt(diam)} (netgen fails, hangs "
+                    f"or crashes on smaller sizes, measured)")
+            out[key] = h
+    if scene.grading is not None:
+        g = positive(scene.grading, "mesh.grading")
+        if g > 1.0:
+            raise SceneError(f"mesh.grading = {fmt(g)}: must lie in (0, 1] (netgen's "
+                             f"default is 0.3)")
+        out["grading"] = g
+    return out
+
+
 @dataclass(frozen=True, kw_only=True)
 class Scene:
     """A cracked 2D elastic body: polygon, cracks, material, loads, supports, mesh sizes.
@@ -116,88 +201,32 @@ class Scene:
     # ---------------------------------------------------------------- validation
     def __post_init__(self) -> None:
         set_ = functools.partial(object.__setattr__, self)
-        if not isinstance(self.name, str) or not self.name.strip():
-            raise SceneError(f"name = {self.name!r}: must be a non-empty string")
-        if not isinstance(self.description, str) or "\n" in self.description:
-            raise SceneError(f"description = {short(self.description)}: must be a "
-                             f"one-line string")
+        _check_name(self.name, self.description)
 
         # domain.polygon
         poly = points(self.polygon, "domain.polygon", 3,
                       "a list of 3 or more vertices [[x0, y0], [x1, y1], ...], "
                       "counter-clockwise", MAX_POLYGON_VERTICES)
         set_("polygon", poly)
-        for i, p in enumerate(poly):
-            if max(abs(p[0]), abs(p[1])) > MAX_SCALE:
-                raise SceneError(f"domain.polygon[{i}] = {fmt_pt(p)}: coordinates must lie "
-                                 f"within +-{MAX_SCALE:g}")
-        diam = diameter(poly)
-        if diam == 0.0:
-            raise SceneError("domain.polygon: all vertices coincide; give 3 or more "
-                             "distinct vertices, counter-clockwise")
-        if diam < 1.0 / MAX_SCALE:
-            raise SceneError(f"domain.polygon: the body is {fmt(diam)} across; its diameter "
-                             f"must be at least {1.0 / MAX_SCALE:g}")
+        diam = _check_polygon(poly)
         self.__dict__["diameter"] = diam  # the cached property, computed once
         tol = GEOMETRY_RTOL * diam
-        check_polyline_simple(poly, "domain.polygon", tol, closed=True, what="edge")
-        area = signed_area(poly)
-        if area <= tol * diam:
-            if area < -tol * diam:
-                raise SceneError("domain.polygon: is clockwise; list the vertices "
-                                 "counter-clockwise")
-            raise SceneError("domain.polygon: has zero area; give a simple polygon with "
-                             "its vertices counter-clockwise")
 
         # domain.labels
-        n = len(poly)
+        set_("labels", _check_labels(self.labels, len(poly)))
         labels = self.labels
-        if labels is None or (isinstance(labels, Sequence) and len(labels) == 0):
-            labels = tuple(f"e{i}" for i in range(n))
-        if isinstance(labels, (str, bytes)) or not isinstance(labels, Sequence):
-            raise SceneError(f"domain.labels = {short(labels)}: must be a list of "
-                             f"{n} strings, one per edge")
-        if len(labels) != n:
-            raise SceneError(f"domain.labels: {len(labels)} labels for {n} edges; give "
-                             f"one label per edge (edge i runs from vertex i to vertex "
-                             f"i+1)")
-        for i, lab in enumerate(labels):
-            if not isinstance(lab, str) or not lab:
-                raise SceneError(f"domain.labels[{i}] = {lab!r}: must be a non-empty "
-                                 f"string")
-            if lab.startswith(RESERVED_LABEL_PREFIX):
-                raise SceneError(f"domain.labels[{i}] = {lab!r}: labels starting with "
-                                 f"{RESERVED_LABEL_PREFIX!r} are reserved (the mesher names the "
-                                 f"crack faces so); choose another label")
-        set_("labels", tuple(labels))
 
         # material, load, mesh
         set_("material", Material.from_dict(self.material))
         if self.body_force is not None:
             set_("body_force", pair(self.body_force, "load.body_force",
                                     "a list of 2 finite numbers [fx, fy]"))
-        E = self.material.E
-        if not 1.0 / MAX_SCALE <= E <= MAX_SCALE:
-            raise SceneError(f"material.E = {fmt(E)}: must lie between {1.0 / MAX_SCALE:g} and "
-                             f"{MAX_SCALE:g} (change the units)")
+        E = _check_modulus(self.material.E)
         if self.body_force is not None:
             check_load(self.body_force, diam / E, "load.body_force", "a body force times the "
                         "diameter over E")
-        for key in ("maxh", "tip_h", "crack_h"):
-            if getattr(self, key) is not None:
-                h = positive(getattr(self, key), f"mesh.{key}")
-                if not MIN_SIZE_RTOL * diam <= h <= MAX_SCALE * diam:
-                    raise SceneError(
-                        f"mesh.{key} = {fmt(h)}: must lie between {MIN_SIZE_RTOL:g} and "
-                        f"{MAX_SCALE:g} times the body's diameter {fmt(diam)} (netgen fails, hangs "
-                        f"or crashes on smaller sizes, measured)")
-                set_(key, h)
-        if self.grading is not None:
-            g = positive(self.grading, "mesh.grading")
-            if g > 1.0:
-                raise SceneError(f"mesh.grading = {fmt(g)}: must lie in (0, 1] (netgen's "
-                                 f"default is 0.3)")
-            set_("grading", g)
+        for key, value in _check_mesh_values(self, diam).items():
+            set_(key, value)
 
         # points: their segments inserted into the polygon, forces as tractions
         pconds = coerce_points(self.points, self.maxh, diam)

@@ -140,6 +140,7 @@ class Material:
         return cls(E=d["E"], nu=d["nu"], plane=d.get("plane", "strain"))
 
     def to_dict(self) -> dict[str, Any]:
+        """The TOML table of this value (what `Scene.to_toml` writes)."""
         return {"E": self.E, "nu": self.nu, "plane": self.plane}
 
 
@@ -196,6 +197,7 @@ class BoundaryCondition:
         return cls(t, v)
 
     def to_dict(self) -> dict[str, Any]:
+        """The TOML table of this value (what `Scene.to_toml` writes)."""
         d: dict[str, Any] = {"type": self.type}
         if self.value is not None:
             d["value"] = list(self.value)
@@ -263,6 +265,7 @@ class Crack:
         return [(self.points[i], self.points[i + 1]) for i in range(len(self.points) - 1)]
 
     def segment_lengths(self) -> list[float]:
+        """The length of each segment, in order."""
         return [dist(p, q) for p, q in self.segments]
 
     @property
@@ -303,6 +306,7 @@ class Crack:
         return Crack(tuple((x * factor, y * factor) for x, y in self.points), self.friction, p)
 
     def to_dict(self) -> dict[str, Any]:
+        """The TOML table of this value (what `Scene.to_toml` writes)."""
         d: dict[str, Any] = {"points": [list(p) for p in self.points]}
         if self.friction:
             d["friction"] = self.friction

@@ -35,6 +35,8 @@ def check_sweep(scene, elements=(DEFAULT_ELEMENT,), maxh=(0.2, 0.1, 0.05), nu=No
 
     if isinstance(scene, (str, Path)):
         scene = resolve(scene)
+    if getattr(scene, "dimension", 2) == 3:
+        raise InputError(f"scene {scene.name!r} is 3D: sweeps take 2D scenes (solve a 3D scene with nc.solve)")
     crack_model = (solve_options or {}).get("crack_model")
     check_friction_applies(friction, crack_model)
     if friction is None:
