@@ -45,16 +45,33 @@ def check_supported(scene, o: SolveOptions) -> None:
         raise InputError("hp: the distributed solve takes plain meshes only (hp = 0); run hp meshes without mpiexec")
     if getattr(scene, "points", ()):
         raise InputError("point: point supports and loads are not distributed yet; run this scene without mpiexec")
-    if _elements.TRAITS[o.element].gradient == "gradient":  # a displacement element: constraints at vertices
-        raise InputError(f"element: {o.element!r} is not distributed (its crack constraints sit at vertices, "
-                         f"shared by edges); use one of {', '.join(sorted(_elements.MIXED))} under mpiexec")
     if getattr(scene, "dim", 2) != 2:
         raise InputError("dim: the distributed solve handles 2D scenes; run 3D scenes without mpiexec")
 
 
+def unsupported_discretization(disc, loads) -> str | None:
+    """Why this rank's discretization cannot be solved distributed (None: it can)."""
+    if disc.traits.gradient == "gradient":  # a displacement element: its crack constraints sit at vertices
+        return (f"element: {disc.element!r} is not distributed (its crack constraints sit at vertices, shared "
+                f"by edges); use one of {', '.join(sorted(_elements.MIXED))} under mpiexec")
+    for _, _, nrm in disc.roller_pairs(loads.roller):
+        if nrm is not None and abs(nrm[0]) > 1e-12 and abs(nrm[1]) > 1e-12:
+            return (f"boundary: a roller edge not parallel to an axis is not distributed yet (normal {nrm[0]:.3g}, "
+                    f"{nrm[1]:.3g}); run this scene without mpiexec")
+    return None
+
+
+def agree(comm, message: str | None) -> None:
+    """Raise InputError on every rank if any rank has a `message` (so that all stop alike; collective)."""
+    messages = [m for m in comm.allgather(message) if m]
+    if messages:
+        raise InputError(messages[0])
+
+
 def free_mask(disc, loads) -> np.ndarray:
     """The condensed system's unknowns on this rank (coupling, not Dirichlet, not held):
-    rollers whose normal is a coordinate axis hold that component; others are refused."""
+    rollers whose normal is a coordinate axis hold that component (`unsupported_discretization`
+    refuses the others first)."""
     fes = disc.fes
     free = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
     free[list(disc.fixed_dofs)] = False
@@ -65,9 +82,6 @@ def free_mask(disc, loads) -> np.ndarray:
             free[dx] = False
         elif abs(nrm[0]) < 1e-12:
             free[dy] = False
-        else:
-            raise InputError("boundary: a roller edge not parallel to an axis is not distributed yet "
-                             f"(normal {nrm[0]:.3g}, {nrm[1]:.3g}); run this scene without mpiexec")
     return free
 
 
@@ -122,8 +136,10 @@ def solve(scene, options: SolveOptions | None = None):
         raise MPIUnavailable("distributed solve: one MPI process; the serial solve is the one to use")
     try:
         return _solve(comm, scene, o)
-    except TooFewElements:  # found on rank 0 and told to all before any other work: no abort needed
-        raise
+    except (TooFewElements, InputError):  # found alike on every rank (`agree`): rank 0 reports, no abort needed
+        if comm.rank == 0:
+            raise
+        raise SystemExit(2) from None
     except Exception as exc:  # noqa: BLE001 -- any failure of one rank stops all of them
         _fail(comm, comm.rank, exc)
         raise
@@ -138,6 +154,8 @@ def _solve(comm, scene, o: SolveOptions):
     pipe = Pipeline() if rank == 0 else None
     serial_mesh = pipe.mesh(scene, o) if rank == 0 else None
     blocks = constraint_blocks(pipe, scene, o, serial_mesh) if rank == 0 else None
+    # what rank 0's serial discretization cannot do distributed, told to every rank before any other work
+    agree(comm, blocks if isinstance(blocks, str) else None)
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -220,13 +238,17 @@ def _solve(comm, scene, o: SolveOptions):
     return solution_on_rank0(pipe, scene, o, serial_mesh, gathered, timings, info, t_start)
 
 
-def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list:
-    """Rank 0: G of the serial mesh (post.endpoint_map) as one (mid point, block) per crack edge.
+def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list | str:
+    """Rank 0: G of the serial mesh (post.endpoint_map) as one (mid point, block) per crack edge,
+    or why the discretization cannot be distributed (`unsupported_discretization`).
 
     G is computed from moments over the crack edges (a serial assembly); its blocks go to
     the ranks, which place them on their own crack edges (the same dofs in the same order).
     """
-    disc, _ = pipe.discretization(scene, serial_mesh, o)
+    disc, loads = pipe.discretization(scene, serial_mesh, o)
+    why = unsupported_discretization(disc, loads)
+    if why is not None:
+        return why
     if disc.jn is None:
         return []
     space = disc.fes.components[disc.jn]
