@@ -151,6 +151,8 @@ def cmd_solve(args) -> int:
     options = SolveOptions.of(maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
                               crack_model=args.crack_model, max_dof=args.max_dof, **given)  # checked once, here
     sol = solve(scene, options=options)
+    if sol is None:  # a rank > 0 of a distributed solve (mpiexec): rank 0 writes and prints
+        return 0
     result = sol.to_json_dict()
     check_finite(result)
     from .files import Staged
