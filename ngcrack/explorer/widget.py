@@ -24,10 +24,13 @@ from typing import Any
 import ngsolve as ngs
 
 from .. import elements as _elements
+from ..constraints import ContactSolverError
 from ..errors import InputError
 from ..options import CRACK_MODELS
 from ..scene import Scene
 from ..scenes import SceneFunction
+from ..schur import LinearSolverError
+from ..stages import SolveError
 from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, LABELS, SCALES
 from .figure import FIELDS, Drawing
 from .messages import GLOSSARY
@@ -262,7 +265,7 @@ class _ExplorerView:
                 if m.state["scales"] == "auto":  # the reference load's scales (a documented rule, not history)
                     try:
                         scales = m.reference_scales(m.state["field"])
-                    except Exception:  # noqa: BLE001  (no reference answer: the frame's own scales)
+                    except (InputError, SolveError, ContactSolverError, LinearSolverError):  # no reference answer: the frame's own scales
                         scales = None
                 t_draw = time.perf_counter()
                 scales_s = t_draw - t_scales
