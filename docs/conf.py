@@ -119,7 +119,7 @@ extensions = [
     "sphinx.ext.viewcode",
 ]
 
-exclude_patterns = ["_build", "**/.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
+exclude_patterns = ["_build", "_static", "**/.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
 templates_path = ["_templates"]
 # `x` in a docstring is code, as in the package's docstrings (docs/_ext/plain_docstrings.py
 # writes it as ``x`` for autodoc; this covers hand-written reST)
@@ -168,6 +168,15 @@ nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_kernel_rgx_aliases = {".*": "python3"}
 nb_merge_streams = True
+
+# -- math: MathJax 3 served with the site (renders offline) ---------------------------------
+# docs/_static/mathjax holds MathJax 3.2.2's es5/tex-chtml.js and its woff-v2 fonts, from the
+# npm package (`npm pack mathjax@3.2.2`; Apache-2.0, LICENSE beside them); the fonts load
+# from output/chtml/fonts/woff-v2 beside the script, so no page asks a CDN for anything.
+mathjax_path = "mathjax/tex-chtml.js"
+# The explorer's widgets need a running kernel: a page shows the cell without the widget
+# (myst-nb would otherwise load require.js and the widget manager from a CDN).
+nb_ipywidgets_js: dict = {}
 
 # -- HTML ------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"

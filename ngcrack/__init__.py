@@ -35,7 +35,7 @@ _EXPORTS = {
     "HydrofracResult": ".hydrofrac", "hydrofrac": ".hydrofrac",
     "CRACK_MODELS": ".options", "SolveOptions": ".options",
     "Pipeline": ".pipeline",
-    "BoundaryCondition": ".scene", "Crack": ".scene", "Material": ".scene", "PointCondition": ".scene", "Scene": ".scene",
+    "BoundaryCondition": ".scene", "Crack": ".scene", "Hole": ".scene", "Material": ".scene", "PointCondition": ".scene", "Scene": ".scene",
     "SceneError": ".scene",
     "LinearSolverError": ".schur",
     "CoarseMeshWarning": ".sizing",
@@ -46,7 +46,7 @@ _EXPORTS = {
 }
 
 __all__ = [
-    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Loads", "Material",
+    "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Hole", "Loads", "Material",
     "Pipeline", "PointCondition",
     "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
     "grow", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume", "HydrofracResult", "hydrofrac",
@@ -105,7 +105,7 @@ if TYPE_CHECKING:  # what type checkers and editors see: the names above, eagerl
     from .hydrofrac import HydrofracResult, hydrofrac
     from .options import CRACK_MODELS, SolveOptions
     from .pipeline import Pipeline
-    from .scene import BoundaryCondition, Crack, Material, PointCondition, Scene, SceneError
+    from .scene import BoundaryCondition, Crack, Hole, Material, PointCondition, Scene, SceneError
     from .schur import LinearSolverError
     from .sizing import CoarseMeshWarning
     from .solution import Solution

@@ -57,7 +57,8 @@ class Level:
     reference_maxh: float
 
 
-#: about a minute and a half on 2 cores with the comparison (one process; the limit is 3)
+#: about 70 CPU seconds with the comparison (one process; measured: 44 s wall on an idle 2-core
+#: machine, 8.5 minutes when it was shared at load 12)
 QUICK = Level(maxh=(0.2, 0.1, 0.05), reference_maxh=0.025)
 #: rows to 3e5 unknowns, reference 1.2e6 (about 5 minutes on 2 cores, 2.5 GB per process)
 FULL = Level(maxh=(0.2, 0.14, 0.1, 0.07, 0.05, 0.035, 0.025), reference_maxh=0.0125)

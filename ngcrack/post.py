@@ -106,13 +106,9 @@ def profile_states(normal_jump, tangential_jump, normal_stress, friction: float 
     scale: in `crack_profile` the largest |sigma|, Frobenius, at the crack's samples): a
     sample with a small positive jump that is pressed together (the edge next to a tip,
     partly in contact) is closed. Closed samples stick where the crack carries friction
-<<<<<<< HEAD
     and |[u].t| <= CLOSED_RTOL W, else slip (a frictionless closed crack slides: "slip").
-=======
-    and |[u].t| <= STATE_RTOL W, else slip (a frictionless closed crack slides: "slip").
     With a crack-face pressure p (`face_pressure`), the compression is the net one,
     sigma_n + p (the contact's part of the face traction).
->>>>>>> main
     """
     jn = np.asarray(normal_jump, dtype=float)
     jt = np.asarray(tangential_jump, dtype=float)

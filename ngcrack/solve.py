@@ -86,6 +86,10 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
             raise InputError(f"{given[0]}: not available for a 3D scene yet; give the options as keywords")
         if crack_mesh is not None:
             changes["smesh"] = crack_mesh
+        from .distributed import active
+
+        if active():
+            raise InputError("dim: a 3D scene is not distributed yet; run it without mpiexec")
         return solve_solid(scene, element=element, **changes)
     if element is not None:
         changes["element"] = element
@@ -99,6 +103,14 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
                         "(a boolean array over the constraints)")
     if crack_mesh is not None and not isinstance(crack_mesh, CrackMesh):
         raise TypeError(f"crack_mesh = {crack_mesh!r}: must be None or a CrackMesh of the scene (geometry.make_mesh)")
+    from . import distributed
+
+    if distributed.active():  # under mpiexec -n N, N > 1: one solve over the ranks (None on ranks > 0)
+        given = [k for k, v in (("loads", loads), ("warm_start", warm_start), ("crack_mesh", crack_mesh),
+                                ("pipeline", pipeline), ("adapt", opts.adapt)) if v is not None]
+        if given:
+            raise InputError(f"{given[0]}: not available in a distributed solve (mpiexec -n N, N > 1)")
+        return distributed.solve(scene, opts)
     pipeline = pipeline if pipeline is not None else Pipeline()
     if opts.adapt is None:
         return pipeline.run(scene, opts, loads=loads, warm_start=warm_start, crack_mesh=crack_mesh)

@@ -31,6 +31,7 @@ the face term is what makes K_I = 0 come out of a crack held closed by a compres
 (without it a uniform compression across the crack would read as a negative K_I). It is
 written from the whole traction vector, normal and shear, so it covers friction; for
 frictionless contact the J face term vanishes in the limit (sigma_n [u].nu = 0, tau = 0).
+At a tip whose faces touch, with contact, K_I is reported as 0 (`domain_integral`).
 
 What each element gives the integral. Every term needs sigma and the displacement
 gradient grad u (row i: grad u_i); W and sigma^aux : grad u need only its symmetric part,
@@ -282,7 +283,8 @@ class TipParameters:
     """K_I, K_II, G and the T-stress at one tip, and how they were computed.
 
     `radius` R of the domain (q = 1 for r <= R/2, 0 for r >= R), `rings` the number of
-    element rings across the annulus where grad q is nonzero, `J` the J-integral (= G),
+    element rings across the annulus where grad q is nonzero, `J` the J-integral (= G but at
+    a closed tip, `domain_integral`),
     `I` the two interaction integrals, `face_J`, `face_I` the crack-face parts of J and I
     (included in them), `elements` the triangles in the domain.
     """
@@ -303,6 +305,15 @@ class TipParameters:
     elements: int
     #: the T-stress (sigma_11 - its singular part at the tip, tip frame), tstress.py
     T: float = 0.0
+    #: the faces at the tip touch (`tip_closed`); with the contact crack model K_I is then
+    #: reported as 0 and G as K_II^2 / E', the integral's own K_I kept in `K_I_raw`
+    closed: bool = False
+    #: K_I as the interaction integral gives it (None: K_I)
+    K_I_raw: float | None = None
+
+    def __post_init__(self):
+        if self.K_I_raw is None:
+            object.__setattr__(self, "K_I_raw", self.K_I)
 
     @property
     def label(self) -> str:
@@ -312,7 +323,8 @@ class TipParameters:
     def to_dict(self) -> dict:
         """The `tips` entry of the JSON contract."""
         return {"crack": int(self.crack), "end": self.end, "x": float(self.x), "y": float(self.y),
-                "K_I": float(self.K_I), "K_II": float(self.K_II), "G": float(self.G), "T": float(self.T)}
+                "K_I": float(self.K_I), "K_II": float(self.K_II), "G": float(self.G), "T": float(self.T),
+                "closed": bool(self.closed), "K_I_raw": float(self.K_I_raw)}
 
 
 def displacement_gradient(sol):
@@ -490,8 +502,23 @@ def _face_terms(sol, tip: Tip, radius: float, c_open: float) -> tuple[float, flo
     return J, I_1, I_2
 
 
+def tip_closed(sol, tip) -> bool:
+    """Whether the faces at `tip` touch: the crack sample nearest it is not "open" (the
+    profiles' states, post.profile_states, from constraints.faces_closed: the one rule)."""
+    prof = sol.profiles[tip.crack] if sol.profiles and tip.crack < len(sol.profiles) else None
+    if prof is None or prof.state is None or not len(prof.state):
+        return False
+    i = int(np.argmin((np.asarray(prof.x) - tip.x) ** 2 + (np.asarray(prof.y) - tip.y) ** 2))
+    return str(prof.state[i]) != "open"
+
+
 def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParameters:
     """K_I, K_II and G at `tip` from the domain integrals over the disc of radius `radius`.
+
+    At a closed tip (`tip_closed`) under the contact crack model (with or without friction)
+    K_I is reported as 0 and G as K_II^2 / E' (the crack cannot open there: the integral's
+    K_I is its error about zero, kept in `K_I_raw`, J in `J`); under "free" the faces may
+    pass through each other and the negative K_I is reported as computed.
 
     `body_force`: an NGSolve CoefficientFunction f, None for none, or SCENE (default) for
     the scene's own.
@@ -514,9 +541,12 @@ def domain_integral(sol, tip: Tip, radius: float, body_force=SCENE) -> TipParame
     if not np.all(np.isfinite([J, I_1, I_2, I_T])):
         raise RuntimeError(f"tip {tip.label}: the domain integral gave non-finite values (radius {radius:g})")
     rings, n_el = _rings(sol, tip, radius)
+    K_I, K_II, G, closed = 0.5 * e_prime * I_1, 0.5 * e_prime * I_2, float(J), tip_closed(sol, tip)
+    if closed and sol.crack_model == "contact":  # the faces cannot open there ("free" keeps its K_I < 0)
+        K_I, G = 0.0, K_II * K_II / e_prime
     return TipParameters(
-        crack=tip.crack, end=tip.end, x=tip.x, y=tip.y,
-        K_I=0.5 * e_prime * I_1, K_II=0.5 * e_prime * I_2, G=float(J),
+        crack=tip.crack, end=tip.end, x=tip.x, y=tip.y, closed=closed, K_I_raw=0.5 * e_prime * I_1,
+        K_I=K_I, K_II=K_II, G=G,
         radius=float(radius), rings=float(rings), J=float(J), I=(float(I_1), float(I_2)),
         face_J=float(face[0]), face_I=(float(face[1]), float(face[2])), elements=n_el,
         T=float(e_prime * I_T),

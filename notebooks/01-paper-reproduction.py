@@ -20,12 +20,19 @@
 
 # %%
 import os
+import warnings
 from pathlib import Path
 
 from IPython.display import Image, Markdown, display
 
 import ngcrack as nc
-from ngcrack import paper
+from ngcrack import CoarseMeshWarning, paper
+
+# Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
+# h1p1 are known to be more than 20% off: ngcrack warns about each such solve
+# (CoarseMeshWarning, see the size-guard guide); the errors below show it, so the warnings are
+# silenced here.
+warnings.simplefilter("ignore", CoarseMeshWarning)
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 LEVEL = paper.QUICK
@@ -56,6 +63,11 @@ display(Markdown((out / "table4_sigma_nu.md").read_text()))
 # converted to triangles by the standard PEERS count (`paper.paper_triangles`: 83–937
 # unknowns are 10–117 triangles). ngcrack's dof, of the hybridized formulation, are about
 # twice the standard count per triangle, so triangles are the footing both share.
+# ngcrack's rows start where the paper's end (170-3,600 triangles against its 10-117): on
+# the paper's meshes the body's halves are one or two triangles thick, where peers is
+# refused or warned about as more than 20% off (the size guard), and the paper's errors,
+# measured against its own finest mesh, read 2-6 times lower than the truth. Figure 9 puts
+# both on the paper's own mesh sizes, measured both ways.
 
 # %%
 for name in ("fig3_paper-1_displacement", "fig4_paper-1_stress", "fig5_paper-2_displacement", "fig6_paper-2_stress"):
@@ -108,3 +120,11 @@ for el, g in p2.groupby("element", sort=False):
 stress = p2[p2.quantity.isin(["sigma_t1", "sigma_nu"])]
 print(f"Stress rates in h on paper-2: {stress.rate_h.min():.2f} to {stress.rate_h.max():.2f} "
       f"(between the crack tips' h^1/2 and the lowest-order h^1).")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+KKT = ["kkt_max_penetration", "kkt_max_tension", "kkt_complementarity"]
+assert rows[KKT].max().max() < 1e-8  # the contact conditions hold at round-off in every row
+assert finest.max() > 937 and rows.reference_ndof.max() > finest.max()  # finer than the paper; the reference finer still
+assert (p2[p2.element == "bdm"].rate_dof > 0).all()  # bdm's errors fall on paper-2 in every quantity
+assert SMOKE or (rates.rate_dof > 0.3).all()  # the full study: every rate in dof between 0.35 and 1.1

@@ -14,13 +14,20 @@
 
 # %%
 import os
+import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
 import ngcrack as nc
-from ngcrack import plots, sweeps
+from ngcrack import CoarseMeshWarning, plots, sweeps
+
+# Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
+# h1p1 are known to be more than 20% off: ngcrack warns about each such solve
+# (CoarseMeshWarning, see the size-guard guide); the errors below show it, so the warnings are
+# silenced here.
+warnings.simplefilter("ignore", CoarseMeshWarning)
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = [e for e in nc.ELEMENTS if e in nc.elements.MIXED]
@@ -112,3 +119,10 @@ for el, g in opening.groupby("element", sort=False):
     print(f"Griffith opening, {el}: error {g.error.iloc[0]:.2%} -> {g.error.iloc[-1]:.2%} "
           f"({g.ndof.iloc[0]:,} -> {g.ndof.iloc[-1]:,} unknowns)")
 print("Errors near 0.6% are the finite plate's own effect, not the discretization's.")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+KKT = ["kkt_max_penetration", "kkt_max_tension", "kkt_complementarity"]
+assert df[KKT].max().max() < 1e-8  # the contact conditions hold at round-off on every mesh
+assert (rates[rates.quantity == "u2"].rate_h > 0.25).all() and (rates[rates.quantity == "sigma_t1"].rate_h > 0.25).all()
+assert opening.error.max() < 0.06 and opening[opening.element == "bdm"].error.max() < 0.015  # the closed form

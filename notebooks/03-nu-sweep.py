@@ -13,11 +13,18 @@
 
 # %%
 import os
+import warnings
 
 import matplotlib.pyplot as plt
 
 import ngcrack as nc
-from ngcrack import plots, sweeps
+from ngcrack import CoarseMeshWarning, plots, sweeps
+
+# Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
+# h1p1 are known to be more than 20% off: ngcrack warns about each such solve
+# (CoarseMeshWarning, see the size-guard guide); the errors below show it, so the warnings are
+# silenced here.
+warnings.simplefilter("ignore", CoarseMeshWarning)
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = list(nc.ELEMENTS)  # mixed elements and the displacement baselines
@@ -73,3 +80,10 @@ worst_mixed = max(v for e in mixed for v in growth[e].values())
 print(f"Mixed elements: every error grows by at most a factor {worst_mixed:.2f}.")
 if "h1p1" in growth:
     print(f"h1p1: sigma_nu error x{growth['h1p1']['sigma_nu']:.0f}, u1 error x{growth['h1p1']['u1']:.1f} (locking).")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+KKT = ["kkt_max_penetration", "kkt_max_tension", "kkt_complementarity"]
+assert df[KKT].max().max() < 1e-8  # the contact conditions hold at round-off for every nu
+assert worst_mixed < 1.5  # the mixed elements do not lock
+assert "h1p1" not in growth or growth["h1p1"]["sigma_nu"] > 5  # the displacement element does

@@ -13,12 +13,19 @@
 
 # %%
 import os
+import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 import ngcrack as nc
-from ngcrack import plots, sweeps
+from ngcrack import CoarseMeshWarning, plots, sweeps
+
+# Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
+# h1p1 are known to be more than 20% off: ngcrack warns about each such solve
+# (CoarseMeshWarning, see the size-guard guide); the errors below show it, so the warnings are
+# silenced here.
+warnings.simplefilter("ignore", CoarseMeshWarning)
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ELEMENTS = list(nc.ELEMENTS)
@@ -97,3 +104,11 @@ print(f"At maxh {min(MAXH):g}: contact (Schur complement and QP) takes {share.mi
       f"run time, assembly {(finest.time_assemble / finest.time_total).min():.0%} to "
       f"{(finest.time_assemble / finest.time_total).max():.0%}; the fastest solve is {finest.time_total.idxmin()}'s "
       f"({finest.time_total.min():.2f} s).")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+KKT = ["kkt_max_penetration", "kkt_max_tension", "kkt_complementarity"]
+assert df[KKT].max().max() < 1e-8  # the contact conditions hold at round-off
+mixed_best = df[df.element.isin(nc.elements.MIXED)].groupby("element").err_sigma_nu.min()
+assert df[df.element == "h1p1"].err_sigma_nu.min() > mixed_best.max()  # h1p1 locks: never as accurate
+assert all(np.isfinite(times[e][0]) for e in times if e in nc.elements.MIXED)  # each locking-free element reaches it

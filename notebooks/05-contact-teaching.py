@@ -138,3 +138,11 @@ print(f"Tension: the crack opens (max opening {summary(t_c)['max opening']:.2e})
 print(f"Compression: the crack closes (max opening {summary(c_c)['max opening']:.1e}) and slides "
       f"(max sliding {summary(c_c)['max |sliding|']:.2e}); contact = bonded to {gap(c_c, c_b):.0e}; "
       f"the traction-free faces interpenetrate by up to {-summary(c_f)['min opening']:.2e}.")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+assert gap(t_c, t_f) < 1e-8 and gap(c_c, c_b) < 1e-8  # contact = free in tension, = bonded in compression
+assert summary(c_c)["max opening"] <= 1e-8 * summary(t_c)["max opening"]  # closed under compression
+assert summary(t_c)["min opening"] > 0 and summary(t_b)["max sigma_nu"] > 0.1  # open; bonded pulls
+assert -summary(c_f)["min opening"] > 0.5 * summary(t_c)["max opening"]  # free faces interpenetrate
+assert max(c_c.kkt.values()) < 1e-8 and max(t_c.kkt.values()) < 1e-8  # KKT at round-off

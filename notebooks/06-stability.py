@@ -14,8 +14,15 @@
 
 # %%
 import os
+import warnings
 
-from ngcrack import stability
+from ngcrack import CoarseMeshWarning, stability
+
+# Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
+# h1p1 are known to be more than 20% off: ngcrack warns about each such solve
+# (CoarseMeshWarning, see the size-guard guide); the errors below show it, so the warnings are
+# silenced here.
+warnings.simplefilter("ignore", CoarseMeshWarning)
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 NUS = (0.3, 0.4999, 0.5) if SMOKE else stability.NUS
@@ -64,3 +71,11 @@ print(f"Scaling laws hold to {max(scale.jump_law_deviation.max(), scale.stress_l
       f"{max(scale.kkt_max_penetration.max(), scale.kkt_max_tension.max()):.1e}.")
 print(f"1:100 strip: stress error {extreme[extreme.case.str.startswith('strip')].error.max():.1e} against the exact "
       f"uniform state; tip at 1e-4 maxh: Griffith opening error {extreme[extreme.case.str.startswith('griffith')].error.max():.3f}.")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+assert max(scale.jump_law_deviation.max(), scale.stress_law_deviation.max()) < 1e-6  # exact scaling laws
+assert max(scale.kkt_max_penetration.max(), scale.kkt_max_tension.max()) < 1e-10  # KKT at round-off
+assert extreme[extreme.case.str.startswith("strip")].error.max() < 1e-6  # the exact uniform state
+assert extreme[extreme.case.str.startswith("griffith")].error.max() < 0.02  # the closed form, tiny tip mesh
+assert growth_h1 > 2 and not growth_mixed > 1.1  # h1p1 locks, the mixed elements do not

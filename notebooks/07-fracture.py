@@ -177,3 +177,12 @@ for el, g in conv.groupby("element", sort=False):
     print(f"Griffith, {el}: K_I/K - 1 {g['K_I/K - 1'].iloc[0]:+.2%} -> {g['K_I/K - 1'].iloc[-1]:+.2%}, opening error "
           f"{g.err_opening.iloc[0]:.2%} -> {g.err_opening.iloc[-1]:.2%} ({g.ndof.iloc[0]:,} -> {g.ndof.iloc[-1]:,} "
           f"unknowns); the tips take {g.tips_share.max():.1%} of the solve at most.")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+assert c.K_I.abs().max() < 0.01 * ROOT  # a closed crack: K_I = 0 (the contact pressure closes it)
+assert np.max(np.abs(c.K_II.to_numpy() - exact_II)) < 0.02 * ROOT  # K_II: p sin(beta) cos(beta) sqrt(pi a)
+assert np.max(np.abs(f.K_I.to_numpy() + np.cos(np.radians(f.angle.to_numpy())) ** 2 * ROOT)) < 0.03 * ROOT
+assert strips.error.abs().max() < 0.02  # the handbook's K_I
+finest = conv.loc[conv.groupby("element").ndof.idxmax()]
+assert finest["K_I/K - 1"].abs().max() < 0.03 and finest.err_opening.max() < 0.03  # Griffith: the finite plate's own 0.6-0.9%

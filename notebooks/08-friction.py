@@ -138,3 +138,10 @@ slip_err = max(e for mu, e in errors.items() if mu < TAN_B)
 stick_slide = max(np.max(np.abs(s.crack_profiles()[0].tangential_jump)) for mu, s in sols.items() if mu >= TAN_B)
 print(f"Friction: the inclined crack slips below tan(beta) = {TAN_B:.3f} within {slip_err:.2%} of the closed form "
       f"and sticks above it (largest sliding {stick_slide:.1e}); paper-1 sticks from mu = {first_stick}")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+assert slip_err < 0.02  # slips below tan(beta) as the closed form says
+assert stick_slide < 1e-10  # and sticks above it
+assert first_stick is not None and 0 < first_stick <= 3.0
+assert psol.kkt["friction"] < 1e-8  # the discrete Coulomb law holds at round-off

@@ -131,3 +131,10 @@ print(f"Unilateral contact: closed over {closed:.2f} of 2.00 under compression (
       f"contact length {model.readouts()['contact_length']:.2f}); reversing the load reverses the sliding "
       f"(to {reversal:.0%} of its size) but not the opening; {model.counts['factorize']} factorization(s) "
       f"for {model.counts['load'] + model.counts['factorize']} solves.")
+
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+assert abs(closed - 2.0) < 1e-3 and comp.normal_jump.max() <= 1e-12  # closed over the whole crack
+assert tens.normal_jump.max() > 0 and model.readouts()["contact_length"] < 1e-9  # open under tension
+assert reversal < 0.05  # the sliding reverses with the load
+assert model.counts["factorize"] == 1  # one factorization for every load

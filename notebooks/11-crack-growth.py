@@ -177,3 +177,11 @@ print(f"The hole lowers the load at which the near tip first grows by "
       f"(lambda {hole_first.tip_load_factor:.3f} against {plain_first.tip_load_factor:.3f} without it); "
       f"runs stopped: {runs_c['with the hole'].stopped!r}, {runs_c['plain plate'].stopped!r}")
 
+# %%
+# The conclusions above, in numbers: this cell fails when one of them stops holding.
+assert lam_err < 0.03  # wings start at K_Ic / ((2/sqrt 3) K_II,eff)
+assert abs(mts0 - math.degrees(math.acos(1 / 3))) < 0.01  # MTS kink of pure mode II: arccos(1/3) = 70.53 degrees
+assert r3.load_factors()[0] > 1.2 * r0.load_factors()[0]  # friction raises the starting load
+assert all(np.all(np.diff(r.load_factors()) > 0) for r in (r0, r3))  # stable growth: lambda rises
+assert max(kkt for *_, kkt in rows) < 1e-10 and all(closed > 0.99 for _, closed, _, _ in rows)  # KKT; closed main crack
+assert hole_first.tip_load_factor < 0.9 * plain_first.tip_load_factor  # the hole's concentration

@@ -13,8 +13,8 @@
 # **Method.** The built-in scene `penny` (a = 1 in a block of side 20a, E = 1000, nu = 0.3) at one
 # mesh (`front_h` = 0.2 a) with TDNNS of order 2 (order 1 with `NGCRACK_QUICK=1`: 1-2% low); `nc.solve` sends a 3D scene to
 # `ngcrack.solid`. The block of side 20a is the infinite body to about 0.1%, so Sneddon's forms
-# are the reference here; the mesh's own error is what the figures show (the benchmark
-# `benchmarks/penny.py` gives the finite body's converged answer).
+# are the reference here; the mesh's own error is what the figures show (the repository's
+# penny benchmark gives the finite body's converged answer).
 
 # %%
 import math

@@ -68,7 +68,7 @@ def test_solve_json_has_exactly_the_contract_keys(tmp_path, capsys):
                       "error_estimate"}
     assert set(d["error_estimate"]) == {"energy", "relative"}
     assert [(t["crack"], t["end"]) for t in d["tips"]] == [(0, "first"), (0, "last")]
-    assert all(set(t) == {"crack", "end", "x", "y", "K_I", "K_II", "G", "T"} for t in d["tips"])
+    assert all(set(t) == {"crack", "end", "x", "y", "K_I", "K_II", "G", "T", "closed", "K_I_raw"} for t in d["tips"])
     assert "K_II" in out and "0,first" in out  # the tip table
     assert set(d["ndof"]) == {"total", "global", "contact"}
     assert set(d["time_s"]) == {"total", "mesh", "assemble", "linear", "contact"}

@@ -26,7 +26,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("post-processing", ("post", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front")),
     ("options and solution", ("options", "solution", "stages", "solid.output")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
-    ("loops over the pipeline", ("adapt",)),
+    ("loops over the pipeline", ("adapt", "distributed")),
     ("one-shot solve", ("solve", "volume")),
     ("studies", ("study", "sweeps", "stability", "growth", "hydrofrac", "paper", "plots")),
     ("views", ("explorer", "interactive", "cli", "cli_errors", "interrupts", "growth.cli", "hydrofrac.cli", "__main__", "",
@@ -254,3 +254,22 @@ def test_the_dimension_free_modules_import_nothing_2d():
     assert not unexpected, f"dimension-free modules import 2D ones: {unexpected}"
     gone = sorted(set(KNOWN_2D_IMPORTS) - edges)
     assert not gone, f"these 2D imports are gone: remove them from KNOWN_2D_IMPORTS: {gone}"
+
+
+def test_no_merge_conflict_markers_are_left():
+    """No file of the repository keeps a merge's conflict markers (inside a docstring they
+    pass both Python and ruff): the count of marker lines is 0."""
+    top = ROOT.parent
+    markers = ("<" * 7 + " ", ">" * 7 + " ")
+    found = []
+    for path in sorted(top.rglob("*")):
+        if path.is_dir() or any(part.startswith(".") or part in ("_build", "node_modules") for part in path.parts[len(top.parts):]):
+            continue
+        if path.suffix not in (".py", ".md", ".toml", ".cfg", ".txt", ".yml", ".yaml", ".json", ".css", ".html", ".js") and path.name != "run":
+            continue
+        try:
+            lines = path.read_text(encoding="utf-8").splitlines()
+        except (UnicodeDecodeError, OSError):
+            continue
+        found += [f"{path.relative_to(top)}:{k + 1}" for k, line in enumerate(lines) if line.startswith(markers)]
+    assert len(found) == 0, found

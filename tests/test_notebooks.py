@@ -2,12 +2,15 @@
 
 The notebooks are jupytext py:percent sources (notebooks/*.py); each is read with
 jupytext, run with NGCRACK_QUICK=1 (small meshes) in a fresh temporary folder, and must
-print its conclusion. The fastest runs in the default suite, the others are marked slow
-when they take long (see NOTEBOOKS).
+print its conclusion. Every notebook ends by asserting its conclusions in numbers (a rate,
+an error band against a closed form, KKT residuals at round-off): those `assert` statements
+are counted, and every cell holding one must have run. The fastest runs in the default
+suite, the others are marked slow when they take long (see NOTEBOOKS).
 """
 
 from __future__ import annotations
 
+import ast
 import time
 from pathlib import Path
 
@@ -41,8 +44,31 @@ NOTEBOOKS = [
 FIGURES = {"11-crack-growth.py": 4, "14-bending-and-holes.py": 3}
 
 
+#: the fewest `assert` statements a notebook's conclusions may have
+MIN_ASSERTIONS = 3
+
+
 def test_every_notebook_is_listed():
     assert sorted(p.name for p in NOTEBOOK_DIR.glob("[0-9][0-9]-*.py")) == sorted(n for n, _, _ in NOTEBOOKS)
+
+
+def _assertions(source: str) -> int:
+    """The `assert` statements of a code cell (IPython's magics and shell lines left out)."""
+    code = "\n".join(line for line in source.splitlines() if not line.lstrip().startswith(("%", "!")))
+    return sum(isinstance(node, ast.Assert) for node in ast.walk(ast.parse(code)))
+
+
+def test_every_notebook_asserts_its_conclusions():
+    """Each notebook checks its conclusions in numbers, and the last of its code cells that
+    asserts comes after the cell printing the conclusion (it checks what the reader was told)."""
+    counts = {}
+    for name, _, _ in NOTEBOOKS:
+        cells = [c for c in jupytext.read(NOTEBOOK_DIR / name).cells if c.cell_type == "code"]
+        per_cell = [_assertions(c.source) for c in cells]
+        counts[name] = sum(per_cell)
+        assert per_cell[-1] > 0 or per_cell[-2] > 0, f"{name}: its last cells assert nothing"
+    print(f"[notebooks] {sum(counts.values())} assertions: {counts}")
+    assert {n: k for n, k in counts.items() if k < MIN_ASSERTIONS} == {}
 
 
 def _outputs(nb) -> str:
@@ -67,6 +93,15 @@ def test_notebook_runs_clean(name, conclusion, tmp_path, monkeypatch):
     print(f"[notebooks] {name}: {time.perf_counter() - t0:.1f} s")
     last = nb.cells[-1]
     assert last.cell_type == "code"
+    # the tutorials show no warning boxes (a warning that matters is said in a sentence)
+    if name < "12":
+        stderr = [o.get("text", "") for c in nb.cells for o in c.get("outputs", [])
+                  if o.get("output_type") == "stream" and o.get("name") == "stderr"]
+        assert stderr == [], stderr[:3]
+    # every cell that asserts a conclusion ran (a failing assert raised above)
+    asserting = [c for c in nb.cells if c.cell_type == "code" and _assertions(c.source)]
+    assert len(asserting) >= 1 and all(c.get("execution_count") for c in asserting)
+    print(f"[notebooks] {name}: {sum(_assertions(c.source) for c in asserting)} assertions held")
     text = _outputs(nb)
     assert conclusion in text, text[-2000:]
     # every plot cell produced an image

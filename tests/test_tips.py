@@ -99,6 +99,27 @@ def test_griffith_K_within_one_percent_and_G_is_K_squared_over_E_prime(griffith,
     assert abs(tip.K_II) < 2e-3 * K
     assert abs(tip.G * e_prime / (tip.K_I**2 + tip.K_II**2) - 1) < 0.01
     assert (tip.x, tip.y) == (1.0, 0.0)
+    # an open tip: the integral's own values, untouched by the closed-tip rule
+    assert not tip.closed and tip.K_I == tip.K_I_raw and tip.G == tip.J
+
+
+def test_griffith_reversed_is_closed_K_I_zero_and_free_reports_the_overlap(griffith):
+    """The load reversed: with contact the faces close at the tip and K_I is 0 exactly
+    (the integral's value, its error about zero, kept in K_I_raw), G = K_II^2 / E'; the
+    free model (linear) gives exactly the open crack's K with the sign reversed."""
+    from ngcrack.explorer.loads import scaled_loads
+
+    scene = scaled_loads(nc.scenes.load("griffith"), -1.0)
+    e_prime = T.effective_modulus(1000.0, 0.3, "strain")
+    closed, free = (nc.solve(scene, element="bdm", crack_model=m).tips[0] for m in ("contact", "free"))
+    report(f"griffith reversed bdm: contact K_I = {closed.K_I} (raw {closed.K_I_raw:+.2e}), K_II = {closed.K_II:+.2e}; "
+           f"free K_I = {free.K_I:+.5f}")
+    assert closed.closed and closed.K_I == 0.0 and abs(closed.K_I_raw) < 1e-6 * ROOT_PI
+    assert abs(closed.K_II) < 2e-3 * ROOT_PI and closed.G == closed.K_II ** 2 / e_prime
+    assert closed.to_dict()["K_I"] == 0.0 and closed.to_dict()["closed"] is True
+    opened = griffith["bdm"].tips[0]
+    assert free.closed and free.K_I == free.K_I_raw < 0
+    assert free.K_I == pytest.approx(-opened.K_I, rel=1e-9) and free.G == pytest.approx(opened.G, rel=1e-9)
 
 
 @pytest.mark.parametrize("element", ["bdm", "tdnns"])
@@ -144,7 +165,8 @@ def test_griffith_incompressible_limit_for_the_mixed_elements(griffith, element)
 # ------------------------------------------------------------------ inclined crack
 @pytest.mark.parametrize("load", [1.0, -1.0])
 def test_inclined_crack_K_I_and_K_II(load):
-    """Tension: both modes within 1%; compression (closed, frictionless): K_I = 0, K_II = tau sqrt(pi a).
+    """Tension: both modes within 1%; compression (closed, frictionless): K_I = 0 exactly (the
+    closed-tip rule; the integral's own value within 1% of sqrt(pi a) of it), K_II = tau sqrt(pi a).
 
     K_II has the sign of tau = p sin(b) cos(b) at both ends (DESIGN frame: e1 out of the crack)."""
     scene = nc.scenes.inclined_crack(angle=30.0, load=load)
@@ -157,7 +179,9 @@ def test_inclined_crack_K_I_and_K_II(load):
         eG = tip.G * exact["E_prime"] / (exact["K_I"] ** 2 + exact["K_II"] ** 2) - 1
         report(f"inclined p={load:+g} bdm {tip.label}: K_I err {eI:+.4f}, K_II err {eII:+.4f}, G err {eG:+.4f}")
         assert abs(eI) < 0.01 and abs(eII) < 0.01 and abs(eG) < 0.02  # the infinite plate's closed forms
+        assert tip.closed == (load < 0)
         if load < 0:  # the built-in inclined-compression scene: its finite plate's K_II
+            assert tip.K_I == 0.0 and abs(tip.K_I_raw) < 0.01 * scale and tip.G == tip.K_II ** 2 / exact["E_prime"]
             ref = references.reference("inclined-compression").tips[tip.label]
             report(f"  against the finite plate: K_II err {tip.K_II / ref.K_II - 1:+.5f}")
             assert abs(tip.K_II / ref.K_II - 1) < K_BANDS["bdm"]
@@ -178,7 +202,8 @@ def test_traction_free_model_under_compression_gives_a_negative_K_I():
     for t_free, t_c in zip(free.tips, contact_sol.tips):
         report(f"free: K_I = {t_free.K_I:+.4f} (sigma_n sqrt(pi a) = {sn * ROOT_PI:+.4f}); contact: {t_c.K_I:+.4f}")
         assert abs(t_free.K_I / (sn * ROOT_PI) - 1) < 0.02  # the Griffith solution under sigma_n < 0
-        assert abs(t_c.K_I) < 0.01 * ROOT_PI
+        assert t_c.K_I == 0.0 and abs(t_c.K_I_raw) < 0.01 * ROOT_PI
+        assert t_free.closed and t_free.K_I == t_free.K_I_raw  # the overlap is shown, not hidden
         assert abs(t_free.K_II / t_c.K_II - 1) < 0.01
 
 

@@ -204,14 +204,9 @@ def solve_step(scene, previous, solver: Solver):
 
 
 def _closed_at(sol, tip) -> bool:
-    """Whether the crack faces at the tip touch: the state of the crack sample nearest the tip."""
-    if not sol.profiles:
-        return False
-    prof = sol.profiles[tip.crack]
-    if prof.state is None or not len(prof.state):
-        return False
-    i = int(np.argmin((prof.x - tip.x) ** 2 + (prof.y - tip.y) ** 2))
-    return str(prof.state[i]) != "open"
+    """Whether the crack faces at the tip touch: the tip's own `closed` (ngcrack.tips.tip_closed;
+    with contact its K_I is then 0)."""
+    return bool(tip.closed)
 
 
 def tip_values(sol, criterion: str = "mts", r_c: float | None = None) -> list[dict]:

@@ -1,0 +1,313 @@
+"""The distributed solve: parallel assembly, BDDC-preconditioned CG, the crack problem's
+active set on the distributed crack unknowns, the gather to rank 0 (package docstring).
+
+The crack problem is the serial one (contact.py): with w = G j the constraint values
+(G per crack edge, `post.endpoint_map`), find j with w >= 0, lam >= 0, w lam = 0, the
+forces lam = G^{-T} (K y - F)_c. Each step holds the active values at zero (a
+projection of the crack edges' unknowns, krylov.py) and solves the rest by CG; then
+an active value leaves where its force is negative and an inactive one enters where it
+penetrates. The iteration stops when no rank changes its active set.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+import ngsolve as ngs
+import numpy as np
+
+from .. import elements as _elements
+from ..errors import InputError
+from ..materials import compliance
+from ..options import SolveOptions
+from ..post import endpoint_map
+from . import MPIUnavailable, require_mpi
+from .bddc import DEFAULT, preconditioner
+from .gather import gather_to_rank0
+from .krylov import Operator, pcg
+from .mesh import MATCH_RTOL, TooFewElements, distribute
+
+#: active-set steps before the iteration is declared cycling
+MAX_ACTIVE_SET_STEPS = 60
+#: a force or a constraint value within this fraction of its largest magnitude counts as zero
+#: when the active set is updated (round-off of the Krylov solve)
+SIGN_RTOL = 1e-9
+
+
+def check_supported(scene, o: SolveOptions) -> None:
+    """What the distributed solve does not do yet, refused on every rank before any work."""
+    if o.tangential_for(scene):
+        raise InputError("friction: the distributed solve (mpiexec -n N, N > 1) handles frictionless cracks only; "
+                         "run this scene without mpiexec")
+    if o.hp:
+        raise InputError("hp: the distributed solve takes plain meshes only (hp = 0); run hp meshes without mpiexec")
+    if getattr(scene, "points", ()):
+        raise InputError("point: point supports and loads are not distributed yet; run this scene without mpiexec")
+    if getattr(scene, "dim", 2) != 2:
+        raise InputError("dim: the distributed solve handles 2D scenes; run 3D scenes without mpiexec")
+
+
+def unsupported_discretization(disc, loads) -> str | None:
+    """Why this rank's discretization cannot be solved distributed (None: it can)."""
+    if disc.traits.gradient == "gradient":  # a displacement element: its crack constraints sit at vertices
+        return (f"element: {disc.element!r} is not distributed (its crack constraints sit at vertices, shared "
+                f"by edges); use one of {', '.join(sorted(_elements.MIXED))} under mpiexec")
+    for _, _, nrm in disc.roller_pairs(loads.roller):
+        if nrm is not None and abs(nrm[0]) > 1e-12 and abs(nrm[1]) > 1e-12:
+            return (f"boundary: a roller edge not parallel to an axis is not distributed yet (normal {nrm[0]:.3g}, "
+                    f"{nrm[1]:.3g}); run this scene without mpiexec")
+    return None
+
+
+def agree(comm, message: str | None) -> None:
+    """Raise InputError on every rank if any rank has a `message` (so that all stop alike; collective)."""
+    messages = [m for m in comm.allgather(message) if m]
+    if messages:
+        raise InputError(messages[0])
+
+
+def free_mask(disc, loads) -> np.ndarray:
+    """The condensed system's unknowns on this rank (coupling, not Dirichlet, not held):
+    rollers whose normal is a coordinate axis hold that component (`unsupported_discretization`
+    refuses the others first)."""
+    fes = disc.fes
+    free = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
+    free[list(disc.fixed_dofs)] = False
+    for dx, dy, nrm in disc.roller_pairs(loads.roller):
+        if nrm is None:
+            free[dx] = free[dy] = False
+        elif abs(nrm[1]) < 1e-12:
+            free[dx] = False
+        elif abs(nrm[0]) < 1e-12:
+            free[dy] = False
+    return free
+
+
+class ActiveSet:
+    """The active constraint values on this rank's crack edges and the projection that holds them at zero."""
+
+    def __init__(self, G: np.ndarray, jn_dofs: np.ndarray, free: np.ndarray):
+        self.G, self.jn, self.free = G, jn_dofs, free
+        self.Ginv = np.linalg.inv(G) if len(G) else G
+        self.active = np.zeros(len(G), dtype=bool)
+        self.P = np.eye(len(G))
+
+    def set(self, active: np.ndarray) -> None:
+        self.active = active.copy()
+        GA = self.G[active]
+        self.P = np.eye(len(self.G))
+        if len(GA):
+            self.P -= GA.T @ np.linalg.solve(GA @ GA.T, GA)
+
+    def project(self, vec: ngs.BaseVector) -> None:
+        vals = vec.FV().NumPy()
+        vals[~self.free] = 0.0
+        if len(self.jn):
+            vals[self.jn] = self.P @ vals[self.jn]
+
+
+def _fail(comm, rank: int, exc: BaseException) -> None:
+    """One line on stderr and the whole communicator stopped: no rank waits for a dead one."""
+    sys.stderr.write(f"ngcrack: distributed solve failed on rank {rank}: {type(exc).__name__}: {exc}\n")
+    sys.stderr.flush()
+    comm.Abort(1)
+
+
+def solve(scene, options: SolveOptions | None = None):
+    """One solve over the ranks of MPI_COMM_WORLD; the Solution on rank 0, None on the others."""
+    from ..pipeline import Pipeline
+    from ..scenes import load
+
+    comm = require_mpi()
+    scene = load(scene) if isinstance(scene, str) else scene
+    o = options if options is not None else SolveOptions()
+    # the checks run on every rank alike, before any communication: all fail alike; rank 0
+    # reports, the others leave quietly with the same status
+    try:
+        Pipeline.check(scene, o)
+        check_supported(scene, o)
+    except ValueError:
+        if comm.rank == 0:
+            raise
+        raise SystemExit(2) from None
+    if comm.size < 2:
+        raise MPIUnavailable("distributed solve: one MPI process; the serial solve is the one to use")
+    try:
+        return _solve(comm, scene, o)
+    except (TooFewElements, InputError):  # found alike on every rank (`agree`): rank 0 reports, no abort needed
+        if comm.rank == 0:
+            raise
+        raise SystemExit(2) from None
+    except Exception as exc:  # noqa: BLE001 -- any failure of one rank stops all of them
+        _fail(comm, comm.rank, exc)
+        raise
+
+
+def _solve(comm, scene, o: SolveOptions):
+    from ..pipeline import ParameterLoads, Pipeline
+
+    rank = comm.rank
+    timings: dict[str, float] = {}
+    t_start = t0 = time.perf_counter()
+    pipe = Pipeline() if rank == 0 else None
+    serial_mesh = pipe.mesh(scene, o) if rank == 0 else None
+    blocks = constraint_blocks(pipe, scene, o, serial_mesh) if rank == 0 else None
+    # what rank 0's serial discretization cannot do distributed, told to every rank before any other work
+    agree(comm, blocks if isinstance(blocks, str) else None)
+    timings["mesh"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    cmesh = distribute(serial_mesh, scene, comm)
+    timings["distribute"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    loads = ParameterLoads(scene).loads
+    mat = scene.material
+    disc = _elements.build(o.element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=o.order)
+    pre, coarse = preconditioner(disc, os.environ.get("NGCRACK_MPI_PRECONDITIONER", DEFAULT))
+    fes, a, f = disc.fes, disc.a, disc.f
+    free = free_mask(disc, loads)
+    fmod = f.vec.CreateVector()
+    fmod.data = f.vec
+    fmod.data += a.harmonic_extension_trans * fmod
+    x = f.vec.CreateVector()
+    x[:] = 0.0
+    if loads.displacement:  # prescribed values: moved to the right-hand side
+        gD = ngs.GridFunction(fes)
+        disc.boundary_values(gD, loads)
+        x.data = gD.vec
+        x.FV().NumPy()[free] = 0.0
+    rhs = fmod.CreateVector()
+    rhs.data = fmod - a.mat * x
+    rhs.data *= disc.sign
+    x_fixed = x.CreateVector()
+    x_fixed.data = x
+    x[:] = 0.0
+    timings["assemble"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    op = Operator(A=a.mat, C=pre, sign=disc.sign)
+    has_crack = disc.jn is not None and o.crack_model != "free"
+    if has_crack:
+        rng = fes.Range(disc.jn)
+        jn_dofs = np.arange(rng.start, rng.stop)
+        G = local_constraint_map(comm, disc, cmesh, blocks, scene.diameter)
+    else:
+        jn_dofs, G = np.zeros(0, dtype=int), np.zeros((0, 0))
+    aset = ActiveSet(G, jn_dofs, free)
+    if has_crack and o.crack_model == "bonded":
+        aset.set(np.ones(len(G), dtype=bool))
+    steps, cg_steps = 0, []
+    residual = x.CreateVector()
+    while True:
+        steps += 1
+        cg_steps.append(pcg(op, rhs, x, aset.project))
+        if not has_crack or o.crack_model == "bonded":
+            break
+        x.Cumulate()
+        op.apply(x, residual)
+        residual.data -= rhs  # K y - F: the crack faces' forces on the crack rows
+        residual.Cumulate()
+        j = x.FV().NumPy()[jn_dofs]
+        w = G @ j
+        lam = aset.Ginv.T @ residual.FV().NumPy()[jn_dofs]
+        w_max = comm.allreduce(float(np.max(np.abs(w), initial=0.0)), op=_max())
+        lam_max = comm.allreduce(float(np.max(np.abs(lam), initial=0.0)), op=_max())
+        active = np.where(aset.active, lam > -SIGN_RTOL * lam_max, w < -SIGN_RTOL * w_max)
+        changed = comm.allreduce(int(np.count_nonzero(active != aset.active)))
+        if changed == 0:
+            break
+        if steps >= MAX_ACTIVE_SET_STEPS:
+            raise RuntimeError(f"crack problem: the active set still changed after {steps} steps")
+        aset.set(active)
+    x.Cumulate()
+    timings["solve"] = time.perf_counter() - t0
+    info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
+            "preconditioner": coarse, "krylov": "cg",
+            "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
+            "memory_mb": _memory_per_rank(comm)}
+    t0 = time.perf_counter()
+    gathered = gather_to_rank0(comm, cmesh, fes, x, aset.active, jn_dofs)
+    timings["gather"] = time.perf_counter() - t0
+    if rank != 0:
+        return None
+    from .assemble0 import solution_on_rank0
+
+    return solution_on_rank0(pipe, scene, o, serial_mesh, gathered, timings, info, t_start)
+
+
+def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list | str:
+    """Rank 0: G of the serial mesh (post.endpoint_map) as one (mid point, block) per crack edge,
+    or why the discretization cannot be distributed (`unsupported_discretization`).
+
+    G is computed from moments over the crack edges (a serial assembly); its blocks go to
+    the ranks, which place them on their own crack edges (the same dofs in the same order).
+    """
+    disc, loads = pipe.discretization(scene, serial_mesh, o)
+    why = unsupported_discretization(disc, loads)
+    if why is not None:
+        return why
+    if disc.jn is None:
+        return []
+    space = disc.fes.components[disc.jn]
+    G = endpoint_map(space, serial_mesh, disc.facet_order)
+    out = []
+    for crack in serial_mesh.cracks:
+        for e, mid in zip(crack.edge, crack.mid):
+            dofs = list(space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))))
+            out.append((np.asarray(mid, float), G[np.ix_(dofs, dofs)]))
+    return out
+
+
+def local_constraint_map(comm, disc, cmesh, blocks: list | None, diameter: float) -> np.ndarray:
+    """G on this rank's crack unknowns from rank 0's blocks, matched by the edges' mid points."""
+    blocks = comm.bcast(blocks, root=0)
+    space = disc.fes.components[disc.jn]
+    G = np.zeros((space.ndof, space.ndof))
+    if not blocks or not space.ndof:
+        return G
+    mids = np.array([b[0] for b in blocks])
+    for crack in cmesh.cracks:
+        for e, mid in zip(crack.edge, crack.mid):
+            dist = np.linalg.norm(mids - mid, axis=1)
+            k = int(np.argmin(dist))
+            if dist[k] > MATCH_RTOL * diameter:
+                raise RuntimeError("crack problem: a crack edge of a subdomain matches no crack edge of the mesh")
+            dofs = list(space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))))
+            G[np.ix_(dofs, dofs)] = blocks[k][1]
+    return G
+
+
+def _max():
+    from mpi4py import MPI
+
+    return MPI.MAX
+
+
+def _owned(fes) -> np.ndarray:
+    """The dofs this rank counts (the lowest rank sharing a dof counts it)."""
+    pd = fes.ParallelDofs()
+    own = np.ones(fes.ndof, dtype=bool)
+    if pd is None:
+        return own
+    rank = _rank()
+    for d in range(fes.ndof):
+        procs = pd.Dof2Proc(d)
+        if len(procs) and min(procs) < rank:
+            own[d] = False
+    return own
+
+
+def _rank() -> int:
+    from mpi4py import MPI
+
+    return MPI.COMM_WORLD.rank
+
+
+def _memory_per_rank(comm) -> list[float]:
+    """Peak resident memory of every rank, in MB (Linux: ru_maxrss in kB)."""
+    import resource
+
+    return comm.allgather(round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1))

@@ -1,0 +1,150 @@
+"""The distributed solve under `mpiexec -n 2` against the serial one, and its bad setups.
+
+Each test starts mpiexec in a subprocess. The numbers asserted: the stress intensity
+factors and crack profiles equal the serial direct solve's to 1e-8 (relative), the
+same active set, KKT residuals at round-off; a failing rank stops the others (no hang);
+MPI missing and a mesh too small for the ranks give one line.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.skipif(importlib.util.find_spec("mpi4py") is None,
+                                reason="mpi4py is not installed (pip install 'ngcrack[mpi]')")
+
+#: wall-clock limit of one mpiexec run: a hang fails the test instead of stalling the suite
+LIMIT_S = 240
+
+
+def _mpiexec() -> str:
+    exe = shutil.which("mpiexec") or os.path.join(os.path.dirname(sys.executable), "mpiexec")
+    if not os.path.exists(exe):
+        pytest.skip("mpiexec is not on the PATH (the mpich wheel of the [mpi] extra provides it)")
+    return exe
+
+
+def _env() -> dict:
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+def _run(args: list[str], n: int = 2, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run([_mpiexec(), "-n", str(n), sys.executable, *args], env=_env(), capture_output=True,
+                          text=True, timeout=LIMIT_S, **kw)
+
+
+COMPARE = textwrap.dedent('''
+    import json, sys
+    import numpy as np
+    import ngcrack as nc
+    from ngcrack.distributed import solve as distributed_solve
+    out = {}
+    for name in ("griffith", "inclined-compression"):
+        sol = distributed_solve(name)
+        if sol is None:
+            continue
+        ser = nc.Pipeline().run(nc.scenes.load(name), nc.SolveOptions())  # the serial direct path
+        K = [[t.K_I, t.K_II] for t in sol.tips]
+        Ks = [[t.K_I, t.K_II] for t in ser.tips]
+        jump = lambda s: np.concatenate([np.r_[p.normal_jump, p.tangential_jump] for p in s.profiles])
+        scale = float(np.max(np.abs(jump(ser))))
+        out[name] = dict(K=K, K_serial=Ks, profile_error=float(np.max(np.abs(jump(sol) - jump(ser)))) / scale,
+                         active=[int(i) for i in sol.qp.active], active_serial=[int(i) for i in ser.qp.active],
+                         kkt=sol.kkt, info=sol.options["distributed"])
+    if out:
+        json.dump(out, open(sys.argv[1], "w"))
+''')
+
+
+@pytest.fixture(scope="module")
+def compared(tmp_path_factory):
+    d = tmp_path_factory.mktemp("mpi")
+    script, out = d / "compare.py", d / "out.json"
+    script.write_text(COMPARE)
+    proc = _run([str(script), str(out)])
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return json.loads(out.read_text())
+
+
+@pytest.mark.parametrize("name", ["griffith", "inclined-compression"])
+def test_distributed_equals_serial(compared, name):
+    r = compared[name]
+    K, Ks = np.array(r["K"]), np.array(r["K_serial"])
+    assert np.max(np.abs(K - Ks)) <= 1e-8 * np.max(np.abs(Ks))
+    assert r["profile_error"] <= 1e-8
+    assert r["active"] == r["active_serial"]
+    assert max(r["kkt"].values()) <= 1e-12
+    assert r["info"]["ranks"] == 2
+
+
+def test_closed_crack_needs_an_active_set(compared):
+    """inclined-compression closes: the active set is every constraint point, found in a few steps."""
+    r = compared["inclined-compression"]
+    assert len(r["active"]) > 0 and r["info"]["active_set_steps"] >= 2
+    assert compared["griffith"]["active"] == []
+
+
+def test_cli_writes_json_once(tmp_path):
+    out = tmp_path / "g.json"
+    proc = _run(["-m", "ngcrack.cli", "solve", "griffith", "--json", str(out)])
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.count("wrote ") == 1  # rank 0 alone prints and writes
+    tip = json.loads(out.read_text())["tips"][0]
+    assert tip["K_I"] == pytest.approx(1.7893434723332, rel=1e-8)  # the serial solve's value
+
+
+FAIL = textwrap.dedent('''
+    from mpi4py import MPI
+    import ngcrack.distributed.solve as ds
+    if MPI.COMM_WORLD.rank == 1:
+        def broken(*args, **kw):
+            raise RuntimeError("injected failure")
+        ds.local_constraint_map = broken
+    ds.solve("griffith")
+''')
+
+
+def test_failing_rank_stops_all(tmp_path):
+    script = tmp_path / "fail.py"
+    script.write_text(FAIL)
+    proc = _run([str(script)])  # a hang would exceed LIMIT_S
+    assert proc.returncode != 0
+    assert "failed on rank 1: RuntimeError: injected failure" in proc.stderr
+
+
+def test_mesh_too_small_for_the_ranks():
+    from ngcrack.distributed.mesh import MIN_ELEMENTS_PER_RANK, TooFewElements, check_ranks
+
+    check_ranks(MIN_ELEMENTS_PER_RANK, 2)
+    with pytest.raises(TooFewElements, match="fewer than 50 per worker rank"):
+        check_ranks(3 * MIN_ELEMENTS_PER_RANK - 1, 4)
+
+
+def test_mpi_missing_is_one_line():
+    code = ("import sys; sys.modules['mpi4py'] = None; from ngcrack.cli import main; "
+            "sys.exit(main(['solve', 'griffith']))")
+    proc = subprocess.run([sys.executable, "-c", code], env=dict(_env(), PMI_SIZE="2"), capture_output=True,
+                          text=True, timeout=LIMIT_S)
+    assert proc.returncode != 0
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "ngcrack[mpi]" in lines[0], proc.stderr
+
+
+def test_unsupported_element_is_one_line():
+    """A displacement element is refused alike on every rank: one line from rank 0, no abort."""
+    proc = _run(["-m", "ngcrack.cli", "solve", "griffith", "--element", "h1p1"])
+    assert proc.returncode != 0
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "'h1p1' is not distributed" in lines[0], proc.stderr
