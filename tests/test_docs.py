@@ -41,7 +41,7 @@ EXECUTED = "05-contact-teaching"
 CONCLUSION = "Compression: the crack closes"
 #: the user guide's pages (docs/guide/NAME.md)
 GUIDE = ("scenes", "cli", "elements", "method", "hp", "contact", "fracture", "growth", "estimates", "size-guard", "studies", "paper",
-         "stability", "explore", "paraview", "performance")
+         "stability", "explore", "paraview", "performance", "solid")
 #: a Sphinx warning or error in the build's log (not the Jupyter kernel's own log lines)
 SPHINX_WARNING = re.compile(r"(?m)(^|: )(WARNING|ERROR|CRITICAL|SEVERE): ")
 #: seconds: the quick build, the full build
