@@ -94,11 +94,36 @@ class _Processes(_Serial):
         self.pool = ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"),
                                         initializer=_worker_start, initargs=(threads, os.getpid()))
 
+        self._submitting: threading.Thread | None = None
+
     def submit(self, fn, *args):
-        return self.pool.submit(fn, *args)
+        """Submit from a helper thread: a submit may start a worker, and a signal handled in
+        the main thread (Ctrl-C, SIGTERM) that cut the start short would leave the new
+        worker reading a half-sent start-up message and printing a traceback. The main
+        thread still takes the signal at once; the worker's start completes meanwhile."""
+        box: dict = {}
+
+        def run():
+            try:
+                box["future"] = self.pool.submit(fn, *args)
+            except BaseException as exc:  # noqa: BLE001 -- raised again in the caller's thread
+                box["error"] = exc
+
+        self._submitting = threading.Thread(target=run, name="ngcrack-submit")
+        self._submitting.start()
+        self._submitting.join()
+        self._submitting = None
+        if "error" in box:
+            raise box["error"]
+        return box["future"]
 
     def close(self, cancel: bool = False):
         """Wait for the workers to finish; cancel: stop them now (their runs are lost either way)."""
+        if self._submitting is not None:  # a submit cut short in this thread: let its worker start
+            try:
+                self._submitting.join(timeout=60)
+            except RuntimeError:  # the signal came before the helper thread started: nothing submitted
+                pass
         if not cancel:
             self.pool.shutdown(wait=True)
             return
