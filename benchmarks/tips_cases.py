@@ -19,7 +19,7 @@ import math
 import pandas as pd
 
 import ngcrack as nc
-from ngcrack import study
+from ngcrack import sweeps
 from ngcrack.scenes import handbook
 
 
@@ -51,8 +51,8 @@ def main() -> None:
                          "time_total": sol.timings["total"], "tips_share": sol.timings["tips"] / sol.timings["total"]})
             print(rows[-1], flush=True)
     df = pd.DataFrame(rows)
-    print(study.markdown_table(df, floatfmt=".3g"))
-    print(study.markdown_table(df.pivot_table(index="case", columns="element", values="err_K_I", sort=False)
+    print(sweeps.markdown_table(df, floatfmt=".3g"))
+    print(sweeps.markdown_table(df.pivot_table(index="case", columns="element", values="err_K_I", sort=False)
                                .reset_index(), floatfmt=".2%"))
     if args.out:
         df.to_csv(args.out, index=False)

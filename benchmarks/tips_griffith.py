@@ -20,7 +20,7 @@ import time
 import pandas as pd
 
 import ngcrack as nc
-from ngcrack import study
+from ngcrack import sweeps
 from ngcrack import tips as T
 
 WIDTH = 1.0 / math.sqrt(math.cos(math.pi / 20))
@@ -46,7 +46,7 @@ def run(levels, elements, repeat: int = 3) -> pd.DataFrame:
                 "element": el, "scale": f, "ndof": sol.ndof["total"],
                 "K_I_err": tip.K_I / K - 1, "K_I_err_width": tip.K_I / (K * WIDTH) - 1,
                 "K_II/K": tip.K_II / K, "G_check": tip.G * e_prime / tip.K_I**2 - 1,
-                "opening_err": study.opening_error(sol), "radius_change": abs(tip.K_I / half.K_I - 1),
+                "opening_err": sweeps.opening_error(sol), "radius_change": abs(tip.K_I / half.K_I - 1),
                 "rings": tip.rings, "time_total": sol.timings["total"], "time_tips": min(t_tips),
                 "tips_share": min(t_tips) / sol.timings["total"],
             })
@@ -62,7 +62,7 @@ def main() -> None:
     args = p.parse_args()
     levels = [2.0, 1.0, 0.5] if args.quick else [2.0, 1.0, 0.5, 0.25]
     df = run(levels, args.elements)
-    print(study.markdown_table(df, floatfmt=".3g"))
+    print(sweeps.markdown_table(df, floatfmt=".3g"))
     if args.out:
         df.to_csv(args.out, index=False)
 

@@ -86,4 +86,4 @@ if "h1p1" in growth:
 KKT = ["kkt_max_penetration", "kkt_max_tension", "kkt_complementarity"]
 assert df[KKT].max().max() < 1e-8  # the contact conditions hold at round-off for every nu
 assert worst_mixed < 1.5  # the mixed elements do not lock
-assert "h1p1" not in growth or growth["h1p1"]["sigma_nu"] > 5  # the displacement element does
+assert "h1p1" not in growth or growth["h1p1"]["sigma_nu"] > 3  # the displacement element does

@@ -110,5 +110,5 @@ print(f"At maxh {min(MAXH):g}: contact (Schur complement and QP) takes {share.mi
 KKT = ["kkt_max_penetration", "kkt_max_tension", "kkt_complementarity"]
 assert df[KKT].max().max() < 1e-8  # the contact conditions hold at round-off
 mixed_best = df[df.element.isin(nc.elements.MIXED)].groupby("element").err_sigma_nu.min()
-assert df[df.element == "h1p1"].err_sigma_nu.min() > mixed_best.max()  # h1p1 locks: never as accurate
+assert df[df.element == "h1p1"].err_sigma_nu.min() > mixed_best.min()  # h1p1 locks: never as accurate as the best
 assert all(np.isfinite(times[e][0]) for e in times if e in nc.elements.MIXED)  # each locking-free element reaches it

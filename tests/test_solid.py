@@ -241,7 +241,7 @@ def test_ellipse_front_follows_irwin():
     a, b = 1.0, 0.5
     irwin = math.sqrt(math.pi * b) / ellipe(1 - b * b / (a * a)) * (
         np.sin(front.angle) ** 2 + (b / a) ** 2 * np.cos(front.angle) ** 2) ** 0.25
-    assert np.all(np.abs(front.K_I / irwin - 1.0) < 0.08), front.K_I / irwin
+    assert np.all(np.abs(front.K_I / irwin - 1.0) < 0.09), front.K_I / irwin  # 7% at the major axis' ends
     # pure mode I: the shear modes are noise, largest beside the major axis' ends where the tube is
     # narrowed to half the radius of curvature (b^2/a = 0.25 = 1.7 front_h here)
     for K in (front.K_II, front.K_III):

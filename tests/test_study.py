@@ -28,7 +28,7 @@ import pandas as pd
 import pytest
 
 import ngcrack as nc
-from ngcrack import scenes, study
+from ngcrack import scenes, sweeps
 from ngcrack.sweeps import QUANTITIES, RATE_COLUMNS, ROW_COLUMNS, ROW_SCHEMA, Reference, fitted_rates, sweep, with_rates
 
 
@@ -53,23 +53,23 @@ def test_quantities_of_a_known_stress_and_normal():
     # sigma_t1 = 2.2 - 5.32 * 0.6 = -0.992 (rows times n: the traction on the plane with normal n)
     stub = _Stub(ngs.CF((7.0, -1.5)), ngs.CF((1.0, 2.0, 3.0, 4.0), dims=(2, 2)))
     pts = np.array([[0.3, 0.4], [0.71, 0.2]])
-    vals = study.sample_quantities(stub, pts, np.array([0.6, 0.8]))
+    vals = sweeps.sample_quantities(stub, pts, np.array([0.6, 0.8]))
     assert np.allclose(vals, [[7.0, -1.5, -0.992, 5.32]] * 2, rtol=0, atol=1e-13)
     # horizontal crack, n = (0, 1): sigma_t1 = sigma_12, sigma_nu = sigma_22
-    vals = study.sample_quantities(stub, pts, np.array([0.0, 1.0]))
+    vals = sweeps.sample_quantities(stub, pts, np.array([0.0, 1.0]))
     assert np.allclose(vals[:, 2:], [[2.0, 4.0]] * 2, rtol=0, atol=1e-13)
 
 
 def test_points_outside_the_mesh_are_refused():
     stub = _Stub(ngs.CF((0.0, 0.0)), ngs.CF((0.0,) * 4, dims=(2, 2)))
     with pytest.raises(ValueError, match="outside the mesh"):
-        study.sample_quantities(stub, np.array([[0.5, 0.5], [1.5, 0.5]]), np.array([0.0, 1.0]))
+        sweeps.sample_quantities(stub, np.array([[0.5, 0.5], [1.5, 0.5]]), np.array([0.0, 1.0]))
 
 
 def test_quadrature_is_exact_for_degree_4():
     mesh = scenes.load("paper-2")
     sol = nc.solve(mesh, element="bdm", maxh=0.3)
-    X, w = study.quadrature_points(sol.mesh)
+    X, w = sweeps.quadrature_points(sol.mesh)
     x, y = X[:, 0], X[:, 1]
     # Omega = (0,4)x(0,1): area 4, int x^2 y^2 = (64/3)(1/3), int x^4 = 1024/5, int x y^3 = 2
     assert abs(w.sum() - 4.0) < 1e-12
@@ -79,10 +79,10 @@ def test_quadrature_is_exact_for_degree_4():
 
 
 def test_quantity_normal_is_the_first_crack_segment_normal():
-    assert np.allclose(study.quantity_normal(scenes.load("paper-2")), [0.0, 1.0])
-    assert np.allclose(study.quantity_normal(scenes.load("no-crack")), [0.0, 1.0])
+    assert np.allclose(sweeps.quantity_normal(scenes.load("paper-2")), [0.0, 1.0])
+    assert np.allclose(sweeps.quantity_normal(scenes.load("no-crack")), [0.0, 1.0])
     kinked = scenes.load("kinked-crack")
-    assert np.allclose(study.quantity_normal(kinked), kinked.cracks[0].normals()[0])
+    assert np.allclose(sweeps.quantity_normal(kinked), kinked.cracks[0].normals()[0])
 
 
 def test_errors_of_an_exact_stress_across_non_nested_meshes_are_round_off():
@@ -99,7 +99,7 @@ def test_errors_of_an_exact_stress_across_non_nested_meshes_are_round_off():
     # the reference's sigma_t1 vanishes: its error is relative to ZERO_FIELD times sigma_nu's norm,
     # and the absolute error is round-off next to the stress
     den = ref.denominators()
-    assert den[2] == study.ZERO_FIELD * ref.norms[3]
+    assert den[2] == sweeps.ZERO_FIELD * ref.norms[3]
     assert err["err_sigma_t1"] * den[2] < 1e-11 * ref.norms[3]
     assert all(v == 0.0 for v in ref.errors(fine).values())
 
@@ -107,7 +107,7 @@ def test_errors_of_an_exact_stress_across_non_nested_meshes_are_round_off():
 def test_griffith_opening_error_matches_its_closed_form():
     scene = scenes.load("griffith")
     sol = nc.solve(scene, element="bdm")
-    err = study.opening_error(sol)
+    err = sweeps.opening_error(sol)
     prof = sol.profiles[0]
     E, nu = scene.material.E, scene.material.nu
     exact = 4 * (1 - nu**2) / E * np.sqrt(1 - prof.s**2)  # a = p = 1, centre at the crack's first point
@@ -116,7 +116,7 @@ def test_griffith_opening_error_matches_its_closed_form():
     report(f"griffith bdm opening error {err:.4f}")
     assert abs(err - direct) < 1e-12
     assert 1e-4 < err < 0.02
-    assert math.isnan(study.opening_error(nc.solve(scenes.load("paper-2"), element="bdm", maxh=0.4)))
+    assert math.isnan(sweeps.opening_error(nc.solve(scenes.load("paper-2"), element="bdm", maxh=0.4)))
 
 
 # ----------------------------------------------------------------------- rates
@@ -239,7 +239,7 @@ def test_csv_and_dataframe_schema(tmp_path):
     # the CSV: header = ROW_COLUMNS, the tips and the rows' digest, one line per row, read back to the same values
     lines = out.read_text().splitlines()
     assert lines[0] == ",".join(list(ROW_COLUMNS) + [f'"{c}"' for c in tips] + ["row_check"]) and len(lines) == 9
-    back = study.read_results(out)
+    back = sweeps.read_results(out)
     assert list(back.columns) == list(ROW_COLUMNS) + tips
     assert np.isfinite(back[tips]).all().all()
     key = ["element", "nu", "maxh"]
@@ -283,7 +283,7 @@ def test_friction_is_never_dropped_silently(tmp_path):
     with pytest.warns(UserWarning, match=r"friction \(0.3\) is not applied with crack_model = 'bonded'"):
         df = sweep(rough, maxh=[0.4], solve_options={"crack_model": "bonded"}, out=tmp_path / "b.csv")
     assert list(df["friction"]) == [0.0] and list(df["crack_model"]) == ["bonded"]
-    assert list(study.read_results(tmp_path / "b.csv")["friction"]) == [0.0]
+    assert list(sweeps.read_results(tmp_path / "b.csv")["friction"]) == [0.0]
     # with contact the same scene's friction is applied and recorded
     closed = scenes.load("inclined-compression")  # closed under compression: the faces slide
     df = sweep(closed, maxh=[8.0], friction=[0.0, 0.3]).set_index("friction")
@@ -352,7 +352,7 @@ def test_resume_after_the_process_is_killed(tmp_path):
     assert any("partial last line" in str(w.message) for w in caught)
     final = out.read_text()
     assert final.startswith(survived)  # rows written before the kill are untouched
-    rows = study.read_results(out)
+    rows = sweeps.read_results(out)
     keys = list(zip(rows.element, rows.maxh))
     assert len(keys) == len(set(keys)) == 8  # none lost, none twice
     assert len(df) == 8 and df.reference.sum() == 1
@@ -374,7 +374,7 @@ def test_jobs_give_the_serial_answer(tmp_path, serial_small):
     out = tmp_path / "p.csv"
     df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.3, 0.25], nu=[0.49], jobs=2, out=out)
     pd.testing.assert_frame_equal(_numbers(df), _numbers(serial_small), rtol=1e-9)
-    assert study.read_results(out).shape[0] == 4
+    assert sweeps.read_results(out).shape[0] == 4
 
 
 def test_dask_local_cluster_gives_the_serial_answer(tmp_path, serial_small):
@@ -384,7 +384,7 @@ def test_dask_local_cluster_gives_the_serial_answer(tmp_path, serial_small):
         df = sweep("paper-2", elements=["peers", "bdm"], maxh=[0.3, 0.25], nu=[0.49], dask=cluster.scheduler_address,
                    out=tmp_path / "d.csv")
     pd.testing.assert_frame_equal(_numbers(df), _numbers(serial_small), rtol=1e-9)
-    assert study.read_results(tmp_path / "d.csv").shape[0] == 4
+    assert sweeps.read_results(tmp_path / "d.csv").shape[0] == 4
 
 
 @pytest.mark.slow

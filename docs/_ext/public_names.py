@@ -8,14 +8,38 @@ written (relative to the reference's module and its parents, as Python would see
 follows it to the module and qualified name where the object is defined, and links there.
 A name that cannot be imported, or whose definition is not documented, stays unresolved,
 so that ``-n`` still reports it.
+
+A bare builtin name in an annotation or a type field (``type``, ``str``, ``dict[str, type]``)
+means the builtin: Sphinx would otherwise search every documented object whose name ends
+in it and link ``type`` to an attribute called ``type`` (``PointCondition.type``), or warn
+that several such attributes exist. Such a reference is looked up exactly (and, found
+nowhere, left to ``nitpick_ignore``).
 """
 
 from __future__ import annotations
 
+import builtins
 import importlib
 import inspect
 
+from sphinx import addnodes
+from sphinx.transforms.post_transforms import SphinxPostTransform
 from sphinx.util.nodes import make_refnode
+
+#: the builtin names (classes, None) an annotation may use bare
+BUILTIN_NAMES = frozenset(name for name, value in vars(builtins).items()
+                          if isinstance(value, type) or value is None)
+
+
+class BuiltinsExactly(SphinxPostTransform):
+    """A Python reference to a bare builtin name is searched exactly, never by suffix."""
+
+    default_priority = 5  # before the references are resolved (10)
+
+    def run(self, **kwargs) -> None:
+        for node in self.document.findall(addnodes.pending_xref):
+            if node.get("refdomain") == "py" and node.get("reftarget", "").lstrip("~.") in BUILTIN_NAMES:
+                node.attributes.pop("refspecific", None)  # the Python domain tests its presence
 
 
 def _import(path: str):
@@ -79,4 +103,5 @@ def _missing_reference(app, env, node, contnode):
 
 def setup(app):
     app.connect("missing-reference", _missing_reference)
+    app.add_post_transform(BuiltinsExactly)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

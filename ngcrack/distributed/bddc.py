@@ -49,7 +49,7 @@ PRECONDITIONERS = ("direct", "bddc")
 #: the distributed solve's: CG needs a symmetric positive definite preconditioner, and BDDC
 #: on this negative definite condensed system is not one (its v.Cv has the wrong sign and
 #: CG diverges); with GMRES it converges in about 40 steps (benchmarks/mpi_scaling.py), but a
-#: GMRES projected onto the active set is not written yet (BENCHMARKS.md, section "MPI")
+#: GMRES projected onto the active set is not written yet (BENCHMARKS.md, section 18)
 DEFAULT = "direct"
 
 

@@ -1,4 +1,13 @@
-"""`ngcrack solve` on a 3D scene: solve, write the JSON and VTK files, print a summary."""
+"""``ngcrack solve`` on a 3D scene: solve, write the JSON and VTK files, print a summary.
+
+The options that have a meaning in 3D (``--element tdnns``, ``--order``, ``--maxh``,
+``--crack-h``, ``--front-h``, ``--crack-model contact|free``, ``--qp-solver pdas``) are
+checked before meshing; the 2D-only ones (``--tip-h``, ``--hp``, ``--adapt``, ``--plot``,
+``--max-dof``) are refused by name. The JSON record and the VTK files are those of
+``ngcrack.solid.output``; the summary printed lists the unknowns, the seconds, the KKT
+residuals, each crack's opening, sliding and closed fraction and each front's range of
+K_I, K_II and K_III.
+"""
 
 from __future__ import annotations
 

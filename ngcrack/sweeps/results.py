@@ -32,7 +32,7 @@ KEY = ("scene", "element", "maxh", "nu", "friction")
 KEY_DIGITS = 12
 
 #: the row schema: column -> type; the CSV has exactly these columns in this order
-ROW_SCHEMA: dict = {
+ROW_SCHEMA: dict[str, type] = {
     "scene": str,
     "element": str,
     "maxh": float,                # requested global mesh size
