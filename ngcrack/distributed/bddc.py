@@ -46,7 +46,10 @@ def _per_component(fes: ngs.FESpace, edge) -> list[list[int]]:
 #: and factorized there: NGSolve's "masterinverse"; exact, CG stops after a step or two) and
 #: "bddc" (NGSolve's BDDC with the coarse space above)
 PRECONDITIONERS = ("direct", "bddc")
-#: the default: see BENCHMARKS.md for why BDDC is not (yet) the default
+#: the distributed solve's: CG needs a symmetric positive definite preconditioner, and BDDC
+#: on this negative definite condensed system is not one (its v.Cv has the wrong sign and
+#: CG diverges); with GMRES it converges in about 40 steps (benchmarks/mpi_scaling.py), but a
+#: GMRES projected onto the active set is not written yet (BENCHMARKS.md, section 18)
 DEFAULT = "direct"
 
 

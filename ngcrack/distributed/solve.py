@@ -11,7 +11,6 @@ penetrates. The iteration stops when no rank changes its active set.
 
 from __future__ import annotations
 
-import os
 import sys
 import time
 
@@ -166,7 +165,7 @@ def _solve(comm, scene, o: SolveOptions):
     loads = ParameterLoads(scene).loads
     mat = scene.material
     disc = _elements.build(o.element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=o.order)
-    pre, coarse = preconditioner(disc, os.environ.get("NGCRACK_MPI_PRECONDITIONER", DEFAULT))
+    pre, coarse = preconditioner(disc, DEFAULT)
     fes, a, f = disc.fes, disc.a, disc.f
     free = free_mask(disc, loads)
     fmod = f.vec.CreateVector()

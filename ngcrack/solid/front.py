@@ -273,7 +273,8 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
     # the magnitude from J (path independent; exact for frictionless faces, open or closed), the
     # mode mix from the interaction integrals: scale (K_I, K_II, K_III) to G = J
     J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * mu)
-    scale = np.where((J_K > 0) & (J > 0), np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
+    # (where the faces are closed, J and the K are the noise of a frictionless closed front: unscaled)
+    scale = np.where((J_K > 0) & (J > 0) & ~closed, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
     return FrontParameters(index, geom.point(phi_i), scale * K_I, scale * K_II, scale * K_III, J, closed, phi_i,
                            interaction=np.column_stack([K_I, K_II, K_III]))
 

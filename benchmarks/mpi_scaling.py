@@ -1,0 +1,132 @@
+"""Distributed solves against the serial one: time per stage, Krylov steps, memory per rank.
+
+    python benchmarks/mpi_scaling.py [--scales 1,0.5] [--ranks 2,3] [--scene griffith]
+
+For every mesh scale (maxh, tip_h and crack_h of the scene times the scale) it runs the
+serial direct solve in this process and `mpiexec -n N` distributed solves, and prints
+one table row per run: global unknowns, subdomains (N - 1: rank 0 holds none), the
+active-set steps and CG steps of the default preconditioner ("direct": masterinverse),
+the GMRES iterations NGSolve's BDDC needs on the same condensed system to 1e-6 and
+1e-8, the seconds per stage and the peak memory of every rank (MB).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def options(scene, scale: float):
+    from ngcrack.options import SolveOptions
+
+    return SolveOptions(maxh=scene.maxh * scale, tip_h=scene.tip_h * scale, crack_h=scene.crack_h * scale)
+
+
+def bddc_iterations(scene, o, comm) -> list:
+    """GMRES steps with NGSolve's BDDC on the condensed system (no crack constraint) to 1e-6 and 1e-8."""
+    import ngsolve as ngs
+    from ngsolve.krylovspace import GMResSolver
+
+    from ngcrack import elements
+    from ngcrack.distributed.bddc import preconditioner
+    from ngcrack.distributed.mesh import distribute
+    from ngcrack.materials import compliance
+    from ngcrack.pipeline import ParameterLoads, Pipeline
+
+    serial = Pipeline().mesh(scene, o) if comm.rank == 0 else None
+    cmesh = distribute(serial, scene, comm)
+    loads = ParameterLoads(scene).loads
+    mat = scene.material
+    disc = elements.build(o.element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=o.order)
+    pre, _ = preconditioner(disc, "bddc")
+    f = disc.f.vec.CreateVector()
+    f.data = disc.f.vec
+    f.data += disc.a.harmonic_extension_trans * f
+    out = []
+    for tol in (1e-6, 1e-8):
+        x = f.CreateVector()
+        x[:] = 0.0
+        solver = GMResSolver(mat=disc.a.mat, pre=pre, tol=tol, maxiter=400, printrates=False)
+        solver.Solve(rhs=f, sol=x)
+        out.append(int(solver.iterations))
+    del ngs
+    return out
+
+
+def worker(scene_name: str, scale: float) -> None:
+    """Under mpiexec: one distributed solve and the BDDC count; rank 0 prints one JSON line."""
+    from mpi4py import MPI
+
+    from ngcrack.distributed import solve
+    from ngcrack.scenes import load
+
+    scene = load(scene_name)
+    o = options(scene, scale)
+    t0 = time.perf_counter()
+    sol = solve(scene, o)
+    wall = time.perf_counter() - t0
+    its = bddc_iterations(scene, o, MPI.COMM_WORLD)
+    if sol is not None:
+        info = sol.options["distributed"]
+        print(json.dumps({"global": sol.ndof["global"], "info": info, "timings": sol.timings, "wall": wall,
+                          "bddc": its, "K_I": sol.tips[0].K_I if sol.tips else None}), flush=True)
+
+
+def serial(scene_name: str, scale: float) -> dict:
+    from ngcrack.pipeline import Pipeline
+    from ngcrack.scenes import load
+
+    scene = load(scene_name)
+    t0 = time.perf_counter()
+    sol = Pipeline().run(scene, options(scene, scale))
+    return {"global": sol.ndof["global"], "timings": sol.timings, "wall": time.perf_counter() - t0,
+            "memory": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1),
+            "K_I": sol.tips[0].K_I if sol.tips else None}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--scene", default="griffith")
+    ap.add_argument("--scales", default="1,0.5")
+    ap.add_argument("--ranks", default="2,3")
+    ap.add_argument("--worker", type=float, default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.worker is not None:
+        worker(args.scene, args.worker)
+        return
+    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=os.path.dirname(HERE))
+    mpiexec = os.path.join(os.path.dirname(sys.executable), "mpiexec")
+    print(f"{'scale':>5} {'N':>2} {'sub':>3} {'global':>7} {'AS':>3} {'CG':>8} {'BDDC 1e-6/1e-8':>14} "
+          f"{'mesh':>6} {'distr':>6} {'assem':>6} {'solve':>6} {'gather':>6} {'rank0':>6} {'total':>6} "
+          f"{'K_I':>14}  memory MB per rank")
+    for scale in (float(s) for s in args.scales.split(",")):
+        r = serial(args.scene, scale)
+        t = r["timings"]
+        print(f"{scale:5.2f} {1:2d} {1:3d} {r['global']:7d} {'-':>3} {'direct':>8} {'-':>14} {t['mesh']:6.2f} "
+              f"{'-':>6} {t['assemble']:6.2f} {t['linear'] + t['contact']:6.2f} {'-':>6} {'-':>6} {t['total']:6.2f} "
+              f"{r['K_I']:14.10f}  [{r['memory']}] (serial, this process)", flush=True)
+        for n in (int(k) for k in args.ranks.split(",")):
+            proc = subprocess.run([mpiexec, "-n", str(n), sys.executable, __file__, "--scene", args.scene,
+                                   "--worker", str(scale)], env=env, capture_output=True, text=True)
+            lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("{")]
+            if proc.returncode or not lines:
+                print(f"{scale:5.2f} {n:2d} failed: {proc.stderr.strip().splitlines()[-1:]}", flush=True)
+                continue
+            d = json.loads(lines[-1])
+            i, t = d["info"], d["timings"]
+            rank0 = t["rank0_system"] + t["rank0_post"] + t.get("tips", 0.0)
+            print(f"{scale:5.2f} {n:2d} {i['subdomains']:3d} {d['global']:7d} {i['active_set_steps']:3d} "
+                  f"{'+'.join(map(str, i['cg_steps'])):>8} {'/'.join(map(str, d['bddc'])):>14} {t['mesh']:6.2f} "
+                  f"{t['distribute']:6.2f} {t['assemble']:6.2f} {t['solve']:6.2f} {t['gather']:6.2f} {rank0:6.2f} "
+                  f"{t['total']:6.2f} {d['K_I']:14.10f}  {i['memory_mb']}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
