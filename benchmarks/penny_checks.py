@@ -37,17 +37,18 @@ import time
 SSLV134 = {"a": 2.0, "sigma": 1.0e6, "E": 2.0e11, "nu": 0.3, "K_I": 1.596e6, "G": 11.586}
 
 
-def sslv134_scene(front_h_over_a: float = 0.2) -> dict:
-    a = SSLV134["a"]
+def sslv134_scene(front_h_over_a: float = 0.2, units: str = "Pa") -> dict:
+    """The scene in Pa and m, or in MPa and m (units = "MPa": K in MPa sqrt(m), G in MPa m = 1e6 J/m^2)."""
+    a, scale = SSLV134["a"], (1e-6 if units == "MPa" else 1.0)
     side = 20.0 * a
     return {
         "name": "sslv134",
         "description": "code_aster SSLV134: penny crack a = 2 m under remote tension 1 MPa (Pa, m)",
         "domain": {"box": [[-side / 2] * 3, [side / 2] * 3]},
         "crack": [{"shape": "disc", "center": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0], "radius": a}],
-        "material": {"E": SSLV134["E"], "nu": SSLV134["nu"]},
+        "material": {"E": SSLV134["E"] * scale, "nu": SSLV134["nu"]},
         "boundary": {"xmin": {"type": "roller"}, "ymin": {"type": "roller"}, "zmin": {"type": "roller"},
-                     "zmax": {"type": "traction", "value": [0.0, 0.0, SSLV134["sigma"]]}},
+                     "zmax": {"type": "traction", "value": [0.0, 0.0, SSLV134["sigma"] * scale]}},
         "mesh": {"maxh": 2.5 * a, "crack_h": 2 * front_h_over_a * a, "front_h": front_h_over_a * a},
     }
 
@@ -82,7 +83,7 @@ def kassir_sih(front, beta_deg: float, nu: float, p: float = 1.0, a: float = 1.0
     return k * (e1 @ s), (1.0 - nu) * k * (e3 @ s), k
 
 
-def run_case(case: str, order: int, front_h: float, beta: float) -> dict:
+def run_case(case: str, order: int, front_h: float, beta: float, units: str = "Pa") -> dict:
     import numpy as np
 
     import ngcrack as nc
@@ -90,7 +91,7 @@ def run_case(case: str, order: int, front_h: float, beta: float) -> dict:
 
     t = time.process_time()
     if case == "sslv134":
-        scene = SolidScene.from_dict(sslv134_scene(front_h))
+        scene = SolidScene.from_dict(sslv134_scene(front_h, units))
     else:
         scene = SolidScene.from_dict(inclined_scene(front_h, beta))
     sol = nc.solve(scene, order=order)
@@ -102,7 +103,11 @@ def run_case(case: str, order: int, front_h: float, beta: float) -> dict:
            "kkt": sol.kkt, "active_sets": sol.contact.iterations, "closed": front.closed.tolist(),
            "K_I": front.K_I.tolist(), "K_II": front.K_II.tolist(), "K_III": front.K_III.tolist(),
            "G": front.G.tolist(), "interaction": front.interaction.tolist(), "angle": front.angle.tolist(),
-           "closed_fraction": sol.crack_summaries()[0]["closed_fraction"]}
+           "closed_fraction": sol.crack_summaries()[0]["closed_fraction"], "units": units}
+    if case == "sslv134" and units == "MPa":  # back to Pa sqrt(m) and J/m^2
+        for key, f in (("K_I", 1e6), ("K_II", 1e6), ("K_III", 1e6), ("G", 1e6)):
+            row[key] = (np.array(row[key]) * f).tolist()
+        row["interaction"] = (np.array(row["interaction"]) * 1e6).tolist()
     if case == "inclined":
         front.crack_obj = scene.cracks[0]
         k2, k3, kmax = kassir_sih(front, beta, nu)
@@ -115,10 +120,10 @@ def run_case(case: str, order: int, front_h: float, beta: float) -> dict:
     return row
 
 
-def _child(case: str, order: int, front_h: float, beta: float) -> dict:
+def _child(case: str, order: int, front_h: float, beta: float, units: str) -> dict:
     env = dict(os.environ, OMP_NUM_THREADS="1")
     out = subprocess.run([sys.executable, __file__, "--child", case, "--order", str(order), "--front-h", str(front_h),
-                          "--beta", str(beta)], capture_output=True, text=True, env=env, check=False)
+                          "--beta", str(beta), "--units", units], capture_output=True, text=True, env=env, check=False)
     if out.returncode:
         return {"case": case, "order": order, "front_h_over_a": front_h, "error": out.stderr.strip().splitlines()[-1:]}
     return json.loads(out.stdout.strip().splitlines()[-1])
@@ -132,7 +137,8 @@ def report(rows) -> None:
         if "error" in r:
             print(f"{r['case']} order {r['order']} front_h {r['front_h_over_a']}a failed: {r['error']}")
             continue
-        print(f"\n{r['case']}: order {r['order']}, front_h {r['front_h_over_a']}a, {r['tets']} tets, "
+        units = f" ({r['units']} and m)" if r["case"] == "sslv134" else ""
+        print(f"\n{r['case']}{units}: order {r['order']}, front_h {r['front_h_over_a']}a, {r['tets']} tets, "
               f"{r['ndof']['global']} condensed unknowns, {r['ndof']['contact']} crack unknowns, "
               f"{r['active_sets']} active sets, {r['cpu_s']:.1f} s CPU, peak {r['peak_mb']:.0f} MB, "
               f"max KKT {max(r['kkt'].values()):.1e}, closed fraction {r['closed_fraction']:.3f}")
@@ -175,13 +181,14 @@ def main(argv=None) -> int:
     p.add_argument("--order", type=int, default=2)
     p.add_argument("--front-h", type=float, default=0.2, help="front_h over the crack radius")
     p.add_argument("--beta", type=float, default=45.0, help="inclined: the normal's angle to the load, degrees")
+    p.add_argument("--units", default="Pa", choices=["Pa", "MPa"], help="sslv134: Pa and m, or MPa and m")
     p.add_argument("--out", help="write the rows as JSON")
     p.add_argument("--child", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.child:
-        print(json.dumps(run_case(args.child, args.order, args.front_h, args.beta)))
+        print(json.dumps(run_case(args.child, args.order, args.front_h, args.beta, args.units)))
         return 0
-    rows = [_child(c, args.order, args.front_h, args.beta) for c in args.case]
+    rows = [_child(c, args.order, args.front_h, args.beta, args.units) for c in args.case]
     report(rows)
     if args.out:
         with open(args.out, "w") as fh:
