@@ -52,6 +52,7 @@ ROW_SCHEMA: dict[str, type] = {
     "time_total": float,          # the whole solve, mesh included
     "time_error": float,          # evaluating the errors (not part of the solve)
     "time_tips": float,           # the tips' domain integrals (part of time_total)
+    "time_cpu": float,            # the whole solve's CPU seconds (process time, all threads; time_total's span)
     "memory_peak_mb": float,
     "memory_start_mb": float,
     "kkt_max_penetration": float,
