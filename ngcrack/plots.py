@@ -338,6 +338,29 @@ def _draw_guides(ax, guides: dict, points, xmin: float, xmax: float, clearance: 
                     ha="right", va="bottom", bbox={"fc": "white", "ec": "none", "alpha": 0.85, "pad": 0.6})
 
 
+def _h_axis(ax, triangles, h) -> None:
+    """A top axis in h, the largest edge, from the rows' meshes: h = c T^(-1/2), c fitted."""
+    ok = np.isfinite(triangles) & np.isfinite(h) & (triangles > 0) & (h > 0)
+    if not np.any(ok):
+        return
+    c = float(np.exp(np.mean(np.log(h[ok]) + 0.5 * np.log(triangles[ok]))))
+
+    def to_h(t):
+        return c / np.sqrt(np.clip(t, 1e-100, None))
+
+    def to_t(hh):
+        return (c / np.clip(hh, 1e-100, None)) ** 2
+
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    top = ax.secondary_xaxis("top", functions=(to_h, to_t))
+    top.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    top.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos=None: f"{v:g}"))
+    top.xaxis.set_minor_formatter(FuncFormatter(lambda v, _pos=None: ""))
+    top.set_xlabel(rf"$h$, the largest edge ($\approx {c:.2g}\,T^{{-1/2}}$ on these meshes)", fontsize=8)
+    top.tick_params(labelsize=8)
+
+
 def plot_convergence(df, quantities, path=None, title: str | None = None, paper_points: dict | None = None,
                      guides: dict | None = None, ax=None, x: str = "ndof_total", coarse_points: dict | None = None):
     """Log-log relative L2 error against the number of unknowns (the paper's Figures 3-6).
@@ -397,6 +420,8 @@ def plot_convergence(df, quantities, path=None, title: str | None = None, paper_
     if guides and np.isfinite(ymin) and xmax > xmin:
         _draw_guides(ax, guides, points, xmin, xmax)
     ax.set_xlabel(r"triangles $T$ (in 2D $T \sim h^{-2}$)" if x == "n_elements" else "unknowns (dof, total)")
+    if x == "n_elements" and {"h", "n_elements"} <= set(df.columns) and len(df):
+        _h_axis(ax, df["n_elements"].to_numpy(float), df["h"].to_numpy(float))
     ax.set_ylabel(r"relative $L^2(\Omega)$ error")
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
     ax.legend(fontsize=7.5, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)  # beside: off the data
