@@ -560,10 +560,12 @@ def plot_paper_comparison(df, paper_points: dict, path=None, title: str | None =
         px, py = paper_points[q]
         ax.loglog(px, py, ":", color="0.3", marker="x", ms=7, label="paper, Tables 1-4 (dof converted to triangles)")
         ax.set_title(f"{QUANTITY_LABELS[q]} (Table {1 + QUANTITIES.index(q)})")
-        ax.set_xlabel("triangles")
+        ax.set_xlabel(r"triangles $T$")
         ax.set_ylabel(r"relative $L^2(\Omega)$ error")
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
         plain_log_ticks(ax)
+        if {"triangles", "h"} <= set(df.columns):
+            _h_axis(ax, df["triangles"].to_numpy(float), df["h"].to_numpy(float))
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=7.5)
     fig.suptitle(title or "paper-1 (Poisson ratio 0.29): the paper's tables beside ngcrack, on triangles; "
