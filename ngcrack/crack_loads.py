@@ -20,7 +20,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from .crack_sides import ON_CRACK_FACTOR, ON_EDGE_RTOL
+from .crack_sides import ON_CRACK_FACTOR, ON_EDGE_RTOL, segment_cf
 from .scene.pressure import pressure_values
 
 #: arc lengths at which a callable pressure is sampled along its crack (evenly spaced)
@@ -30,16 +30,10 @@ CALLABLE_SAMPLES = 2048
 def arclength_cf(polyline: np.ndarray, diameter: float) -> ngs.CoefficientFunction:
     """s, the arc length from the polyline's first point, on its segments (0 away from them)."""
     tol = ON_EDGE_RTOL * diameter * ON_CRACK_FACTOR
-    x, y = ngs.x, ngs.y
     s = ngs.CF(0.0)
     s0 = 0.0
     for p, q in zip(polyline[:-1], polyline[1:]):
-        L = float(np.linalg.norm(q - p))
-        tx, ty = (q - p) / L
-        along = (x - p[0]) * tx + (y - p[1]) * ty
-        across = -(x - p[0]) * ty + (y - p[1]) * tx
-        inside = ngs.IfPos(along + tol, 1.0, 0.0) * ngs.IfPos(L + tol - along, 1.0, 0.0)
-        on = inside * ngs.IfPos(tol - ngs.sqrt(across * across), 1.0, 0.0)
+        L, _, along, on = segment_cf(p, q, tol)
         s = s + on * (s0 + along)
         s0 += L
     return s

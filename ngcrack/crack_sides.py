@@ -28,20 +28,28 @@ def crack_frame_cf(crack_mesh):
     on element boundaries to tell the crack's minus side (where n = nu) from its plus side.
     """
     tol = ON_EDGE_RTOL * crack_mesh.diameter * ON_CRACK_FACTOR
-    x, y = ngs.x, ngs.y
     nu = ngs.CF((0.0, 0.0))
     t = ngs.CF((0.0, 0.0))
     for pts in crack_mesh.polylines:
         for p, q in zip(pts[:-1], pts[1:]):
-            L = float(np.linalg.norm(q - p))
-            tx, ty = (q - p) / L
-            along = (x - p[0]) * tx + (y - p[1]) * ty
-            across = -(x - p[0]) * ty + (y - p[1]) * tx
-            inside = ngs.IfPos(along + tol, 1.0, 0.0) * ngs.IfPos(L + tol - along, 1.0, 0.0)
-            on = inside * ngs.IfPos(tol - ngs.sqrt(across * across), 1.0, 0.0)
+            _, (tx, ty), _, on = segment_cf(p, q, tol)
             nu = nu + on * ngs.CF((-ty, tx))
             t = t + on * ngs.CF((tx, ty))
     return nu, t
+
+
+def segment_cf(p: np.ndarray, q: np.ndarray, tol: float):
+    """The segment p-q as seen from a point (x, y): its length L, its unit tangent (tx, ty), and the
+    CoefficientFunctions `along` (the distance from p along the tangent) and `on` (1 within `tol` of the
+    segment, 0 elsewhere)."""
+    x, y = ngs.x, ngs.y
+    L = float(np.linalg.norm(q - p))
+    tx, ty = (q - p) / L
+    along = (x - p[0]) * tx + (y - p[1]) * ty
+    across = -(x - p[0]) * ty + (y - p[1]) * tx
+    inside = ngs.IfPos(along + tol, 1.0, 0.0) * ngs.IfPos(L + tol - along, 1.0, 0.0)
+    on = inside * ngs.IfPos(tol - ngs.sqrt(across * across), 1.0, 0.0)
+    return L, (tx, ty), along, on
 
 
 

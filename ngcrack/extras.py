@@ -12,12 +12,16 @@
 
 `require(package, what)` refuses early (before any work) where a package is missing;
 `missing_extra(exc)` turns the ModuleNotFoundError of such a package into the one line
-that says what to install (the command line prints it).
+that says what to install (the command line prints it). `lazy_exports(...)` gives a
+subpackage the module `__getattr__` and `__dir__` that import its public names on first use,
+so importing the package loads none of its optional parts.
 """
 
 from __future__ import annotations
 
+import importlib
 import importlib.util
+import sys
 
 #: top-level package -> the extra that installs it
 EXTRAS = {
@@ -47,3 +51,23 @@ def require(package: str, what: str) -> None:
     if importlib.util.find_spec(package) is None:
         raise ModuleNotFoundError(f"{what} needs the package {package!r}: pip install 'ngcrack[{EXTRAS[package]}]'",
                                   name=package)
+
+
+def lazy_exports(package: str, exports: dict[str, str], names: list[str]):
+    """The `__getattr__` and `__dir__` of `package` (PEP 562): each name of `exports` (name -> the module
+    that defines it, relative to `package`) is imported on first use and kept in the package; `names`: its
+    `__all__`."""
+
+    def __getattr__(name: str):
+        """A public name, imported from its module on first use."""
+        where = exports.get(name)
+        if where is None:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        value = getattr(importlib.import_module(where, package), name)
+        vars(sys.modules[package])[name] = value
+        return value
+
+    def __dir__() -> list[str]:
+        return sorted(set(vars(sys.modules[package])) | set(names))
+
+    return __getattr__, __dir__

@@ -8,9 +8,10 @@ mesh (the quantities and conventions of `ngcrack.sweeps`). Written to the output
     sweep-<scene>.csv             every run (the sweep's rows; rerunning resumes)
     table<k>_<quantity>.csv/.md   Tables 1-4: dof, error, rates and run time per row
     rates.csv/.md                 fitted rates per scene and element, next to the paper's
-    fig3..fig6_*.png              Figures 3-6: error against triangles, log-log (the paper's dof converted)
+    fig3..fig6_*.png              Figures 3-6: error against triangles, log-log (the paper's dof converted;
+                                  paper-1's also ngcrack's coarse comparison meshes, down to the paper's)
     fig7/fig8_*_sigma_nu.png      Figures 7-8: isolines of sigma_nu
-    time_<quantity>.png           error against run time, one line per element (and per
+    time_<quantity>.png           error against CPU seconds, one line per element (and per
                                   element's adaptive runs, `adapt-<scene>.csv`)
     comparison.csv/.md, fig9_comparison.png
                                   paper-1 on a common footing with the paper's Tables 1-4:
@@ -85,6 +86,9 @@ PAPER_TABLES = {
 PAPER_RATES = {"u1": 0.81, "u2": 0.65, "sigma_t1": 0.93, "sigma_nu": 0.78}
 #: the paper's a-priori rates in h (its energy-type norm); in dof they are half of these
 THEORY_RATES_H = {"peers": 0.5, "bdm": 0.75}
+#: the guide lines of Figures 3-6 by their rate in h (labels name the theory's elements)
+GUIDE_LABELS = {0.5: r"$h^{1/2} \sim T^{-1/4}$ (peers, theory)", 0.75: r"$h^{3/4} \sim T^{-3/8}$ (bdm, theory)",
+                1.0: r"$h^{1} \sim T^{-1/2}$"}
 #: the comparison's meshes of paper-1 (from one triangle across each half, where the paper's
 #: meshes are, to the study's) and its reference; the full study adds finer ones
 COMPARISON_QUICK = Level(maxh=(0.5, 0.35, 0.25, 0.17, 0.12, 0.085), reference_maxh=0.042)
@@ -146,7 +150,7 @@ class PaperResult:
 def _table(df, q: str):
     cols = {"scene": "scene", "element": "element", "maxh": "maxh", "h": "h", "ndof_total": "dof",
             f"err_{q}": "error", "estimate": "estimate", f"rate_dof_{q}": "rate_dof", f"rate_h_{q}": "rate_h", "time_total": "time_s",
-            "memory_peak_mb": "memory_mb"}
+            "time_cpu": "cpu_s", "memory_peak_mb": "memory_mb"}
     return df[list(cols)].rename(columns=cols).reset_index(drop=True)
 
 
@@ -259,7 +263,8 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
                   "rate_h: log(e_prev/e)/log(h_prev/h), h the largest edge; estimate: the a posteriori "
                   "estimate of the relative stress error in the energy norm (a different norm from the error "
                   "column: compare trends, not values); time_s: the whole solve, "
-                  "wall clock; memory_mb: peak resident memory of the process.")
+                  "wall clock; cpu_s: the same span in CPU seconds of the process (what the solve costs, "
+                  "whatever else the machine runs); memory_mb: peak resident memory of the process.")
         files["tables"] += _write_table(_table(df, q), out / f"table{k}_{q}", f"Table {k}: {q}", note)
 
     # fitted rates next to the paper's
@@ -274,18 +279,26 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
             "rate_h / 2. theory_rate_h: the paper's a-priori rate in its energy-type norm.")
     files["tables"] += _write_table(r, out / "rates", "Fitted rates", note)
 
-    # Figures 3-6
-    guides = {r"$h^{1/2}$": 0.25, r"$h^{3/4}$": 0.375, r"$h^{1}$": 0.5}
+    # the paper's Tables 1-4 on a common footing (paper-1): its meshes reach down to the paper's
+    comp_level = COMPARISON_QUICK if quick else COMPARISON_FULL
+    comp_sizes = tuple(maxh) if maxh is not None else comp_level.maxh
+    comp_ref = reference_maxh if reference_maxh is not None else comp_level.reference_maxh
+    comp = comparison_table(elements, comp_sizes, comp_ref)
+
+    # Figures 3-6, on triangles (T ~ h^-2): the theory's rates in h drawn as T^(-rate/2)
+    guides = {GUIDE_LABELS[r]: r / 2 for r in sorted(set(THEORY_RATES_H.values()) | {1.0})}
     fig_no = 3
     for name, nu in PAPER_SCENES:
         sub = df[df.scene == name]
         for kind, qs in (("displacement", ("u1", "u2")), ("stress", ("sigma_t1", "sigma_nu"))):
             path = out / f"fig{fig_no}_{name}_{kind}.png"
             pts = {q: (paper_triangles(PAPER_TABLES[q][0]), PAPER_TABLES[q][1]) for q in qs} if name == "paper-1" else None
+            coarse = ({q: {e: (g["triangles"].to_numpy(float), g[f"true_{q}"].to_numpy(float))
+                           for e, g in comp.groupby("element", sort=False)} for q in qs} if name == "paper-1" else None)
             labels = " and ".join(QUANTITY_LABELS[q] for q in qs)
             title = f"Figure {fig_no} analog: {labels}, {name} (Poisson ratio {nu:g})"
             atomic_write(path, functools.partial(plots.plot_convergence, sub, qs, paper_points=pts, guides=guides,
-                                                 x="n_elements", title=title))
+                                                 x="n_elements", title=title, coarse_points=coarse))
             files["figures"].append(path)
             fig_no += 1
 
@@ -308,11 +321,6 @@ def run(out="paper-results", quick: bool = False, *, elements=None, maxh=None, r
         atomic_write(path, functools.partial(plots.plot_error_vs_time, timed, q))
         files["figures"].append(path)
 
-    # the paper's Tables 1-4 on a common footing (paper-1)
-    comp_level = COMPARISON_QUICK if quick else COMPARISON_FULL
-    comp_sizes = tuple(maxh) if maxh is not None else comp_level.maxh
-    comp_ref = reference_maxh if reference_maxh is not None else comp_level.reference_maxh
-    comp = comparison_table(elements, comp_sizes, comp_ref)
     files["tables"] += _write_table(comp, out / "comparison", "paper-1 against the paper's Tables 1-4", COMPARISON_NOTE)
     path = out / "fig9_comparison.png"
     atomic_write(path, lambda tmp: plots.plot_paper_comparison(

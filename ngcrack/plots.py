@@ -308,23 +308,79 @@ def _rows_with_error(df, quantity: str):
     return g.sort_values("ndof_total")
 
 
+def _draw_guides(ax, guides: dict, points, xmin: float, xmax: float, clearance: float = 1.3) -> None:
+    """Guide lines e ~ x^-r over the right half (in log) of the abscissa's range (at least its
+    last decade), from one
+    point there, fanning out to the right: they meet only at that start (so never cross
+    each other) and lie above every drawn line by `clearance` (the steepest sets the common
+    start); each is labelled at its right end."""
+    x0 = max(xmin, min(float(np.sqrt(xmin * xmax)), xmax / 10.0))  # the right half, or the last decade
+    need = []
+    for x, y in points:
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        if not len(x):
+            continue
+        o = np.argsort(x)
+        lx, ly = np.log(x[o]), np.log(y[o])
+        keep = x[o] >= x0
+        xs_, ys_ = list(x[o][keep]), list(y[o][keep])
+        if lx[0] <= np.log(x0) <= lx[-1]:  # where the line passes the guides' start
+            xs_.append(x0)
+            ys_.append(float(np.exp(np.interp(np.log(x0), lx, ly))))
+        need += [(xi, yi) for xi, yi in zip(xs_, ys_)]
+    order = sorted(guides.items(), key=lambda kv: kv[1])  # shallowest first: it ends highest
+    y0 = max((yi * (xi / x0) ** r for _, r in order for xi, yi in need), default=1.0) * clearance
+    xs = np.array([x0, xmax])
+    for j, (label, r) in enumerate(order):
+        ys = y0 * (xs / x0) ** (-r)
+        ax.loglog(xs, ys, color="0.55", lw=0.9, ls=(0, (5, 2 + 2 * j)), zorder=1)
+        ax.annotate(label, (xs[1], ys[1]), textcoords="offset points", xytext=(-3, 4), fontsize=8, color="0.25",
+                    ha="right", va="bottom", bbox={"fc": "white", "ec": "none", "alpha": 0.85, "pad": 0.6})
+
+
+def _h_axis(ax, triangles, h) -> None:
+    """A top axis in h, the largest edge, from the rows' meshes: h = c T^(-1/2), c fitted."""
+    ok = np.isfinite(triangles) & np.isfinite(h) & (triangles > 0) & (h > 0)
+    if not np.any(ok):
+        return
+    c = float(np.exp(np.mean(np.log(h[ok]) + 0.5 * np.log(triangles[ok]))))
+
+    def to_h(t):
+        return c / np.sqrt(np.clip(t, 1e-100, None))
+
+    def to_t(hh):
+        return (c / np.clip(hh, 1e-100, None)) ** 2
+
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    top = ax.secondary_xaxis("top", functions=(to_h, to_t))
+    top.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    top.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos=None: f"{v:g}"))
+    top.xaxis.set_minor_formatter(FuncFormatter(lambda v, _pos=None: ""))
+    top.set_xlabel(rf"$h$, the largest edge ($\approx {c:.2g}\,T^{{-1/2}}$ on these meshes)", fontsize=8)
+    top.tick_params(labelsize=8)
+
+
 def plot_convergence(df, quantities, path=None, title: str | None = None, paper_points: dict | None = None,
-                     guides: dict | None = None, ax=None, x: str = "ndof_total"):
+                     guides: dict | None = None, ax=None, x: str = "ndof_total", coarse_points: dict | None = None):
     """Log-log relative L2 error against the number of unknowns (the paper's Figures 3-6).
 
     One colour per element, one line style per quantity; the legend gives the fitted
     rate in dof (e ~ dof^-r) and in h (e ~ h^r). `paper_points`: {quantity: (abscissa, err)}
     drawn as grey markers, in the units of `x`; `guides`: {label: exponent in dof} drawn as
     thin grey lines. x: the abscissa column, "ndof_total" (unknowns) or "n_elements"
-    (triangles, a footing shared with other counts of unknowns).
+    (triangles, a footing shared with other counts of unknowns). `coarse_points`:
+    {quantity: {element: (abscissa, err)}}, the element's errors on further (coarser) meshes,
+    drawn thin in its colour, so that its line reaches the paper's points.
     """
     from .sweeps import QUANTITY_LABELS, fitted_rates
 
     fig = None
     if ax is None:
-        fig, ax = _figure(path, figsize=(7, 5), constrained_layout=True)
+        fig, ax = _figure(path, figsize=(11, 5.4), constrained_layout=True)
     rates = fitted_rates(df, quantities)
     ymin, ymax, xmin, xmax = np.inf, 0.0, np.inf, 0.0
+    points: list = []  # every (x, error) drawn: the guides keep clear of them
     for k, (element, g) in enumerate(_by_element(df)):
         color, marker = _element_style(element, k)
         for q in quantities:
@@ -339,35 +395,60 @@ def plot_convergence(df, quantities, path=None, title: str | None = None, paper_
             ax.loglog(xs_, y, QUANTITY_LINESTYLE.get(q, "-"), color=color, marker=marker, ms=5,
                       mfc="white" if QUANTITY_LINESTYLE.get(q) == "--" else color, label=label)
             ymin, ymax, xmin, xmax = min(ymin, y.min()), max(ymax, y.max()), min(xmin, xs_.min()), max(xmax, xs_.max())
+            points.append((xs_, y))
+    for q, per_element in (coarse_points or {}).items():
+        for k, (element, (cx, cy)) in enumerate(per_element.items()):
+            ok = np.isfinite(cy) & (cy > 0)
+            cx, cy = np.asarray(cx, float)[ok], np.asarray(cy, float)[ok]
+            if not len(cx):
+                continue
+            order = np.argsort(cx)
+            color, marker = _element_style(element, k)
+            ax.loglog(cx[order], cy[order], QUANTITY_LINESTYLE.get(q, "-"), color=color, marker=marker, ms=3.5, lw=0.8,
+                      alpha=0.6, mfc="white" if QUANTITY_LINESTYLE.get(q) == "--" else color)
+            ymin, ymax, xmin, xmax = min(ymin, cy.min()), max(ymax, cy.max()), min(xmin, cx.min()), max(xmax, cx.max())
+            points.append((cx, cy))
+    if points and coarse_points:  # one legend line for all of them
+        ax.loglog([], [], "-", color="0.5", marker="o", ms=3.5, lw=0.8, alpha=0.6,
+                  label="thin, same styles: coarser meshes (the comparison's, its own reference)")
     for j, (q, (px, py)) in enumerate((paper_points or {}).items()):
         ax.loglog(px, py, ":" if j % 2 == 0 else "-.", color="0.45", marker="x+"[j % 2], ms=6,
                   label=f"paper (Table {1 + list(QUANTITY_LABELS).index(q)}), {QUANTITY_LABELS[q]}"
                         + (", dof converted to triangles" if x == "n_elements" else ""))
         ymin, ymax, xmin, xmax = min(ymin, min(py)), max(ymax, max(py)), min(xmin, min(px)), max(xmax, max(px))
+        points.append((np.asarray(px, float), np.asarray(py, float)))
     if guides and np.isfinite(ymin) and xmax > xmin:
-        xs = np.array([xmin, xmax])
-        for j, (label, r) in enumerate(guides.items()):
-            y0 = ymax * 1.15 * (1.25 ** j)
-            ys = y0 * (xs / xs[0]) ** (-r)
-            ax.loglog(xs, ys, color="0.6", lw=0.8, ls=(0, (4, 2 + 2 * j)))
-            ax.annotate(rf"$\propto$ {label}", (xs[1], ys[1]), textcoords="offset points", xytext=(-2, 4),
-                        fontsize=8, color="0.4", ha="right", va="bottom")
-    ax.set_xlabel("triangles" if x == "n_elements" else "unknowns (dof, total)")
+        _draw_guides(ax, guides, points, xmin, xmax)
+    ax.set_xlabel(r"triangles $T$ (in 2D $T \sim h^{-2}$)" if x == "n_elements" else "unknowns (dof, total)")
+    if x == "n_elements" and {"h", "n_elements"} <= set(df.columns) and len(df):
+        _h_axis(ax, df["n_elements"].to_numpy(float), df["h"].to_numpy(float))
     ax.set_ylabel(r"relative $L^2(\Omega)$ error")
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    ax.legend(fontsize=7.5, loc="lower left")
+    ax.legend(fontsize=7.5, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)  # beside: off the data
     plain_log_ticks(ax)
     if title:
         ax.set_title(title)
     return _finish(fig, path) if fig is not None else ax.figure
 
 
-def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, time_column: str = "time_total"):
-    """Log-log error of one quantity against wall-clock run time: one panel per scene, one line per element."""
+#: the abscissa's words per time column of a sweep's rows
+TIME_LABELS = {"time_cpu": "CPU time of the solve [s] (process CPU seconds)",
+               "time_total": "run time of the solve [s] (wall clock)"}
+
+
+def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, time_column: str | None = None):
+    """Log-log error of one quantity against the solve's time: one panel per scene, one line per element.
+
+    time_column: "time_cpu" (CPU seconds of the process: what the solve costs, whatever else
+    the machine runs) by default where every row has it, else "time_total" (wall clock)."""
     from .sweeps import QUANTITY_LABELS
 
+    if time_column is None:
+        has_cpu = "time_cpu" in df.columns and np.all(np.isfinite(df["time_cpu"].to_numpy(float)))
+        time_column = "time_cpu" if has_cpu else "time_total"
+
     scenes = list(dict.fromkeys(df["scene"]))
-    fig, axes = _figure(path, nrows=1, ncols=len(scenes), figsize=(5.2 * len(scenes), 4.4), squeeze=False,
+    fig, axes = _figure(path, nrows=1, ncols=len(scenes), figsize=(5.4 * len(scenes), 5.0), squeeze=False,
                         constrained_layout=True)
     for ax, scene in zip(axes[0], scenes):
         sub = df[df["scene"] == scene]
@@ -378,18 +459,29 @@ def plot_error_vs_time(df, quantity: str, path=None, title: str | None = None, t
             color, marker = _element_style(element, k)
             ax.loglog(r[time_column], r[f"err_{quantity}"], "--" if element.endswith(ADAPTIVE_SUFFIX) else "-",
                       color=color, marker=marker, label=element)
+            last = None
             for _, row in r.iterrows():
+                if row.ndof_total == last:  # an adaptive run that stopped at its budget: labelled once
+                    continue
+                last = row.ndof_total
                 ax.annotate(f"{int(row.ndof_total):,}".replace(",", " "), (row[time_column], row[f"err_{quantity}"]),
-                            textcoords="offset points", xytext=(4, 3), fontsize=6.5, color=color)
+                            textcoords="offset points", xytext=(4, 3 if k % 2 == 0 else -3), fontsize=6.5,
+                            color=color, va="bottom" if k % 2 == 0 else "top")  # alternate sides: ends that meet
         nu = sub["nu"].iloc[0] if len(sub) else float("nan")
         ax.set_title(f"{scene} (Poisson ratio {nu:g})")
         ax.margins(x=0.1)  # room for the dof labels of the last point
-        ax.set_xlabel("run time of the solve [s] (wall clock, mesh to profiles)")
+        ax.set_xlabel(TIME_LABELS.get(time_column, f"{time_column} [s]"))
         ax.set_ylabel(f"relative $L^2$ error of {QUANTITY_LABELS[quantity]}")
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-        ax.legend(title="element (labels: dof)", fontsize=8, title_fontsize=8)
         plain_log_ticks(ax)
-    fig.suptitle(title or f"error against run time: {QUANTITY_LABELS[quantity]}")
+    handles = {}
+    for ax in axes[0]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    fig.legend(list(handles.values()), list(handles), loc="outside lower center", ncols=min(len(handles), 6),
+               fontsize=8, title="element (point labels: dof; dashed: adaptive runs)", title_fontsize=8)
+    what = "CPU time" if time_column == "time_cpu" else "run time"
+    fig.suptitle(title or f"error against {what}: {QUANTITY_LABELS[quantity]}")
     return _finish(fig, path)
 
 
@@ -468,10 +560,12 @@ def plot_paper_comparison(df, paper_points: dict, path=None, title: str | None =
         px, py = paper_points[q]
         ax.loglog(px, py, ":", color="0.3", marker="x", ms=7, label="paper, Tables 1-4 (dof converted to triangles)")
         ax.set_title(f"{QUANTITY_LABELS[q]} (Table {1 + QUANTITIES.index(q)})")
-        ax.set_xlabel("triangles")
+        ax.set_xlabel(r"triangles $T$")
         ax.set_ylabel(r"relative $L^2(\Omega)$ error")
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
         plain_log_ticks(ax)
+        if {"triangles", "h"} <= set(df.columns):
+            _h_axis(ax, df["triangles"].to_numpy(float), df["h"].to_numpy(float))
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=7.5)
     fig.suptitle(title or "paper-1 (Poisson ratio 0.29): the paper's tables beside ngcrack, on triangles; "

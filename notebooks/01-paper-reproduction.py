@@ -66,12 +66,16 @@ display(Markdown((out / "table4_sigma_nu.md").read_text()))
 # ngcrack's rows start where the paper's end (170-3,600 triangles against its 10-117): on
 # the paper's meshes the body's halves are one or two triangles thick, where peers is
 # refused or warned about as more than 20% off (the size guard), and the paper's errors,
-# measured against its own finest mesh, read 2-6 times lower than the truth. Figure 9 puts
-# both on the paper's own mesh sizes, measured both ways.
+# measured against its own finest mesh, read 2-6 times lower than the truth. So that both
+# share one range, the paper-1 figures also draw, thin, ngcrack's errors on the coarser
+# meshes of Figure 9 (40-1,150 triangles). The top axis gives h, the largest edge; the grey
+# guide lines are the theory's rates $h^{1/2}$ (peers) and $h^{3/4}$ (bdm), and $h^1$, as
+# $T^{-r/2}$ in triangles, drawn above the data. Figure 9 puts both on the paper's own mesh
+# sizes, measured both ways.
 
 # %%
 for name in ("fig3_paper-1_displacement", "fig4_paper-1_stress", "fig5_paper-2_displacement", "fig6_paper-2_stress"):
-    display(Image(filename=str(out / f"{name}.png"), width=640))
+    display(Image(filename=str(out / f"{name}.png"), width=900))
 
 # %% [markdown]
 # ## Figures 7–8: isolines of $\sigma_\nu$

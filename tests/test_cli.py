@@ -193,9 +193,9 @@ def check_paper_output(out_dir: Path, text: str, elements: list[str], n_rows: in
     for k, q in enumerate(QUANTITIES, start=1):
         t = pd.read_csv(out_dir / f"table{k}_{q}.csv")
         assert list(t.columns) == ["scene", "element", "maxh", "h", "dof", "error", "estimate", "rate_dof", "rate_h",
-                                   "time_s", "memory_mb"]
+                                   "time_s", "cpu_s", "memory_mb"]
         assert len(t) == 2 * len(elements) * n_rows and set(t.element) == set(elements)
-        assert (t.error > 0).all() and (t.time_s > 0).all()
+        assert (t.error > 0).all() and (t.time_s > 0).all() and (t.cpu_s > 0).all()
         md = (out_dir / f"table{k}_{q}.md").read_text()
         assert md.startswith(f"## Table {k}: {q}") and md.count("\n|") == len(t) + 2
     rates = pd.read_csv(out_dir / "rates.csv")

@@ -29,7 +29,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("loops over the pipeline", ("adapt", "distributed")),
     ("one-shot solve", ("solve", "volume")),
     ("studies", ("study", "sweeps", "stability", "growth", "hydrofrac", "paper", "plots")),
-    ("views", ("explorer", "interactive", "cli", "cli_errors", "interrupts", "growth.cli", "hydrofrac.cli", "__main__", "",
+    ("views", ("explorer", "interactive", "cli", "cli_errors", "cli_runs", "interrupts", "growth.cli", "hydrofrac.cli", "__main__", "",
                "solid.cli")),
 ]
 

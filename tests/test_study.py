@@ -313,6 +313,32 @@ def test_resume_after_a_partial_sweep_adds_only_the_missing_rows(tmp_path):
         sweep("paper-2", elements=["bdm"], maxh=[0.4], reference_maxh=0.1, out=out)
 
 
+def test_a_file_without_the_cpu_column_is_read_and_upgraded_on_resume(tmp_path):
+    """A results file of the version before `time_cpu`: read with it empty; a resumed sweep
+    rewrites it once with the column (old rows' cells kept) and appends its own rows."""
+    import csv
+
+    from ngcrack.sweeps.results import row_check
+
+    out = tmp_path / "r.csv"
+    first = sweep("paper-2", elements=["bdm"], maxh=[0.4], reference_maxh=0.3, out=out)
+    assert (first.time_cpu > 0).all()
+    first = sweeps.read_results(out)  # the rows as the file holds them
+    rows = list(csv.reader(out.open(newline="")))
+    k = rows[0].index("time_cpu")
+    old = [r[:k] + r[k + 1:-1] for r in rows]
+    lines = [old[0] + ["row_check"]] + [r + [row_check(r)] for r in old[1:]]
+    with out.open("w", newline="") as fh:
+        csv.writer(fh, lineterminator="\n").writerows(lines)
+    back = sweeps.read_results(out)
+    assert list(back.columns) == list(first.columns) and back.time_cpu.isna().all()
+    assert back.drop(columns="time_cpu").equals(first.drop(columns="time_cpu"))
+    more = sweep("paper-2", elements=["bdm"], maxh=[0.4, 0.3], reference_maxh=0.3, out=out)
+    again = sweeps.read_results(out)  # the file now has the column: old row empty, new row recorded
+    assert list(csv.reader(out.open(newline="")))[0][k] == "time_cpu" and len(again) == len(more) == 2
+    assert again.set_index("maxh").time_cpu.isna().to_dict() == {0.4: True, 0.3: False}
+
+
 def test_resume_recomputes_a_missing_reference_cache(tmp_path):
     out = tmp_path / "r.csv"
     sweep("paper-2", elements=["peers"], maxh=[0.3], reference_maxh=0.2, out=out)

@@ -92,12 +92,9 @@ def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
     return H
 
 
-def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> Discretization:
-    """The hybridized TDNNS discretization of stress degree k = `order` (default 1)."""
-    k = DEFAULT_ORDER if order is None else order
-    if k not in ORDERS:
-        raise InputError(f"order = {order!r}: allowed values for tdnns are {', '.join(map(str, ORDERS))}")
-    mesh = crack_mesh.mesh
+def tdnns_spaces(mesh: ngs.Mesh, k: int, loads: Loads) -> tuple[list, list[str]]:
+    """The spaces of the hybridized TDNNS element of stress degree k, in 2D or 3D (stress, u, u_hat_n), and their
+    description: clamped boundaries fix u and u_hat_n, rollers fix u_hat_n."""
     dirichlet = boundary_regex(loads.dirichlet_labels)
     normal_fixed = boundary_regex(set(loads.dirichlet_labels) | set(loads.roller))
     spaces = [
@@ -106,6 +103,31 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         ngs.NormalFacetFESpace(mesh, order=k, dirichlet=normal_fixed),
     ]
     built = [f"stress: HDivDiv P{k}+, broken", f"u: HCurl order {k + 1}, type 1", f"u_hat_n: normal facet P{k}"]
+    return spaces, built
+
+
+def tdnns_terms(A_sig, sig, tau, trial, test, n, ue: int | None = None):
+    """The integrands of the TDNNS form in any dimension (u = trial[1], u_hat_n = trial[2]): (A sigma, tau) plus
+    b(tau; u) and b(sigma; v) over the elements, then over their boundaries (the module docstring's b); with `ue`,
+    the index of the tangential jump u_e, b's terms of u_e instead (the + side's elements only)."""
+    if ue is None:
+        volume = ngs.InnerProduct(A_sig, tau) - ngs.InnerProduct(tau, ngs.Grad(trial[1])) \
+            - ngs.InnerProduct(sig, ngs.Grad(test[1]))
+        un_hat, vn_hat = trial[2] * n, test[2] * n
+        boundary = (n * (tau * n)) * (trial[1] * n - un_hat) + (n * (sig * n)) * (test[1] * n - vn_hat)
+        return volume, boundary
+    volume = -ngs.InnerProduct(tau, ngs.Grad(trial[ue])) - ngs.InnerProduct(sig, ngs.Grad(test[ue]))
+    boundary = (n * (tau * n)) * (trial[ue] * n) + (n * (sig * n)) * (test[ue] * n)
+    return volume, boundary
+
+
+def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> Discretization:
+    """The hybridized TDNNS discretization of stress degree k = `order` (default 1)."""
+    k = DEFAULT_ORDER if order is None else order
+    if k not in ORDERS:
+        raise InputError(f"order = {order!r}: allowed values for tdnns are {', '.join(map(str, ORDERS))}")
+    mesh = crack_mesh.mesh
+    spaces, built = tdnns_spaces(mesh, k, loads)
     has_crack = bool(crack_mesh.cracks)
     if has_crack:
         spaces += [crack_facet_space(crack_mesh, k), on_crack_edges(ngs.HCurl(mesh, order=k + 1, type1=True), crack_mesh)]
@@ -141,21 +163,19 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     # only (H+ = 1 there, 0 elsewhere), the crack jump jn on the crack's triangles only
     # (chi = 0 on every other element boundary): the same matrix as with H+ and chi in
     # every element, up to round-off
-    volume = ngs.InnerProduct(compliance.apply(sig), tau) - ngs.InnerProduct(tau, ngs.Grad(trial[1])) \
-        - ngs.InnerProduct(sig, ngs.Grad(test[1]))
+    volume, boundary = tdnns_terms(compliance.apply(sig), sig, tau, trial, test, n)
     a += volume.Compile() * ngs.dx
     if split:
         a += (ngs.Trace(trial[0]) * test[idx_p + 1] + ngs.Trace(test[0]) * trial[idx_p + 1]) * ngs.dx
-    un_hat, vn_hat = trial[2] * n, test[2] * n
-    boundary = (n * (tau * n)) * (trial[1] * n - un_hat) + (n * (sig * n)) * (test[1] * n - vn_hat)
     a += boundary.Compile() * ngs.dx(element_boundary=True)
     if has_crack:
         plus = ngs.BitArray(mesh.ne)
         plus.Clear()
         for el in np.flatnonzero(H.vec.FV().NumPy() > 0):
             plus[int(el)] = True
-        a += (-ngs.InnerProduct(tau, ngs.Grad(trial[idx_ue])) - ngs.InnerProduct(sig, ngs.Grad(test[idx_ue]))) * ngs.dx(definedonelements=plus)
-        a += ((n * (tau * n)) * (trial[idx_ue] * n) + (n * (sig * n)) * (test[idx_ue] * n)) * ngs.dx(element_boundary=True, definedonelements=plus)
+        volume, boundary = tdnns_terms(None, sig, tau, trial, test, n, ue=idx_ue)
+        a += volume * ngs.dx(definedonelements=plus)
+        a += boundary * ngs.dx(element_boundary=True, definedonelements=plus)
         nu, _ = crack_frame_cf(crack_mesh)
         chi = ngs.IfPos(n * nu - 0.5, 1.0, 0.0)
         a += ((n * (tau * n)) * (chi * trial[idx_jn]) + (n * (sig * n)) * (chi * test[idx_jn])) * crack_boundary(crack_mesh)

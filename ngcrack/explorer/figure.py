@@ -159,20 +159,10 @@ class Drawing:
         drawn times this factor (0: automatic, or the held one). ``load_factor``: shown in
         the title, with its sign's meaning. ``scales``: the scales to use (`fields.fit_scales`
         of a reference solution, the explorer's "hold for load changes"), before ``hold``."""
-        from matplotlib.collections import PolyCollection
-
         from ..plots import centroid_stress, element_displacements
 
         poly = np.asarray(sol.scene.polygon, float)
-        w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
-        layout = (round(w / h if h > 0 else 1.0, 3), (w / h if h > 0 else 1.0) >= WIDE)
-        if self.fig is None or layout != self._layout:
-            self._make(poly)
-            self._held = None
-        for artist in self._temporary:
-            artist.remove()
-        self._temporary = []
-        ax, axz, axp, axt = self.ax, self.axz, self.axp, self.axt
+        self._start(poly)
         stress_unit, length_unit = units(sol.scene)
         model = (getattr(sol, "options", None) or {}).get("crack_model")
         sigma = centroid_stress(sol)
@@ -181,31 +171,75 @@ class Drawing:
         umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
         vals = stress_values(sol, field, sigma)
         profiles = sol.crack_profiles()
-        fresh = fit_scales(sol, field, corners, disp, vals)
-        if scales is not None:  # given (the model's reference scales): the profile axes still show every curve
-            held = {**scales, "field": field}
-            for k, v in fresh.items():
-                if not held.get(k):
-                    held[k] = v
-            for k in ("jump", "traction"):
-                held[k] = max(held[k], fresh[k])
-        else:
-            held = self._held if hold and self._held is not None and self._held.get("field") == field else None
-            if held is None:
-                held = {"field": field}
-            for k, v in fresh.items():  # a held scale that was zero (an unloaded frame) is taken from this one
-                if not held.get(k):
-                    held[k] = v
-            for k in ("jump", "traction"):  # the profile axes only grow while held: no curve leaves them
-                held[k] = max(held[k], fresh[k])
-        if held["scale"] * umax > MAX_DEFORMED_FRACTION * diam:  # a held magnification that would explode the body
-            held["scale"] = fresh["scale"]
-        self._held = held
+        held = self._hold_scales(fit_scales(sol, field, corners, disp, vals), field, hold, scales, umax, diam)
         scale = float(magnification) if magnification and magnification > 0 else held["scale"]
         clim = held["clim"] or 1.0
 
-        # the body
+        # the body, its outline, loads and supports
         moved = corners + scale * disp
+        lo = self._draw_body(field, corners, moved, vals, clim, poly)
+        peak, clipped = self._mark_peak(sol, field, moved, vals, clim)
+        closed = np.vstack([poly, poly[:1]])
+        self._temporary += self.ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
+        self._draw_boundary(sol.scene, poly, diam, held["load"])
+        # the crack faces, each moved by its own side's displacement; the tips; nu and t
+        faces = crack_faces(sol, corners, disp, self._crack_side(sol.crack_mesh))
+        gap, overlap, drawn = self._draw_faces(faces, scale, FACE_RTOL * umax)
+        tip_text = self._draw_tips(sol, model, corners, disp, scale)
+        self._draw_frames(sol.crack_mesh, faces, scale, diam)
+        self._label_body(sol, model, title, load_factor, scale, moved, poly, length_unit)
+        # the zoom on the cracks: the same magnification
+        self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap)
+        jlim, tlim, shaded = self._draw_profiles(profiles, held, umax, model, sol.crack_mesh, stress_unit,
+                                                 length_unit)
+        if tip_text:
+            self._temporary.append(self.fig.text(0.01, 0.1 / self._height, ";   ".join(tip_text), ha="left",
+                                                 va="bottom", fontsize=FONT_SIZE + 0.5))
+        self.data = {"magnification": scale, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
+                     "peak_clipped": bool(clipped), "jump_lim": jlim, "traction_lim": tlim,
+                     "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
+                     "held": bool(hold) or scales is not None, "field": field, "shaded": sorted(shaded)}
+        buf = io.BytesIO()
+        self.fig.savefig(buf, format="png", pil_kwargs={"compress_level": PNG_COMPRESSION})
+        return buf.getvalue()
+
+    # ------------------------------------------------------------------ parts
+    def _start(self, poly: np.ndarray) -> None:
+        """The figure for this body's layout (made again where the layout changed, its held scales
+        dropped), with the previous frame's artists removed."""
+        w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
+        layout = (round(w / h if h > 0 else 1.0, 3), (w / h if h > 0 else 1.0) >= WIDE)
+        if self.fig is None or layout != self._layout:
+            self._make(poly)
+            self._held = None
+        for artist in self._temporary:
+            artist.remove()
+        self._temporary = []
+
+    def _hold_scales(self, fresh: dict, field: str, hold: bool, scales: dict | None, umax: float,
+                     diam: float) -> dict:
+        """The frame's scales: the given `scales`, else the held ones (hold, same field), else `fresh`.
+        A scale that is zero is taken from `fresh`, the profile axes only grow (no curve leaves them),
+        and a magnification that would explode the body is re-fitted."""
+        if scales is not None:  # given (the model's reference scales): the profile axes still show every curve
+            held = {**scales, "field": field}
+        elif hold and self._held is not None and self._held.get("field") == field:
+            held = self._held
+        else:
+            held = {"field": field}
+        for k, v in fresh.items():  # a held scale that was zero (an unloaded frame) is taken from this one
+            if not held.get(k):
+                held[k] = v
+        for k in ("jump", "traction"):  # the profile axes only grow while held: no curve leaves them
+            held[k] = max(held[k], fresh[k])
+        if held["scale"] * umax > MAX_DEFORMED_FRACTION * diam:  # a held magnification that would explode the body
+            held["scale"] = fresh["scale"]
+        self._held = held
+        return held
+
+    def _draw_body(self, field: str, corners, moved, vals, clim: float, poly: np.ndarray) -> float:
+        """The deformed triangles coloured by the field (body and zoom share the colour map); the
+        colour bar's lower limit."""
         self.body.set_verts(moved)
         self.body.set_array(vals)
         cmap = "RdBu_r" if field == "sigma_nu" else "viridis"
@@ -218,7 +252,7 @@ class Drawing:
             self.body.set_linewidth(0.0)
             self.body.set_antialiased(False)
         else:  # edges on the triangles large enough to show them; the small ones edged in their own colour
-            px = _pixels_per_unit(ax, poly)
+            px = _pixels_per_unit(self.ax, poly)
             a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
             size = np.sqrt(0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
             big = size * px >= EDGE_PIXELS
@@ -227,24 +261,26 @@ class Drawing:
             self.body.set_edgecolor(colors)
             self.body.set_linewidth(np.where(big, 0.25, 0.4))
             self.body.set_antialiased(True)
+        return lo
+
+    def _mark_peak(self, sol, field: str, moved, vals, clim: float) -> tuple[int, bool]:
+        """The colour bar's label; the singular peak beyond the bar circled where it is, its value on
+        the bar. (index of the peak or -1, whether it is beyond the bar)"""
         peak = int(np.argmax(np.abs(vals))) if len(vals) else -1
         clipped = peak >= 0 and abs(float(vals[peak])) > 1.001 * clim
         label = field_label(field, sol.scene)
         if clipped:  # the singular peak beyond the colour bar: circled where it is, its value on the bar
             at = moved[peak].mean(axis=0)
-            for a in (ax, axz):
+            for a in (self.ax, self.axz):
                 self._temporary += a.plot([at[0]], [at[1]], marker="o", ms=9, mfc="none", mec="k", mew=1.2,
                                           zorder=7)
             label += f"\n○ peak {significant(float(vals[peak]))}, beyond the bar"
         self.colorbar.set_label(label, fontsize=FONT_SIZE)
-        closed = np.vstack([poly, poly[:1]])
-        self._temporary += ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
-        self._draw_boundary(sol.scene, poly, diam, held["load"])
+        return peak, clipped
 
-        # the crack faces, each moved by its own side's displacement
-        side = self._crack_side(sol.crack_mesh)
-        faces = crack_faces(sol, corners, disp, side)
-        tol = FACE_RTOL * umax
+    def _draw_faces(self, faces: list, scale: float, tol: float) -> tuple[float, float, list]:
+        """Each crack's two faces in the body and the zoom, an interpenetration shaded: (the largest
+        opening, the largest interpenetration (0 below `tol`), the faces' drawn points)."""
         gap = max([float(np.max(f["opening"], initial=0.0)) for f in faces] + [0.0])
         overlap = max([float(np.max(-f["opening"], initial=0.0)) for f in faces] + [0.0])
         gap, overlap = (gap if gap > tol else 0.0), (overlap if overlap > tol else 0.0)
@@ -254,14 +290,17 @@ class Drawing:
             minus = f["points"] + scale * f["minus"]
             drawn.append({"crack": f["crack"], "plus": plus.tolist(), "minus": minus.tolist(),
                           "opening": f["opening"].tolist()})
-            for a, lw in ((ax, 2.0), (axz, 2.0)):
+            for a, lw in ((self.ax, 2.0), (self.axz, 2.0)):
                 self._temporary += a.plot(*plus.T, color=FACE_COLORS["+"], lw=lw, zorder=4)
                 self._temporary += a.plot(*minus.T, color=FACE_COLORS["-"], lw=lw, zorder=4)
                 over = f["opening"] < -tol
                 if np.any(over):
                     poly_o = np.vstack([plus, minus[::-1]])
                     self._temporary += a.fill(*poly_o.T, color="#d00000", alpha=0.35, lw=0, zorder=3)
-        # the tips, named A, B, ... in both panels
+        return gap, overlap, drawn
+
+    def _draw_tips(self, sol, model, corners, disp, scale: float) -> list[str]:
+        """The tips, named A, B, ... in both panels; their lines of text (name, place, K_I, K_II)."""
         tips = [t for t in (getattr(sol, "tips", None) or []) if tip_value(t, "K_I") is not None]
         tip_text = []
         cm = sol.crack_mesh
@@ -274,7 +313,7 @@ class Drawing:
                 nearest = int(np.argmin(np.linalg.norm(cm.points - at, axis=1)))
                 u = self._vertex_displacement(cm, corners, disp, nearest)
                 p = cm.points[nearest] + scale * u
-                for a in (ax, axz):
+                for a in (self.ax, self.axz):
                     self._temporary += a.plot([p[0]], [p[1]], "k*", ms=8, zorder=5)
                     self._temporary.append(a.annotate(name, p, xytext=(4, 4), textcoords="offset points",
                                                       fontsize=FONT_SIZE + 1, weight="bold", zorder=6))
@@ -284,19 +323,27 @@ class Drawing:
             shut = model in (None, "contact") and tip_closed(sol, tip)  # (free faces may overlap: K_I < 0 is real)
             k1 = "0 (faces closed)" if shut else significant(tip_value(tip, "K_I"))
             tip_text.append(f"{name} {where}: K_I = {k1}, K_II = {significant(tip_value(tip, 'K_II'))}")
-        # nu and t on each crack (undeformed directions, at the crack's middle edge)
+        return tip_text
+
+    def _draw_frames(self, cm, faces: list, scale: float, diam: float) -> None:
+        """nu and t on each crack (undeformed directions, at the crack's middle edge), in both panels."""
         arrow = 0.07 * diam
         for crack, f in zip(cm.cracks, faces):
             k = len(crack) // 2
             base = crack.mid[k] + scale * 0.5 * (f["plus"][min(k, len(f["plus"]) - 1)]
                                                  + f["minus"][min(k, len(f["minus"]) - 1)])
-            for a, length in ((ax, arrow), (axz, None)):
+            for a, length in ((self.ax, arrow), (self.axz, None)):
                 L = length if length is not None else 0.12 * max(float(np.sum(crack.length)), 1e-12)
                 for vec, lab, col in ((crack.normal[k], "ν", "#7a0177"), (crack.tangent[k], "t", "#006d2c")):
                     self._temporary.append(a.annotate("", xy=base + L * vec, xytext=base, zorder=6,
                                                       arrowprops={"arrowstyle": "->", "color": col, "lw": 1.3}))
                     self._temporary.append(a.text(*(base + 1.2 * L * vec), lab, color=col, fontsize=FONT_SIZE + 2,
                                                   ha="center", va="center", zorder=6))
+
+    def _label_body(self, sol, model, title: str, load_factor, scale: float, moved, poly, length_unit: str) -> None:
+        """The body panel's extent, axes, title (element, crack model, load factor, magnification) and
+        the legend of what is drawn."""
+        ax, cm = self.ax, sol.crack_mesh
         ax.update_datalim(np.vstack([moved.reshape(-1, 2), poly] + ([np.array(self._extent)] if self._extent else [])))
         ax.autoscale_view()
         ax.set_xlabel(f"x [{length_unit}]", fontsize=FONT_SIZE)
@@ -317,13 +364,12 @@ class Drawing:
         self._temporary.append(self.fig.text(0.01, 0.05 / self._height * 6, ";  ".join(t for t, _ in legend),
                                              fontsize=FONT_SIZE - 0.5, color="0.25", va="bottom", ha="left"))
 
-        # the zoom on the cracks: the same magnification
-        self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap)
-
-        # the crack profiles
-        has_state = False
+    def _draw_profiles(self, profiles, held: dict, umax: float, model, cm, stress_unit: str,
+                       length_unit: str) -> tuple[float, float, set]:
+        """The crack profiles along s: opening and sliding, normal and shear traction on the twin axis,
+        stick / slip shaded. (the jump and traction axes' limits, the states shaded)"""
+        axp, axt = self.axp, self.axt
         shaded: set[str] = set()
-        moving = SLIDE_RTOL * umax
         jlim = 1.1 * (held["jump"] or 1.0)
         tlim = 1.1 * (held["traction"] or 1.0)
         jpow, tpow = _power(jlim), _power(tlim)
@@ -339,21 +385,7 @@ class Drawing:
                                         label="$\\sigma_t$" + sfx)
             state = getattr(p, "state", None)
             if state is not None and len(p.s) > 1 and umax > 0 and model in (None, "contact"):
-                s = np.asarray(p.s, float)
-                mids = 0.5 * (s[1:] + s[:-1])
-                edges = np.r_[s[0] - (mids[0] - s[0]), mids, s[-1] + (s[-1] - mids[-1])]
-                slides = np.abs(np.asarray(p.tangential_jump, float)) > moving
-                spans: dict[str, list] = {}  # one collection per state (not a patch per sample: drawn faster)
-                for lo_s, hi_s, st, mv in zip(edges[:-1], edges[1:], state, slides):
-                    if st in STATE_COLORS and (st != "slip" or mv):
-                        spans.setdefault(str(st), []).append([(lo_s, 0.0), (hi_s, 0.0), (hi_s, 1.0), (lo_s, 1.0)])
-                for st, verts in spans.items():
-                    coll = PolyCollection(verts, facecolors=STATE_COLORS[st], linewidths=0, zorder=0,
-                                          transform=axp.get_xaxis_transform())
-                    axp.add_collection(coll, autolim=False)
-                    self._temporary.append(coll)
-                    has_state = True
-                    shaded.add(st)
+                shaded |= self._shade_states(p, state, SLIDE_RTOL * umax)
         self._temporary.append(axp.axhline(0.0, color="0.5", lw=0.5))
         axp.set_ylim(-jlim / jpow, jlim / jpow)
         axt.set_ylim(-tlim / tpow, tlim / tpow)
@@ -368,21 +400,31 @@ class Drawing:
             self._temporary.append(axp.legend(handles + handles_t, labels + labels_t, fontsize=FONT_SIZE - 1.5,
                                               loc="upper right", ncol=2, framealpha=0.8))
         ptitle = "crack profiles" if profiles else "no crack"
-        if has_state:
+        if shaded:
             ptitle += " (grey: stick, orange: slip)"
         axp.set_title(ptitle, fontsize=FONT_SIZE + 0.5)
-        if tip_text:
-            self._temporary.append(self.fig.text(0.01, 0.1 / self._height, ";   ".join(tip_text), ha="left",
-                                                 va="bottom", fontsize=FONT_SIZE + 0.5))
-        self.data = {"magnification": scale, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
-                     "peak_clipped": bool(clipped), "jump_lim": jlim, "traction_lim": tlim,
-                     "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
-                     "held": bool(hold) or scales is not None, "field": field, "shaded": sorted(shaded)}
-        buf = io.BytesIO()
-        self.fig.savefig(buf, format="png", pil_kwargs={"compress_level": PNG_COMPRESSION})
-        return buf.getvalue()
+        return jlim, tlim, shaded
 
-    # ------------------------------------------------------------------ parts
+    def _shade_states(self, p, state, moving: float) -> set[str]:
+        """The stick / slip shading of one profile (slip only where the faces slide more than
+        `moving`); the states shaded."""
+        from matplotlib.collections import PolyCollection
+
+        s = np.asarray(p.s, float)
+        mids = 0.5 * (s[1:] + s[:-1])
+        edges = np.r_[s[0] - (mids[0] - s[0]), mids, s[-1] + (s[-1] - mids[-1])]
+        slides = np.abs(np.asarray(p.tangential_jump, float)) > moving
+        spans: dict[str, list] = {}  # one collection per state (not a patch per sample: drawn faster)
+        for lo_s, hi_s, st, mv in zip(edges[:-1], edges[1:], state, slides):
+            if st in STATE_COLORS and (st != "slip" or mv):
+                spans.setdefault(str(st), []).append([(lo_s, 0.0), (hi_s, 0.0), (hi_s, 1.0), (lo_s, 1.0)])
+        for st, verts in spans.items():
+            coll = PolyCollection(verts, facecolors=STATE_COLORS[st], linewidths=0, zorder=0,
+                                  transform=self.axp.get_xaxis_transform())
+            self.axp.add_collection(coll, autolim=False)
+            self._temporary.append(coll)
+        return set(spans)
+
     def _crack_side(self, cm):
         from ..geometry import crack_side
 

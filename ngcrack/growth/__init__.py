@@ -11,8 +11,9 @@ the command line's parser need only criteria.py).
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ngcrack.extras import lazy_exports
 
 #: public name -> the module that defines it
 _EXPORTS = {
@@ -35,18 +36,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    """A public name, imported from its module on first use."""
-    where = _EXPORTS.get(name)
-    if where is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(where, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, __all__)
 
 
 if TYPE_CHECKING:

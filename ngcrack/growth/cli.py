@@ -3,14 +3,10 @@
 
 from __future__ import annotations
 
-import json
-import signal
-import threading
-
-from ngcrack.cli_errors import Terminated, check_finite
-from ngcrack.files import Staged, check_distinct, check_output, check_output_stem
+from ngcrack.cli_errors import check_finite
+from ngcrack.cli_runs import Finished, add_mesh_options, output_paths, run_until_signal, solve_options, write_all
+from ngcrack.files import check_distinct, check_output_stem
 from ngcrack.interrupts import check as check_interrupt
-from ngcrack.interrupts import interruption, pending
 
 
 def _at_hole(text: str):
@@ -39,11 +35,7 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--at-hole", dest="at_hole", default="stop", type=_at_hole, metavar="stop|LENGTH",
                    help="a tip that reaches a hole: stop there (default), or a new crack of LENGTH leaves the hole "
                         "where its hoop stress is largest")
-    p.add_argument("--element", default=None, help="tdnns (default), bdm, peers, h1p1 or h1p2")
-    p.add_argument("--order", type=int, help="polynomial order of elements that have one")
-    p.add_argument("--maxh", type=positive, help="global mesh size (overrides the scene)")
-    p.add_argument("--tip-h", dest="tip_h", type=positive, help="mesh size at the crack tips")
-    p.add_argument("--crack-h", dest="crack_h", type=positive, help="mesh size along the cracks")
+    add_mesh_options(p, positive)
     p.add_argument("--nu", type=positive, help="Poisson ratio (overrides the scene)")
     p.add_argument("--E", type=positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--friction", type=positive, metavar="MU", help="Coulomb coefficient of every crack")
@@ -67,10 +59,8 @@ def run(args) -> int:
     from .criteria import check_r_c
     from .loop import MAX_STEPS, check_growth_options, grow
 
-    json_path = check_output(args.json, "--json")
-    csv_path = check_output(args.csv, "--csv", ".csv")
-    gif_path = check_output(args.gif, "--gif", ".gif")
-    png_path = check_output(args.png, "--png", ".png")
+    paths = output_paths(args, "json", "csv", "gif", "png")
+    json_path, csv_path, gif_path, png_path = paths.values()
     steps = args.steps if isinstance(args.steps, int) and 0 <= args.steps <= MAX_STEPS else 0
     stem = check_output_stem(args.vtk, "--vtk", [".pvd"] + [f"_{k:04d}{part}" for k in range(steps + 1)
                                                            for part in (".vtu", "_cracks.vtu")])
@@ -92,17 +82,17 @@ def run(args) -> int:
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
-    options = {k: v for k, v in (("element", args.element), ("order", args.order), ("maxh", args.maxh),
-                                 ("tip_h", args.tip_h), ("crack_h", args.crack_h), ("qp_solver", args.qp_solver),
-                                 ("crack_model", args.crack_model), ("max_dof", args.max_dof)) if v is not None}
+    options = solve_options(args, "element", "order", "maxh", "tip_h", "crack_h", "qp_solver", "crack_model", "max_dof")
     check_growth_options(scene, args.da, args.steps, args.K_Ic, args.criterion, options)  # before any work
     check_r_c(args.r_c, args.criterion)
 
-    finished = _Finished(json_path, csv_path, series, args.steps, [p for p in (png_path, gif_path) if p is not None])
+    finished = Finished(json_path, csv_path, args.steps, [p for p in (png_path, gif_path) if p is not None], series)
     args.on_interrupt = finished.write  # the command line calls it if a signal ends the run in a long C call
 
     def progress(n, result):
-        finished.keep(result)
+        data = result.to_json_dict()
+        data["steps"] = list(data["steps"])
+        finished.keep(data, _rows_csv(list(result.rows)))
         step = result.steps[-1]
         lam = step["load_factor"]
         print(f"step {n}: load factor {lam:.4g}, {step['ndof']} dofs, {step['time_s']:.2f} s"
@@ -111,97 +101,26 @@ def run(args) -> int:
             series(n, result)  # the step's solution, and the collection rewritten: a valid series at every step
         check_interrupt()  # a signal a library swallowed during the step
 
-    try:
+    def work():
         result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion, r_c=args.r_c,
                       at_hole=args.at_hole, frames=gif_path is not None, progress=progress, **options)
         data = result.to_json_dict()
         check_finite(data)
         check_interrupt()
-        return _write_all(result, data, scene, json_path, csv_path, png_path, gif_path, series)
-    except BaseException as exc:
-        signum = pending()
-        if isinstance(exc, KeyboardInterrupt) or signum is not None:
-            signum = signum or (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
-            stop = interruption(signum)
-            stop.note = finished.write(signum)
-            raise stop from exc
-        raise
+        return write_all(result, data, scene, json_path,
+                         [(csv_path, lambda tmp: result.table.to_csv(tmp, index=False)),
+                          (png_path, lambda tmp: result.plot(tmp)), (gif_path, lambda tmp: result.animate(tmp))],
+                         also=() if series is None else (series.collection,))
+
+    return run_until_signal(work, finished)
 
 
-class _Finished:
-    """The steps a run has finished, written (JSON and CSV, marked interrupted) if a signal stops it."""
-
-    def __init__(self, json_path, csv_path, series, steps, skipped):
-        self.json_path, self.csv_path, self.series, self.steps, self.skipped = json_path, csv_path, series, steps, skipped
-        self.data, self.rows = None, None
-        self.note = None
-        self.lock = threading.Lock()
-
-    def keep(self, result) -> None:
-        data = result.to_json_dict()
-        data["steps"] = list(data["steps"])
-        self.data, self.rows = data, list(result.rows)  # one assignment each: a whole snapshot or the previous
-
-    def write(self, signum) -> str:
-        """Write the finished steps (once; a second caller gets the first's note); the note says what was written."""
-        if not self.lock.acquire(timeout=0.5):
-            return "the finished steps were being written when the process ended; their files are whole or absent"
-        try:
-            if self.note is None:
-                self.note = self._write(signum)
-            return self.note
-        finally:
-            self.lock.release()
-
-    def _write(self, signum) -> str:
+def _rows_csv(rows):
+    """A writer of the CSV table of a run's `rows` (the finished steps')."""
+    def write(tmp) -> None:
         import pandas as pd
 
         from .result import COLUMNS
 
-        vtk = (f"; the VTK series {self.series.collection} holds the {len(self.series.files)} steps written"
-               if self.series is not None and self.series.files else "")
-        if self.data is None:
-            return "no step had finished, nothing was written" + vtk
-        data = dict(self.data)
-        done = len(data["steps"])
-        what = "SIGTERM" if signum == signal.SIGTERM else "SIGINT"
-        data["stopped"] = f"interrupted: {what} after step {done - 1} of {self.steps}; the finished steps are kept"
-        try:
-            check_finite(data)
-            with Staged() as staged:
-                staged.write(self.json_path, lambda tmp: _dump(data, tmp))
-                if self.csv_path is not None:
-                    staged.write(self.csv_path, lambda tmp: pd.DataFrame(self.rows, columns=list(COLUMNS)).to_csv(
-                        tmp, index=False))
-        except Exception as exc:  # noqa: BLE001 -- the interruption is what is reported
-            return f"the finished steps could not be written ({type(exc).__name__}: {exc}), nothing was written" + vtk
-        files = " and ".join(str(p) for p in (self.json_path, self.csv_path) if p is not None)
-        skipped = (f"; not written: {', '.join(str(p) for p in self.skipped)}" if self.skipped else "")
-        return (f"wrote {files} with the {done} finished steps, marked \"stopped\": \"interrupted: ...\"" + skipped
-                + vtk)
-
-
-def _dump(data, tmp) -> None:
-    with open(tmp, "w") as fh:
-        json.dump(data, fh, indent=1)
-
-
-def _write_all(result, data, scene, json_path, csv_path, png_path, gif_path, series) -> int:
-    written = [json_path]
-    with Staged() as staged:  # every output or none; existing files untouched on failure
-        staged.write(json_path, lambda tmp: _dump(data, tmp))
-        if csv_path is not None:
-            staged.write(csv_path, lambda tmp: result.table.to_csv(tmp, index=False))
-            written.append(csv_path)
-        if png_path is not None:
-            staged.write(png_path, lambda tmp: result.plot(tmp))
-            written.append(png_path)
-        if gif_path is not None:
-            staged.write(gif_path, lambda tmp: result.animate(tmp))
-            written.append(gif_path)
-    print(f"{scene.name}: {len(result.steps)} steps, stopped: {result.stopped}")
-    if series is not None:
-        written.append(series.collection)
-    for path in written:
-        print(f"wrote {path}")
-    return 0
+        pd.DataFrame(rows, columns=list(COLUMNS)).to_csv(tmp, index=False)
+    return write

@@ -54,7 +54,6 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
 import shapely
 
 from ngcrack.options import SolveOptions
@@ -62,10 +61,12 @@ from ngcrack.pipeline import Pipeline, SolveError
 from ngcrack.scene import SceneError, tip_label
 
 from ..errors import InputError
+from .checks import MAX_DA_FRACTION as MAX_DA_FRACTION
+from .checks import MAX_STEPS as MAX_STEPS
+from .checks import check_grow_call
+from .checks import check_growth_options as check_growth_options
 from .criteria import (
     PLS_SLOPE,
-    check_criterion,
-    check_r_c,
     effective_K_I,
     gmts_angle,
     gmts_keq,
@@ -76,17 +77,10 @@ from .criteria import (
     pls_predictor,
     secant_angle,
 )
-from .fatigue import Cycles, check_paris
-from .holes import check_at_hole, leave_holes
+from .fatigue import Cycles
+from .holes import leave_holes
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
 
-#: the most steps a growth run may take
-MAX_STEPS = 1000
-#: da may be at most this fraction of the body's diameter
-MAX_DA_FRACTION = 0.1
-#: da must be at least this fraction of the mesh size at the tips: a shorter segment is below
-#: what the mesh resolves (da = 1e-6 on a tip mesh of 5e-3 was taken for a cut-through)
-MIN_DA_TIP_FRACTION = 0.1
 #: tips whose load factor lies within this fraction of the smallest grow together
 GROW_TOGETHER_RTOL = 0.02
 #: PLS: a trial is kept where its new tip's K_II is at most this angle (radians) times dk_2/dtheta
@@ -114,69 +108,6 @@ DRIVE_NOISE_RTOL = 1e-3
 #: the parts of a solve's cost recorded per step (table columns PART_s), from the solve's timings
 COST_PARTS = {"mesh": ("mesh",), "assembly": ("assemble",), "linear": ("factorize", "solve", "recover"),
               "crack": ("schur", "qp"), "post": ("tips", "estimate")}
-#: solve options grow sets itself
-_RESERVED = ("warm_start", "crack_mesh", "loads")
-
-
-def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> None:
-    """Refuse bad input before any work, naming the field and what is allowed."""
-    from ngcrack.tips import tip_labels
-
-    check_criterion(criterion)
-    if getattr(scene, "dimension", 2) == 3:
-        raise InputError(f"scene {scene.name!r} is 3D: crack growth takes 2D scenes (3D growth is a later step)")
-
-    def number(v):
-        return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
-
-    check_growth_solve_options(scene, solve_options)
-
-    if K_Ic is not None and not (number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
-        raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness), or None")
-    limit = MAX_DA_FRACTION * scene.diameter
-    if not (number(da) and math.isfinite(da) and 0 < da <= limit):
-        raise InputError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_FRACTION:g} of the "
-                          f"body's diameter {scene.diameter:.4g})")
-    shortest = min_da(scene, solve_options)
-    if da < shortest:
-        raise InputError(f"da = {da!r}: must be at least {MIN_DA_TIP_FRACTION:g} of the mesh size at the crack tips "
-                         f"({shortest / MIN_DA_TIP_FRACTION:.4g}), i.e. >= {shortest:.4g}: a shorter segment is not "
-                         f"resolved by the mesh; give a larger da or a smaller tip_h")
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
-        raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
-    bad = [k for k in _RESERVED if k in solve_options]
-    if bad:
-        raise InputError(f"{bad[0]}: grow sets it for every step itself; give the scene and the mesh options only")
-    if not tip_labels(scene):
-        raise InputError(f"scene {scene.name!r}: has no crack tip inside the body (every crack end lies on the "
-                          f"boundary or on another crack), so no crack can grow")
-
-
-def min_da(scene, solve_options) -> float:
-    """The shortest segment a step may add: MIN_DA_TIP_FRACTION of the mesh size at the tips (tip_h,
-    else crack_h, else maxh, as the mesh resolves them from the options and the scene)."""
-    from ngcrack.sizing import mesh_sizes
-
-    sizes = {k: solve_options.get(k) for k in ("maxh", "tip_h", "crack_h", "grading")}
-    try:
-        maxh, tip_h, crack_h, _ = mesh_sizes(scene, **sizes)
-    except (TypeError, ValueError):  # a bad size is refused, naming it, by the solve options' check
-        return 0.0
-    h = next(v for v in (tip_h, crack_h, maxh) if v is not None)
-    return MIN_DA_TIP_FRACTION * float(h)
-
-
-def check_growth_solve_options(scene, solve_options) -> None:
-    """What a solve alone accepts but growth cannot use: friction on cracks that have no contact."""
-    model = solve_options.get("crack_model") or "contact"
-    if model != "contact":
-        mu = max((float(getattr(c, "friction", 0.0) or 0.0) for c in scene.cracks), default=0.0)
-        if mu:
-            raise InputError(f"crack_model = {model!r}: the scene's cracks have friction {mu:g}, which acts only "
-                             f"with crack_model 'contact' (free and bonded cracks have no contact); drop the friction "
-                             f"(scene.with_(friction=0)) or use crack_model 'contact'")
-
-
 @dataclass
 class Solver:
     """The loop's solves: one Pipeline for the whole path and the solve options, checked once.
@@ -258,154 +189,222 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     crack, or where their new tip would close (frozen, with the reason); the run stops after
     `steps` steps, when no tip is left inside the body, or when none can grow.
     """
-    from ngcrack.scene import Scene
-    from ngcrack.solve import as_scene
-
     from .result import GrowthResult
 
-    if not isinstance(scene, (Scene, str)):
-        raise InputError(f"scene = {scene!r}: must be a Scene (nc.Scene.from_toml, nc.scenes.load) or the name of a "
-                         f"built-in scene")
-    scene = as_scene(scene)
-    if progress is not None and not callable(progress):
-        raise InputError(f"progress = {progress!r}: must be None or a callable, called as progress(step, result) "
-                         f"after every step")
-    check_growth_options(scene, da, steps, K_Ic, criterion, solve_options)
-    r_c = check_r_c(r_c, criterion)
-    fatigue = check_paris(paris, R)
-    hole_crack = check_at_hole(at_hole, scene)
-    passed: set = set()  # the holes a new crack has left, and the tips that reached them
-    if not (isinstance(together, (int, float)) and 0 <= together < 1):
-        raise InputError(f"together = {together!r}: must be a number in [0, 1)")
+    scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
+                                                    paris, R, at_hole, solve_options)
     da, steps = float(da), int(steps)
-    region = body_region(scene)
     options = Solver(SolveOptions.of(**solve_options))
     result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
                           K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c)
     t0 = time.perf_counter()
     sol = solve_step(scene, None, options)
     elapsed = time.perf_counter() - t0
-    parts = options.since(dict.fromkeys(COST_PARTS, 0.0))
-    trials = 1
-    frozen: dict[str, str] = {}
-    grown_once: dict = {}  # tip -> its last kink after its first (radians), None after the first
-    slopes: dict = {}  # tip -> dk_2/dtheta measured at its last step's trials (PLS)
-    cycles = Cycles(*fatigue, float(R)) if fatigue else None
-    last_grew: set = set()
-    K_ref = K_Ic
-    K_top = 0.0  # the largest K_eq of the run so far: a K_eq below DRIVE_NOISE_RTOL of it is no drive
+    run = _Run(scene=scene, sol=sol, solver=options, result=result, region=body_region(scene), criterion=criterion,
+               da=da, together=together, r_c=r_c, K_Ic=K_Ic, hole_crack=hole_crack,
+               cycles=Cycles(*fatigue, float(R)) if fatigue else None, elapsed=elapsed,
+               parts=options.since(dict.fromkeys(COST_PARTS, 0.0)), K_ref=K_Ic)
     stopped = ""
     for n in range(steps + 1):
-        values = tip_values(sol, criterion, r_c)
-        K_top = max([K_top] + [v["K_eq"] for v in values])
-        if K_ref is None:
-            drive = [v["K_eq"] for v in values if v["K_eq"] > 0]
-            K_ref = max(drive) if drive else None
-        for v in values:
-            driven = K_ref is not None and v["K_eq"] > DRIVE_NOISE_RTOL * K_top
-            v["lambda"] = load_factor(K_ref, v["K_eq"]) if driven else math.inf
-        growing, extensions, next_scene, next_sol, cost, tried = [], [], None, None, 0.0, 0
-        cost_parts = dict.fromkeys(COST_PARTS, 0.0)
-        failed = ""
-        fractured = ""
-        if cycles is not None:
-            cycles.grown(scene, values, last_grew)
-            fractured = cycles.fracture(values, K_Ic)
-        if n < steps and not fractured:
-            while True:
-                active = [v for v in values if v["label"] not in frozen and math.isfinite(v["lambda"])]
-                if not active:
-                    break
-                lam_min = min(v["lambda"] for v in active)
-                growing = [v for v in active if v["lambda"] <= lam_min * (1.0 + together)]
-                t1, before = time.perf_counter(), dict(options.spent)
-                try:
-                    step = _advance(scene, sol, region, growing, da, criterion, options, frozen, grown_once, slopes)
-                except (SolveError, InputError) as exc:  # e.g. the grown mesh above max_dof: keep what was done
-                    failed = f"solve: the solve after step {n} failed ({exc})"
-                    growing = []
-                    break
-                cost, cost_parts = time.perf_counter() - t1, options.since(before)
-                if step is None:  # every chosen tip froze: choose again among the others
-                    growing = []
-                    continue
-                extensions, next_scene, next_sol, tried = step
-                break
-            if cycles is not None:
-                cycles.growing(scene, values, {v["label"] for v in growing})
-        grew = {tip_label(e.crack, e.end): e for e in extensions if e.point is not None}
-        for e in extensions:  # a tip that has grown up to a hole stops there
-            if e.outcome == "hole":
-                frozen[tip_label(e.crack, e.end)] = e.reason
-        if criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
-            for v in values:
-                if v["label"] not in grew:
-                    v["kink"] = pls_predictor(effective_K_I(v["K_I"], v["closed"]), v["K_II_kink"],
-                                              grown_once.get(v["label"]), slopes.get(v["label"]))
-        lam_step = min((v["lambda"] for v in values if v["label"] in grew), default=None)
-        if lam_step is None:
-            lam_step = min((v["lambda"] for v in values if v["label"] not in frozen), default=math.inf)
-        if cycles is not None:  # fatigue: the scene's load, the cycle's maximum
-            lam_step = 1.0
-        for v in values:  # a tip that stopped inside the body: why, in the step's row
-            v["stopped"] = frozen.get(v["label"], "")
-        result.add_step(n, scene, sol, values, lam_step, grew, elapsed, trials, frames=frames, parts=parts,
-                        cycles=None if cycles is None else cycles.total)
-        result.solution = sol  # this step's solve, for the progress callback (ngcrack.vtk.SeriesWriter)
-        if progress is not None:
-            progress(n, result)
-        for e in extensions:
-            if e.outcome in ("boundary", "hole"):
-                result.events.append((n, tip_label(e.crack, e.end), e.reason))
-        if fractured:
-            stopped = fractured
+        values = _fracture_parameters(run)
+        step = _Step()
+        if run.cycles is not None:
+            run.cycles.grown(run.scene, values, run.last_grew)
+            step.fractured = run.cycles.fracture(values, K_Ic)
+        if n < steps and not step.fractured:
+            _direction_and_extension(run, values, step, n)
+            if run.cycles is not None:
+                run.cycles.growing(run.scene, values, {v["label"] for v in step.growing})
+        _record_step(run, n, values, step, frames, progress)
+        reason = _stop_reason(run, n, steps, step)
+        if reason is None and run.hole_crack is not None:
+            reason = _leave_holes(run, n, values, step)
+        if reason is None:
+            reason = _next_step(run, values, step)
+        if reason is not None:
+            stopped = reason
             break
-        if n == steps:
-            stopped = f"steps: {steps} of {steps} steps done"
-            break
-        if failed:
-            stopped = failed
-            break
-        if isinstance(next_scene, CutThrough):  # failure: the run ends with the last segment kept
-            result.add_final(next_scene.scene, cracks=next_scene.cracks)
-            stopped = next_scene.reason
-            break
-        if isinstance(next_scene, str):  # the grown scene was refused
-            stopped = next_scene
-            break
-        if hole_crack is not None and not failed:
-            left = leave_holes(scene if next_scene is None else next_scene, sol, values, frozen, passed, hole_crack)
-            for lab, what in left.events:
-                result.events.append((n, lab, what))
-            if left.scene is not None:
-                t1, before = time.perf_counter(), dict(options.spent)
-                try:
-                    next_sol = solve_step(left.scene, next_sol or sol, options)
-                except (SolveError, InputError) as exc:
-                    stopped = f"solve: the solve after step {n} failed ({exc})"
-                    break
-                next_scene, tried = left.scene, tried + 1
-                cost += time.perf_counter() - t1
-                cost_parts = {k: cost_parts[k] + v for k, v in options.since(before).items()}
-                grew = grew or {"new crack": None}
-        if not grew:
-            reasons = "; ".join(frozen.values())
-            stopped = ("no tip can grow: " + reasons) if reasons else "no tip can grow: no tip has K_eq > 0"
-            break
-        # a tip's previous kink predicts its next one (PLS) only once it grows from a grown segment
-        grown_once.update({v["label"]: v["kink"] if v["label"] in grown_once else None
-                           for v in values if v["label"] in grew})
-        scene = next_scene
-        if next_sol is None:  # no tip left inside the body
-            result.add_final(scene)
-            stopped = "boundary: every tip reached the body's boundary (the cracks cut through)"
-            break
-        sol, elapsed, trials, parts = next_sol, cost, tried, cost_parts
-        last_grew = set(grew)
     result.stopped = stopped
-    result.solution = sol
-    result.frozen = dict(frozen)
+    result.solution = run.sol
+    result.frozen = dict(run.frozen)
     return result
+
+
+@dataclass
+class _Run:
+    """What a growth run carries from one step to the next: the current scene and its solve, and the
+    tips' history (frozen tips with their reasons, previous kinks, measured PLS slopes)."""
+
+    scene: object
+    sol: object
+    solver: Solver
+    result: object
+    region: object
+    criterion: str
+    da: float
+    together: float
+    r_c: float | None
+    K_Ic: float | None
+    hole_crack: object
+    cycles: Cycles | None
+    #: the seconds, cost parts and solves of the current solve (the step's row)
+    elapsed: float
+    parts: dict
+    trials: int = 1
+    frozen: dict = field(default_factory=dict)
+    #: tip -> its last kink after its first (radians), None after the first
+    grown_once: dict = field(default_factory=dict)
+    #: tip -> dk_2/dtheta measured at its last step's trials (PLS)
+    slopes: dict = field(default_factory=dict)
+    #: the holes a new crack has left, and the tips that reached them
+    passed: set = field(default_factory=set)
+    last_grew: set = field(default_factory=set)
+    K_ref: float | None = None
+    #: the largest K_eq of the run so far: a K_eq below DRIVE_NOISE_RTOL of it is no drive
+    K_top: float = 0.0
+
+
+@dataclass
+class _Step:
+    """What one step does: the tips chosen to grow, their extensions, the next scene and its solve
+    (with its cost and solves), and why the run stops here if it does (failed, fractured)."""
+
+    growing: list = field(default_factory=list)
+    extensions: list = field(default_factory=list)
+    next_scene: object = None
+    next_sol: object = None
+    cost: float = 0.0
+    tried: int = 0
+    cost_parts: dict = field(default_factory=lambda: dict.fromkeys(COST_PARTS, 0.0))
+    failed: str = ""
+    fractured: str = ""
+    #: label -> extension of the tips that grew
+    grew: dict = field(default_factory=dict)
+
+
+def _fracture_parameters(run: _Run) -> list[dict]:
+    """The tips' values at the current solve, with each tip's load factor `lambda` (inf: no drive)."""
+    values = tip_values(run.sol, run.criterion, run.r_c)
+    run.K_top = max([run.K_top] + [v["K_eq"] for v in values])
+    if run.K_ref is None:
+        drive = [v["K_eq"] for v in values if v["K_eq"] > 0]
+        run.K_ref = max(drive) if drive else None
+    for v in values:
+        driven = run.K_ref is not None and v["K_eq"] > DRIVE_NOISE_RTOL * run.K_top
+        v["lambda"] = load_factor(run.K_ref, v["K_eq"]) if driven else math.inf
+    return values
+
+
+def _direction_and_extension(run: _Run, values: list[dict], step: _Step, n: int) -> None:
+    """Choose the tips that grow (the smallest load factor, and those within `together` of it), kink
+    and extend them and solve the grown scene (_advance), into `step`; where every chosen tip
+    freezes, choose again among the others."""
+    while True:
+        active = [v for v in values if v["label"] not in run.frozen and math.isfinite(v["lambda"])]
+        if not active:
+            return
+        lam_min = min(v["lambda"] for v in active)
+        step.growing = [v for v in active if v["lambda"] <= lam_min * (1.0 + run.together)]
+        t1, before = time.perf_counter(), dict(run.solver.spent)
+        try:
+            out = _advance(run.scene, run.sol, run.region, step.growing, run.da, run.criterion, run.solver,
+                           run.frozen, run.grown_once, run.slopes)
+        except (SolveError, InputError) as exc:  # e.g. the grown mesh above max_dof: keep what was done
+            step.failed = f"solve: the solve after step {n} failed ({exc})"
+            step.growing = []
+            return
+        step.cost, step.cost_parts = time.perf_counter() - t1, run.solver.since(before)
+        if out is None:  # every chosen tip froze: choose again among the others
+            step.growing = []
+            continue
+        step.extensions, step.next_scene, step.next_sol, step.tried = out
+        return
+
+
+def _record_step(run: _Run, n: int, values: list[dict], step: _Step, frames: bool, progress) -> None:
+    """The step's row in the result (its tips, load factor, cost and events), then the progress callback."""
+    grew = {tip_label(e.crack, e.end): e for e in step.extensions if e.point is not None}
+    for e in step.extensions:  # a tip that has grown up to a hole stops there
+        if e.outcome == "hole":
+            run.frozen[tip_label(e.crack, e.end)] = e.reason
+    if run.criterion == "pls":  # the tips that did not grow: the first PLS trial's angle
+        for v in values:
+            if v["label"] not in grew:
+                v["kink"] = pls_predictor(effective_K_I(v["K_I"], v["closed"]), v["K_II_kink"],
+                                          run.grown_once.get(v["label"]), run.slopes.get(v["label"]))
+    lam_step = min((v["lambda"] for v in values if v["label"] in grew), default=None)
+    if lam_step is None:
+        lam_step = min((v["lambda"] for v in values if v["label"] not in run.frozen), default=math.inf)
+    if run.cycles is not None:  # fatigue: the scene's load, the cycle's maximum
+        lam_step = 1.0
+    for v in values:  # a tip that stopped inside the body: why, in the step's row
+        v["stopped"] = run.frozen.get(v["label"], "")
+    result = run.result
+    result.add_step(n, run.scene, run.sol, values, lam_step, grew, run.elapsed, run.trials, frames=frames,
+                    parts=run.parts, cycles=None if run.cycles is None else run.cycles.total)
+    result.solution = run.sol  # this step's solve, for the progress callback (ngcrack.vtk.SeriesWriter)
+    if progress is not None:
+        progress(n, result)
+    for e in step.extensions:
+        if e.outcome in ("boundary", "hole"):
+            result.events.append((n, tip_label(e.crack, e.end), e.reason))
+    step.grew = grew
+
+
+def _stop_reason(run: _Run, n: int, steps: int, step: _Step) -> str | None:
+    """Why the run stops after this step (fracture, the last step, a failed solve, a cut-through, a
+    refused grown scene), or None."""
+    if step.fractured:
+        return step.fractured
+    if n == steps:
+        return f"steps: {steps} of {steps} steps done"
+    if step.failed:
+        return step.failed
+    if isinstance(step.next_scene, CutThrough):  # failure: the run ends with the last segment kept
+        run.result.add_final(step.next_scene.scene, cracks=step.next_scene.cracks)
+        return step.next_scene.reason
+    if isinstance(step.next_scene, str):  # the grown scene was refused
+        return step.next_scene
+    return None
+
+
+def _leave_holes(run: _Run, n: int, values: list[dict], step: _Step) -> str | None:
+    """New cracks leaving the holes that tips reached (holes.py), and the solve of the scene with
+    them, into `step`; the reason if that solve fails, else None."""
+    left = leave_holes(run.scene if step.next_scene is None else step.next_scene, run.sol, values, run.frozen,
+                       run.passed, run.hole_crack)
+    for lab, what in left.events:
+        run.result.events.append((n, lab, what))
+    if left.scene is None:
+        return None
+    t1, before = time.perf_counter(), dict(run.solver.spent)
+    try:
+        step.next_sol = solve_step(left.scene, step.next_sol or run.sol, run.solver)
+    except (SolveError, InputError) as exc:
+        return f"solve: the solve after step {n} failed ({exc})"
+    step.next_scene, step.tried = left.scene, step.tried + 1
+    step.cost += time.perf_counter() - t1
+    step.cost_parts = {k: step.cost_parts[k] + v for k, v in run.solver.since(before).items()}
+    step.grew = step.grew or {"new crack": None}
+    return None
+
+
+def _next_step(run: _Run, values: list[dict], step: _Step) -> str | None:
+    """Move the run on to the grown scene and its solve; the reason the run stops if no tip grew or
+    none is left inside the body, else None."""
+    if not step.grew:
+        reasons = "; ".join(run.frozen.values())
+        return ("no tip can grow: " + reasons) if reasons else "no tip can grow: no tip has K_eq > 0"
+    # a tip's previous kink predicts its next one (PLS) only once it grows from a grown segment
+    run.grown_once.update({v["label"]: v["kink"] if v["label"] in run.grown_once else None
+                           for v in values if v["label"] in step.grew})
+    run.scene = step.next_scene
+    if step.next_sol is None:  # no tip left inside the body
+        run.result.add_final(run.scene)
+        return "boundary: every tip reached the body's boundary (the cracks cut through)"
+    run.sol, run.elapsed, run.trials, run.parts = step.next_sol, step.cost, step.tried, step.cost_parts
+    run.last_grew = set(step.grew)
+    return None
 
 
 def _extend(scene, region, angles: dict, growing: list[dict], da: float, frozen: dict) -> list:

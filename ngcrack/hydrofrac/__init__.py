@@ -9,8 +9,9 @@ HydrofracResult (the JSON contract, the table, the animation); cli.py: `ngcrack 
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ngcrack.extras import lazy_exports
 
 #: public name -> its module, imported on first use (the command line's parser loads cli.py
 #: only, and with it this package: it must not load the solver)
@@ -19,18 +20,7 @@ _EXPORTS = {"KIC_RTOL": ".loop", "check_hydrofrac_options": ".loop", "hydrofrac"
 __all__ = ["KIC_RTOL", "HydrofracResult", "check_hydrofrac_options", "hydrofrac"]
 
 
-def __getattr__(name: str):
-    """A public name, imported from its module on first use."""
-    where = _EXPORTS.get(name)
-    if where is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(where, __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, __all__)
 
 
 if TYPE_CHECKING:

@@ -37,8 +37,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..elements.base import Discretization, Loads
+from ..elements.tdnns import tdnns_spaces, tdnns_terms
 from ..errors import InputError
-from ..geometry import boundary_regex
 from ..parallel import task_manager
 from .geometry import SolidMesh
 
@@ -136,14 +136,7 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
     if k not in ORDERS:
         raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
     mesh = smesh.mesh
-    dirichlet = boundary_regex(loads.dirichlet_labels)
-    normal_fixed = boundary_regex(set(loads.dirichlet_labels) | set(loads.roller))
-    spaces = [
-        ngs.HDivDiv(mesh, order=k, discontinuous=True, plus=True),
-        ngs.HCurl(mesh, order=k + 1, type1=True, dirichlet=dirichlet),
-        ngs.NormalFacetFESpace(mesh, order=k, dirichlet=normal_fixed),
-    ]
-    built = [f"stress: HDivDiv P{k}+, broken", f"u: HCurl order {k + 1}, type 1", f"u_hat_n: normal facet P{k}"]
+    spaces, built = tdnns_spaces(mesh, k, loads)
     has_crack = bool(smesh.cracks)
     G = where = None
     if has_crack:
@@ -169,14 +162,14 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
     sig, tau = trial[0], test[0]
     n = ngs.specialcf.normal(3)
     a = ngs.BilinearForm(fes, condense=True)
-    volume = ngs.InnerProduct(A(sig), tau) - ngs.InnerProduct(tau, ngs.Grad(trial[1])) - ngs.InnerProduct(sig, ngs.Grad(test[1]))
+    volume, boundary = tdnns_terms(A(sig), sig, tau, trial, test, n)
     a += volume.Compile() * ngs.dx
-    boundary = (n * (tau * n)) * (trial[1] * n - trial[2] * n) + (n * (sig * n)) * (test[1] * n - test[2] * n)
     a += boundary.Compile() * ngs.dx(element_boundary=True)
     if has_crack:
         plus = _element_set(mesh, np.flatnonzero(H.vec.FV().NumPy() > 0))
-        a += (-ngs.InnerProduct(tau, ngs.Grad(trial[4])) - ngs.InnerProduct(sig, ngs.Grad(test[4]))) * ngs.dx(definedonelements=plus)
-        a += ((n * (tau * n)) * (trial[4] * n) + (n * (sig * n)) * (test[4] * n)) * ngs.dx(element_boundary=True, definedonelements=plus)
+        volume, boundary = tdnns_terms(None, sig, tau, trial, test, n, ue=4)
+        a += volume * ngs.dx(definedonelements=plus)
+        a += boundary * ngs.dx(element_boundary=True, definedonelements=plus)
         minus = np.concatenate([c.minus for c in smesh.cracks])
         nu_cf = ngs.GridFunction(ngs.VectorL2(mesh, order=0))
         nu_cf.Set(ngs.CF((0, 0, 0)))

@@ -136,6 +136,7 @@ def _run_case(case: Case, pipeline) -> tuple[dict | None, Reference | None]:
     _reset_peak_memory()
     mem_start, _ = _memory_mb()
     scene = case.scene.with_(nu=case.nu) if case.friction is None else case.scene.with_(nu=case.nu, friction=case.friction)
+    cpu0 = time.process_time()  # the process's CPU time (all its threads): not inflated by other loads
     if case.adapt_maxh is not None:  # refines its own meshes: none is shared
         with warnings.catch_warnings():  # a budget reached is recorded in the row (estimate > maxh)
             warnings.simplefilter("ignore", UserWarning)
@@ -143,6 +144,7 @@ def _run_case(case: Case, pipeline) -> tuple[dict | None, Reference | None]:
                         **case.solve_options)
     else:
         sol = solve(scene, element=case.element, maxh=case.maxh, pipeline=pipeline, **case.solve_options)
+    cpu_solve = time.process_time() - cpu0
     _, mem_peak = _memory_mb()  # the solve's peak, before the error evaluation adds its own
     if case.vtk is not None and case.row:
         sol.save_vtk(case.vtk)
@@ -168,6 +170,7 @@ def _run_case(case: Case, pipeline) -> tuple[dict | None, Reference | None]:
             "n_active": int(len(sol.qp.active)) if sol.qp is not None else 0,
             "time_mesh": t["mesh"], "time_assemble": t["assemble"], "time_linear": t["linear"],
             "time_contact": t["contact"], "time_total": t.get("adapt_total", t["total"]), "time_error": t_err,
+            "time_cpu": cpu_solve,
             "time_tips": t.get("tips", 0.0),
             "memory_peak_mb": mem_peak, "memory_start_mb": mem_start,
             "kkt_max_penetration": sol.kkt["max_penetration"], "kkt_max_tension": sol.kkt["max_tension"],

@@ -52,6 +52,7 @@ ROW_SCHEMA: dict[str, type] = {
     "time_total": float,          # the whole solve, mesh included
     "time_error": float,          # evaluating the errors (not part of the solve)
     "time_tips": float,           # the tips' domain integrals (part of time_total)
+    "time_cpu": float,            # the whole solve's CPU seconds (process time, all threads; time_total's span)
     "memory_peak_mb": float,
     "memory_start_mb": float,
     "kkt_max_penetration": float,
@@ -79,6 +80,10 @@ ROW_SCHEMA: dict[str, type] = {
     "estimate_energy": float,     # the same, absolute
 }
 ROW_COLUMNS = tuple(ROW_SCHEMA)
+#: columns added since files were first written: a file without them is read with them empty
+#: and, when a sweep resumes it, rewritten once with them (its rows' cells unchanged)
+ADDED_COLUMNS = ("time_cpu",)
+_OLD_COLUMNS = tuple(c for c in ROW_COLUMNS if c not in ADDED_COLUMNS)
 #: the last column of a results file: a digest of the row's other cells, so that a row changed
 #: after the sweep wrote it (a key edited by hand would otherwise pass for another run) is refused
 CHECK_COLUMN = "row_check"
@@ -221,7 +226,10 @@ def read_results(path):
     n = len(ROW_COLUMNS)
     checked = bool(header) and header[-1] == CHECK_COLUMN  # files of older versions have no digests
     data_header = header[:-1] if checked else header
-    if tuple(data_header[:n]) != ROW_COLUMNS or not all(_is_tip_column(str(c)) for c in data_header[n:]):
+    old = tuple(data_header[: len(_OLD_COLUMNS)]) == _OLD_COLUMNS and tuple(data_header[:n]) != ROW_COLUMNS
+    m = len(_OLD_COLUMNS) if old else n
+    if tuple(data_header[:m]) not in (ROW_COLUMNS, _OLD_COLUMNS) or not all(_is_tip_column(str(c))
+                                                                          for c in data_header[m:]):
         raise InputError(f"out = {str(path)!r}: its columns are not those of a sweep of this version "
                           f"(expected {', '.join(ROW_COLUMNS)} and the tip columns); write to another file")
     for i, rec in enumerate(records, start=1):
@@ -239,6 +247,8 @@ def read_results(path):
     if checked:
         _check_digests(path, header, records)
         df = df.drop(columns=CHECK_COLUMN)
+    for col in ADDED_COLUMNS if old else ():  # a file of an earlier version: not recorded then
+        df.insert(ROW_COLUMNS.index(col), col, math.nan)
     return df
 
 
@@ -268,7 +278,10 @@ class ResultsFile:
                     fh.truncate(keep)
             self.existing = read_results(self.path)
             with open(self.path, newline="") as fh:
-                self._checked = next(csv.reader(fh), [""])[-1] == CHECK_COLUMN
+                first = next(csv.reader(fh), [""])
+            self._checked = first[-1] == CHECK_COLUMN
+            if any(c not in first for c in ADDED_COLUMNS) and tuple(self.existing.columns) == self.columns:
+                self._upgrade()
             if tuple(self.existing.columns) != self.columns:
                 raise InputError(f"out = {str(self.path)!r}: its columns are not this sweep's (another scene's "
                                   f"tips?); write to another file")
@@ -277,6 +290,20 @@ class ResultsFile:
             buf = io.StringIO()  # tip columns hold a comma (K_I[0,last]): quoted
             csv.writer(buf, lineterminator="\n").writerow((*self.columns, CHECK_COLUMN))
             self._header = buf.getvalue()
+
+    def _upgrade(self) -> None:
+        """Rewrite a file of an earlier version with this version's columns (the added ones
+        empty, every row's digest recomputed), atomically: the resumed sweep appends to it."""
+        buf = io.StringIO()
+        writer = csv.writer(buf, lineterminator="\n")
+        writer.writerow((*self.columns, CHECK_COLUMN))
+        for rec in self.existing.to_dict("records"):
+            cells = [_format(rec.get(c, math.nan)) for c in self.columns]
+            writer.writerow([*cells, row_check(cells)])
+        tmp = self.path.with_name(self.path.name + ".upgrade")
+        tmp.write_text(buf.getvalue())
+        os.replace(tmp, self.path)
+        self._checked = True
 
     def _append(self, text: str) -> None:
         fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
