@@ -201,6 +201,10 @@ class SolveOptions:
         return bool(wanted) and self.crack_model == "contact"
 
     def check_for(self, scene) -> None:
-        """The checks that need the scene: friction with the chosen solver, and with a crack model."""
+        """The checks that need the scene: friction with the chosen solver, and with a crack
+        model; hp layers only where the scene has a crack tip inside the body to grade towards."""
+        if self.hp and not scene.tip_points():
+            raise InputError(f"hp = {self.hp}: scene {scene.name!r} has no crack tip inside the body, so the hp "
+                             f"layers have nothing to refine towards; leave hp out (or 0)")
         if self.crack_model == "contact" and (self.tangential or any(c.friction > 0 for c in scene.cracks)):
             check_friction_solver(self.qp_solver, self.friction_method)

@@ -6,6 +6,8 @@ What is checked, and against what:
   each with an InputError naming the field, before the first solve (the solve is replaced by one
   that fails the test if it is reached);
 - `Scene.from_toml` of a directory, a missing file and a binary file: one InputError naming the file;
+- `nc.solve(hp=...)` on a scene without a crack tip inside the body is refused naming hp, before
+  any meshing, as `ngcrack solve --hp` is; hp = 0 stays allowed;
 - a tip stopped by a hole keeps its reason in its rows (table, CSV and JSON) and no load factor
   is written as infinity.
 """
@@ -57,6 +59,21 @@ def test_grow_takes_a_scene_name_as_solve_does():
     by_scene = nc.grow(nc.scenes.load(SCENE), da=0.2, steps=1, frames=False, **FAST)
     assert by_name.scene == by_scene.scene
     assert by_name.table["K_I"].tolist() == by_scene.table["K_I"].tolist()  # the same run, to the bit
+
+
+def test_solve_refuses_hp_without_a_tip_before_meshing(monkeypatch):
+    from ngcrack import pipeline
+
+    def reached(*args, **kwargs):
+        raise AssertionError("meshing ran before the input was refused")
+
+    monkeypatch.setattr(pipeline.Pipeline, "mesh", reached)
+    with pytest.raises(InputError) as err:
+        nc.solve("no-crack", hp=2)
+    assert "hp = 2: scene 'no-crack' has no crack tip inside the body" in str(err.value)
+    monkeypatch.undo()
+    sol = nc.solve("no-crack", hp=0, maxh=0.5)
+    assert sol.tips == [] and math.isfinite(sol.ndof["total"])
 
 
 @pytest.mark.parametrize("what", ["directory", "missing", "binary"])
