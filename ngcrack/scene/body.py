@@ -162,6 +162,16 @@ def _check_mesh_values(scene, diam: float) -> dict[str, float]:
     return out
 
 
+def _with_on_every_crack(cracks, key: str, value) -> tuple:
+    """`cracks` (Crack objects, their tables or bare point lists) with field `key` set to
+    `value` on every one (`Scene.with_`'s friction and pressure)."""
+    if isinstance(cracks, (str, bytes, Mapping)) or not isinstance(cracks, Sequence):
+        raise SceneError(f"crack = {short(cracks)}: must be a list of cracks")
+    return tuple(dataclasses.replace(c, **{key: value}) if isinstance(c, Crack)
+                 else {**c, key: value} if isinstance(c, Mapping) else {"points": c, key: value}
+                 for c in cracks)
+
+
 @dataclass(frozen=True, kw_only=True)
 class Scene:
     """A cracked 2D elastic body: polygon, cracks, material, loads, supports, mesh sizes.
@@ -476,24 +486,10 @@ class Scene:
         """
         names = [f.name for f in dataclasses.fields(self)]
         mat_keys = ("E", "nu", "plane")
-        if "friction" in changes:
-            mu = friction_coefficient(changes.pop("friction"), "friction")
-            cracks = changes.get("cracks", self.cracks)
-            if isinstance(cracks, (str, bytes, Mapping)) or not isinstance(cracks, Sequence):
-                raise SceneError(f"crack = {short(cracks)}: must be a list of cracks")
-            changes["cracks"] = tuple(
-                dataclasses.replace(c, friction=mu) if isinstance(c, Crack)
-                else {**c, "friction": mu} if isinstance(c, Mapping) else {"points": c, "friction": mu}
-                for c in cracks)
-        if "pressure" in changes:
-            p = check_pressure(changes.pop("pressure"), "pressure")
-            cracks = changes.get("cracks", self.cracks)
-            if isinstance(cracks, (str, bytes, Mapping)) or not isinstance(cracks, Sequence):
-                raise SceneError(f"crack = {short(cracks)}: must be a list of cracks")
-            changes["cracks"] = tuple(
-                dataclasses.replace(c, pressure=p) if isinstance(c, Crack)
-                else {**c, "pressure": p} if isinstance(c, Mapping) else {"points": c, "pressure": p}
-                for c in cracks)
+        for key, check in (("friction", friction_coefficient), ("pressure", check_pressure)):
+            if key in changes:
+                changes["cracks"] = _with_on_every_crack(changes.get("cracks", self.cracks), key,
+                                                         check(changes.pop(key), key))
         unknown = [k for k in changes if k not in names and k not in mat_keys]
         if unknown:
             allowed = ", ".join(names + list(mat_keys))
