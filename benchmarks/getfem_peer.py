@@ -65,7 +65,7 @@ SCENES = {"griffith": "free", "inclined-compression": "contact"}
 #: grows fast away from them), a coarse far field and a fine tip (the efficient path at order 3)
 MESHES = {
     "scene": [(4.0, 0.2, 0.02, None), (2.0, 0.1, 0.01, None), (1.0, 0.05, 0.005, None), (0.5, 0.025, 0.001, None)],
-    "graded": [(2.0, 0.4, 0.01, 0.5), (2.0, 0.2, 0.002, 0.5), (2.0, 0.2, 0.0005, 0.5), (2.0, 0.1, 0.0001, 0.5)],
+    "graded": [(4.0, 0.5, 0.005, 0.5), (2.0, 0.2, 0.002, 0.5), (2.0, 0.2, 0.0005, 0.5), (2.0, 0.1, 0.0001, 0.5)],
 }
 #: GetFEM's ladder: the mesh size h around the crack (graded outside), from coarse
 GETFEM_H = [0.4, 0.2, 0.1, 0.07, 0.05, 0.035, 0.025]
