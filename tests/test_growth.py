@@ -140,10 +140,20 @@ def test_json_contract(tension_mts):
         for t in s["tips"]:
             assert list(t) == ["crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "grew", "T", "stopped"]
         assert max(s["kkt"].values()) < 1e-8
+        assert s["error_estimate"] is None  # computed only with estimate=True
     assert [t["grew"] for t in d["steps"][0]["tips"]] == [True, True]
     assert [t["grew"] for t in d["steps"][1]["tips"]] == [False, False]
     assert len(d["cracks"][0]["points"]) == 4
     json.dumps(d, allow_nan=False)
+
+
+def test_error_estimate_per_step_when_asked():
+    """grow(..., estimate=True): each step's relative estimate, step 0's equal to a fresh solve's."""
+    scene = inclined_crack(angle=45.0, load=1.0)
+    res = nc.grow(scene, da=0.1, steps=1, K_Ic=1.0, criterion="mts", estimate=True)
+    ests = [s["error_estimate"] for s in res.to_json_dict()["steps"]]
+    assert len(ests) == 2 and all(0.0 < e < 1.0 for e in ests)
+    assert ests[0] == pytest.approx(nc.solve(scene).error_estimate.relative, rel=1e-9)
 
 
 def test_pure_mode_II_kink():
