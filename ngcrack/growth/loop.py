@@ -78,7 +78,7 @@ from .criteria import (
     secant_angle,
 )
 from .fatigue import Cycles
-from .holes import leave_holes
+from .holes import HOLE_REASON, leave_holes
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
 
 #: tips whose load factor lies within this fraction of the smallest grow together
@@ -373,9 +373,21 @@ def _stop_reason(run: _Run, n: int, steps: int, step: _Step) -> str | None:
 
 def _leave_holes(run: _Run, n: int, values: list[dict], step: _Step) -> str | None:
     """New cracks leaving the holes that tips reached (holes.py), and the solve of the scene with
-    them, into `step`; the reason if that solve fails, else None."""
-    left = leave_holes(run.scene if step.next_scene is None else step.next_scene, run.sol, values, run.frozen,
-                       run.passed, run.hole_crack)
+    them, into `step`; the reason if that solve fails, else None. Where a tip joined a hole, the hoop
+    stress is that of the joined scene (the hole is then the crack's blunt end): its solve, made here
+    where no tip was left to solve it for."""
+    scene, sol = (run.scene, run.sol) if step.next_scene is None else (step.next_scene, step.next_sol)
+    if sol is None:
+        joined = any(HOLE_REASON.search(why) and "joined it" in why and lab not in run.passed
+                     for lab, why in run.frozen.items())
+        sol = run.sol
+        if joined and not isinstance(scene, (str, CutThrough)):
+            try:
+                sol = solve_step(scene, run.sol, run.solver)
+            except (SolveError, InputError) as exc:
+                return f"solve: the solve after step {n} failed ({exc})"
+            step.tried += 1
+    left = leave_holes(scene, sol, values, run.frozen, run.passed, run.hole_crack)
     for lab, what in left.events:
         run.result.events.append((n, lab, what))
     if left.scene is None:

@@ -118,6 +118,7 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
         timings["contact"] = 0.0
     else:
         result = solve_contact(system.K, system.F, system.contact, G, linear_solver=opts["linear_solver"])
+        result.lam = result.lam * disc.force_unit  # the system is in units of E (element.build)
         y = result.y
         timings["linear"] = 0.0
         timings["contact"] = time.perf_counter() - t3
