@@ -271,15 +271,16 @@ def test_tip_that_would_cross_another_crack_stops():
     assert np.allclose(res.paths[0], [[0, 0.5], [1.0, 0.5]])
 
 
-def test_tip_that_would_reach_a_hole_stops_before_it():
-    """The hole-crack plate with the crack pointed at the hole: the near tip stops before
-    the hole (the reason kept), never closer than the scene checks allow; the far tip grows on."""
+def test_tip_that_reaches_a_hole_joins_it():
+    """The hole-crack plate with the crack pointed at the hole: the near tip joins the hole (its end on
+    the circle, the reason kept, no tip there any more); the far tip grows on."""
     scene = nc.scenes.load("hole-crack").with_(cracks=[nc.Crack(points=((12.6, 10.0), (15.0, 10.0)))])
     res = nc.grow(scene, da=0.25, steps=3, K_Ic=1.0, criterion="mts", maxh=2.0)
-    assert "reached hole[0]" in res.frozen["0,first"]
+    assert "reached hole[0]" in res.frozen["0,first"] and "joined it" in res.frozen["0,first"]
     near = np.asarray(res.paths[0][0])
-    assert 0.002 * scene.diameter < np.hypot(*(near - (10.0, 10.0))) - 2.0 < 0.25 * 1.6
-    assert res.paths[0][-1][0] > 15.0 + 0.5 * 0.25  # the far tip grew on once the near one had stopped
+    assert np.hypot(*(near - (10.0, 10.0))) == pytest.approx(2.0, abs=1e-12)
+    assert res.scenes[-1].hole_joins() == [(0, 0, 0)]
+    assert res.paths[0][-1][0] > 15.0 + 0.5 * 0.25  # the far tip grew on once the near one had joined the hole
 
 
 # ---------------------------------------------------------------------- command

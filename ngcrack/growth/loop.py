@@ -78,7 +78,7 @@ from .criteria import (
     secant_angle,
 )
 from .fatigue import Cycles
-from .holes import leave_holes
+from .holes import HOLE_REASON, leave_holes
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
 
 #: tips whose load factor lies within this fraction of the smallest grow together
@@ -183,9 +183,10 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     column counts the cycles (Paris law da/dN = C Delta_K^m integrated over the step), and
     the run stops when K_max reaches K_Ic.
     A tip reaching the boundary stops there; where the cracks then cut the body in pieces the
-    run ends ("cut through", the last segment kept in `paths`). A tip reaching a hole grows up
-    to it and stops; at_hole: "stop" (the default), or a length L0: a new crack of that length
-    leaves the hole where its hoop stress is largest (holes.py). Tips stop before meeting a
+    run ends ("cut through", the last segment kept in `paths`). A tip reaching a hole joins it
+    (the crack ends on the hole's edge, the ligament is cut, the other tips grow on; a body
+    that comes apart so ends the run "cut through" too); at_hole: "stop" (the default), or a
+    length L0: a new crack of that length leaves the hole where its hoop stress is largest (holes.py). Tips stop before meeting a
     crack, or where their new tip would close (frozen, with the reason); the run stops after
     `steps` steps, when no tip is left inside the body, or when none can grow.
     estimate: also compute every step's error estimate (the table's `error_estimate` column,
@@ -372,9 +373,21 @@ def _stop_reason(run: _Run, n: int, steps: int, step: _Step) -> str | None:
 
 def _leave_holes(run: _Run, n: int, values: list[dict], step: _Step) -> str | None:
     """New cracks leaving the holes that tips reached (holes.py), and the solve of the scene with
-    them, into `step`; the reason if that solve fails, else None."""
-    left = leave_holes(run.scene if step.next_scene is None else step.next_scene, run.sol, values, run.frozen,
-                       run.passed, run.hole_crack)
+    them, into `step`; the reason if that solve fails, else None. Where a tip joined a hole, the hoop
+    stress is that of the joined scene (the hole is then the crack's blunt end): its solve, made here
+    where no tip was left to solve it for."""
+    scene, sol = (run.scene, run.sol) if step.next_scene is None else (step.next_scene, step.next_sol)
+    if sol is None:
+        joined = any(HOLE_REASON.search(why) and "joined it" in why and lab not in run.passed
+                     for lab, why in run.frozen.items())
+        sol = run.sol
+        if joined and not isinstance(scene, (str, CutThrough)):
+            try:
+                sol = solve_step(scene, run.sol, run.solver)
+            except (SolveError, InputError) as exc:
+                return f"solve: the solve after step {n} failed ({exc})"
+            step.tried += 1
+    left = leave_holes(scene, sol, values, run.frozen, run.passed, run.hole_crack)
     for lab, what in left.events:
         run.result.events.append((n, lab, what))
     if left.scene is None:
@@ -403,7 +416,9 @@ def _next_step(run: _Run, values: list[dict], step: _Step) -> str | None:
     run.scene = step.next_scene
     if step.next_sol is None:  # no tip left inside the body
         run.result.add_final(run.scene)
-        return "boundary: every tip reached the body's boundary (the cracks cut through)"
+        joined = any("joined it" in why for why in run.frozen.values())
+        return ("boundary: every tip reached the body's boundary or joined a hole" if joined
+                else "boundary: every tip reached the body's boundary (the cracks cut through)")
     run.sol, run.elapsed, run.trials, run.parts = step.next_sol, step.cost, step.tried, step.cost_parts
     run.last_grew = set(step.grew)
     return None
@@ -437,8 +452,8 @@ class CutThrough:
 
 
 def _cut(scene, region, extensions) -> CutThrough | None:
-    """A CutThrough where a tip reaching the boundary separates a piece of the body, else None."""
-    ends = [e for e in extensions if e.outcome == "boundary"]
+    """A CutThrough where a tip reaching the boundary or joining a hole separates a piece of the body, else None."""
+    ends = [e for e in extensions if e.outcome in ("boundary", "hole") and e.point is not None]
     if not ends:
         return None
     cracks = extended_cracks(scene, extensions)
@@ -447,7 +462,9 @@ def _cut(scene, region, extensions) -> CutThrough | None:
         return None
     new = _grown(scene, extensions)
     where = ", ".join(f"tip {tip_label(e.crack, e.end)} at ({e.point[0]:.4g}, {e.point[1]:.4g})" for e in ends)
-    return CutThrough(f"cut through: {where} reached the boundary and the cracks cut the body in "
+    what = "the boundary" if all(e.outcome == "boundary" for e in ends) else (
+        "a hole" if all(e.outcome == "hole" for e in ends) else "the boundary or a hole")
+    return CutThrough(f"cut through: {where} reached {what} and the cracks cut the body in "
                       f"{pieces(region, after)} pieces", after, None if isinstance(new, str) else new)
 
 

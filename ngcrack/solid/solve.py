@@ -19,12 +19,21 @@ from ..errors import InputError
 from ..hybrid import condense
 from ..parallel import task_manager
 from ..schur import Factorization
+from . import h1
 from .contact import solve_contact
 from .element import ORDERS, build
 from .geometry import SolidMesh, make_mesh
 from .output import SolidSolution
 from .scene import SolidScene
 
+#: the 3D elements and their orders: hybridized TDNNS (the default), the displacement baselines
+ELEMENT_ORDERS = {"tdnns": ORDERS, "h1p1": (1,), "h1p2": (2,)}
+#: the builders, (smesh, E, nu, loads, order, pressure) -> SolidDiscretization
+BUILDERS = {"tdnns": lambda smesh, E, nu, loads, order, pressure: build(smesh, E, nu, loads, order, pressure),
+            "h1p1": lambda smesh, E, nu, loads, order, pressure: h1.build(smesh, E, nu, loads, "h1p1", pressure),
+            "h1p2": lambda smesh, E, nu, loads, order, pressure: h1.build(smesh, E, nu, loads, "h1p2", pressure)}
+#: checks of the scene an element needs before any meshing
+SCENE_CHECKS = {"h1p1": h1.check_scene, "h1p2": h1.check_scene}
 #: crack_model values: unilateral contact, traction-free faces (one linear solve)
 CRACK_MODELS = ("contact", "free")
 #: the options a 3D solve takes (others are refused by name)
@@ -55,11 +64,13 @@ def check_options(options: dict) -> dict:
     if unknown:
         raise InputError(f"{unknown[0]}: not an option of a 3D solve; allowed: {', '.join(OPTIONS)}")
     element = options.get("element") or "tdnns"
-    if element != "tdnns":
-        raise InputError(f"element = {element!r}: 3D scenes are solved with tdnns (allowed values: tdnns)")
-    order = options.get("order") or 1
-    if order not in ORDERS:
-        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+    if element not in ELEMENT_ORDERS:
+        raise InputError(f"element = {element!r}: allowed values in 3D are {', '.join(ELEMENT_ORDERS)} (the weakly "
+                         "symmetric bdm/peers family is 2D only)")
+    allowed = ELEMENT_ORDERS[element]
+    order = options.get("order") or allowed[0]
+    if order not in allowed:
+        raise InputError(f"order = {order!r}: allowed values for {element} in 3D are {', '.join(map(str, allowed))}")
     model = options.get("crack_model") or "contact"
     if model not in CRACK_MODELS:
         raise InputError(f"crack_model = {model!r}: allowed values in 3D are {', '.join(CRACK_MODELS)}")
@@ -82,6 +93,7 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
         if c.friction > 0 and opts["crack_model"] == "contact":
             raise InputError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
                              "(frictionless contact only); set friction = 0")
+    SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
     t0 = time.perf_counter()
     timings = {}
     if smesh is None:
@@ -90,7 +102,9 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
     timings["mesh"] = time.perf_counter() - t0
     loads = scene_loads(scene)
     t1 = time.perf_counter()
-    disc = build(smesh, scene.material.E, scene.material.nu, loads, opts["order"])
+    pressure = [c.pressure for c in scene.cracks]
+    disc = BUILDERS[opts["element"]](smesh, scene.material.E, scene.material.nu, loads, opts["order"],
+                                     pressure if any(pressure) else None)
     timings["assemble"] = time.perf_counter() - t1
     t2 = time.perf_counter()
     system = condense(disc, loads)
@@ -104,6 +118,7 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
         timings["contact"] = 0.0
     else:
         result = solve_contact(system.K, system.F, system.contact, G, linear_solver=opts["linear_solver"])
+        result.lam = result.lam * disc.force_unit  # the system is in units of E (element.build)
         y = result.y
         timings["linear"] = 0.0
         timings["contact"] = time.perf_counter() - t3
