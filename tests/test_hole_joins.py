@@ -98,3 +98,22 @@ def test_growth_that_joins_a_hole_and_cuts_the_body_ends_cut_through():
     end = res.paths[1][-1]
     assert np.hypot(*(end - (10.0, 10.0))) == pytest.approx(2.0, abs=1e-12)
     assert len(res.steps) == 2
+
+
+def test_a_near_miss_breaks_into_the_hole_radially():
+    """A segment that would pass a circle 0.05 off its edge (thinner than the scene allows) ends on the
+    circle at the point nearest to the tip (radially), if the turn is at most GRAZE_TURN; a polygon,
+    or a turn beyond it, gives none."""
+    from ngcrack.growth import paths
+
+    hole = nc.Hole(center=(1.0, 0.0), radius=0.25, labels=("h",))
+    p, d = np.array([0.0, 0.3]), np.array([1.0, 0.0])
+    assert paths.hole_hit(hole, p, d, 1.5) is None
+    x = np.array(paths.graze_point(hole, p, d, 1.5))
+    assert np.hypot(*(x - (1.0, 0.0))) == pytest.approx(0.25, abs=1e-15)
+    u, w = x - p, np.array([1.0, 0.0]) - p
+    assert u[0] * w[1] - u[1] * w[0] == pytest.approx(0.0, abs=1e-15)  # on the line from the tip to the centre
+    assert paths.graze_point(hole, p, np.array([0.0, 1.0]), 1.5) is None  # a turn of 107 degrees
+    assert paths.graze_point(hole, p, d, 0.5) is None  # out of reach
+    x = np.array(paths.hole_hit(hole, np.array([0.0, 0.1]), d, 1.5))  # a hit: the first crossing, on the circle
+    assert x[0] < 1.0 and np.hypot(*(x - (1.0, 0.0))) == pytest.approx(0.25, abs=1e-15)
