@@ -119,3 +119,14 @@ def test_a_near_miss_breaks_into_the_hole_radially():
     assert paths.graze_point(hole, p, d, 0.5) is None  # out of reach
     x = np.array(paths.hole_hit(hole, np.array([0.0, 0.1]), d, 1.5))  # a hit: the first crossing, on the circle
     assert x[0] < 1.0 and np.hypot(*(x - (1.0, 0.0))) == pytest.approx(0.25, abs=1e-15)
+
+
+def test_an_edge_crack_that_joins_a_hole_ends_the_run_with_the_reason():
+    """An edge crack from the right edge grows into the hole: no tip is left, the plate is still one
+    piece (the hole opens to the edge), and the run says so; the last scene has the joined crack."""
+    scene = PLATE.with_(cracks=[nc.Crack(points=((20.0, 10.0), (13.0, 10.0)))])
+    res = nc.grow(scene, da=0.6, steps=3, K_Ic=1.0, criterion="mts", maxh=2.0)
+    assert res.stopped == "boundary: every tip reached the body's boundary or joined a hole"
+    last = res.scenes[-1]
+    assert last.tip_points() == [] and last.hole_joins() == [(0, -1, 0)] and len(last.parts()) == 1
+    assert np.hypot(*(res.paths[0][-1] - (10.0, 10.0))) == pytest.approx(2.0, abs=1e-12)
