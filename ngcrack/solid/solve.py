@@ -3,7 +3,8 @@
 scene -> mesh (geometry.make_mesh) -> hybridized TDNNS with the crack's jumps
 (element.build) -> the condensed sparse system (ngcrack.hybrid.condense, shared with 2D)
 -> the contact problem on it (contact.solve_contact: a primal-dual active set with one
-sparse factorization per active set) -> the fields, the crack summaries and the front's
+sparse factorization per active set; with friction, friction.solve_friction: a sparse
+semismooth Newton method on the Coulomb cone) -> the fields, the crack summaries and the front's
 fracture parameters (front.front_parameters). `nc.solve` sends a 3D scene here.
 """
 
@@ -22,6 +23,8 @@ from ..schur import Factorization
 from . import h1
 from .contact import solve_contact
 from .element import ORDERS, build
+from .friction import solve_friction
+from .friction_points import friction_points
 from .geometry import SolidMesh, make_mesh
 from .output import SolidSolution
 from .scene import SolidScene
@@ -98,10 +101,12 @@ def check_options(options: dict) -> dict:
 def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options) -> SolidSolution:
     """Solve the unilateral crack problem of a 3D scene (options: OPTIONS)."""
     opts = check_options(options)
-    for i, c in enumerate(scene.cracks):
-        if c.friction > 0 and opts["crack_model"] == "contact":
-            raise InputError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
-                             "(frictionless contact only); set friction = 0")
+    mu = [float(c.friction) for c in scene.cracks]
+    frictional = any(m > 0 for m in mu) and opts["crack_model"] == "contact"
+    if frictional and opts["element"] != "tdnns":
+        i = next(i for i, m in enumerate(mu) if m > 0)
+        raise InputError(f"crack[{i}].friction = {mu[i]:g}: Coulomb friction in 3D is solved with element = 'tdnns' "
+                         f"(not {opts['element']!r}); set friction = 0 or element = 'tdnns'")
     SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
     t0 = time.perf_counter()
     timings = {}
@@ -125,6 +130,15 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
         y = Factorization(system.K, opts["linear_solver"]).solve(system.F)
         timings["linear"] = time.perf_counter() - t3
         timings["contact"] = 0.0
+    elif frictional:
+        points = friction_points(smesh, disc, system, mu)
+        result = solve_friction(system.K, system.F, system.contact, G, points, linear_solver=opts["linear_solver"])
+        for name in ("lam", "lam_t", "bound"):  # the system is in units of E (element.build)
+            setattr(result, name, getattr(result, name) * disc.force_unit)
+        result.points = points
+        y = result.y
+        timings["linear"] = 0.0
+        timings["contact"] = time.perf_counter() - t3
     else:
         result = solve_contact(system.K, system.F, system.contact, G, linear_solver=opts["linear_solver"])
         result.lam = result.lam * disc.force_unit  # the system is in units of E (element.build)
