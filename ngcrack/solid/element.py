@@ -164,6 +164,8 @@ class SolidDiscretization(Discretization):
     #: per crack face (crack by crack) its constraint points, vertices first; -1 where the face's node
     #: carries no jump (on the front). None: P_order points per face, numbered face by face
     face_points: np.ndarray | None = None
+    #: the displacement of a trial, test or grid function's components (the displacement elements)
+    displacement_of: Callable | None = None
 
 
 def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None = None,

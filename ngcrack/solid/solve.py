@@ -3,7 +3,8 @@
 scene -> mesh (geometry.make_mesh) -> hybridized TDNNS with the crack's jumps
 (element.build) -> the condensed sparse system (ngcrack.hybrid.condense, shared with 2D)
 -> the contact problem on it (contact.solve_contact: a primal-dual active set with one
-sparse factorization per active set) -> the fields, the crack summaries and the front's
+sparse factorization per active set; with friction, friction.solve_friction: a sparse
+semismooth Newton method on the Coulomb cone) -> the fields, the crack summaries and the front's
 fracture parameters (front.front_parameters). `nc.solve` sends a 3D scene here.
 """
 
@@ -22,6 +23,8 @@ from ..schur import Factorization
 from . import h1
 from .contact import solve_contact
 from .element import ORDERS, build
+from .friction import solve_friction
+from .friction_points import friction_points
 from .geometry import SolidMesh, make_mesh
 from .output import SolidSolution
 from .scene import SolidScene
@@ -38,7 +41,10 @@ SCENE_CHECKS = {"h1p1": h1.check_scene, "h1p2": h1.check_scene}
 CRACK_MODELS = ("contact", "free")
 #: the options a 3D solve takes (others are refused by name)
 OPTIONS = ("element", "order", "maxh", "crack_h", "front_h", "grading", "crack_model", "linear_solver", "fronts",
-           "front_points", "qp_solver")
+           "front_points", "qp_solver", "estimate")
+#: the elements with an error estimate (ngcrack.solid.estimate); the displacement elements' stress is
+#: not equilibrated, so the Prager-Synge estimate has nothing to measure there
+ESTIMATES = ("tdnns",)
 
 
 def scene_loads(scene: SolidScene) -> Loads:
@@ -81,7 +87,13 @@ def check_options(options: dict) -> dict:
         v = options.get(key)
         if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
             raise InputError(f"{key} = {v!r}: must be a finite number > 0")
-    return {"element": element, "order": int(order), "crack_model": model,
+    estimate = options.get("estimate", False)
+    if not isinstance(estimate, bool):
+        raise InputError(f"estimate = {estimate!r}: must be True or False")
+    if estimate and element not in ESTIMATES:
+        raise InputError(f"estimate = True: 3D error estimates are for {', '.join(ESTIMATES)} only (element = "
+                         f"{element!r}: its stress C eps(u) is not equilibrated)")
+    return {"element": element, "order": int(order), "crack_model": model, "estimate": estimate,
             "linear_solver": options.get("linear_solver") or "auto",
             "fronts": options.get("fronts", True), "front_points": options.get("front_points")}
 
@@ -89,10 +101,12 @@ def check_options(options: dict) -> dict:
 def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options) -> SolidSolution:
     """Solve the unilateral crack problem of a 3D scene (options: OPTIONS)."""
     opts = check_options(options)
-    for i, c in enumerate(scene.cracks):
-        if c.friction > 0 and opts["crack_model"] == "contact":
-            raise InputError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
-                             "(frictionless contact only); set friction = 0")
+    mu = [float(c.friction) for c in scene.cracks]
+    frictional = any(m > 0 for m in mu) and opts["crack_model"] == "contact"
+    if frictional and opts["element"] != "tdnns":
+        i = next(i for i, m in enumerate(mu) if m > 0)
+        raise InputError(f"crack[{i}].friction = {mu[i]:g}: Coulomb friction in 3D is solved with element = 'tdnns' "
+                         f"(not {opts['element']!r}); set friction = 0 or element = 'tdnns'")
     SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
     t0 = time.perf_counter()
     timings = {}
@@ -116,6 +130,15 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
         y = Factorization(system.K, opts["linear_solver"]).solve(system.F)
         timings["linear"] = time.perf_counter() - t3
         timings["contact"] = 0.0
+    elif frictional:
+        points = friction_points(smesh, disc, system, mu)
+        result = solve_friction(system.K, system.F, system.contact, G, points, linear_solver=opts["linear_solver"])
+        for name in ("lam", "lam_t", "bound"):  # the system is in units of E (element.build)
+            setattr(result, name, getattr(result, name) * disc.force_unit)
+        result.points = points
+        y = result.y
+        timings["linear"] = 0.0
+        timings["contact"] = time.perf_counter() - t3
     else:
         result = solve_contact(system.K, system.F, system.contact, G, linear_solver=opts["linear_solver"])
         result.lam = result.lam * disc.force_unit  # the system is in units of E (element.build)
@@ -132,5 +155,11 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, **options)
         t4 = time.perf_counter()
         sol.fronts = front_parameters(sol, points=opts["front_points"])
         timings["fronts"] = time.perf_counter() - t4
+    if opts["estimate"]:
+        from .estimate import prager_synge
+
+        t5 = time.perf_counter()
+        sol.error_estimate = prager_synge(sol, loads)
+        timings["estimate"] = time.perf_counter() - t5
     timings["total"] = time.perf_counter() - t0
     return sol
