@@ -38,13 +38,14 @@ import numpy as np
 
 from . import elements as _elements
 from .crack_loads import pressure_cf
-from .elements import Discretization, Loads
+from .discretization import Discretization, Loads, PostProcessing
 from .errors import InputError
 from .geometry import CrackMesh, make_mesh
 from .hp import hp_mesh
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .materials import compliance
 from .options import SolveOptions
+from .post2d import PLANE
 from .scene import BoundaryCondition, Scene
 from .scene.points import held_directions
 from .scene.pressure import pressure_kind
@@ -202,7 +203,9 @@ class Pipeline:
     a growth path); it is not meant to be shared between threads.
     """
 
-    def __init__(self):
+    def __init__(self, post: PostProcessing = PLANE):
+        #: the post-processing of the body's dimension, chosen once (ngcrack.post2d.PLANE in 2D)
+        self.post = post
         self.counts = dict.fromkeys(STAGES, 0)
         self.redone: list[str] = []
         self._mesh: tuple | None = None  # (key, CrackMesh)
@@ -308,10 +311,11 @@ class Pipeline:
     @staticmethod
     def check(scene: Scene, options: SolveOptions, loads: Loads | None = None, size: bool = True) -> None:
         """Every check of a request that needs the scene, before any work: the options
-        against the scene (friction), the size guard and the thin parts (`size`), the
+        against the scene (friction), what the element cannot solve (nu = 1/2), the size guard and the thin parts (`size`), the
         supports of given loads, an undetermined pressure."""
         o = options
         o.check_for(scene)
+        _elements.check_material(o.element, scene.material)
         if size:
             check_request(scene, o.element, o.maxh, o.tip_h, o.crack_h, o.grading, order=o.order, max_dof=o.max_dof)
         if loads is not None:
@@ -361,7 +365,7 @@ class Pipeline:
         conditioning = condition_estimates(red) if o.condition else {}
         rec = recovery_stage(red, system, disc, answer.jn, case)
         timings["recover"] = rec.time
-        faces = faces_stage(system, disc, cmesh, rec, answer, normal_contact, mu if tangential else None,
+        faces = faces_stage(system, disc, self.post, rec, answer, normal_contact, mu if tangential else None,
                             [c.pressure for c in scene.cracks], case)
 
         # linear: the factorization and solves a plain linear solve needs too (with the
@@ -379,7 +383,7 @@ class Pipeline:
             ndof={"total": disc.fes.ndof, "global": system.n, "contact": m},
             built=list(disc.built) + [built_line(answer.qp, m, o, disc)],
             options=backend.report(o), solve_options=o, backend=backend,
-            conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces,
+            conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces, post=self.post,
         )
         self.post_process(sol, loads)
         self._pending = [r for r in self._pending if r() is not None and r().estimate_pending] + [weakref.ref(sol)]
@@ -402,10 +406,9 @@ class Pipeline:
                              f"{residual:.1e} of its solve); is every part of the body held?")
         return red
 
-    @staticmethod
-    def post_process(sol: Solution, loads: Loads) -> None:
+    def post_process(self, sol: Solution, loads: Loads) -> None:
         """The tips' K_I, K_II, G and the error estimate of a solved `sol` (their times in sol.timings)."""
-        tips_stage(sol, loads)
+        tips_stage(sol, loads, self.post)
         # computed when first asked for; the Parameters of `loads` change with the next load value,
         # so a pending estimate is settled before that (Pipeline.discretization)
-        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model))
+        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model, self.post))

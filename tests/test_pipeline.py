@@ -124,3 +124,26 @@ def test_solve_takes_a_scene_name_and_refuses_anything_else():
         nc.solve("griffith", loads="abc")
     with pytest.raises(TypeError, match="warm_start"):
         nc.solve("griffith", warm_start="abc")
+
+
+def test_what_an_element_cannot_solve_is_refused_before_any_meshing(scene):
+    """h1p1 at nu = 1/2 in plane strain: an InputError naming material.nu and the elements
+    that can, raised by Pipeline.check (0 meshes, 0 assemblies)."""
+    pipe = Pipeline()
+    incompressible = scene.with_(nu=0.5, plane="strain")
+    with pytest.raises(nc.InputError, match=r"material\.nu = 0\.5.*allowed elements at nu = 0\.5: peers, bdm, tdnns"):
+        pipe.run(incompressible, SolveOptions(element="h1p1", **COARSE))
+    assert pipe.counts["mesh"] == 0 and pipe.counts["assemble"] == 0
+
+
+def test_every_family_implements_the_methods_the_stages_call():
+    """Every family's Discretization overrides each method of the base class that the
+    stages and the condensed system call (none is an optional attribute)."""
+    from ngcrack.discretization import Discretization
+    from ngcrack.elements import base, h1, tdnns
+
+    methods = ("fields", "boundary_values", "traction", "constraint_map", "constraint_positions", "crack_jumps",
+               "tangential_jump", "held_mean_rows")
+    for cls in (base.WeaklySymmetricHybrid, tdnns.TdnnsDiscretization, h1.H1Discretization):
+        missing = [m for m in methods if getattr(cls, m) is getattr(Discretization, m)]
+        assert missing == [], f"{cls.__name__} does not implement {missing}"

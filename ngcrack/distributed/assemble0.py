@@ -14,8 +14,7 @@ import weakref
 
 import numpy as np
 
-from ..contact import QPResult, constraint_positions
-from ..post import endpoint_map
+from ..contact import QPResult
 from ..solution import Backend, Solution
 from ..stages import CrackAnswer, Recovered, SolveError, faces_stage
 from .gather import scatter_into
@@ -42,8 +41,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
     m = len(system.contact)
     G, qp = None, None
     if len(normal_contact):
-        G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(
-            disc.fes.components[disc.jn], cmesh, disc.facet_order)
+        G = disc.constraint_map()
     gf = system.expand(y)
     if not np.all(np.isfinite(gf.vec.FV().NumPy())):
         raise SolveError(f"{case}: the local recovery gave non-finite values")
@@ -52,11 +50,11 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
     if m and o.crack_model == "contact":
         rng = disc.fes.Range(disc.jn)
         active = np.flatnonzero(flags[rng.start:rng.stop])
-        positions = constraint_positions(disc, cmesh)
+        positions = disc.constraint_positions()
         qp = QPResult(j=jn, w=G @ jn, multiplier=np.zeros(len(jn)), active=active, solver="distributed-pdas",
                       iterations=info["active_set_steps"], crack=positions[0], s=positions[1])
     answer = CrackAnswer(qp=qp, G=G, jn=jn, time=0.0)
-    faces = faces_stage(system, disc, cmesh, rec, answer, normal_contact, None, [c.pressure for c in scene.cracks], case)
+    faces = faces_stage(system, disc, pipe.post, rec, answer, normal_contact, None, [c.pressure for c in scene.cracks], case)
     if qp is not None and faces.forces is not None:
         qp.multiplier = np.asarray(faces.forces)
         qp.kkt = dict(faces.kkt)
@@ -77,7 +75,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
         built=list(disc.built) + [f"distributed over {info['ranks']} ranks ({info['subdomains']} subdomains): CG with "
                                   f"BDDC, {info['active_set_steps']} active-set steps, CG steps {info['cg_steps']}"],
         options=report, solve_options=o, backend=backend, conditioning={}, kkt_sampled=faces.kkt_sampled,
-        forces=faces.forces,
+        forces=faces.forces, post=pipe.post,
     )
     pipe.post_process(sol, loads)
     pipe._pending = [weakref.ref(sol)]
