@@ -193,6 +193,36 @@ def constraint_kkt(system: CondensedSystem, y: np.ndarray, contact: np.ndarray, 
     return kkt, forces
 
 
+@dataclass(frozen=True)
+class SparseAnswer:
+    """The sparse contact stage's answer: every condensed unknown `y`, the contact solver's
+    `result` (None for a free crack or none), the constraint map `G` (None without a crack),
+    and the seconds of the plain linear solve or of the contact solve."""
+
+    y: np.ndarray
+    result: object
+    G: object
+    time_linear: float
+    time_contact: float
+
+
+def sparse_contact_stage(system: CondensedSystem, disc: Discretization, crack_model: str,
+                         linear_solver: str) -> SparseAnswer:
+    """The contact problem on the sparse condensed system (`ngcrack.solid.contact.solve_contact`:
+    an active set with one sparse factorization per step, no dense Schur complement), or one
+    linear solve for a free crack or none."""
+    from .schur import Factorization
+    from .solid.contact import solve_contact
+
+    G = disc.constraint_map() if disc.has_crack else None
+    t0 = time.perf_counter()
+    if not disc.has_crack or crack_model == "free":
+        y = Factorization(system.K, linear_solver).solve(system.F)
+        return SparseAnswer(y=y, result=None, G=G, time_linear=time.perf_counter() - t0, time_contact=0.0)
+    result = solve_contact(system.K, system.F, system.contact, G, linear_solver=linear_solver)
+    return SparseAnswer(y=result.y, result=result, G=G, time_linear=0.0, time_contact=time.perf_counter() - t0)
+
+
 def built_line(qp, m: int, o: SolveOptions, disc: Discretization) -> str:
     """What the crack stage did, for `sol.built`."""
     if isinstance(qp, FrictionResult):

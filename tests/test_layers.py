@@ -24,7 +24,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
     ("discretization", ("discretization", "elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element")),
     ("post-processing", ("post", "post2d", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front")),
-    ("options and solution", ("options", "solution", "stages", "solid.output")),
+    ("options and solution", ("options", "solution", "stages", "solid.output", "solid.stages")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
     ("loops over the pipeline", ("adapt", "distributed")),
     ("one-shot solve", ("solve", "volume")),

@@ -1,0 +1,105 @@
+"""A 3D body in the pipeline's stages: what `ngcrack.pipeline.Pipeline` asks of a 3D scene.
+
+`SOLID` (a `SolidBody`) gives the pipeline's stages the parts that depend on the body's
+dimension, as `ngcrack.pipeline.PLANAR` does for a plane body: the mesh key and the OCC
+mesh (`solid.geometry`), the element and its key (`solid.element`), the loads' crack
+pressures and held means. `run_solid(pipeline, scene, options)` runs the stages on a 3D
+scene with the pipeline's caches:
+
+    scene -> mesh (Pipeline.mesh) -> forms, the loads as NGSolve Parameters
+          (Pipeline.discretization: a new load value re-assembles the load vector only)
+          -> condensed system (Pipeline.system: a new load rebuilds F only)
+          -> contact (stages.sparse_contact_stage: the sparse active set, no dense Schur
+             complement) -> SolidSolution -> the fronts' K_I, K_II, K_III, G
+
+`options` is the checked dict of `solid.solve.check_options` with the mesh sizes.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+import ngsolve as ngs
+
+from ..discretization import Loads, refuse
+from ..parallel import task_manager
+from ..stages import sparse_contact_stage
+from .element import build
+from .geometry import SolidMesh, make_mesh
+from .output import SolidSolution
+from .scene import SolidScene
+
+#: the keys of a 3D solve's options dict that size the mesh
+SIZES = ("maxh", "crack_h", "front_h", "grading")
+
+
+class SolidBody:
+    """What the stages ask of a 3D body (module docstring)."""
+
+    dimension = 3
+
+    def mesh_key(self, scene: SolidScene, options: dict) -> tuple:
+        """The domain, the cracks' geometry and the resolved mesh sizes."""
+        d = scene.to_dict()
+        cracks = [{k: v for k, v in c.items() if k not in ("friction", "pressure")} for c in d.get("crack", [])]
+        sizes = scene.mesh_sizes(*(options.get(k) for k in SIZES))
+        return json.dumps({"domain": d["domain"], "crack": cracks, "sizes": sizes}, sort_keys=True)
+
+    def make_mesh(self, scene: SolidScene, options: dict) -> SolidMesh:
+        """The OCC mesh of the scene (`solid.geometry.make_mesh`)."""
+        return make_mesh(scene, *(options.get(k) for k in SIZES))
+
+    def element_key(self, scene: SolidScene, options: dict) -> tuple:
+        """The element and its order, the material."""
+        return options["element"], options["order"], scene.material.E, scene.material.nu
+
+    def build(self, scene: SolidScene, smesh: SolidMesh, options: dict, loads: Loads):
+        """The hybridized TDNNS discretization (`solid.element.build`)."""
+        return build(smesh, scene.material.E, scene.material.nu, loads, options["order"])
+
+    def crack_pressure(self, scene: SolidScene, k: int, parameter) -> ngs.CoefficientFunction:
+        """A uniform pressure on crack k's faces (its Parameter)."""
+        if parameter is None:
+            raise refuse(f"crack[{k}].pressure", getattr(scene.cracks[k], "pressure", None), "a number",
+                         "a 3D crack takes a uniform pressure")
+        return ngs.CF(parameter)
+
+    def held_mean(self, scene: SolidScene) -> dict:
+        """A 3D scene has no pin or roller points."""
+        return {}
+
+
+#: the one 3D body
+SOLID = SolidBody()
+
+
+def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | None = None) -> SolidSolution:
+    """Solve the 3D scene through `pipeline`'s stages (module docstring); `options` checked
+    (`solid.solve.check_options`) with the mesh sizes; `smesh` a ready mesh of the scene."""
+    pipeline.redone = []
+    t0 = time.perf_counter()
+    timings = {}
+    smesh = smesh if smesh is not None else pipeline.mesh(scene, options)
+    timings["mesh"] = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    disc, loads = pipeline.discretization(scene, smesh, options)
+    timings["assemble"] = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    system = pipeline.system(disc, loads, False)
+    timings["condense"] = time.perf_counter() - t2
+    answer = sparse_contact_stage(system, disc, options["crack_model"], options["linear_solver"])
+    timings.update(linear=answer.time_linear, contact=answer.time_contact)
+    with task_manager():
+        gf = system.expand(answer.y)
+    public = {k: v for k, v in options.items() if k not in SIZES}
+    sol = SolidSolution(scene=scene, smesh=smesh, disc=disc, system=system, y=answer.y, gf=gf,
+                        contact=answer.result, G=answer.G, options=public, timings=timings)
+    if options["fronts"] and smesh.cracks:
+        from .front import front_parameters
+
+        t4 = time.perf_counter()
+        sol.fronts = front_parameters(sol, points=options["front_points"])
+        timings["fronts"] = time.perf_counter() - t4
+    timings["total"] = time.perf_counter() - t0
+    return sol
