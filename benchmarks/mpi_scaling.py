@@ -5,9 +5,9 @@
 For every mesh scale (maxh, tip_h and crack_h of the scene times the scale) it runs the
 serial direct solve in this process and `mpiexec -n N` distributed solves, and prints
 one table row per run: global unknowns, subdomains (N - 1: rank 0 holds none), the
-active-set steps and CG steps of the default preconditioner ("direct": masterinverse),
-the GMRES iterations NGSolve's BDDC needs on the same condensed system to 1e-6 and
-1e-8, the seconds per stage and the peak memory of every rank (MB).
+active-set steps and the CG steps of each (BDDC-preconditioned, to 1e-12), the CG steps
+with BDDC on the same condensed system without crack constraints to 1e-6 and 1e-8, the
+size of BDDC's coarse problem, the seconds per stage and the peak memory of every rank (MB).
 """
 
 from __future__ import annotations
@@ -29,14 +29,17 @@ def options(scene, scale: float):
     return SolveOptions(maxh=scene.maxh * scale, tip_h=scene.tip_h * scale, crack_h=scene.crack_h * scale)
 
 
-def bddc_iterations(scene, o, comm) -> list:
-    """GMRES steps with NGSolve's BDDC on the condensed system (no crack constraint) to 1e-6 and 1e-8."""
+def bddc_iterations(scene, o, comm) -> dict:
+    """CG steps with the distributed solve's BDDC on the sign-flipped condensed system (no crack constraint) to
+    1e-6 and 1e-8 (preconditioned residual), and the size of BDDC's coarse problem (global unknowns)."""
     import ngsolve as ngs
-    from ngsolve.krylovspace import GMResSolver
+    import numpy as np
 
     from ngcrack import elements
-    from ngcrack.distributed.bddc import preconditioner
+    from ngcrack.distributed.bddc import default_for, preconditioner
+    from ngcrack.distributed.krylov import Operator, pcg
     from ngcrack.distributed.mesh import distribute
+    from ngcrack.distributed.solve import _owned
     from ngcrack.materials import compliance
     from ngcrack.pipeline import ParameterLoads, Pipeline
 
@@ -45,19 +48,26 @@ def bddc_iterations(scene, o, comm) -> list:
     loads = ParameterLoads(scene).loads
     mat = scene.material
     disc = elements.build(o.element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=o.order)
-    pre, _ = preconditioner(disc, "bddc")
+    kind = default_for(disc)
+    pre, _ = preconditioner(disc, kind)
+    fes = disc.fes
+    free = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
+    wb = np.array([fes.CouplingType(d) == ngs.COUPLING_TYPE.WIREBASKET_DOF for d in range(fes.ndof)], dtype=bool)
+    coarse = int(comm.allreduce(int(np.count_nonzero(free & wb & _owned(fes)))))
     f = disc.f.vec.CreateVector()
     f.data = disc.f.vec
     f.data += disc.a.harmonic_extension_trans * f
-    out = []
+    f.data *= disc.sign
+
+    def project(v):
+        v.FV().NumPy()[~free] = 0.0
+
+    steps = []
     for tol in (1e-6, 1e-8):
         x = f.CreateVector()
         x[:] = 0.0
-        solver = GMResSolver(mat=disc.a.mat, pre=pre, tol=tol, maxiter=400, printrates=False)
-        solver.Solve(rhs=f, sol=x)
-        out.append(int(solver.iterations))
-    del ngs
-    return out
+        steps.append(pcg(Operator(A=disc.a.mat, C=pre, sign=disc.sign), f, x, project, tol=tol))
+    return {"steps": steps, "coarse": coarse, "kind": kind}
 
 
 def worker(scene_name: str, scale: float) -> None:
@@ -76,7 +86,7 @@ def worker(scene_name: str, scale: float) -> None:
     if sol is not None:
         info = sol.options["distributed"]
         print(json.dumps({"global": sol.ndof["global"], "info": info, "timings": sol.timings, "wall": wall,
-                          "bddc": its, "K_I": sol.tips[0].K_I if sol.tips else None}), flush=True)
+                          "bddc": its["steps"], "coarse": its["coarse"], "K_I": sol.tips[0].K_I if sol.tips else None}), flush=True)
 
 
 def serial(scene_name: str, scale: float) -> dict:
@@ -103,13 +113,13 @@ def main() -> None:
         return
     env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=os.path.dirname(HERE))
     mpiexec = os.path.join(os.path.dirname(sys.executable), "mpiexec")
-    print(f"{'scale':>5} {'N':>2} {'sub':>3} {'global':>7} {'AS':>3} {'CG':>8} {'BDDC 1e-6/1e-8':>14} "
+    print(f"{'scale':>5} {'N':>2} {'sub':>3} {'global':>7} {'AS':>3} {'CG':>8} {'BDDC 1e-6/1e-8':>14} {'coarse':>7} "
           f"{'mesh':>6} {'distr':>6} {'assem':>6} {'solve':>6} {'gather':>6} {'rank0':>6} {'total':>6} "
           f"{'K_I':>14}  memory MB per rank")
     for scale in (float(s) for s in args.scales.split(",")):
         r = serial(args.scene, scale)
         t = r["timings"]
-        print(f"{scale:5.2f} {1:2d} {1:3d} {r['global']:7d} {'-':>3} {'direct':>8} {'-':>14} {t['mesh']:6.2f} "
+        print(f"{scale:5.2f} {1:2d} {1:3d} {r['global']:7d} {'-':>3} {'direct':>8} {'-':>14} {'-':>7} {t['mesh']:6.2f} "
               f"{'-':>6} {t['assemble']:6.2f} {t['linear'] + t['contact']:6.2f} {'-':>6} {'-':>6} {t['total']:6.2f} "
               f"{r['K_I']:14.10f}  [{r['memory']}] (serial, this process)", flush=True)
         for n in (int(k) for k in args.ranks.split(",")):
@@ -123,7 +133,7 @@ def main() -> None:
             i, t = d["info"], d["timings"]
             rank0 = t["rank0_system"] + t["rank0_post"] + t.get("tips", 0.0)
             print(f"{scale:5.2f} {n:2d} {i['subdomains']:3d} {d['global']:7d} {i['active_set_steps']:3d} "
-                  f"{'+'.join(map(str, i['cg_steps'])):>8} {'/'.join(map(str, d['bddc'])):>14} {t['mesh']:6.2f} "
+                  f"{'+'.join(map(str, i['cg_steps'])):>8} {'/'.join(map(str, d['bddc'])):>14} {d['coarse']:7d} {t['mesh']:6.2f} "
                   f"{t['distribute']:6.2f} {t['assemble']:6.2f} {t['solve']:6.2f} {t['gather']:6.2f} {rank0:6.2f} "
                   f"{t['total']:6.2f} {d['K_I']:14.10f}  {i['memory_mb']}", flush=True)
 

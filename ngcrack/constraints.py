@@ -40,16 +40,33 @@ def faces_closed(normal_jump, scale: float) -> np.ndarray:
 G_SPARSE_FILL = 0.1
 
 
+def _blocks(Gs) -> tuple[int, np.ndarray]:
+    """The connected components of G's pattern (undirected): their number and each index's
+    component, numbered by their smallest index (as scipy's connected_components numbers
+    them; the blocks are a few unknowns each, so the propagation of the smallest index
+    stops after a few sweeps, and scipy.sparse.csgraph, which loads scipy.linalg, is not
+    needed)."""
+    coo = sp.coo_matrix(Gs)
+    rows, cols = np.concatenate([coo.row, coo.col]), np.concatenate([coo.col, coo.row])
+    label = np.arange(Gs.shape[0])
+    while True:
+        new = label.copy()
+        np.minimum.at(new, rows, label[cols])
+        if np.array_equal(new, label):
+            break
+        label = new
+    roots, label = np.unique(label, return_inverse=True)
+    return len(roots), label
+
+
 def _sparse_inverse(Gs) -> sp.csr_matrix:
     """The inverse of a sparse block-diagonal G (blocks = its connected components).
 
     Blocks of equal size are inverted together (numpy's batched inverse); G is read as
     a dense array, which costs no more memory than the dense m x m Schur complement.
     """
-    from scipy.sparse.csgraph import connected_components
-
     m = Gs.shape[0]
-    n_blocks, label = connected_components(Gs, directed=False)
+    n_blocks, label = _blocks(Gs)
     order = np.argsort(label, kind="stable")
     bounds = np.searchsorted(label[order], np.arange(n_blocks + 1))
     sizes = np.diff(bounds)

@@ -63,7 +63,6 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
-import scipy.linalg as sla
 
 from .constraints import ContactSolverError, _inverse_map, scaled_problem
 from .errors import InputError
@@ -90,6 +89,11 @@ KKT_TOL = 1e-9
 #: a second thread gains little, and on a busy machine the threads' synchronisation
 #: made a 320-unknown pdas solve take up to 2 s instead of 0.02 s (measured)
 QP_BLAS_THREADS = 1
+#: the BLAS threads are limited only from this many constraints on: the limit costs about
+#: 0.01-0.02 s the first time in a process (threadpoolctl inspects every loaded library),
+#: a tenth of a small solve, while below this size the QP's dense work takes a few
+#: milliseconds
+QP_BLAS_LIMIT_FROM = 100
 
 
 @lru_cache(maxsize=1)
@@ -101,8 +105,11 @@ def _threadpools():
     return ThreadpoolController()
 
 
-def _limited_blas():
-    """A context in which BLAS uses QP_BLAS_THREADS threads (no-op without threadpoolctl)."""
+def _limited_blas(m: int):
+    """A context in which BLAS uses QP_BLAS_THREADS threads for a QP of m constraints
+    (no-op below QP_BLAS_LIMIT_FROM and without threadpoolctl)."""
+    if m < QP_BLAS_LIMIT_FROM:
+        return contextlib.nullcontext()
     pools = _threadpools()
     return pools.limit(limits=QP_BLAS_THREADS, user_api="blas") if pools is not None else contextlib.nullcontext()
 
@@ -131,9 +138,19 @@ class QPResult:
     s: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
+#: up to this size spd_solve uses numpy's LU: a solve that needs no larger dense system
+#: then does not load scipy.linalg (0.05-0.09 s of CPU at import: its own BLAS)
+SMALL_DENSE = 200
+
+
 def spd_solve(M: np.ndarray, r: np.ndarray) -> np.ndarray:
     """M x = r for a symmetric M, positive definite up to round-off (Cholesky; a
-    symmetric indefinite solve where Cholesky breaks down)."""
+    symmetric indefinite solve where Cholesky breaks down; numpy's LU up to SMALL_DENSE
+    unknowns)."""
+    if len(M) <= SMALL_DENSE:
+        return np.linalg.solve(M, r)
+    import scipy.linalg as sla
+
     try:
         return sla.cho_solve(sla.cho_factor(M, check_finite=False), r, check_finite=False)
     except np.linalg.LinAlgError:
@@ -203,6 +220,8 @@ def _pdas(S: np.ndarray, b: np.ndarray, active: np.ndarray | None = None,
 
 def _extreme_eigenvalues(S: np.ndarray) -> tuple[float, float]:
     m = len(S)
+    import scipy.linalg as sla
+
     lo = sla.eigh(S, eigvals_only=True, subset_by_index=[0, 0], check_finite=False)[0]
     hi = sla.eigh(S, eigvals_only=True, subset_by_index=[m - 1, m - 1], check_finite=False)[0]
     return float(lo), float(hi)
@@ -322,7 +341,7 @@ def solve_qp(
     exceeds `kkt_tol`, the solver fails, or S and b are not finite. The dense work runs
     with QP_BLAS_THREADS BLAS threads.
     """
-    with _limited_blas():
+    with _limited_blas(len(b)):
         return _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, initial_guess)
 
 

@@ -14,12 +14,33 @@ sigma_h nu . t = 0 and sigma_h,n <= 0 on the crack),
         <= ||sigma_h - C eps(w)||_A^2 + 2 int_crack (-sigma_h,n) [w].nu ds,
 
 (expand |a - b|^2 + |a - c|^2, integrate by parts; the crack terms -sigma_n [u].nu = 0,
-sigma_n [w].nu <= 0 and sigma_h,n [u].nu <= 0 drop out). So
+sigma_n [w].nu <= 0 and sigma_h,n [u].nu <= 0 drop out).
 
-    eta^2 = sum_T eta_T^2,  eta_T^2 = ||sigma_h - C eps(w)||_{A,T}^2 + contact_T + osc_T^2
+The first term weighs the strain residual r = A sigma_h - eps(w) as
+||r||_C^2 = 2 mu ||dev r||^2 + (lambda + mu) ||tr r||^2 (2D; dev includes the skew part),
+and w, rebuilt from the discrete displacement, is not divergence free: its volumetric
+part grows like lambda as nu -> 1/2 (up to sqrt(lambda / mu) in eta). The estimate is
+made robust in lambda with the tr-dev-div inequality: the error e = sigma - sigma_h is
+divergence free with e n = 0 on the traction edges, so ||tr e|| <= C_td ||dev e||, and
 
-is a guaranteed upper bound whenever the hypotheses hold. w is reconstructed, element
-by element, from the facet displacement traces (the crack's minus side seeing
+    ||e||_A^2 = (eps(w) - A sigma_h, e) = (dev(-r), dev e) + (tr(-r), tr e) / 2
+              <= (sqrt(2 mu) ||dev r|| + sqrt(kappa) ||tr r||) ||e||_A,
+    kappa = min(lambda + mu, C_td^2 mu / 2),
+
+(||dev e|| <= sqrt(2 mu) ||e||_A, ||tr e|| <= 2 sqrt(lambda + mu) ||e||_A). So
+
+    eta^2 = sum_T eta_T^2,
+    eta_T^2 = 2 mu ||dev r||_T^2 + kappa ||tr r||_T^2 + contact_T + osc_T^2
+
+(terms "deviatoric", "volumetric", "contact", "oscillation"; "stress" is the sum of the
+first two), kappa = min(lambda + mu, VOLUMETRIC_WEIGHT mu). Up to nu = 0.3 in plane
+strain (lambda + mu = 2.5 mu there) this is the plain Prager-Synge estimate above, which
+is a guaranteed upper bound whenever the hypotheses hold; above, the volumetric weight
+stays at its nu = 0.3 value (C_td^2 = 5 assumed: C_td depends on the body and is not
+known, and the sum of two square roots costs a factor up to sqrt(2)), so that the
+effectivity stays where it is at nu = 0.3 (the estimates guide's table, to nu = 0.4999).
+
+w is reconstructed, element by element, from the facet displacement traces (the crack's minus side seeing
 u_hat - j): PEERS' P0 traces are the Crouzeix-Raviart values of a local P1 field, BDM's
 P1 traces give a local P2 field (vertex values averaged over the element's two edges,
 mid points the edge means), TDNNS' tangential-continuous displacement is sampled at the
@@ -35,6 +56,7 @@ Where the bound is not guaranteed (README, "Error estimates"):
   term (A acts on it as c_dev), but the identity above also needs (as sigma_h, rot(u - w)/2),
   bounded only with a Korn constant that is unknown on a cracked body;
 - TDNNS: sigma_h is normal-normal but not normal-tangential continuous (not in H(div));
+- nu > 0.3 in plane strain: the capped volumetric weight assumes C_td^2 <= 5;
 - body forces that are not P0 per triangle: the oscillation term
   osc_T = h_T / pi ||f - Pi_0 f||_T sqrt(c_dev) needs the same Korn constant;
 - BDM's P1 crack pressure may be slightly positive between its constraint points:
@@ -84,9 +106,9 @@ METHODS = {name: t.estimate for name, t in TRAITS.items() if t.estimate}
 CRACK_GAUSS_POINTS = 3
 
 
-#: lambda / mu from which the Prager-Synge number is said to be inflated (nu > 0.4545 in plane
-#: strain; at nu = 0.4999 lambda / mu = 5e3 and its square root 71)
-NEARLY_INCOMPRESSIBLE = 10.0
+#: kappa / mu at most: the weight of the volumetric strain residual (lambda + mu, capped at the
+#: value of nu = 0.3 in plane strain: the estimate's robustness in lambda, see the module)
+VOLUMETRIC_WEIGHT = 2.5
 
 
 @dataclass
@@ -111,26 +133,10 @@ class ErrorEstimate:
     mesh: ngs.Mesh = field(repr=False)
     time: float = 0.0
     min_jump: float = 0.0
-    #: lambda / mu of the material (0 for the recovery estimate, which does not depend on it)
-    lame_ratio: float = 0.0
-
-    @property
-    def incompressible_note(self) -> str:
-        """Why the number is large for a nearly incompressible material ("" otherwise): the
-        displacement reconstruction's overestimate grows like sqrt(lambda / mu) as nu -> 1/2,
-        while the stress, the jumps and K stay accurate (the estimates guide)."""
-        if self.lame_ratio < NEARLY_INCOMPRESSIBLE:
-            return ""
-        return (f"nearly incompressible (lambda/mu = {self.lame_ratio:.3g}): the displacement reconstruction "
-                f"overestimates by up to about sqrt(lambda/mu) = {math.sqrt(self.lame_ratio):.3g}, so this number "
-                f"is large while the stress, the jumps and K stay accurate")
-
     def line(self) -> str:
-        """The estimate in one line, as `ngcrack solve` prints it (with why it is large, where it is)."""
-        text = (f"error estimate ({self.method}{'' if self.guaranteed else ', not a guaranteed bound'}): "
+        """The estimate in one line, as `ngcrack solve` prints it."""
+        return (f"error estimate ({self.method}{'' if self.guaranteed else ', not a guaranteed bound'}): "
                 f"energy norm {self.energy:.3e}, relative {self.relative:.2%}")
-        note = self.incompressible_note
-        return f"{text}\n    ({note})" if note else text
 
     def __repr__(self) -> str:
         return f"ErrorEstimate({self.line()})"
@@ -419,6 +425,15 @@ def _oscillation(mesh, top: _Topology, f, A) -> np.ndarray:
     return (_element_sizes(top) / math.pi) ** 2 * np.maximum(osc2, 0.0) * A.c_dev
 
 
+def _robust_parts(dev_and_trace: tuple[np.ndarray, np.ndarray], A) -> dict:
+    """The stress term split: ||dev r||^2 2 mu ("deviatoric") and kappa ||tr r||^2 ("volumetric"),
+    r = A sigma_h - eps(w) = A d, from the per-triangle integrals of |dev d|^2 and (tr d)^2."""
+    dev2, tr2 = dev_and_trace
+    s = A.c_dev / 2.0 - A.c_tr  # (A tau) : tau = c_dev |dev tau|^2 + s (tr tau)^2; tr(A d) = 2 s tr d
+    kappa = min(1.0 / (4.0 * s), VOLUMETRIC_WEIGHT / (2.0 * A.c_dev))  # min(lambda + mu, c mu)
+    return {"deviatoric": A.c_dev * dev2, "volumetric": 4.0 * s * s * kappa * tr2}
+
+
 def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[str], quad=None,
                   sig_q=None) -> tuple[dict, float]:
     """The squared per-triangle parts of the mixed elements' estimate (see the module)."""
@@ -439,14 +454,16 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
         d[..., 1, 1] = sig_q[..., 1, 1] - (2 * mu * g[1][1] + lam * tr)
         d[..., 0, 1] = sig_q[..., 0, 1] - 2 * mu * e01
         d[..., 1, 0] = sig_q[..., 1, 0] - 2 * mu * e01
-        parts = {"stress": quad.energy(d, A)}
+        parts = _robust_parts(quad.deviatoric_and_trace(d), A)
     else:
         lag = _Lagrange(mesh, top, degree, 2)
         lag.set(W[nodes])
         g = lag.gradient()
         eps = 0.5 * (g + g.trans)
         d = sol.sigma - (2 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2))
-        parts = {"stress": _integrate(ngs.InnerProduct(A.apply(d), d), mesh)}
+        tr = ngs.Trace(d)
+        dev = d - 0.5 * tr * ngs.Id(2)
+        parts = _robust_parts((_integrate(ngs.InnerProduct(dev, dev), mesh), _integrate(tr * tr, mesh)), A)
     min_jump = 0.0
     if sol.crack_mesh.cracks and crack_model == "contact":
         parts["contact"], min_jump = _contact_term(sol, W, top, degree)
@@ -485,7 +502,9 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
         sig_q = quad.stress(sol.sigma) if quad is not None else None
         parts, min_jump = _prager_synge(sol, loads, crack_model, top, A, notes, quad, sig_q)
     eta2 = sum(parts.values())
-    terms = {k: float(parts[k].sum()) if k in parts else 0.0 for k in ("stress", "contact", "oscillation")}
+    terms = {k: float(parts[k].sum()) if k in parts else 0.0 for k in ("stress", "deviatoric", "volumetric", "contact", "oscillation")}
+    if "deviatoric" in parts:
+        terms["stress"] = terms["deviatoric"] + terms["volumetric"]
     if quad is not None:
         norm2 = float(np.sum(quad.energy(sig_q, A)))
     else:
@@ -496,14 +515,9 @@ def estimate(sol, loads, crack_model: str = "contact") -> ErrorEstimate:
     energy = float(np.sqrt(np.sum(eta**2)))
     relative = energy / math.sqrt(norm2) if norm2 > 0 else energy
     # no element's bound is guaranteed today (module docstring: weak symmetry, H(div), recovery)
-    lam, mu = lame_parameters(mat.E, mat.nu, mat.plane)
-    ratio = lam / mu if method != "zz-recovery" and math.isfinite(lam) else 0.0
-    est = ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=method,
-                        guaranteed=False, notes=notes, mesh=mesh, time=time.perf_counter() - t0,
-                        min_jump=min_jump, lame_ratio=ratio)
-    if est.incompressible_note:
-        notes.append(est.incompressible_note)
-    return est
+    return ErrorEstimate(energy=energy, relative=relative, eta=eta, terms=terms, method=method,
+                         guaranteed=False, notes=notes, mesh=mesh, time=time.perf_counter() - t0,
+                         min_jump=min_jump)
 
 
 # ------------------------------------------------------------------ true errors

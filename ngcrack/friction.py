@@ -52,7 +52,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 
 from .constraints import ContactSolverError, _inverse_map, faces_closed, scaled_problem
@@ -214,6 +213,8 @@ def _linear_step(pf: _PointForm, act: np.ndarray, slip: np.ndarray, tau: np.ndar
     coef = slip[i] * pf.mu_s[i]
     M[rows] += coef[:, None] * A[np.ix_(pf.p[i], F)]
     r[rows] += coef * c[pf.p[i]]
+    import scipy.linalg as sla  # (loaded by a solve with friction only)
+
     v[F] = sla.solve(M, r, check_finite=False)
     return v
 
@@ -347,7 +348,7 @@ def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_opti
         raise ContactSolverError("the crack problem has non-finite entries (S or b): the linear system is singular")
     if np.any(problem.mu < 0) or not np.all(np.isfinite(problem.mu)):
         raise InputError("friction: the Coulomb coefficients must be finite numbers >= 0")
-    with _limited_blas():
+    with _limited_blas(len(problem.b)):
         return _solve(problem, solver, dict(solver_options or {}), method, tol, max_iter, kkt_tol)
 
 

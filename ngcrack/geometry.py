@@ -281,8 +281,10 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
             # trace (peers) only through round-off: give it two segments at least
             h = {"maxh": float(np.linalg.norm(q - p)) / SUPPORT_SEGMENTS_MIN} if held else {}
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=0, bc=scene.labels[i], **h)
-    for hole in scene.holes:
-        _append_hole(geo, point, hole, center, scale)
+    joins = scene.hole_joins()
+    for k, hole in enumerate(scene.holes):
+        on = [cracks[i][e] for i, e, h in joins if h == k]
+        _append_hole(geo, point, hole, center, scale, on, tol)
     for k, pts in enumerate(cracks):
         if tip_h:
             pts = graded_polyline(pts, tip_h, crack_h or maxh_hint, grading_hint)
@@ -292,31 +294,42 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
     return geo
 
 
-def _append_hole(geo: SplineGeometry, point, hole, center: np.ndarray, scale: float) -> None:
+def _append_hole(geo: SplineGeometry, point, hole, center: np.ndarray, scale: float, on=(), tol: float = 0.0) -> None:
     """The hole's boundary, clockwise so that the body lies on its left (as on the outer
     polygon, counter-clockwise): the boundary elements' outward normal is then their
     tangent turned by -90 degrees everywhere. A circle is a ring of rational quadratic
     splines (netgen's spline3: exact arcs), one per HOLE_ARC_SEGMENTS mesh sizes of its
     perimeter; their points carry the hole's mesh size, so that netgen refines inside the
-    body next to the hole too, not only along its edges."""
+    body next to the hole too, not only along its edges. The crack ends `on` the hole (in
+    netgen's frame) are points of its boundary: a circle's arcs end there too (an arc end
+    within a quarter arc of one gives way to it), a polygon's edge is split there."""
     h = hole.edge_h / scale
     if hole.is_circle:
         c = (np.asarray(hole.center, dtype=float) - center) / scale
         r = hole.radius / scale
         n = 4 * max(1, int(np.ceil(2 * np.pi * r / (HOLE_ARC_SEGMENTS * h) / 4)))
-        phi = -2 * np.pi / n  # clockwise
-        ends = [point(c + r * np.array([np.cos(k * phi), np.sin(k * phi)]), h) for k in range(n)]
-        rc = r / np.cos(phi / 2)  # the control point: where the end tangents meet
-        ctrl = [point(c + rc * np.array([np.cos((k + 0.5) * phi), np.sin((k + 0.5) * phi)]), h) for k in range(n)]
-        for k in range(n):
-            geo.Append(["spline3", ends[k], ctrl[k], ends[(k + 1) % n]], leftdomain=1, rightdomain=0,
+        step = 2 * np.pi / n
+        fixed = [float(np.arctan2(x[1] - c[1], x[0] - c[0]) % (2 * np.pi)) for x in on]
+        gap = lambda a, b: abs((a - b + np.pi) % (2 * np.pi) - np.pi)  # noqa: E731
+        angles = sorted([k * step for k in range(n) if all(gap(k * step, a) > step / 4 for a in fixed)] + fixed,
+                        reverse=True)  # clockwise
+        xy = {a: x for a, x in zip(fixed, on)}
+        ends = [point(xy[a] if a in xy else c + r * np.array([np.cos(a), np.sin(a)]), h) for a in angles]
+        m = len(angles)
+        for k in range(m):
+            a, b = angles[k], angles[(k + 1) % m]
+            half = 0.5 * ((a - b) % (2 * np.pi))  # clockwise from a to b: b = a - 2 half
+            ctrl = point(c + r / np.cos(half) * np.array([np.cos(a - half), np.sin(a - half)]), h)
+            geo.Append(["spline3", ends[k], ctrl, ends[(k + 1) % m]], leftdomain=1, rightdomain=0,
                        bc=hole.labels[0], maxh=h)
         return
     pts = (np.asarray(hole.polygon, dtype=float) - center) / scale
     n = len(pts)
-    for i in range(n):  # edge i (vertex i to i+1) traversed backwards
-        geo.Append(["line", point(pts[(i + 1) % n], h), point(pts[i], h)], leftdomain=1, rightdomain=0,
-                   bc=hole.labels[i], maxh=h)
+    for i in range(n):  # edge i (vertex i to i+1) traversed backwards, split at the crack ends on it
+        cuts = [(t, x) for x in on if (t := _param_on_edge(pts[(i + 1) % n], pts[i], x, tol)) is not None]
+        chain = [pts[(i + 1) % n]] + [x for _, x in sorted(cuts, key=lambda tx: tx[0])] + [pts[i]]
+        for p, q in zip(chain[:-1], chain[1:]):
+            geo.Append(["line", point(p, h), point(q, h)], leftdomain=1, rightdomain=0, bc=hole.labels[i], maxh=h)
 
 
 def _crack_edges(mesh: ngs.Mesh, scene: Scene, k: int, verts: np.ndarray | None = None) -> CrackEdges:

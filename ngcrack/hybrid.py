@@ -31,7 +31,6 @@ from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 
 from .discretization import Discretization, Loads
@@ -366,6 +365,8 @@ def eliminate(B: np.ndarray, names: list, protected: np.ndarray) -> MeanConstrai
         raise ValueError(f"point supports: {k} mean constraints on {len(candidates)} unknowns; a pin or roller "
                          f"segment has too few boundary unknowns (widen it or refine the mesh there)")
     Bs = B[:, candidates]
+    import scipy.linalg as sla  # (loaded by a scene with pin or roller points only)
+
     _, R, perm = sla.qr(Bs, mode="economic", pivoting=True)
     diag = np.abs(np.diag(R))
     if diag[-1] <= RANK_RTOL * diag[0]:

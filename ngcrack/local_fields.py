@@ -328,6 +328,12 @@ class _Quadrature:
         dd = d[..., 0, 0] ** 2 + d[..., 0, 1] ** 2 + d[..., 1, 0] ** 2 + d[..., 1, 1] ** 2
         return np.sum(self.weights * (A.c_dev * dd - A.c_tr * tr * tr), axis=1)
 
+    def deviatoric_and_trace(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per triangle: the integrals of |dev d|^2 and (tr d)^2 for d (ne, nq, 2, 2)."""
+        tr = d[..., 0, 0] + d[..., 1, 1]
+        dd = d[..., 0, 0] ** 2 + d[..., 0, 1] ** 2 + d[..., 1, 0] ** 2 + d[..., 1, 1] ** 2
+        return np.sum(self.weights * (dd - 0.5 * tr * tr), axis=1), np.sum(self.weights * tr * tr, axis=1)
+
     def basis(self, degree: int, inward: float = 0.0) -> np.ndarray:
         """(nq, nk) Lagrange basis values at the points (vertices, then edge mid points
         opposite 0, 1, 2), of the nodes pulled `inward` of the way to the centroid."""

@@ -121,7 +121,7 @@ class PlanarBody:
 
     def crack_pressure(self, scene: Scene, k: int, parameter):
         """The pressure on crack k's faces as a CoefficientFunction of position (a uniform
-        one through `parameter`)."""
+        one through `parameter`); None where the element takes it as a number instead."""
         crack = scene.cracks[k]
         return pressure_cf(crack.pressure, np.asarray(crack.points), scene.diameter, parameter=parameter)
 
@@ -169,9 +169,13 @@ class ParameterLoads:
             pressure = getattr(crack, "pressure", None)
             if pressure is None:
                 continue
-            if isinstance(pressure, float):
-                self.pressures[k] = ngs.Parameter(0.0)
-            crack_pressure[k] = body.crack_pressure(scene, k, self.pressures.get(k))
+            param = ngs.Parameter(0.0) if isinstance(pressure, float) else None
+            cf = body.crack_pressure(scene, k, param)
+            if cf is None:  # the element takes it as a number
+                continue
+            if param is not None:
+                self.pressures[k] = param
+            crack_pressure[k] = cf
         self.loads = Loads(body_force=force, traction=traction, displacement=displacement,
                            clamped=frozenset(clamped), roller=frozenset(roller), crack_pressure=crack_pressure,
                            held_mean=body.held_mean(scene))

@@ -12,8 +12,6 @@ from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from .constraints import CLOSED_RTOL, faces_closed
 from .elements.facets import endpoint_map, facet_basis, facet_moments  # noqa: F401  (re-exported)
@@ -229,15 +227,20 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) 
         m = ngs.BilinearForm(space, check_unused=False)
         m += ((u.Trace() * t) * (v.Trace() * t) if vector else u * v) * region
         m.Assemble()
+        # M t = rhs on the traces' unknowns (M's nonzero diagonal), by NGSolve's sparse Cholesky
         rows_, cols_, vals_ = m.mat.COO()
-        M = sp.csr_matrix((np.asarray(vals_), (np.asarray(rows_), np.asarray(cols_))), shape=(space.ndof, space.ndof))
-        on = np.flatnonzero(np.abs(M.diagonal()) > 0)
-        rhs = np.zeros(space.ndof)
-        rhs[dofs] = -r[rows]
-        coef = np.zeros(space.ndof)
-        coef[on] = spla.spsolve(sp.csc_matrix(M[on][:, on]), rhs[on])
+        rows_, cols_, vals_ = np.asarray(rows_), np.asarray(cols_), np.asarray(vals_)
+        on = np.unique(rows_[(rows_ == cols_) & (np.abs(vals_) > 0)])
+        free = ngs.BitArray(space.ndof)
+        free.Clear()
+        for d in on:
+            free[int(d)] = True
+        rhs = m.mat.CreateColVector()
+        rhs.FV().NumPy()[:] = 0.0
+        rhs.FV().NumPy()[dofs] = -r[rows]
         gf = ngs.GridFunction(space)
-        gf.vec.FV().NumPy()[:] = coef
+        if len(on):
+            gf.vec.data = m.mat.Inverse(freedofs=free, inverse="sparsecholesky") * rhs
         for k, crack in enumerate(crack_mesh.cracks):
             mp = crack_mesh.mesh(crack.mid[:, 0], crack.mid[:, 1])
             vals = np.asarray(gf(mp)).reshape(len(crack), -1)

@@ -272,7 +272,8 @@ def tip_labels(scene) -> list[str]:
         pts = np.asarray(crack.points, dtype=float)
         for end, p in (("first", pts[0]), ("last", pts[-1])):
             on_boundary = min(point_segment_distance(p, poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
-            if on_boundary > ON_EDGE_RTOL * diameter and _clearance(scene, k, end, p) > JUNCTION_RTOL * diameter:
+            on_hole = getattr(scene, "on_hole", lambda x: None)(p) is not None  # a crack end joining a hole
+            if on_boundary > ON_EDGE_RTOL * diameter and not on_hole and _clearance(scene, k, end, p) > JUNCTION_RTOL * diameter:
                 out.append(tip_label(k, end))
     return out
 

@@ -114,3 +114,42 @@ def test_incompressible_limit_has_no_prager_synge_estimate():
     assert sol.error_estimate is None
     assert "material.nu" in sol.no_estimate and "error_estimate" not in sol.options
     assert "error_estimate" not in sol.to_json_dict()
+
+
+@pytest.mark.parametrize("nu", [0.2, 0.3, 0.45, 0.4999])
+def test_split_is_the_compliance_norm_up_to_nu_03_and_capped_above(nu):
+    from ngcrack.estimate import VOLUMETRIC_WEIGHT, _robust_parts
+    from ngcrack.local_fields import _Quadrature
+    from ngcrack.materials import lame_parameters
+
+    rng = np.random.default_rng(7)
+    d = rng.normal(size=(5, 6, 2, 2))  # sigma_h - C eps(w) at 6 points of 5 triangles, skew part too
+    quad = _Quadrature(lam=np.zeros((6, 3)), weights=rng.uniform(0.1, 1.0, size=(5, 6)), mips=None)
+    A = compliance(1000.0, nu)
+    lam, mu = lame_parameters(1000.0, nu)
+    parts = _robust_parts(quad.deviatoric_and_trace(d), A)
+    total = parts["deviatoric"] + parts["volumetric"]
+    r = A.apply(d)  # the strain residual A sigma_h - eps(w)
+    tr = r[..., 0, 0] + r[..., 1, 1]
+    dev = r - 0.5 * tr[..., None, None] * np.eye(2)
+    assert parts["deviatoric"] == pytest.approx(np.sum(quad.weights * 2 * mu * np.sum(dev**2, axis=(2, 3)), axis=1), rel=1e-12)
+    kappa = min(lam + mu, VOLUMETRIC_WEIGHT * mu)
+    assert parts["volumetric"] == pytest.approx(np.sum(quad.weights * kappa * tr**2, axis=1), rel=1e-10)
+    if lam + mu <= VOLUMETRIC_WEIGHT * mu * (1 + 1e-12):  # nu <= 0.3: the plain ||d||_A^2
+        assert total == pytest.approx(quad.energy(d, A), rel=1e-12)
+    else:
+        assert np.all(total < quad.energy(d, A))
+
+
+@pytest.mark.parametrize("element", ["peers", "bdm"])
+def test_manufactured_effectivity_does_not_grow_as_nu_tends_to_one_half(element):
+    # the manufactured stress does not depend on nu (u is divergence free): measured at maxh
+    # 0.1, peers 1.89 -> 1.73, bdm 1.10 -> 1.10 from nu = 0.3 to 0.4999 (the plain estimate: 8.4
+    # and 17.7 already at 0.499)
+    eff = {}
+    for nu in (0.3, 0.4999):
+        scene, loads, sig = manufactured(nu=nu)
+        sol = solve(scene, element=element, maxh=0.1, loads=loads)
+        eff[nu] = sol.error_estimate.energy / energy_error(sol, sig)
+    lo, hi = EFFECTIVITY[element]
+    assert lo <= eff[0.4999] <= hi and eff[0.4999] <= 1.05 * eff[0.3], eff

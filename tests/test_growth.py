@@ -140,10 +140,20 @@ def test_json_contract(tension_mts):
         for t in s["tips"]:
             assert list(t) == ["crack", "end", "x", "y", "K_I", "K_II", "G", "K_eq", "kink_deg", "grew", "T", "stopped"]
         assert max(s["kkt"].values()) < 1e-8
+        assert s["error_estimate"] is None  # computed only with estimate=True
     assert [t["grew"] for t in d["steps"][0]["tips"]] == [True, True]
     assert [t["grew"] for t in d["steps"][1]["tips"]] == [False, False]
     assert len(d["cracks"][0]["points"]) == 4
     json.dumps(d, allow_nan=False)
+
+
+def test_error_estimate_per_step_when_asked():
+    """grow(..., estimate=True): each step's relative estimate, step 0's equal to a fresh solve's."""
+    scene = inclined_crack(angle=45.0, load=1.0)
+    res = nc.grow(scene, da=0.1, steps=1, K_Ic=1.0, criterion="mts", estimate=True)
+    ests = [s["error_estimate"] for s in res.to_json_dict()["steps"]]
+    assert len(ests) == 2 and all(0.0 < e < 1.0 for e in ests)
+    assert ests[0] == pytest.approx(nc.solve(scene).error_estimate.relative, rel=1e-9)
 
 
 def test_pure_mode_II_kink():
@@ -261,15 +271,16 @@ def test_tip_that_would_cross_another_crack_stops():
     assert np.allclose(res.paths[0], [[0, 0.5], [1.0, 0.5]])
 
 
-def test_tip_that_would_reach_a_hole_stops_before_it():
-    """The hole-crack plate with the crack pointed at the hole: the near tip stops before
-    the hole (the reason kept), never closer than the scene checks allow; the far tip grows on."""
+def test_tip_that_reaches_a_hole_joins_it():
+    """The hole-crack plate with the crack pointed at the hole: the near tip joins the hole (its end on
+    the circle, the reason kept, no tip there any more); the far tip grows on."""
     scene = nc.scenes.load("hole-crack").with_(cracks=[nc.Crack(points=((12.6, 10.0), (15.0, 10.0)))])
     res = nc.grow(scene, da=0.25, steps=3, K_Ic=1.0, criterion="mts", maxh=2.0)
-    assert "reached hole[0]" in res.frozen["0,first"]
+    assert "reached hole[0]" in res.frozen["0,first"] and "joined it" in res.frozen["0,first"]
     near = np.asarray(res.paths[0][0])
-    assert 0.002 * scene.diameter < np.hypot(*(near - (10.0, 10.0))) - 2.0 < 0.25 * 1.6
-    assert res.paths[0][-1][0] > 15.0 + 0.5 * 0.25  # the far tip grew on once the near one had stopped
+    assert np.hypot(*(near - (10.0, 10.0))) == pytest.approx(2.0, abs=1e-12)
+    assert res.scenes[-1].hole_joins() == [(0, 0, 0)]
+    assert res.paths[0][-1][0] > 15.0 + 0.5 * 0.25  # the far tip grew on once the near one had joined the hole
 
 
 # ---------------------------------------------------------------------- command

@@ -19,7 +19,7 @@ import pytest
 
 import ngcrack as nc
 from ngcrack.cli import main
-from ngcrack.growth import criteria, fatigue, holes, paths
+from ngcrack.growth import criteria, fatigue, holes
 from ngcrack.scenes.handbook import centre_cracked_K, centre_cracked_strip
 
 MODE_II_PLS_EXACT = 77.3  # Amestoy and Leblond's exact PLS angle under pure mode II (degrees)
@@ -217,24 +217,23 @@ def test_bad_at_hole_refused_before_any_solve(tmp_path, capsys):
 
 
 def test_a_crack_through_a_hole_leaves_it_where_the_hoop_stress_is_largest():
-    """at_hole=1.0: the tip that reaches the hole grows up to it (HOLE_STOP times the clearance off its
-    edge) and stops; a new crack of length 1 leaves the far side of the hole, radially, where
+    """at_hole=1.0: the tip that reaches the hole joins it (the crack ends on the circle itself, that end
+    no tip any more); a new crack of length 1 starts on the far side of the hole's edge, radially, where
     Kirsch's hoop stress is largest (3p at (8, 10), the arriving tip's side left out), and grows on."""
     scene = _hole_crack()
     res = nc.grow(scene, da=0.25, steps=3, K_Ic=1.0, criterion="mts", maxh=2.0, at_hole=1.0)
-    gap = paths.HOLE_STOP * paths.HOLE_CLEARANCE_RTOL * scene.diameter
     near = res.paths[0][0]
-    assert np.hypot(*(near - (10.0, 10.0))) - 2.0 == pytest.approx(gap, rel=2e-3)  # the region's circle: a polygon
-    assert "reached hole[0]" in res.frozen["0,first"]
+    assert np.hypot(*(near - (10.0, 10.0))) == pytest.approx(2.0, abs=1e-12)  # on the circle, not its polygon
+    assert "reached hole[0]" in res.frozen["0,first"] and "joined it" in res.frozen["0,first"]
     assert len(res.paths) == 2
     start, end = res.paths[1][0], res.paths[1][-1]
-    r0 = np.hypot(*(start - (10.0, 10.0)))
-    assert r0 - 2.0 == pytest.approx(holes.NEW_CRACK_GAP * scene.diameter, rel=1e-9)
+    assert np.hypot(*(start - (10.0, 10.0))) == pytest.approx(2.0, abs=1e-12)  # starts on the hole's edge
     direction = math.degrees(math.atan2(*(end - start)[::-1]))
     assert abs(abs(direction) - 180.0) < 2.0  # radial, to the left: the far side's largest hoop stress
     assert any("crack 1 leaves hole[0]" in what for _, _, what in res.events)
     h = res.holes[0]
-    assert h["distance"] == pytest.approx(gap, rel=2e-3) and h["crack"] == 0
+    assert h["distance"] == pytest.approx(0.0, abs=1e-12) and h["crack"] == 0
+    assert [t for t in res.scenes[-1].tip_points()] == [(0, tuple(res.paths[0][-1])), (1, tuple(end))]
     # the hoop stress the new crack left from, against Kirsch's 3p (the crack beside it changes it a little)
     phi, hoop = holes.hoop_stress(nc.solve(res.scenes[1], maxh=2.0), scene.holes[0])
     away = np.abs(np.angle(np.exp(1j * phi))) > holes.ARRIVAL_SECTOR

@@ -91,9 +91,12 @@ def test_bad_holes_are_refused_by_field(holes, fragments):
     refused(fragments, holes=holes)
 
 
-def test_cracks_may_not_touch_or_cross_holes():
+def test_cracks_may_end_on_holes_but_not_cross_or_graze_them():
     hole = [{"center": [20, 20], "radius": 2}]
-    refused(["crack[0].points[1]", "lies on hole[0]"], holes=hole, cracks=[[[10, 20], [18, 20]]])
+    refused(["crack[0].points[1]", "only a crack's first and last"], holes=hole, cracks=[[[10, 20], [18, 20], [17, 25]]])
+    on = (20 + 2 * math.cos(3.0), 20 + 2 * math.sin(3.0))  # on the circle, no vertex of its polygon
+    refused(["crack[0].points[1]", "lies on hole[0]", "only a crack's first and last"], holes=hole,
+            cracks=[[[10, 20], on, [17, 25]]])
     refused(["crack[0].points: segment 0", "of hole[0]"], holes=hole, cracks=[[[10, 20], [30, 20]]])
     refused(["crack[0].points: segment 0", "crosses edge", "of hole[0]"], holes=hole, cracks=[[[10, 20.3], [30, 20.3]]])
     refused(["crack[0].points[0]", "lies outside", "outside every hole"], holes=hole, cracks=[[[20, 20], [30, 20]]])

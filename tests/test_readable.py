@@ -1,9 +1,8 @@
-"""What a user reads and gets: a Solution printed in a few lines, the error estimate's line
-saying why it is large as nu -> 1/2, and output files with the user's usual mode."""
+"""What a user reads and gets: a Solution printed in a few lines, an error estimate whose
+effectivity stays between 1 and 3 as nu -> 1/2, and output files with the user's usual mode."""
 
 from __future__ import annotations
 
-import math
 import os
 import warnings
 
@@ -33,16 +32,14 @@ def test_a_solution_prints_in_a_few_lines(griffith):
     assert len(repr(sol.error_estimate).splitlines()) <= 2
 
 
-def test_the_estimate_says_why_it_is_large_near_incompressibility(griffith):
+def test_the_estimate_stays_where_it_was_near_incompressibility(griffith):
+    # the volumetric strain residual is weighted by min(lambda + mu, 2.5 mu), not lambda + mu
     low, high = griffith[0.3].error_estimate, griffith[0.4999].error_estimate
-    assert low.incompressible_note == "" and "\n" not in low.line()
-    lam_over_mu = 2 * 0.4999 / (1 - 2 * 0.4999)  # plane strain
-    assert high.lame_ratio == pytest.approx(lam_over_mu, rel=1e-9)
-    assert "sqrt(lambda/mu)" in high.line() and f"{math.sqrt(lam_over_mu):.3g}" in high.line()
-    assert high.incompressible_note in high.notes
-    # the number is inflated while K_I stays where it was at nu = 0.3 (the plate's K_I does
-    # not depend on nu in plane strain under a traction load)
-    assert high.relative > 2 * low.relative
+    assert "\n" not in low.line() and "\n" not in high.line()
+    assert high.relative <= 1.5 * low.relative  # the plain Prager-Synge estimate: 16 times larger
+    assert high.terms["stress"] == pytest.approx(high.terms["deviatoric"] + high.terms["volumetric"], rel=1e-12)
+    # K_I stays where it was at nu = 0.3 (the plate's K_I does not depend on nu in plane
+    # strain under a traction load)
     k_low, k_high = griffith[0.3].tips[0].K_I, griffith[0.4999].tips[0].K_I
     assert abs(k_high / k_low - 1) < 0.02
 
@@ -67,12 +64,14 @@ def test_output_files_get_the_users_mode(tmp_path, umask_022):
     assert path.stat().st_mode & 0o777 == 0o600
 
 
-#: the estimate's effectivity (estimate / true energy error against a 4x finer solve, which
-#: agrees with a 6x finer one to 1%) of bdm on coarse graded meshes (maxh 4, crack_h 0.4,
-#: tip_h 0.04), measured: it grows from about 1.3-1.5 at nu = 0.3 to 36-48 at nu = 0.4999,
-#: below sqrt(lambda/mu) = 70.7 as the printed line says, while K_I moves by under 0.1%
-EFFECTIVITY = {("griffith", 0.3): 1.28, ("griffith", 0.4999): 36.2,
-               ("inclined-compression", 0.3): 1.50, ("inclined-compression", 0.4999): 48.2}
+#: the estimate's effectivity (estimate / true error, both the stress error in the compliance
+#: norm ||sigma - sigma_h||_A, the true one against a 4x finer solve, which agrees with a 6x
+#: finer one to 1.5%) of bdm on coarse graded meshes (maxh 4, crack_h 0.4, tip_h 0.04),
+#: measured (benchmarks/effectivity_nu.py): 1.28 -> 1.31 and 1.50 -> 1.50 from nu = 0.3 to
+#: 0.4999 (the plain Prager-Synge estimate, with the volumetric weight lambda + mu: 36.2 and
+#: 48.2 at 0.4999), while K moves by under 0.1%
+EFFECTIVITY = {("griffith", 0.3): 1.28, ("griffith", 0.4999): 1.31,
+               ("inclined-compression", 0.3): 1.50, ("inclined-compression", 0.4999): 1.50}
 EFF_COARSE = {"maxh": 4.0, "tip_h": 0.04, "crack_h": 0.4}
 EFF_FINE = {"maxh": 1.0, "tip_h": 0.005, "crack_h": 0.05}
 
@@ -90,5 +89,6 @@ def test_effectivity_as_nu_tends_to_one_half(name):
             eff[nu] = sol.error_estimate.energy / energy_error_against(sol, nc.solve(scene, element="bdm", **EFF_FINE))
             k_first[nu] = sol.tips[0].K_I if name == "griffith" else sol.tips[0].K_II
             assert eff[nu] == pytest.approx(EFFECTIVITY[(name, nu)], rel=0.1)
-            assert 1.0 <= eff[nu] <= math.sqrt(2 * nu / (1 - 2 * nu)) + 1.0  # the printed line's bound
+            assert 1.0 <= eff[nu] <= 3.0
+    assert eff[0.4999] <= 2.0 * eff[0.3]  # the target: at most 3, and at most twice the value at 0.3
     assert abs(k_first[0.4999] / k_first[0.3] - 1) < 0.01  # K stays where it was

@@ -52,6 +52,9 @@ def test_a_solve_loads_no_optional_part():
     assert {"ngsolve", "numpy", "scipy", "shapely"} <= _top(loaded)
     assert not _top(loaded) & NOT_FOR_A_SOLVE
     assert not {"ngcrack.explorer", "ngcrack.sweeps", "ngcrack.growth", "ngcrack.paper", "ngcrack.plots"} & loaded
+    # scipy.linalg loads its own BLAS (0.05-0.09 s of CPU): only friction, point supports,
+    # superlu and large dense QPs need it
+    assert not {"scipy.linalg", "scipy.sparse.linalg", "scipy.sparse.csgraph", "threadpoolctl"} & loaded
 
 
 def test_every_public_name_resolves():

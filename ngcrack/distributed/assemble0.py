@@ -64,7 +64,8 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
     timings.update(factorize=0.0, schur=0.0, qp=0.0, recover=timings["rank0_post"])
     timings["linear"] = timings["solve"] + timings["recover"]
     timings["contact"] = 0.0
-    backend = Backend(qp_solver="distributed-pdas", linear_solver="bddc-cg", schur="none", largest_dense=0,
+    linear = "bddc-cg" if info["preconditioner"].startswith("bddc") else "direct-cg"
+    backend = Backend(qp_solver="distributed-pdas", linear_solver=linear, schur="none", largest_dense=0,
                       tangential=False, friction=tuple(0.0 for _ in scene.cracks))
     report = backend.report(o)
     report["distributed"] = info
@@ -72,8 +73,9 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
         scene=scene, element=o.element, crack_mesh=cmesh, disc=disc, gf=rec.gf, fields=rec.fields,
         profiles=faces.profiles, kkt=faces.kkt, qp=qp, timings=timings,
         ndof={"total": disc.fes.ndof, "global": system.n, "contact": m},
-        built=list(disc.built) + [f"distributed over {info['ranks']} ranks ({info['subdomains']} subdomains): CG with "
-                                  f"BDDC, {info['active_set_steps']} active-set steps, CG steps {info['cg_steps']}"],
+        built=list(disc.built) + [f"distributed over {info['ranks']} ranks ({info['subdomains']} subdomains): CG, "
+                                  f"preconditioner {info['preconditioner']}, {info['active_set_steps']} active-set "
+                                  f"steps, CG steps {info['cg_steps']}"],
         options=report, solve_options=o, backend=backend, conditioning={}, kkt_sampled=faces.kkt_sampled,
         forces=faces.forces, post=pipe.post,
     )

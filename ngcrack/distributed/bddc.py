@@ -1,13 +1,25 @@
 """NGSolve's BDDC preconditioner on the condensed facet system, and its coarse space.
 
-NGSolve's "bddc" treats every element as a subdomain: the interface (facet) unknowns
-are averaged, the local problems solved exactly, and the wirebasket unknowns form the
-coarse problem, gathered and factorized on one rank. The hybrid elements have no
-vertex unknowns in 2D, so the default wirebasket would be empty; the coarse space
-chosen here is the lowest-order part of the facet trace unknowns (each facet's first
-dof of every facet component: an element's rigid motions are fixed by them) and every
-unknown on the crack edges (the crack jumps act on one side's elements only, so an
-element's own matrix is singular in them), marked WIREBASKET before assembly.
+NGSolve's "bddc" treats every element as a subdomain: the interface unknowns are
+averaged, the local problems solved exactly, and the wirebasket unknowns form the coarse
+problem, gathered and factorized on one rank ("masterinverse"). The coarse space chosen
+here (marked WIREBASKET before assembly):
+
+- every unknown of a normal-facet component (TDNNS's u_hat_n, all its orders): with
+  the higher-order normal-facet unknowns left as interface unknowns NGSolve's BDDC is
+  not a usable preconditioner (its spectrum spreads over 1e-3..1e16 and CG stalls,
+  also on a symmetric positive definite form with the same spaces; measured in
+  BENCHMARKS section 18);
+- the lowest-order unknown of every facet in every other facet component (the
+  tangential Nedelec dof of TDNNS's u): with the normal-facet unknowns they fix an
+  element's rigid motions;
+- every unknown on the crack edges (the crack jumps act on one side's elements only,
+  so an element's own matrix is singular in them).
+
+The interface space left to the local solves is the higher-order tangential trace. On
+this space CG needs about 20 steps to 1e-8 at every mesh size measured (9k-59k unknowns),
+but the coarse problem is about three quarters of the condensed system at order 1: it is
+the part that does not shrink with the ranks.
 """
 
 from __future__ import annotations
@@ -15,17 +27,19 @@ from __future__ import annotations
 import ngsolve as ngs
 
 #: how the coarse space is described in the results and BENCHMARKS
-COARSE_SPACE = "lowest-order facet trace dofs (one per facet and facet component) and all crack-edge dofs"
+COARSE_SPACE = ("all normal-facet dofs, the lowest-order dof of every facet in the other facet components, "
+                "all crack-edge dofs")
 
 
 def mark_coarse_space(fes: ngs.FESpace, mesh: ngs.Mesh, crack_edges: set[int]) -> int:
-    """Mark WIREBASKET the first dof of every facet in every coupling component and every
-    dof of the crack edges; returns how many were marked."""
+    """Mark WIREBASKET the coarse space above on the coupling unknowns of `fes`; returns how many were marked
+    (unknowns already WIREBASKET not counted)."""
+    normal_facet = [isinstance(comp, ngs.NormalFacetFESpace) for comp in fes.components]
     marked = 0
     for e in mesh.edges:
         on_crack = e.nr in crack_edges
-        for comp_dofs in _per_component(fes, e):
-            for d in comp_dofs if on_crack else comp_dofs[:1]:
+        for k, comp_dofs in enumerate(_per_component(fes, e)):
+            for d in comp_dofs if on_crack or normal_facet[k] else comp_dofs[:1]:
                 if fes.CouplingType(d) == ngs.COUPLING_TYPE.INTERFACE_DOF:
                     fes.SetCouplingType(d, ngs.COUPLING_TYPE.WIREBASKET_DOF)
                     marked += 1
@@ -42,19 +56,31 @@ def _per_component(fes: ngs.FESpace, edge) -> list[list[int]]:
     return out
 
 
-#: the preconditioners of the distributed CG: "direct" (the condensed matrix gathered on rank 0
-#: and factorized there: NGSolve's "masterinverse"; exact, CG stops after a step or two) and
-#: "bddc" (NGSolve's BDDC with the coarse space above)
-PRECONDITIONERS = ("direct", "bddc")
-#: the distributed solve's: CG needs a symmetric positive definite preconditioner, and BDDC
-#: on this negative definite condensed system is not one (its v.Cv has the wrong sign and
-#: CG diverges); with GMRES it converges in about 40 steps (benchmarks/mpi_scaling.py), but a
-#: GMRES projected onto the active set is not written yet (BENCHMARKS.md, section 18)
-DEFAULT = "direct"
+#: the preconditioners of the distributed CG: "bddc" (NGSolve's BDDC with the coarse space
+#: above) and "direct" (the condensed matrix gathered on rank 0 and factorized there:
+#: NGSolve's "masterinverse"; exact, CG stops after a step or two)
+PRECONDITIONERS = ("bddc", "direct")
+#: the distributed solve's, where `bddc_applies`; "direct" otherwise
+DEFAULT = "bddc"
+#: the spaces whose higher-order facet unknowns break the coarse space above (the vector facet
+#: space of bdm and peers, peers' vertex rotations): CG stalls or loses definiteness with
+#: them as interface unknowns, so those elements keep the direct preconditioner
+NOT_BDDC_SPACES = (ngs.FacetFESpace, ngs.H1)
+
+
+def bddc_applies(fes: ngs.FESpace) -> bool:
+    """Whether the coarse space above was measured to work on `fes` (TDNNS's HCurl and normal-facet traces)."""
+    return not any(isinstance(comp, NOT_BDDC_SPACES) for comp in fes.components)
+
+
+def default_for(disc) -> str:
+    """The preconditioner the distributed solve uses for `disc`: DEFAULT where `bddc_applies`, else "direct"."""
+    return DEFAULT if bddc_applies(disc.fes) else "direct"
 
 
 def preconditioner(disc, kind: str = DEFAULT):
-    """(operator, description): the preconditioner `kind` of the condensed matrix of `disc`."""
+    """(operator, description): the preconditioner `kind` of the condensed matrix of `disc` (an approximate
+    inverse of the matrix as assembled, of its sign: the Krylov solver flips both)."""
     if kind == "bddc":
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
         mark_coarse_space(disc.fes, disc.fes.mesh, crack_edges)

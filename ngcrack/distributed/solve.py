@@ -4,7 +4,8 @@ active set on the distributed crack unknowns, the gather to rank 0 (package docs
 The crack problem is the serial one (contact.py): with w = G j the constraint values
 (G per crack edge, `post.endpoint_map`), find j with w >= 0, lam >= 0, w lam = 0, the
 forces lam = G^{-T} (K y - F)_c. Each step holds the active values at zero (a
-projection of the crack edges' unknowns, krylov.py) and solves the rest by CG; then
+projection of the crack edges' unknowns, krylov.py) and solves the rest by CG on the
+sign-flipped (symmetric positive definite) system, preconditioned by BDDC (bddc.py); then
 an active value leaves where its force is negative and an inactive one enters where it
 penetrates. The iteration stops when no rank changes its active set.
 """
@@ -23,7 +24,7 @@ from ..materials import compliance
 from ..options import SolveOptions
 from ..post import endpoint_map
 from . import MPIUnavailable, require_mpi
-from .bddc import DEFAULT, preconditioner
+from .bddc import default_for, preconditioner
 from .gather import gather_to_rank0
 from .krylov import Operator, pcg
 from .mesh import MATCH_RTOL, TooFewElements, distribute
@@ -165,7 +166,7 @@ def _solve(comm, scene, o: SolveOptions):
     loads = ParameterLoads(scene).loads
     mat = scene.material
     disc = _elements.build(o.element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=o.order)
-    pre, coarse = preconditioner(disc, DEFAULT)
+    pre, coarse = preconditioner(disc, default_for(disc))
     fes, a, f = disc.fes, disc.a, disc.f
     free = free_mask(disc, loads)
     fmod = f.vec.CreateVector()

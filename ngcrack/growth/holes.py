@@ -1,18 +1,18 @@
 """Cracks that reach a hole, and the new crack that leaves it (`grow(..., at_hole=...)`).
 
-A tip whose next segment would reach a hole stops before it (paths.extend_tip: a crack may
-not touch a hole in a scene, so the tip stays HOLE_CLEARANCE_RTOL of the body's diameter
-from the hole's edge). What then is the user's choice:
+A tip whose next segment reaches a hole joins it (paths.extend_tip): the crack ends on the
+hole's edge, that end is no tip any more, and the ligament between the tip and the hole is
+cut. What then is the user's choice:
 
-- `at_hole="stop"` (the default): the tip stops there, the reason in `result.frozen`; the
-  other tips grow on, and the run stops when none can.
+- `at_hole="stop"` (the default): the crack ends there, the reason in `result.frozen`; the
+  other tips grow on, and the run stops when none is left or none can grow. Where the
+  joined cracks cut the body in pieces, the run ends "cut through".
 - `at_hole=L0` (a length): the crack goes on through the hole, as the experiments on
-  drilled beams show: a new crack of length L0 starts at the hole's edge (NEW_CRACK_GAP of
-  the body's diameter off it, inside the body), radially, at the point of the edge with the
-  largest hoop stress of the step's solution, away from the arriving tip (points of the edge
-  within ARRIVAL_SECTOR of the direction to it are left out: the arriving tip's own field is
-  largest there). The hoop stress is sampled SAMPLES times around the hole, at
-  SAMPLE_OFFSET of its radius into the body. Circular holes only.
+  drilled beams show: a new crack of length L0 starts on the hole's edge, radially, at the
+  point of the edge with the largest hoop stress of the step's solution, away from the
+  arriving tip (points of the edge within ARRIVAL_SECTOR of the direction to it are left
+  out: the arriving tip's own field is largest there). The hoop stress is sampled SAMPLES
+  times around the hole, at SAMPLE_OFFSET of its radius into the body. Circular holes only.
 
 The closest approach of every crack to every hole is reported in `result.holes` either way.
 """
@@ -34,9 +34,6 @@ HOLE_REASON = re.compile(r"reached hole\[(\d+)\]")
 SAMPLES = 360
 #: ... this fraction of the hole's radius into the body
 SAMPLE_OFFSET = 0.02
-#: the new crack starts this fraction of the body's diameter off the hole's edge (the scene's
-#: checks refuse a crack closer than 1e-3 of it)
-NEW_CRACK_GAP = 3e-3
 #: edge points within this angle (radians) of the direction from the hole's centre to the
 #: arriving tip are not candidates for the new crack
 ARRIVAL_SECTOR = math.radians(60.0)
@@ -80,7 +77,7 @@ def new_crack(scene, sol, hole_index: int, tip_xy, length: float, friction: floa
         return f"no tension on the edge of hole[{hole_index}] away from the arriving tip: no new crack leaves it"
     k = int(np.argmax(np.where(away, hoop, -np.inf)))
     d = np.array([math.cos(phi[k]), math.sin(phi[k])])
-    start = c + (hole.radius + NEW_CRACK_GAP * scene.diameter) * d
+    start = c + hole.radius * d  # on the edge: the new crack starts at the hole
     return Crack(((float(start[0]), float(start[1])), tuple(map(float, start + length * d))), friction)
 
 

@@ -165,7 +165,7 @@ def tip_values(sol, criterion: str = "mts", r_c: float | None = None) -> list[di
 
 def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str = "pls", *,
          together: float = GROW_TOGETHER_RTOL, frames: bool = True, progress=None, r_c: float | None = None,
-         paris=None, R: float = 0.0, at_hole="stop",
+         paris=None, R: float = 0.0, at_hole="stop", estimate: bool = False,
          **solve_options):
     """Grow the cracks of `scene` quasi-statically by segments of length `da`; a GrowthResult.
 
@@ -183,11 +183,14 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     column counts the cycles (Paris law da/dN = C Delta_K^m integrated over the step), and
     the run stops when K_max reaches K_Ic.
     A tip reaching the boundary stops there; where the cracks then cut the body in pieces the
-    run ends ("cut through", the last segment kept in `paths`). A tip reaching a hole grows up
-    to it and stops; at_hole: "stop" (the default), or a length L0: a new crack of that length
-    leaves the hole where its hoop stress is largest (holes.py). Tips stop before meeting a
+    run ends ("cut through", the last segment kept in `paths`). A tip reaching a hole joins it
+    (the crack ends on the hole's edge, the ligament is cut, the other tips grow on; a body
+    that comes apart so ends the run "cut through" too); at_hole: "stop" (the default), or a
+    length L0: a new crack of that length leaves the hole where its hoop stress is largest (holes.py). Tips stop before meeting a
     crack, or where their new tip would close (frozen, with the reason); the run stops after
     `steps` steps, when no tip is left inside the body, or when none can grow.
+    estimate: also compute every step's error estimate (the table's `error_estimate` column,
+    empty otherwise; it costs about a tenth of a step).
     """
     from .result import GrowthResult
 
@@ -196,7 +199,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     da, steps = float(da), int(steps)
     options = Solver(SolveOptions.of(**solve_options))
     result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
-                          K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c)
+                          K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c, estimates=bool(estimate))
     t0 = time.perf_counter()
     sol = solve_step(scene, None, options)
     elapsed = time.perf_counter() - t0
@@ -401,7 +404,9 @@ def _next_step(run: _Run, values: list[dict], step: _Step) -> str | None:
     run.scene = step.next_scene
     if step.next_sol is None:  # no tip left inside the body
         run.result.add_final(run.scene)
-        return "boundary: every tip reached the body's boundary (the cracks cut through)"
+        joined = any("joined it" in why for why in run.frozen.values())
+        return ("boundary: every tip reached the body's boundary or joined a hole" if joined
+                else "boundary: every tip reached the body's boundary (the cracks cut through)")
     run.sol, run.elapsed, run.trials, run.parts = step.next_sol, step.cost, step.tried, step.cost_parts
     run.last_grew = set(step.grew)
     return None
@@ -435,8 +440,8 @@ class CutThrough:
 
 
 def _cut(scene, region, extensions) -> CutThrough | None:
-    """A CutThrough where a tip reaching the boundary separates a piece of the body, else None."""
-    ends = [e for e in extensions if e.outcome == "boundary"]
+    """A CutThrough where a tip reaching the boundary or joining a hole separates a piece of the body, else None."""
+    ends = [e for e in extensions if e.outcome in ("boundary", "hole") and e.point is not None]
     if not ends:
         return None
     cracks = extended_cracks(scene, extensions)
@@ -445,7 +450,9 @@ def _cut(scene, region, extensions) -> CutThrough | None:
         return None
     new = _grown(scene, extensions)
     where = ", ".join(f"tip {tip_label(e.crack, e.end)} at ({e.point[0]:.4g}, {e.point[1]:.4g})" for e in ends)
-    return CutThrough(f"cut through: {where} reached the boundary and the cracks cut the body in "
+    what = "the boundary" if all(e.outcome == "boundary" for e in ends) else (
+        "a hole" if all(e.outcome == "hole" for e in ends) else "the boundary or a hole")
+    return CutThrough(f"cut through: {where} reached {what} and the cracks cut the body in "
                       f"{pieces(region, after)} pieces", after, None if isinstance(new, str) else new)
 
 

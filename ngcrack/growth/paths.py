@@ -3,12 +3,14 @@
 A tip at p grows to q = p + da (cos phi, sin phi). Where that segment, lengthened by
 SNAP_FRACTION da, reaches the body's boundary (its outer polygon), the tip is
 taken onto the boundary at the crossing and stops there: the crack then cuts through
-(the end point lies on the boundary and is no longer a tip inside the body). Where the
+(the end point lies on the boundary and is no longer a tip inside the body). Where it
+reaches a hole, the tip is taken onto the hole's edge at the crossing the same way: the
+crack joins the hole (that end is no tip any more; holes.py: what then). Where the
 segment would cross another crack, or come closer to it than CRACK_CLEARANCE da, or
 cross its own crack, the tip stops where it is (junctions are not supported). Where it
-would reach a hole (come closer than HOLE_CLEARANCE_RTOL of the body's diameter: the scene
-refuses a crack touching a hole), the tip grows up to HOLE_STOP times that distance from the
-hole's edge and stops there (holes.py: what then).
+would pass a hole without meeting it, closer than HOLE_CLEARANCE_RTOL of the body's
+diameter (the scene checks refuse a crack that near a hole's edge and not on it), the tip
+grows up to HOLE_STOP times that distance from the hole's edge and stops there.
 """
 
 from __future__ import annotations
@@ -37,7 +39,10 @@ CRACK_CLEARANCE = 0.25
 HOLE_CLEARANCE_RTOL = 2e-3
 
 
-#: a tip that reaches a hole grows up to this many times HOLE_CLEARANCE_RTOL of the diameter from
+#: a crack end closer than this fraction of the body's size to a hole's polygon (and not on it) lies on the
+#: hole's circle: pieces() joins it to the polygon
+JOIN_RTOL = 1e-3
+#: a tip that passes a hole closer than the scene checks allow grows up to this many times HOLE_CLEARANCE_RTOL of the diameter from
 #: its edge, and stops there
 HOLE_STOP = 1.25
 #: ... unless that is less than this fraction of da: then it stops where it is
@@ -58,6 +63,29 @@ def _approach(p, d, ring, clearance: float, length: float) -> float:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if far(mid) else (lo, mid)
     return lo
+
+
+def hole_hit(hole, p, d, length: float):
+    """Where the segment p -> p + length d first meets the edge of `hole` (a circle's itself, on it to
+    round-off; a polygon's), as a point, or None if it does not."""
+    if hole.is_circle:
+        c, r = np.asarray(hole.center, dtype=float), float(hole.radius)
+        f = p - c
+        b, disc = float(f @ d), float(f @ d) ** 2 - (float(f @ f) - r * r)
+        if disc <= 0.0:
+            return None
+        t = -b - math.sqrt(disc)
+        if not 0.0 < t <= length:
+            return None
+        x = f + t * d
+        x = c + r * x / np.linalg.norm(x)
+        return float(x[0]), float(x[1])
+    hit = shapely.LineString([p, p + length * d]).intersection(shapely.Polygon(hole.polygon).exterior)
+    if hit.is_empty:
+        return None
+    pts = np.array([c for g in getattr(hit, "geoms", [hit]) for c in g.coords], dtype=float)
+    x = pts[np.argmin(np.linalg.norm(pts - p, axis=1))]
+    return float(x[0]), float(x[1])
 
 
 def body_region(scene) -> shapely.Polygon:
@@ -122,8 +150,14 @@ def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da:
     gap = HOLE_CLEARANCE_RTOL * scene.diameter
     for i, ring in enumerate(region.interiors):
         if reach.distance(ring) < gap:
-            reason = (f"tip {label} reached hole[{i}] (a crack may not touch a hole: the tip stops "
-                      f"{HOLE_STOP * HOLE_CLEARANCE_RTOL:g} of the body's diameter before its edge)")
+            x = hole_hit(scene.holes[i], p, d, (1.0 + SNAP_FRACTION) * da) if i < len(scene.holes) else None
+            if x is not None:  # the crack joins the hole: its end on the hole's edge is no tip any more
+                reason = (f"tip {label} reached hole[{i}] at ({x[0]:.4g}, {x[1]:.4g}) and joined it (the "
+                          f"ligament is cut; the crack ends on the hole's edge)")
+                q, outcome = x, "hole"
+                break
+            reason = (f"tip {label} reached hole[{i}] (it passes the hole's edge closer than the scene checks "
+                      f"allow: the tip stops {HOLE_STOP * HOLE_CLEARANCE_RTOL:g} of the body's diameter before it)")
             t = _approach(p, d, ring, HOLE_STOP * gap, (1.0 + SNAP_FRACTION) * da)
             if t < HOLE_MIN_STEP * da:
                 return Extension(k, end, None, "hole", reason)
@@ -158,6 +192,18 @@ def pieces(region: shapely.Polygon, cracks) -> int:
     of the body's boundary and the crack lines together (a crack with a free end cuts nothing
     there)."""
     lines = [region.exterior, *region.interiors] + [shapely.LineString(c) for c in cracks if len(c) > 1]
+    # a crack end on a circular hole lies on the circle, off the region's inscribed polygon by up to its
+    # sagitta: joined to the polygon by a line across it (twice the shortest way: a crossing is noded
+    # robustly, a line ending on the polygon to round-off is not)
+    x0, y0, x1, y1 = region.bounds
+    near = JOIN_RTOL * math.hypot(x1 - x0, y1 - y0)
+    for c in cracks:
+        for end in (c[0], c[-1]) if len(c) > 1 else ():
+            e = shapely.Point(end)
+            for ring in region.interiors:
+                if 0.0 < ring.distance(e) <= near:
+                    x = np.asarray(ring.interpolate(ring.project(e)).coords[0])
+                    lines.append(shapely.LineString([end, 2.0 * x - np.asarray(end, dtype=float)]))
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.unary_union(lines))))
     inside = [f for f in faces if region.contains(f.representative_point())]
     return max(len(inside), 1)

@@ -39,7 +39,8 @@ class GrowthResult:
     its new tip closing; empty while it may grow); solves the solves that made the
     step (more than one: PLS trials); time_s their wall-clock seconds, of which mesh_s
     meshing, assembly_s assembly, linear_s the factorization and linear solves, crack_s the
-    crack problem (Schur complement and QP), post_s the tips' K and the error estimate; kkt
+    crack problem (Schur complement and QP), post_s the tips' K and the error estimate
+    (error_estimate: the relative estimate, computed only with grow(..., estimate=True)); kkt
     the largest of the solve's KKT residuals; force and
     displacement the primary load's P and delta at the step's load factor (records.py: the
     P-delta record; None where the load factor is infinite), compliance delta / P.
@@ -69,13 +70,16 @@ class GrowthResult:
     r_c: float | None = None
     #: the load whose P and delta the table's force and displacement columns hold (records.py)
     primary_load: str | None = None
+    #: whether the steps' error estimates are computed (grow(..., estimate=True))
+    estimates: bool = False
 
     # ------------------------------------------------------------------ filling
     def add_step(self, n, scene, sol, values, lam_step, grew, time_s, solves, frames=True, parts=None,
                  cycles=None) -> None:
         ndof = int(sol.ndof["total"])
         kkt = {k: float(v) for k, v in sol.kkt.items()}
-        est = None if sol.error_estimate is None else float(sol.error_estimate.relative)
+        est = sol.error_estimate if self.estimates else None
+        est = None if est is None else float(est.relative)
         cost_columns = {f"{k}_s": float(v) for k, v in (parts or {}).items()}
         tips = []
         rec = step_loads(sol, lam_step)

@@ -33,7 +33,7 @@ from .fields import (
     short,
     unique,
 )
-from .holes import Hole, check_holes
+from .holes import Hole, check_holes, check_not_on_holes, hole_ends
 from .measures import (
     Point,
     diameter,
@@ -44,7 +44,6 @@ from .measures import (
     sub,
 )
 from .planar import (
-    MIN_GAP_RTOL,
     Walls,
     check_crack_in_domain,
     check_cracks_disjoint,
@@ -259,10 +258,7 @@ class Scene:
             if any(pc.label in h.labels for h in holes):
                 raise SceneError(f"point[{k}].label = {pc.label!r}: already the label of a hole's edge; choose "
                                  f"another label")
-        walls = Walls([(poly, self.labels, "domain.polygon")]
-                      + [(h.loop(), h.edge_labels(), f"hole[{k}]") for k, h in enumerate(holes)])
-        self.__dict__["_walls"] = outer  # the cache of the outer boundary (on_boundary)
-        cracks = []
+        parsed = []
         for i, c in enumerate(raw):
             fld = f"crack[{i}]"
             pts_raw = c.points if isinstance(c, Crack) else c
@@ -276,16 +272,17 @@ class Scene:
                 mu = friction_coefficient(pts_raw.get("friction", 0.0), f"{fld}.friction")
                 pressure = check_pressure(pts_raw.get("pressure"), f"{fld}.pressure")
                 pts_raw = pts_raw["points"]
-            pts = crack_points(pts_raw, fld, tol)
+            parsed.append((c, crack_points(pts_raw, fld, tol), mu, pressure))
+        through = hole_ends(holes, [p for _, pts, _, _ in parsed for p in (pts[0], pts[-1])], tol)
+        walls = Walls([(poly, self.labels, "domain.polygon")]
+                      + [(h.loop(through=through[k]), h.edge_labels(through=through[k]), f"hole[{k}]")
+                         for k, h in enumerate(holes)])
+        self.__dict__["_walls"] = outer  # the cache of the outer boundary (on_boundary)
+        cracks = []
+        for i, (c, pts, mu, pressure) in enumerate(parsed):
+            fld = f"crack[{i}]"
             check_crack_in_domain(walls, pts, fld, tol)
-            if holes:
-                ends = np.array([pts[0], pts[-1]])
-                for k, d, e in zip((0, len(pts) - 1), walls.distance(ends), walls.nearest_edge(ends)):
-                    if d <= tol and walls.owner[e][0] > 0:
-                        raise SceneError(
-                            f"{fld}.points[{k}] = {fmt_pt(pts[k])} lies on hole[{walls.owner[e][0] - 1}]; "
-                            f"a crack may not touch a hole (end it inside the body, at least "
-                            f"{fmt(MIN_GAP_RTOL * diam)} away)")
+            check_not_on_holes(holes, pts, fld, tol)
             if not isinstance(c, Crack):
                 try:
                     c = Crack(pts, mu, pressure)
@@ -385,13 +382,28 @@ class Scene:
 
     def on_boundary(self, x: Sequence[float]) -> bool:
         """True if ``x`` lies on the outer polygon's boundary (within :attr:`tol`); a hole's
-        edges do not count (no crack may touch a hole)."""
+        edges do not count (see :meth:`on_hole`)."""
         return bool(self._walls.distance(np.array([[float(x[0]), float(x[1])]]))[0] <= self.tol)
 
+    def on_hole(self, x: Sequence[float]) -> int | None:
+        """The index of the hole whose edge ``x`` lies on (within :attr:`tol`), else None."""
+        return next((k for k, h in enumerate(self.holes) if h.edge_distance(x) <= self.tol), None)
+
     def crack_end_on_boundary(self, i: int) -> tuple[bool, bool]:
-        """Whether the first and the last point of crack ``i`` lie on the boundary."""
+        """Whether the first and the last point of crack ``i`` lie on the boundary: the outer
+        polygon's or a hole's edge (a crack that joins a hole there)."""
         pts = self.cracks[i].points
-        return self.on_boundary(pts[0]), self.on_boundary(pts[-1])
+        return tuple(self.on_boundary(p) or self.on_hole(p) is not None for p in (pts[0], pts[-1]))
+
+    def hole_joins(self) -> list[tuple[int, int, int]]:
+        """The crack ends on a hole's edge, as ``(crack, end index 0 or -1, hole)``."""
+        out = []
+        for i, c in enumerate(self.cracks):
+            for k in (0, -1):
+                h = self.on_hole(c.points[k])
+                if h is not None:
+                    out.append((i, k, h))
+        return out
 
     def tip_points(self) -> list[tuple[int, Point]]:
         """Crack end points strictly inside the domain, as ``(crack index, point)``."""
@@ -403,8 +415,8 @@ class Scene:
         return out
 
     def through_cracks(self) -> list[int]:
-        """Indices of the cracks with both ends on the boundary (they cut a part in two)."""
-        return [i for i in range(len(self.cracks)) if all(self.crack_end_on_boundary(i))]
+        """Indices of the cracks with both ends on the outer boundary (they cut a part in two)."""
+        return [i for i, c in enumerate(self.cracks) if self.on_boundary(c.points[0]) and self.on_boundary(c.points[-1])]
 
     def edge_pieces(self) -> list[tuple[str, Point, Point]]:
         """The polygon edges split at every crack end point lying on them, as

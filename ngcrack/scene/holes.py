@@ -11,7 +11,9 @@ inscribed in it (a relative deviation of 7.5e-5 of the radius).
 
 A hole must lie strictly inside the domain, away from its boundary, the cracks and the
 other holes (at least ``MIN_GAP_RTOL`` of the diameter): the body's checks refuse it by
-field (``hole[k].polygon``, ``hole[k].center``, ...).
+field (``hole[k].polygon``, ``hole[k].center``, ...). A crack may end on a hole's edge (its
+first or last point within the scene's tolerance of it, like an edge crack on the outer
+boundary): that end is then no tip, and the crack joins the hole.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ import numpy as np
 import shapely
 
 from .fields import SceneError, check_keys, fmt, fmt_pt, pair, points, positive, short
-from .measures import Point, diameter, signed_area
+from .measures import Point, diameter, point_segment_distance, signed_area
 from .planar import MIN_GAP_RTOL, Walls, check_polyline_simple
 from .types import MAX_SCALE, MIN_SIZE_RTOL, RESERVED_LABEL_PREFIX
 
@@ -37,6 +39,9 @@ CIRCLE_SEGMENTS = 256
 #: the default mesh size along a hole's edges is its perimeter (pi times its size) over
 #: this: stresses concentrate there (3 times the remote one at a circular hole)
 HOLE_SEGMENTS = 64
+#: a vertex of a circle's inscribed polygon closer than this fraction of its radius to a crack end on
+#: the circle is left out of the loop (the crack end is the vertex there)
+THROUGH_MERGE_RTOL = 1e-6
 #: the most holes a scene may have
 MAX_HOLES = 100
 #: the most vertices of one polygonal hole
@@ -65,18 +70,32 @@ class Hole:
     def is_circle(self) -> bool:
         return self.center is not None
 
-    def loop(self, circle_segments: int | None = None) -> tuple[Point, ...]:
+    def loop(self, circle_segments: int | None = None, through: Sequence[Point] = ()) -> tuple[Point, ...]:
         """The vertices (counter-clockwise) the checks use: the polygon, or the polygon of
-        ``circle_segments`` (default CIRCLE_SEGMENTS) sides inscribed in the circle."""
+        ``circle_segments`` (default CIRCLE_SEGMENTS) sides inscribed in the circle, with the
+        points ``through`` (crack ends on the circle) among its vertices, as given."""
         if not self.is_circle:
             return self.polygon
         (cx, cy), r, n = self.center, self.radius, circle_segments or CIRCLE_SEGMENTS
-        return tuple((cx + r * math.cos(2 * math.pi * k / n), cy + r * math.sin(2 * math.pi * k / n))
-                     for k in range(n))
+        angle = lambda p: math.atan2(p[1] - cy, p[0] - cx) % (2 * math.pi)  # noqa: E731
+        pts = [(2 * math.pi * k / n, (cx + r * math.cos(2 * math.pi * k / n), cy + r * math.sin(2 * math.pi * k / n)))
+               for k in range(n)]
+        if through:  # a vertex all but on a crack end gives way to it
+            ends = [(angle(p), (float(p[0]), float(p[1]))) for p in through]
+            pts = [(a, p) for a, p in pts if min(math.dist(p, q) for _, q in ends) > THROUGH_MERGE_RTOL * r] + ends
+            pts.sort()
+        return tuple(p for _, p in pts)
 
-    def edge_labels(self, circle_segments: int | None = None) -> tuple[str, ...]:
+    def edge_labels(self, circle_segments: int | None = None, through: Sequence[Point] = ()) -> tuple[str, ...]:
         """One label per edge of :meth:`loop` (of ``circle_segments`` sides for a circle)."""
-        return self.labels * (circle_segments or CIRCLE_SEGMENTS) if self.is_circle else self.labels
+        return self.labels * len(self.loop(circle_segments, through)) if self.is_circle else self.labels
+
+    def edge_distance(self, x: Sequence[float]) -> float:
+        """The distance of the point ``x`` to the hole's edge (the circle's itself, not a polygon's)."""
+        if self.is_circle:
+            return abs(math.dist((float(x[0]), float(x[1])), self.center) - self.radius)
+        n = len(self.polygon)
+        return min(point_segment_distance(x, self.polygon[i], self.polygon[(i + 1) % n]) for i in range(n))
 
     @property
     def area(self) -> float:
@@ -209,3 +228,21 @@ def check_holes(raw: Any, outer: Walls, diam: float, tol: float) -> tuple[Hole, 
                                  f"must be apart from each other (merge them into one polygon)")
         shapes.append(shape)
     return holes
+
+
+def hole_ends(holes: Sequence[Hole], ends: Sequence[Point], tol: float) -> list[tuple[Point, ...]]:
+    """For every hole, the points of ``ends`` (crack end points) on its edge if it is a circle (the
+    vertices its loop must have: Hole.loop's ``through``), else none (a polygon's edge takes them
+    as the outer polygon's does)."""
+    return [tuple(p for p in ends if h.edge_distance(p) <= tol) if h.is_circle else () for h in holes]
+
+
+def check_not_on_holes(holes: Sequence[Hole], pts: Sequence[Point], fld: str, tol: float) -> None:
+    """Refuse a crack point other than the first or the last on a circular hole's edge (the walls'
+    checks see the circle as its inscribed polygon)."""
+    for k, p in enumerate(pts[1:-1], start=1):
+        for j, h in enumerate(holes):
+            if h.is_circle and h.edge_distance(p) <= tol:
+                raise SceneError(f"{fld}.points[{k}] = {fmt_pt(p)} lies on hole[{j}]; only a crack's first "
+                                 f"and last points may lie on a hole's edge, interior points must lie "
+                                 f"strictly inside the body")

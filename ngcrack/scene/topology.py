@@ -19,6 +19,7 @@ import numpy as np
 import shapely
 
 from .fields import SceneError, fmt, fmt_pt, unique
+from .holes import hole_ends
 from .measures import (
     Point,
     boundary_distance,
@@ -30,6 +31,7 @@ from .measures import (
     point_segment_distance,
     signed_area,
 )
+from .planar import Walls
 from .types import GEOMETRY_RTOL
 
 __all__ = ["HELD_MARGIN_RTOL", "HELD_RANK_RTOL", "Part", "check_held", "parts"]
@@ -103,6 +105,8 @@ def _insert_on_loop(V: list[Point], T: list[Any], x: Point, tol: float) -> int:
 
 def parts(scene) -> tuple[Part, ...]:
     """The connected pieces of ``scene``'s body after its through cracks cut it."""
+    if scene.hole_joins():
+        return _joined_parts(scene)
     tol = scene.tol
     n = len(scene.polygon)
     # a loop: vertices V and tags T, T[i] for the edge V[i] -> V[i+1]
@@ -160,6 +164,54 @@ def parts(scene) -> tuple[Part, ...]:
             point = (region.x, region.y)
         out.append(Part(loop=tuple(V), pieces=tuple(pieces), crack_faces=tuple(faces),
                         cracks=tuple(sorted(set(ids))), point=point, hole_loops=hole_loops,
+                        holes=tuple(holes)))
+    return tuple(out)
+
+
+def _joined_parts(scene) -> tuple[Part, ...]:
+    """The parts of a body some of whose cracks join holes: the faces of the body's boundary loops
+    (circles as their inscribed polygons with the crack ends among their vertices) and the crack
+    lines, each face's edges told apart as crack faces or boundary pieces (their labels) by where
+    their midpoints lie. A circular hole no crack touches is listed in ``holes`` (check_held holds
+    it by its own points); every other hole's edges are among ``pieces``."""
+    tol = scene.tol
+    ends = [scene.cracks[i].points[k] for i, k, _ in scene.hole_joins()]
+    through = hole_ends(scene.holes, ends, tol)
+    loops = [h.loop(through=through[k]) for k, h in enumerate(scene.holes)]
+    walls = Walls([(scene.polygon, scene.labels, "domain.polygon")]
+                  + [(loops[k], h.edge_labels(through=through[k]), f"hole[{k}]") for k, h in enumerate(scene.holes)])
+    region = shapely.Polygon(scene.polygon, loops)
+    lines = [shapely.LineString(c.points) for c in scene.cracks]
+    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(shapely.unary_union(
+        [region.exterior, *region.interiors, *lines]))))
+    out = []
+    for face in faces:
+        if not region.contains(face.representative_point()):
+            continue
+        face = shapely.geometry.polygon.orient(face, 1.0)
+        rings = [face.exterior, *face.interiors]
+        pieces, faces_, ids, holes = [], [], [], []
+        for ring in rings:
+            P = [tuple(map(float, x)) for x in ring.coords[:-1]]
+            untouched = [k for k, h in enumerate(scene.holes) if h.is_circle and not through[k]
+                         and all(h.edge_distance(x) <= 1e-3 * h.radius for x in P)]
+            if untouched:
+                holes.append(untouched[0])
+                continue
+            for p, q in zip(P, P[1:] + P[:1]):
+                m = np.array([[(p[0] + q[0]) / 2, (p[1] + q[1]) / 2]])
+                crack = next((i for i, ln in enumerate(lines) if ln.distance(shapely.Point(m[0])) <= 10 * tol), None)
+                if crack is not None:
+                    faces_.append((crack, p, q))
+                    ids.append(crack)
+                    continue
+                li, e = walls.owner[int(walls.nearest_edge(m)[0])]
+                pieces.append((walls.loops[li][1][e], p, q))
+        ids += [i for i, ln in enumerate(lines) if face.contains(ln.interpolate(0.5, normalized=True))]
+        point = face.representative_point()
+        out.append(Part(loop=tuple(tuple(map(float, x)) for x in face.exterior.coords[:-1]), pieces=tuple(pieces),
+                        crack_faces=tuple(faces_), cracks=tuple(sorted(set(ids))), point=(point.x, point.y),
+                        hole_loops=tuple(tuple(tuple(map(float, x)) for x in r.coords[:-1]) for r in face.interiors),
                         holes=tuple(holes)))
     return tuple(out)
 

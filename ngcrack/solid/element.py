@@ -131,6 +131,11 @@ class SolidDiscretization(Discretization):
 
     constraint_points: np.ndarray | None = None
     order: int = 1
+    #: the crack index of each constraint point (None: the faces' points crack by crack, P_order per face)
+    point_crack: np.ndarray | None = None
+    #: per crack face (crack by crack) its constraint points, vertices first; -1 where the face's node
+    #: carries no jump (on the front). None: P_order points per face, numbered face by face
+    face_points: np.ndarray | None = None
     fields: Callable | None = None
     boundary_values: Callable | None = None
     roller_pairs: Callable | None = None
@@ -146,8 +151,10 @@ class SolidDiscretization(Discretization):
         return gf.components[self.tangential]
 
 
-def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None = None) -> SolidDiscretization:
-    """The hybridized TDNNS discretization of stress degree `order` (1, 2 or 3; default 1)."""
+def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None = None,
+          pressure=None) -> SolidDiscretization:
+    """The hybridized TDNNS discretization of stress degree `order` (1, 2 or 3; default 1);
+    `pressure`: per crack, a uniform pressure on its faces (None or 0: none)."""
     k = DEFAULT_ORDER if order is None else order
     if k not in ORDERS:
         raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
@@ -208,12 +215,19 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
     for label, g in sorted(loads.traction.items()):
         gt = g - (g * n) * n
         f += -((g * n) * (test[2].Trace() * n) + gt * test[1].Trace()) * ngs.ds(definedon=mesh.Boundaries(label))
+    for c in smesh.cracks if has_crack and pressure else ():
+        if pressure[c.index]:  # the work of the pressure on the two faces, p [v].nu = p kn (the form's sign)
+            f += -pressure[c.index] * test[3].Trace() * ngs.ds(definedon=mesh.Boundaries(c.label))
+            built.append(f"crack[{c.index}]: pressure {pressure[c.index]:g} on the faces")
     with task_manager():
         f.Assemble()
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
-        return {"sigma": comps[0], "u": displacement(comps), "grad_u": grad_displacement(comps)}
+        out = {"sigma": comps[0], "u": displacement(comps), "grad_u": grad_displacement(comps)}
+        if has_crack:
+            out["jump"] = comps[4]  # the + side's tangential jump copy
+        return out
 
     def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
         for label, g in loads.displacement.items():

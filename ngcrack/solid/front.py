@@ -44,6 +44,7 @@ import ngsolve as ngs
 import numpy as np
 
 from ..tips import williams_displacement, williams_dx1, williams_stress
+from .face_pressure import face_pressure
 
 #: the tube radius R and the half-width L along the front, in front_h (the mesh size at the front)
 TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 2.0
@@ -232,6 +233,8 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
     aux_eps[:, :, 0, 2] += 0.5 * aux_du3[:, :, 0]
     aux_eps[:, :, 2, 0] += 0.5 * aux_du3[:, :, 0]
 
+    faces = face_pressure(sol, index, geom, R, e_prime)  # None without a pressure on the faces
+    s_f = None if faces is None else np.interp(faces.phi % (2 * np.pi), phis, arc)
     K = np.zeros((n, 3))
     J = np.zeros(n)
     for k in range(n):
@@ -264,6 +267,14 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
                               + np.sum(sig_l[sel][:, :, 2] * aux_du3[m, sel], axis=1)
                               - np.sum(sig_l[sel] * aux_eps[m, sel], axis=(1, 2))))
             K[k, m] = I
+        if faces is not None:  # the crack-face pressure's term (ngcrack.solid.face_pressure)
+            ds_f = _wrap((s_f - s_i[k]) / perimeter * 2 * np.pi) * perimeter / (2 * np.pi)
+            h_f = np.where(np.abs(ds_f) < L, np.cos(0.5 * np.pi * ds_f / L) ** 2, 0.0)
+            ramp = (faces.r > inner) & (faces.r < Rk)
+            dJ, dI = faces.terms(h_f * np.clip((Rk - faces.r) / (Rk - inner), 0.0, 1.0),
+                                 np.where(ramp, h_f / (Rk - inner), 0.0))
+            J[k] += dJ
+            K[k, 0] += dI
         length = L  # int h ds = L for the cos^2 bump of half-width L
         J[k] /= length
         K[k] /= length
@@ -283,11 +294,7 @@ def _closed_at(sol, index: int, points: np.ndarray) -> np.ndarray:
     """True where the constraint points of the crack nearest to each front point are all closed."""
     if sol.contact is None:
         return np.zeros(len(points), dtype=bool)
-    per = sol._per_face()
-    start = sum(len(c.elements) for c in sol.smesh.cracks[:index]) * per
-    count = len(sol.smesh.cracks[index].elements) * per
-    where = sol.disc.constraint_points[start:start + count]
-    active = sol.contact.active[start:start + count]
+    where, active = sol.crack_constraints(index)
     out = np.zeros(len(points), dtype=bool)
     for k, p in enumerate(points):
         near = np.argsort(np.linalg.norm(where - p, axis=1))[:6]

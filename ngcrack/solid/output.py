@@ -72,17 +72,16 @@ class SolidSolution:
         return np.asarray(self.G @ self.y[self.system.contact])
 
     def tangential_jumps(self) -> np.ndarray:
-        """|[u]_t| at the constraint points, from the + side's u_e (the crack's HCurl copy)."""
+        """|[u]_t| at the constraint points, from the + side's jump field (the element's "jump")."""
         if self.disc.jn is None:
             return np.zeros(0)
         mesh = self.smesh.mesh
         pts = self.disc.constraint_points
-        nrm = np.concatenate([np.tile(c.normal, (len(c.elements) * self._per_face(), 1)) for c in self.smesh.cracks])
+        nrm = np.array([c.normal for c in self.smesh.cracks])[self.point_crack()]
         c = pts.mean(axis=0)
         # a point just inside the + side's tetrahedron, a little towards the face's centre
         p = pts + 1e-5 * self.scene.size * nrm + 1e-3 * (c - pts)
-        ue = self.gf.components[4]
-        vals = np.asarray(ue(mesh(p[:, 0], p[:, 1], p[:, 2])))
+        vals = np.asarray(self.fields["jump"](mesh(p[:, 0], p[:, 1], p[:, 2])))
         vt = vals - np.sum(vals * nrm, axis=1)[:, None] * nrm
         return np.linalg.norm(vt, axis=1)
 
@@ -90,22 +89,42 @@ class SolidSolution:
         k = self.disc.order
         return (k + 1) * (k + 2) // 2
 
+    def point_crack(self) -> np.ndarray:
+        """The crack index of each constraint point."""
+        if self.disc.point_crack is not None:
+            return self.disc.point_crack
+        return np.repeat(np.arange(len(self.smesh.cracks)), [len(c.elements) * self._per_face() for c in self.smesh.cracks])
+
+    def face_points(self) -> np.ndarray:
+        """Per crack face (crack by crack) its constraint points, vertices first (-1: no jump there, the front)."""
+        if self.disc.face_points is not None:
+            return self.disc.face_points
+        return np.arange(len(self.disc.constraint_points)).reshape(-1, self._per_face())
+
+    def crack_constraints(self, index: int) -> tuple[np.ndarray, np.ndarray]:
+        """The constraint points of crack `index` and whether each is closed."""
+        mine = self.point_crack() == index
+        active = np.zeros(int(mine.sum()), dtype=bool) if self.contact is None else self.contact.active[mine]
+        return self.disc.constraint_points[mine], active
+
     def crack_summaries(self) -> list[dict]:
         w = self.normal_jumps()
         s = self.tangential_jumps()
         closed = np.zeros(len(w), dtype=bool) if self.contact is None else self.contact.active
-        per = self._per_face()
+        owner = self.point_crack()
+        table = self.face_points()
         out, start = [], 0
         pts = self.smesh.points
         mesh = self.smesh.mesh
-        for c in self.smesh.cracks:
+        for i, c in enumerate(self.smesh.cracks):
             nf = len(c.elements)
-            sl = slice(start * per, (start + nf) * per)
-            areas = np.array([0.5 * np.linalg.norm(np.cross(*(pts[[v.nr for v in mesh[ngs.ElementId(ngs.BND, int(e))].vertices]][1:]
-                                                                - pts[[v.nr for v in mesh[ngs.ElementId(ngs.BND, int(e))].vertices]][0])))
-                              for e in c.elements])
-            face_closed = closed[sl].reshape(nf, per).all(axis=1)
-            out.append({"max_opening": float(max(w[sl].max(), 0.0)), "max_sliding": float(s[sl].max()),
+            corners = [pts[[v.nr for v in mesh[ngs.ElementId(ngs.BND, int(e))].vertices]] for e in c.elements]
+            areas = np.array([0.5 * np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0])) for p in corners])
+            rows = table[start:start + nf]
+            # a face is closed where all its points with a jump unknown are (a front node has none)
+            face_closed = np.where(rows >= 0, closed[np.maximum(rows, 0)], True).all(axis=1)
+            mine = owner == i
+            out.append({"max_opening": float(max(w[mine].max(), 0.0)), "max_sliding": float(s[mine].max()),
                         "closed_fraction": float(areas[face_closed].sum() / areas.sum()), "area": float(c.area)})
             start += nf
         return out
@@ -160,11 +179,16 @@ class SolidSolution:
 
     def crack_arrays(self) -> tuple[np.ndarray, np.ndarray, dict]:
         """The crack faces as separate triangles (points, triangles) with the opening, the sliding
-        and the closed flag at their corners (the first three constraint points of each face)."""
-        per = self._per_face()
+        and the closed flag at their corners (0 where a corner carries no jump: the front)."""
         w, s = self.normal_jumps(), self.tangential_jumps()
         closed = np.zeros(len(w)) if self.contact is None else self.contact.active.astype(float)
-        pick = (np.arange(len(w) // per)[:, None] * per + np.arange(3)[None]).ravel()
-        points = self.disc.constraint_points[pick]
+        pick = self.face_points()[:, :3].ravel()
+        mesh, pts = self.smesh.mesh, self.smesh.points
+        points = np.concatenate([pts[[v.nr for v in mesh[ngs.ElementId(ngs.BND, int(e))].vertices]]
+                                 for c in self.smesh.cracks for e in c.elements])
         tris = np.arange(len(pick)).reshape(-1, 3)
-        return points, tris, {"opening": w[pick], "sliding": s[pick], "closed": closed[pick]}
+        has = pick >= 0
+        at = np.maximum(pick, 0)
+        data = {"opening": np.where(has, w[at], 0.0), "sliding": np.where(has, s[at], 0.0),
+                "closed": np.where(has, closed[at], 0.0)}
+        return points, tris, data

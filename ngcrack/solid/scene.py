@@ -16,7 +16,8 @@ Cracks (``[[crack]]``), each a plane set strictly inside the body:
     ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and
     ``major_axis`` (projected into the crack plane; the semi-axis a lies along it);
     ``shape = "polygon"`` with ``points`` (3 or more, in one plane, a simple polygon; the
-    normal follows the right-hand rule of the point order). ``friction`` >= 0.
+    normal follows the right-hand rule of the point order). ``friction`` >= 0;
+    ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart.
     The normal nu points into the ``+`` face; the jump is [u] = u+ - u-.
 Cracks stay apart from each other and from the boundary (a clearance of
 ``CLEARANCE_RTOL`` times the crack's size); a crack reaching a face is a later step.
@@ -198,6 +199,7 @@ class PlanarCrack:
     semi_axes: tuple[float, float] = (0.0, 0.0)
     points: np.ndarray | None = None
     friction: float = 0.0
+    pressure: float = 0.0  # uniform pressure on both faces (pushing them apart)
 
     @property
     def e_b(self) -> np.ndarray:
@@ -249,12 +251,16 @@ class PlanarCrack:
                 d.update(semi_axes=list(self.semi_axes), major_axis=self.e_a.tolist())
         if self.friction:
             d["friction"] = self.friction
+        if self.pressure:
+            d["pressure"] = self.pressure
         return d
 
 
-CRACK_KEYS = {"disc": ("shape", "center", "normal", "radius", "friction"),
-              "ellipse": ("shape", "center", "normal", "semi_axes", "major_axis", "friction"),
-              "polygon": ("shape", "points", "friction")}
+CRACK_KEYS = {"disc": ("shape", "center", "normal", "radius", "friction", "pressure"),
+              "ellipse": ("shape", "center", "normal", "semi_axes", "major_axis", "friction", "pressure"),
+              "polygon": ("shape", "points", "friction", "pressure")}
+#: the crack keys that may be left out
+OPTIONAL_CRACK_KEYS = ("friction", "pressure")
 
 
 def crack_from_dict(c: Any, i: int) -> PlanarCrack:
@@ -265,12 +271,21 @@ def crack_from_dict(c: Any, i: int) -> PlanarCrack:
     if shape not in SHAPES:
         raise SceneError(f"{fld}.shape = {short(shape)}: allowed values are {', '.join(SHAPES)}")
     check_keys(c, CRACK_KEYS[shape], fld)
-    for key in CRACK_KEYS[shape][1:-1]:
+    needed = [k for k in CRACK_KEYS[shape][1:] if k not in OPTIONAL_CRACK_KEYS]
+    for key in needed:
         if key not in c:
-            raise SceneError(f"{fld}.{key}: missing; a {shape} crack needs {', '.join(CRACK_KEYS[shape][1:-1])}")
+            raise SceneError(f"{fld}.{key}: missing; a {shape} crack needs {', '.join(needed)}")
     mu = finite(c.get("friction", 0.0), f"{fld}.friction", "a finite number >= 0")
     if mu < 0:
         raise SceneError(f"{fld}.friction = {mu!r}: must be a finite number >= 0")
+    p = c.get("pressure", 0.0)
+    if isinstance(p, bool) or not isinstance(p, (int, float)) or not math.isfinite(p):
+        raise SceneError(f"{fld}.pressure = {short(p)}: must be a finite number (a uniform pressure on the faces; "
+                         "tables and functions of position are 2D only)")
+    return dataclasses.replace(_crack_shape(c, shape, fld, mu), pressure=float(p))
+
+
+def _crack_shape(c: Mapping, shape: str, fld: str, mu: float) -> PlanarCrack:
     if shape == "polygon":
         return _polygon(c["points"], fld, mu)
     center = vector3(c["center"], f"{fld}.center")
@@ -470,20 +485,20 @@ class SolidScene:
                 "grading": float(grading or self.grading or DEFAULT_GRADING)}
 
     def with_(self, **changes: Any) -> SolidScene:
-        """The scene with E, nu, friction (every crack) or a mesh size changed, validated again."""
+        """The scene with E, nu, friction or pressure (every crack) or a mesh size changed, validated again."""
         d = self.to_dict()
         for key, value in changes.items():
             if key in ("E", "nu"):
                 d["material"][key] = value
-            elif key == "friction":
+            elif key in ("friction", "pressure"):
                 for c in d.get("crack", []):
-                    c["friction"] = value
+                    c[key] = value
             elif key in MESH_KEYS:
                 d.setdefault("mesh", {})[key] = value
             elif key == "name":
                 d["name"] = value
             else:
-                raise SceneError(f"{key}: not a field a 3D scene changes; allowed: E, nu, friction, name, "
+                raise SceneError(f"{key}: not a field a 3D scene changes; allowed: E, nu, friction, pressure, name, "
                                  f"{', '.join(MESH_KEYS)}")
         return SolidScene.from_dict(d)
 

@@ -15,11 +15,16 @@ import numpy as np
 
 from ..elements.base import Loads
 from ..errors import InputError
+from . import h1
 from .element import ORDERS
 from .geometry import SolidMesh
 from .output import SolidSolution
 from .scene import SolidScene
 
+#: the 3D elements and their orders: hybridized TDNNS (the default), the displacement baselines
+ELEMENT_ORDERS = {"tdnns": ORDERS, "h1p1": (1,), "h1p2": (2,)}
+#: checks of the scene an element needs before any meshing
+SCENE_CHECKS = {"h1p1": h1.check_scene, "h1p2": h1.check_scene}
 #: crack_model values: unilateral contact, traction-free faces (one linear solve)
 CRACK_MODELS = ("contact", "free")
 #: the options a 3D solve takes (others are refused by name)
@@ -42,11 +47,13 @@ def check_options(options: dict) -> dict:
     if unknown:
         raise InputError(f"{unknown[0]}: not an option of a 3D solve; allowed: {', '.join(OPTIONS)}")
     element = options.get("element") or "tdnns"
-    if element != "tdnns":
-        raise InputError(f"element = {element!r}: 3D scenes are solved with tdnns (allowed values: tdnns)")
-    order = options.get("order") or 1
-    if order not in ORDERS:
-        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+    if element not in ELEMENT_ORDERS:
+        raise InputError(f"element = {element!r}: allowed values in 3D are {', '.join(ELEMENT_ORDERS)} (the weakly "
+                         "symmetric bdm/peers family is 2D only)")
+    allowed = ELEMENT_ORDERS[element]
+    order = options.get("order") or allowed[0]
+    if order not in allowed:
+        raise InputError(f"order = {order!r}: allowed values for {element} in 3D are {', '.join(map(str, allowed))}")
     model = options.get("crack_model") or "contact"
     if model not in CRACK_MODELS:
         raise InputError(f"crack_model = {model!r}: allowed values in 3D are {', '.join(CRACK_MODELS)}")
@@ -71,6 +78,7 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, pipeline=N
         if c.friction > 0 and opts["crack_model"] == "contact":
             raise InputError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
                              "(frictionless contact only); set friction = 0")
+    SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
     from ..pipeline import Pipeline
     from .stages import run_solid
 

@@ -2,8 +2,8 @@
 
 `SOLID` (a `SolidBody`) gives the pipeline's stages the parts that depend on the body's
 dimension, as `ngcrack.pipeline.PLANAR` does for a plane body: the mesh key and the OCC
-mesh (`solid.geometry`), the element and its key (`solid.element`), the loads' crack
-pressures and held means. `run_solid(pipeline, scene, options)` runs the stages on a 3D
+mesh (`solid.geometry`), the element and its key (`solid.element`, `solid.h1`), the
+loads' crack pressures and held means. `run_solid(pipeline, scene, options)` runs the stages on a 3D
 scene with the pipeline's caches:
 
     scene -> mesh (Pipeline.mesh) -> forms, the loads as NGSolve Parameters
@@ -20,11 +20,10 @@ from __future__ import annotations
 import json
 import time
 
-import ngsolve as ngs
-
-from ..discretization import Loads, refuse
+from ..discretization import Loads
 from ..parallel import task_manager
 from ..stages import sparse_contact_stage
+from . import h1
 from .element import build
 from .geometry import SolidMesh, make_mesh
 from .output import SolidSolution
@@ -32,6 +31,10 @@ from .scene import SolidScene
 
 #: the keys of a 3D solve's options dict that size the mesh
 SIZES = ("maxh", "crack_h", "front_h", "grading")
+#: the 3D element builders, (smesh, E, nu, loads, order, pressure) -> SolidDiscretization
+BUILDERS = {"tdnns": lambda smesh, E, nu, loads, order, pressure: build(smesh, E, nu, loads, order, pressure),
+            "h1p1": lambda smesh, E, nu, loads, order, pressure: h1.build(smesh, E, nu, loads, "h1p1", pressure),
+            "h1p2": lambda smesh, E, nu, loads, order, pressure: h1.build(smesh, E, nu, loads, "h1p2", pressure)}
 
 
 class SolidBody:
@@ -51,19 +54,20 @@ class SolidBody:
         return make_mesh(scene, *(options.get(k) for k in SIZES))
 
     def element_key(self, scene: SolidScene, options: dict) -> tuple:
-        """The element and its order, the material."""
-        return options["element"], options["order"], scene.material.E, scene.material.nu
+        """The element and its order, the material and the cracks' uniform pressures (the
+        elements assemble them as numbers: a new pressure re-assembles)."""
+        return (options["element"], options["order"], scene.material.E, scene.material.nu,
+                tuple(c.pressure for c in scene.cracks))
 
     def build(self, scene: SolidScene, smesh: SolidMesh, options: dict, loads: Loads):
-        """The hybridized TDNNS discretization (`solid.element.build`)."""
-        return build(smesh, scene.material.E, scene.material.nu, loads, options["order"])
+        """The element's spaces and assembled forms (BUILDERS: `solid.element`, `solid.h1`)."""
+        pressure = [c.pressure for c in scene.cracks]
+        return BUILDERS[options["element"]](smesh, scene.material.E, scene.material.nu, loads, options["order"],
+                                            pressure if any(pressure) else None)
 
-    def crack_pressure(self, scene: SolidScene, k: int, parameter) -> ngs.CoefficientFunction:
-        """A uniform pressure on crack k's faces (its Parameter)."""
-        if parameter is None:
-            raise refuse(f"crack[{k}].pressure", getattr(scene.cracks[k], "pressure", None), "a number",
-                         "a 3D crack takes a uniform pressure")
-        return ngs.CF(parameter)
+    def crack_pressure(self, scene: SolidScene, k: int, parameter) -> None:
+        """None: the 3D elements take the cracks' pressures as numbers (`element_key`), not as loads."""
+        return None
 
     def held_mean(self, scene: SolidScene) -> dict:
         """A 3D scene has no pin or roller points."""
