@@ -12,6 +12,11 @@ times vary with its load, printed with `uptime`).
 
     python benchmarks/growth.py                 # 50 steps, PLS (the default)
     python benchmarks/growth.py --steps 20 --criterion mts
+    python benchmarks/growth.py --crack-h 0.1     # the path meshed at 0.1 (the scene's: 0.05), compared
+
+With --crack-h H the same run is repeated with crack_h = H for every solve and the two are
+compared step by step: CPU, unknowns, and the largest differences of the tips' kinks,
+K_II and load factors over the steps both runs made.
 
 No number here is a test threshold.
 """
@@ -31,6 +36,7 @@ def main(argv=None) -> int:
     parser.add_argument("--criterion", default="pls")
     parser.add_argument("--every", type=int, default=10, help="time a fresh solve of every N-th step's scene")
     parser.add_argument("--friction", type=float, default=0.3)
+    parser.add_argument("--crack-h", type=float, default=None, help="also run with this crack_h and compare")
     args = parser.parse_args(argv)
 
     import ngcrack as nc
@@ -65,7 +71,31 @@ def main(argv=None) -> int:
     print(f"per solve / fresh solve: median {np.median(ratios):.2f}")
     print(f"CPU for {len(res.steps) - 1} steps: {cpu:.1f} s; wall {total:.1f} s")
     print(f"load average after: {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
+    if args.crack_h is not None:
+        compare(nc, scene, res, cpu, args)
     return 0
+
+
+def compare(nc, scene, res, cpu, args) -> None:
+    """The same run with crack_h = args.crack_h: its CPU and unknowns, and how far its path's
+    numbers are from the first run's, step by step (tips matched by crack and end)."""
+    c0 = time.process_time()
+    other = nc.grow(scene, da=0.1, steps=args.steps, K_Ic=2.0, criterion=args.criterion, frames=False,
+                    crack_h=args.crack_h)
+    cpu2 = time.process_time() - c0
+    a, b = res.table, other.table
+    keys = ["step", "crack", "end"]
+    both = a.merge(b, on=keys, suffixes=("", "_h"))
+    both = both[both.step <= min(a.step.max(), b.step.max())]
+    scale = float(np.abs(a.K_II).max())
+    lf = (both.load_factor_h / both.load_factor - 1).abs()
+    print("\n| crack_h | steps | solves | CPU s | unknowns, first to last step |\n|---|---|---|---|---|")
+    for h, r, c in ((scene.crack_h, res, cpu), (args.crack_h, other, cpu2)):
+        t = r.table.groupby("step").first()
+        print(f"| {h:g} | {len(r.steps) - 1} | {int(t.solves.sum())} | {c:.1f} | {int(t.ndof.iloc[0])} to {int(t.ndof.iloc[-1])} |")
+    print(f"over steps 0-{int(both.step.max())}: kink differs by at most {np.abs(both.kink_deg_h - both.kink_deg).max():.2f} "
+          f"degrees (grown tips), K_II by {np.abs(both.K_II_h - both.K_II).max() / scale:.2e} of the largest |K_II|, "
+          f"the step's load factor by {lf.max():.2e} (relative); stopped: {other.stopped}")
 
 
 if __name__ == "__main__":

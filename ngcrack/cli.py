@@ -90,7 +90,7 @@ def _check_sizes(scene, sizes: dict) -> None:
 
 def _check_friction(scene, args) -> None:
     """--friction only with --crack-model contact; a scene's own friction under free or bonded: a warning."""
-    from .sweeps import check_friction_applies, warn_friction_not_applied
+    from .friction_checks import check_friction_applies, warn_friction_not_applied
 
     check_friction_applies(args.friction, args.crack_model, "--friction")
     if args.friction is None and args.command == "solve":  # (a sweep warns itself)

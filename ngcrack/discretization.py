@@ -119,7 +119,8 @@ class Discretization:
     the values that must be >= 0); `constraint_positions()` (crack index, arc length) of
     every constrained value; `crack_jumps(gf, crack)` the (normal, tangential) jumps at
     the crack's sample points; `tangential_jump(gf)` a CoefficientFunction whose
-    tangential trace on the crack equals [u].t; `held_mean_rows(held_mean, T, free)` the
+    tangential trace on the crack equals [u].t; `assemble_load()` assembles `f` again
+    after its loads' Parameters changed; `held_mean_rows(held_mean, T, free)` the
     rows of the pin and roller points' mean constraints. What an element cannot do is
     refused with an InputError naming the option (`refuse`), never signalled by a missing
     method.
@@ -182,6 +183,10 @@ class Discretization:
     def tangential_jump(self, gf: ngs.GridFunction) -> ngs.CoefficientFunction:
         """A vector CoefficientFunction whose tangential component on the crack is [u].t."""
         raise NotImplementedError(f"{type(self).__name__}.tangential_jump")
+
+    def assemble_load(self) -> None:
+        """Assemble the load vector `f` again (its loads' Parameters changed)."""
+        self.f.Assemble()
 
     def held_mean_rows(self, held_mean: dict, T, free: np.ndarray) -> tuple[np.ndarray, list]:
         """B (k x n) on the condensed unknowns (the columns of T) holding the means of

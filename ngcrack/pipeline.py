@@ -325,7 +325,7 @@ class Pipeline:
             if ploads is not None:
                 self.settle_estimates()  # before the loads' Parameters change under them
                 ploads.set(scene)
-                disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
+                disc.assemble_load()  # (tens of microseconds: starting the TaskManager would cost more)
                 self.counts["load"] += 1
                 self.redone.append("load vector")
             return disc, held

@@ -26,7 +26,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
                         "solid.h1")),
     ("post-processing", ("post", "post2d", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front",
                          "solid.face_pressure")),
-    ("options and solution", ("options", "solution", "stages", "solid.output", "solid.stages")),
+    ("options and solution", ("options", "solution", "stages", "friction_checks", "solid.output", "solid.stages")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
     ("loops over the pipeline", ("adapt", "distributed")),
     ("one-shot solve", ("solve", "volume")),

@@ -57,6 +57,15 @@ def test_a_solve_loads_no_optional_part():
     assert not {"scipy.linalg", "scipy.sparse.linalg", "scipy.sparse.csgraph", "threadpoolctl"} & loaded
 
 
+def test_the_solve_command_loads_no_sweeps(tmp_path):
+    out = tmp_path / "g.json"
+    loaded = _loaded("from ngcrack.cli import main; main(['solve', 'griffith', '--maxh', '4', '--tip-h', '0.05', "
+                     f"'--crack-h', '0.2', '--json', {str(out)!r}])")
+    assert out.exists()
+    assert not {m for m in loaded if m.startswith(("ngcrack.sweeps", "multiprocessing", "concurrent.futures.process"))}
+    assert not _top(loaded) & NOT_FOR_A_SOLVE
+
+
 def test_every_public_name_resolves():
     for name in nc.__all__:
         assert getattr(nc, name) is not None

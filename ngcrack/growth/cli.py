@@ -75,7 +75,7 @@ def run(args) -> int:
 
         require("meshio", "--vtk")
         series = SeriesWriter(stem)  # its stale step files go when it writes the first step
-    from ngcrack.sweeps import check_friction_applies
+    from ngcrack.friction_checks import check_friction_applies
 
     check_friction_applies(args.friction, args.crack_model, "--friction")  # as solve refuses it
     scene = scenes.resolve(args.scene)

@@ -23,12 +23,14 @@ A sigma = ((1 + nu) sigma - nu tr(sigma) I) / E, finite up to nu -> 1/2 (no lock
 0.4999: tests/test_solid.py). The form div(sigma).v - sigma_nn v_n of the tutorials gave
 displacements about 30 times too small on a clamped cube against H1-P2; this one agrees.
 
-G (`constraint_map`) maps the jn coefficients of each crack face to its values at the
-face's P_k Lagrange points (vertices for k = 1): the contact constraints w = G jn >= 0.
+G (`constraint_map`) maps the jn coefficients of each crack face to the Bernstein
+coefficients of its P_k jump (its values at the vertices for k = 1): the contact
+constraints w = G jn >= 0, which make the jump >= 0 on the whole face.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -97,29 +99,56 @@ def lagrange_points(k: int) -> np.ndarray:
     return np.array(pts)
 
 
+def bernstein_at_lagrange(k: int) -> np.ndarray:
+    """M[m, n] = B_n(p_m): the degree-k Bernstein polynomials of the triangle (indexed by the
+    domain points, which are the Lagrange points of `lagrange_points`) at those points."""
+    pts = lagrange_points(k)
+    lam = np.column_stack([pts[:, 0], pts[:, 1], 1.0 - pts[:, 0] - pts[:, 1]])
+    idx = np.rint(k * lam).astype(int)
+    coef = np.array([math.factorial(k) / math.prod(math.factorial(int(i)) for i in row) for row in idx])
+    return coef[None, :] * np.prod(lam[:, None, :] ** idx[None, :, :], axis=2)
+
+
 def constraint_map(smesh: SolidMesh, jn_space: ngs.FESpace, full: ngs.FESpace, k: int):
-    """G (sparse, block diagonal per face) and the physical constraint points, in jn's numbering."""
+    """(G, V, points): G maps the jn coefficients of each crack face to the Bernstein
+    coefficients of its P_k normal jump (sparse, block diagonal per face), V to its values at
+    the face's P_k Lagrange points, `points` those points in space, in jn's numbering.
+
+    The Bernstein coefficients are the contact constraints: they are the values at the
+    vertices, and all >= 0 makes the jump >= 0 on the whole face (the jump lies in the convex
+    hull of its coefficients). Their dual forces are the contact tractions integrated against
+    the Bernstein polynomials, which are positive with positive integrals: a face pressed
+    shut has every force > 0. With values at the Lagrange points instead (the same for
+    k = 1), a uniform pressure puts no force on the vertex points at k = 2 (the P2 vertex
+    functions integrate to 0 over a triangle) and faces under compression stayed ajar there.
+    """
     ref = lagrange_points(k)
-    rows, cols, vals, where = [], [], [], []
+    to_bernstein = np.linalg.inv(bernstein_at_lagrange(k))
+    blocks_g, blocks_v, cols_all, where = [], [], [], []
     pts = smesh.points
-    r = 0
     for c in smesh.cracks:
         for el in c.elements:
             eid = ngs.ElementId(ngs.BND, int(el))
             fe = full.GetFE(eid)
             dofs = list(jn_space.GetDofNrs(eid))
             verts = pts[[v.nr for v in smesh.mesh[eid].vertices]]
-            for x, y in ref:
-                shape = np.array(fe.CalcShape(x, y, 0.0))
-                rows += [r] * len(dofs)
-                cols += dofs
-                vals += list(shape)
-                where.append(x * verts[0] + y * verts[1] + (1.0 - x - y) * verts[2])
-                r += 1
+            V = np.array([np.array(fe.CalcShape(x, y, 0.0)) for x, y in ref])
+            blocks_v.append(V)
+            blocks_g.append(to_bernstein @ V)
+            cols_all.append(dofs)
+            where += [x * verts[0] + y * verts[1] + (1.0 - x - y) * verts[2] for x, y in ref]
     n = jn_space.ndof
+    per = len(ref)
+    r = per * len(blocks_v)
     if r != n:
         raise AssertionError(f"the crack's constraint points ({r}) do not match its jump unknowns ({n})")
-    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n)), np.array(where)
+    rows = np.repeat(np.arange(r), per)
+    cols = np.repeat(np.array(cols_all).reshape(-1, 1, per), per, axis=1).ravel()
+
+    def matrix(blocks):
+        return sp.csr_matrix((np.concatenate([b.ravel() for b in blocks]), (rows, cols)), shape=(n, n))
+
+    return matrix(blocks_g), matrix(blocks_v), np.array(where)
 
 
 @dataclass(eq=False)
@@ -131,6 +160,8 @@ class SolidDiscretization(Discretization):
 
     constraint_points: np.ndarray | None = None
     order: int = 1
+    value_map: sp.csr_matrix | None = None  # jn coefficients -> values at the constraint points
+    force_unit: float = 1.0  # the system's forces (K y, F, the contact forces) are in this unit (E)
     #: the crack index of each constraint point (None: the faces' points crack by crack, P_order per face)
     point_crack: np.ndarray | None = None
     #: per crack face (crack by crack) its constraint points, vertices first; -1 where the face's node
@@ -145,6 +176,11 @@ class SolidDiscretization(Discretization):
         missing = [k for k in ("fields", "boundary_values", "roller_pairs") if getattr(self, k) is None]
         if missing or (self.has_crack and self.constraint_map is None):
             raise TypeError(f"SolidDiscretization: the element's maps {missing or ['constraint_map']} are required")
+
+    def assemble_load(self) -> None:
+        """Assemble `f` again, in the system's force unit (`force_unit`)."""
+        self.f.Assemble()
+        self.f.vec.data *= 1.0 / self.force_unit
 
     def tangential_jump(self, gf: ngs.GridFunction) -> ngs.CoefficientFunction:
         """u_e, the crack's HCurl copy: its tangential trace on the crack is [u]_t."""
@@ -161,7 +197,7 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
     mesh = smesh.mesh
     spaces, built = tdnns_spaces(mesh, k, loads)
     has_crack = bool(smesh.cracks)
-    G = where = None
+    G = V = where = None
     if has_crack:
         facet = ngs.FacetFESpace(mesh, order=k)
         jn_space = _compress(facet, [ngs.NodeId(ngs.FACE, int(f)) for c in smesh.cracks for f in c.faces])
@@ -170,10 +206,14 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
         nodes += [ngs.NodeId(ngs.FACE, int(f)) for c in smesh.cracks for f in c.faces]
         spaces += [jn_space, _compress(hcurl, nodes)]
         H = plus_side(smesh)
-        G, where = constraint_map(smesh, jn_space, facet, k)
+        G, V, where = constraint_map(smesh, jn_space, facet, k)
         built.append(f"crack: normal jump P{k} per face, tangential jump from the crack's HCurl dofs (front excluded)")
     fes = ngs.FESpace(spaces)
-    A = compliance(E, nu)
+    # the system is assembled in units of E (stresses and loads divided by E, displacements
+    # unchanged): its numbers, the local condensation's rounding and so the certificate are
+    # the same in any consistent units (in Pa the condensed matrix was 300 times less
+    # symmetric than in MPa at order 2, and the contact residuals 1e4 times larger)
+    A = compliance(1.0, nu)
 
     def displacement(sym):
         return sym[1] + H * sym[4] if has_crack else sym[1]
@@ -221,10 +261,11 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
             built.append(f"crack[{c.index}]: pressure {pressure[c.index]:g} on the faces")
     with task_manager():
         f.Assemble()
+    f.vec.data *= 1.0 / E
 
     def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
         comps = gf.components
-        out = {"sigma": comps[0], "u": displacement(comps), "grad_u": grad_displacement(comps)}
+        out = {"sigma": E * comps[0], "u": displacement(comps), "grad_u": grad_displacement(comps)}
         if has_crack:
             out["jump"] = comps[4]  # the + side's tangential jump copy
         return out
@@ -239,5 +280,5 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
         element="tdnns", crack_mesh=smesh, fes=fes, a=a, f=f, uhat=(2, 2), jn=3 if has_crack else None, jt=None,
         facet_order=k, fields=fields, built=built, boundary_values=boundary_values, roller_pairs=lambda roller: [],
         definite=True, sign=-1.0, tangential=4 if has_crack else None,
-        constraint_map=(lambda: G) if has_crack else None, constraint_points=where, order=k,
+        constraint_map=(lambda: G) if has_crack else None, constraint_points=where, order=k, value_map=V, force_unit=float(E),
     )

@@ -69,7 +69,8 @@ class SolidSolution:
         """[u].nu at the constraint points (disc.constraint_points), crack by crack in order."""
         if self.disc.jn is None:
             return np.zeros(0)
-        return np.asarray(self.G @ self.y[self.system.contact])
+        V = getattr(self.disc, "value_map", None)
+        return np.asarray((self.G if V is None else V) @ self.y[self.system.contact])
 
     def tangential_jumps(self) -> np.ndarray:
         """|[u]_t| at the constraint points, from the + side's jump field (the element's "jump")."""

@@ -93,6 +93,8 @@ def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | Non
     system = pipeline.system(disc, loads, False)
     timings["condense"] = time.perf_counter() - t2
     answer = sparse_contact_stage(system, disc, options["crack_model"], options["linear_solver"])
+    if answer.result is not None:  # the system is in the element's force unit (solid.element.build)
+        answer.result.lam = answer.result.lam * disc.force_unit
     timings.update(linear=answer.time_linear, contact=answer.time_contact)
     with task_manager():
         gf = system.expand(answer.y)

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..friction_checks import scene_friction  # noqa: F401 (the friction column; re-exported)
 from .quantities import _is_tip_column
 
 #: columns that identify a row (resume key)
@@ -96,11 +97,6 @@ _SETUP_COLUMNS = ("reference_element", "reference_maxh", "crack_model", "qp_solv
 def _key(scene: str, element: str, maxh: float, nu: float, friction: float = 0.0) -> tuple:
     return (str(scene), str(element), float(f"{float(maxh):.{KEY_DIGITS}g}"), float(f"{float(nu):.{KEY_DIGITS}g}"),
             float(f"{float(friction):.{KEY_DIGITS}g}"))
-
-
-def scene_friction(scene) -> float:
-    """The scene's Coulomb coefficient for the `friction` column: its cracks' largest (0 without a crack)."""
-    return max((float(c.friction) for c in scene.cracks), default=0.0)
 
 
 def _format(value) -> str:
