@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .adapt import solve_adaptive
 from .elements import Loads
 from .errors import InputError
 from .geometry import CrackMesh
@@ -116,6 +115,8 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     if crack_mesh is not None:
         raise InputError("crack_mesh: adapt=TOL makes its own first mesh from maxh, tip_h, crack_h and grading; "
                           "give either adapt or crack_mesh")
+    from .adapt import solve_adaptive  # (with the estimate: loaded by an adaptive solve only)
+
     return solve_adaptive(scene, opts, loads=loads, pipeline=pipeline)  # (it checks the request, as run does)
 
 

@@ -34,6 +34,21 @@ print(f"{sol.ndof['total']} unknowns ({sol.ndof['global']} after condensation, {
       f"KKT {sol.kkt}")
 
 # %% [markdown]
+# ## The crack in the NGSolve webgui
+#
+# The crack faces coloured by the opening $[u]\cdot\nu$ (the contact unknown), with the body's edges
+# and the front; rotate and zoom with the mouse. `webgui_scene(sol, "sliding")` colours them by
+# $|[u]_t|$ instead, and `body=True` adds the body's faces, cut open through the crack's plane by the
+# viewer's clipping plane.
+
+# %%
+from ngcrack.solid.view import webgui_scene
+
+view = webgui_scene(sol, "opening")
+view.draw()
+assert view.kwargs["max"] == sol.crack_summaries()[0]["max_opening"]
+
+# %% [markdown]
 # ## The opening and K_I along the front
 
 # %%

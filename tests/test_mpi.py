@@ -2,7 +2,8 @@
 
 Each test starts mpiexec in a subprocess. The numbers asserted: with CG preconditioned by
 BDDC, the stress intensity factors and crack profiles equal the serial direct solve's to
-1e-8 (relative), the
+1e-8 (relative; griffith, inclined-compression, and inclined-compression with Coulomb
+friction slipping and sticking), the same open/stick/slip states, the
 same active set, KKT residuals at round-off; a failing rank stops the others (no hang);
 MPI missing and a mesh too small for the ranks give one line.
 """
@@ -52,43 +53,75 @@ COMPARE = textwrap.dedent('''
     import ngcrack as nc
     from ngcrack.distributed import solve as distributed_solve
     out = {}
-    for name in ("griffith", "inclined-compression"):
-        sol = distributed_solve(name)
+    cases = {"griffith": nc.scenes.load("griffith"), "inclined-compression": nc.scenes.load("inclined-compression")}
+    # Coulomb friction: every closed point slips (mu 0.3) or sticks (mu 0.7 > tan 30 deg)
+    cases.update({f"friction-{mu}": nc.scenes.load("inclined-compression").with_(friction=mu) for mu in (0.3, 0.7)})
+    for name in sys.argv[2:]:
+        scene = cases[name]
+        sol = distributed_solve(scene)
         if sol is None:
             continue
-        ser = nc.Pipeline().run(nc.scenes.load(name), nc.SolveOptions())  # the serial direct path
+        ser = nc.Pipeline().run(scene, nc.SolveOptions())  # the serial direct path
         K = [[t.K_I, t.K_II] for t in sol.tips]
         Ks = [[t.K_I, t.K_II] for t in ser.tips]
         jump = lambda s: np.concatenate([np.r_[p.normal_jump, p.tangential_jump] for p in s.profiles])
-        scale = float(np.max(np.abs(jump(ser))))
+        scale = float(np.max(np.abs(jump(ser)))) or 1.0
+        states = lambda s: [str(x) for x in (s.qp.point_states() if hasattr(s.qp, "point_states") else [])]
         out[name] = dict(K=K, K_serial=Ks, profile_error=float(np.max(np.abs(jump(sol) - jump(ser)))) / scale,
                          active=[int(i) for i in sol.qp.active], active_serial=[int(i) for i in ser.qp.active],
-                         kkt=sol.kkt, info=sol.options["distributed"])
+                         states=states(sol), states_serial=states(ser), kkt=sol.kkt, info=sol.options["distributed"])
     if out:
         json.dump(out, open(sys.argv[1], "w"))
 ''')
 
 
-@pytest.fixture(scope="module")
-def compared(tmp_path_factory):
-    d = tmp_path_factory.mktemp("mpi")
+def _compare(d, names: list[str]) -> dict:
     script, out = d / "compare.py", d / "out.json"
     script.write_text(COMPARE)
-    proc = _run([str(script), str(out)])
+    proc = _run([str(script), str(out), *names])
     assert proc.returncode == 0, proc.stderr[-2000:]
     return json.loads(out.read_text())
 
 
-@pytest.mark.parametrize("name", ["griffith", "inclined-compression"])
+@pytest.fixture(scope="module")
+def compared(tmp_path_factory):
+    return _compare(tmp_path_factory.mktemp("mpi"), ["griffith", "inclined-compression", "friction-0.3"])
+
+
+@pytest.mark.parametrize("name", ["griffith", "inclined-compression", "friction-0.3"])
 def test_distributed_equals_serial(compared, name):
+    _equals_serial(compared, name)
+
+
+@pytest.mark.slow
+def test_friction_sticks(tmp_path, compared):
+    """mu 0.7 (> tan 30 deg, the crack's inclination): every point sticks, K about 0, as in the serial solve."""
+    r = _compare(tmp_path, ["friction-0.7"])
+    r["inclined-compression"] = compared["inclined-compression"]
+    _equals_serial(r, "friction-0.7")
+    assert set(r["friction-0.7"]["states"]) == {"stick"}
+
+
+def _equals_serial(compared, name):
     r = compared[name]
     K, Ks = np.array(r["K"]), np.array(r["K_serial"])
-    assert np.max(np.abs(K - Ks)) <= 1e-8 * np.max(np.abs(Ks))
+    # relative to the frictionless closed crack's |K| where friction holds every point (K about 0)
+    K_scale = max(np.max(np.abs(Ks)), np.max(np.abs(compared["inclined-compression"]["K_serial"])))
+    assert np.max(np.abs(K - Ks)) <= 1e-8 * K_scale
     assert r["profile_error"] <= 1e-8
     assert r["active"] == r["active_serial"]
-    assert max(r["kkt"].values()) <= 1e-12
+    assert r["states"] == r["states_serial"]  # open / stick / slip at every constraint point
+    kkt = dict(r["kkt"])
+    assert kkt.pop("friction") <= 1e-9  # the Coulomb law: to the Krylov tolerance
+    assert max(kkt.values()) <= 1e-12
     assert r["info"]["ranks"] == 2
     assert r["info"]["preconditioner"].startswith("bddc")  # the Krylov solves are preconditioned by BDDC
+
+
+def test_friction_slips(compared):
+    """mu 0.3 (< tan 30 deg): every closed point slips, found by the fixed point on mu lam_n."""
+    assert set(compared["friction-0.3"]["states"]) == {"slip"}
+    assert compared["friction-0.3"]["info"]["active_set_steps"] >= 3  # the fixed point on mu lam_n
 
 
 def test_bddc_steps(compared):
@@ -120,7 +153,7 @@ FAIL = textwrap.dedent('''
     if MPI.COMM_WORLD.rank == 1:
         def broken(*args, **kw):
             raise RuntimeError("injected failure")
-        ds.local_constraint_map = broken
+        ds.local_constraint_maps = broken
     ds.solve("griffith")
 ''')
 

@@ -133,3 +133,51 @@ def test_pressurized_penny_is_the_tension_problem(penny_mesh, tension):
     # measured: 0.963-0.992 of Sneddon, within 2.5% of the tension case point by point (TDNNS order 1:
     # 0.986-1.011 against 0.988-1.008 under tension)
     assert np.max(np.abs(front.K_I / ref.K_I - 1.0)) < 0.04, front.K_I / ref.K_I
+
+
+def test_h1p1_penny_closes_under_compression_and_the_faces_carry_the_load(penny_mesh, tmp_path):
+    import copy
+
+    import meshio
+
+    scene, smesh = penny_mesh
+    d = copy.deepcopy(PENNY)
+    d["boundary"]["zmax"]["value"] = [0.0, 0.0, -1.0]
+    # P1: jn >= 0 at the vertices is jn >= 0 everywhere. (P2 with jn >= 0 at vertices and edge mid
+    # points leaves 25 of 1100 mid points open by 4e-7, 2e-4 of the tension case's opening: the
+    # nodal P2 constraint allows a little interpenetration between the nodes, as TDNNS order 2.)
+    sol = nc.solve(SolidScene.from_dict(d), crack_mesh=smesh, element="h1p1")
+    assert sol.contact.active.all() and sol.crack_summaries()[0]["closed_fraction"] == 1.0
+    assert max(sol.kkt.values()) < 1e-12
+    # closed frictionless faces under uniaxial compression: the uncracked body's uniform field, so
+    # the contact pressure is the applied p = 1 (measured: within 0.4%; not round-off, as P1
+    # on the tetrahedra curved to second order at the front does not hold a linear field exactly)
+    _, _, data = sol.crack_arrays()
+    on = data["closed"] > 0  # a corner on the front has no jump unknown: pressure 0 there
+    assert on.sum() > 0.5 * len(on) and np.max(np.abs(data["contact_pressure"][on] - 1.0)) < 1e-2
+    assert np.all(data["contact_pressure"][~on] == 0.0)
+    assert np.all(sol.fronts[0].K_I == 0.0)
+    files = sol.save_vtk(tmp_path / "penny")
+    cracks = meshio.read(files[1])
+    assert set(cracks.point_data) == {"opening", "sliding", "closed", "contact_pressure"}
+
+
+def test_webgui_scene_colours_the_crack_faces_by_the_opening(tension):
+    import ngsolve as ngs
+
+    from ngcrack.solid.view import webgui_scene
+
+    with pytest.raises(nc.InputError, match="quantity"):
+        webgui_scene(tension, "stress")
+    mesh = tension.smesh.mesh
+    rule = ngs.IntegrationRule(ngs.TRIG, 2)
+    mp = mesh.MapToAllElements(rule, ngs.BND).reshape(mesh.GetNE(ngs.BND), -1)[tension.smesh.cracks[0].elements].ravel()
+    for quantity, top in (("opening", tension.crack_summaries()[0]["max_opening"]),
+                          ("sliding", tension.crack_summaries()[0]["max_sliding"])):
+        scene = webgui_scene(tension, quantity, body=quantity == "sliding")
+        v = np.asarray(scene.cf(mp)).ravel()
+        # the colour on the crack faces is the quantity: within 5% of its largest value at the constraint points
+        assert v.min() >= -1e-12 and abs(v.max() / top - 1.0) < 0.05, (quantity, v.max(), top)
+        assert scene.kwargs["max"] == pytest.approx(top)
+    data = webgui_scene(tension).draw(show=False).GetData()
+    assert data["funcmax"] == pytest.approx(tension.crack_summaries()[0]["max_opening"])

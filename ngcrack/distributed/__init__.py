@@ -14,7 +14,8 @@ Under `mpiexec -n N` (N > 1) `ngcrack solve` and `nc.solve` run `distributed.sol
 - crack problem: a primal-dual active-set iteration on the distributed crack unknowns,
   each step one constrained linear solve (active constraint values held at zero by a
   projection), the multipliers from the residual, the KKT residuals and the change of
-  the active set reduced over the ranks;
+  the active set reduced over the ranks; with Coulomb friction the stick and slip sets
+  too, and the slip threshold mu lam_n by a fixed point (`friction.py`);
 - gather: the condensed unknowns go to rank 0, which recovers the element-local
   unknowns and runs the serial post-processing (profiles, KKT residuals with the
   definitions of `constraints.py`, the tips' K_I, K_II, G): one Solution on rank 0,

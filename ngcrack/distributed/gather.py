@@ -43,11 +43,13 @@ def _local(mesh: ngs.Mesh, fes: ngs.FESpace, x: np.ndarray, active_dof: np.ndarr
     return out
 
 
-def gather_to_rank0(comm, cmesh, fes: ngs.FESpace, x: ngs.BaseVector, active: np.ndarray, jn_dofs: np.ndarray):
-    """Gathered on rank 0 (None on the others). `x` cumulated; `active` per crack unknown of this rank."""
+def gather_to_rank0(comm, cmesh, fes: ngs.FESpace, x, active: np.ndarray, jn_dofs: np.ndarray):
+    """Gathered on rank 0 (None on the others). `x` a cumulated vector or the values per dof (numpy); `active`
+    per crack unknown of this rank."""
     active_dof = np.zeros(fes.ndof, dtype=bool)
     active_dof[jn_dofs] = active
-    parts = comm.gather(_local(cmesh.mesh, fes, x.FV().NumPy(), active_dof), root=0)
+    values = x if isinstance(x, np.ndarray) else x.FV().NumPy()
+    parts = comm.gather(_local(cmesh.mesh, fes, values, active_dof), root=0)
     if comm.rank != 0:
         return None
     nodes = {}

@@ -51,11 +51,16 @@ def pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: floa
     """Solve P K P x = P rhs for x in range(P), starting from P x; returns the CG steps.
 
     `project(v)` applies P to v in place (each rank its own entries: P must be the same
-    on the entries two ranks share). Stops when the preconditioned residual norm has
-    dropped by `tol`.
+    on the entries two ranks share). Stops when the preconditioned residual norm is `tol`
+    times the larger of its first value and the right-hand side's.
     """
     project(x)
     r, z, p, q = (x.CreateVector() for _ in range(4))
+    r.data = rhs
+    project(r)
+    op.precondition(r, z)
+    project(z)
+    rz_rhs = abs(ngs.InnerProduct(r, z))
     op.apply(x, q)
     r.data = rhs - q
     project(r)
@@ -63,8 +68,10 @@ def pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: floa
     project(z)
     p.data = z
     rz = ngs.InnerProduct(r, z)
-    rz0 = abs(rz)
-    if rz0 == 0.0:
+    # relative to the larger of the first residual and the right-hand side: a warm start close to
+    # the answer is not asked for a further reduction below round-off
+    rz0 = max(abs(rz), rz_rhs)
+    if abs(rz) <= tol * tol * rz0:
         return 0
     for step in range(1, max_steps + 1):
         op.apply(p, q)

@@ -7,7 +7,8 @@ forces lam = G^{-T} (K y - F)_c. Each step holds the active values at zero (a
 projection of the crack edges' unknowns, krylov.py) and solves the rest by CG on the
 sign-flipped (symmetric positive definite) system, preconditioned by BDDC (bddc.py); then
 an active value leaves where its force is negative and an inactive one enters where it
-penetrates. The iteration stops when no rank changes its active set.
+penetrates. The iteration stops when no rank changes its active set. With Coulomb
+friction the tangential values join it (stick and slip sets, friction.py).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from ..options import SolveOptions
 from ..post import endpoint_map
 from . import MPIUnavailable, require_mpi
 from .bddc import default_for, preconditioner
+from .friction import FrictionSets, friction_loop
 from .gather import gather_to_rank0
 from .krylov import Operator, pcg
 from .mesh import MATCH_RTOL, TooFewElements, distribute
@@ -38,9 +40,6 @@ SIGN_RTOL = 1e-9
 
 def check_supported(scene, o: SolveOptions) -> None:
     """What the distributed solve does not do yet, refused on every rank before any work."""
-    if o.tangential_for(scene):
-        raise InputError("friction: the distributed solve (mpiexec -n N, N > 1) handles frictionless cracks only; "
-                         "run this scene without mpiexec")
     if o.hp:
         raise InputError("hp: the distributed solve takes plain meshes only (hp = 0); run hp meshes without mpiexec")
     if getattr(scene, "points", ()):
@@ -190,38 +189,21 @@ def _solve(comm, scene, o: SolveOptions):
     t0 = time.perf_counter()
     op = Operator(A=a.mat, C=pre, sign=disc.sign)
     has_crack = disc.jn is not None and o.crack_model != "free"
-    if has_crack:
-        rng = fes.Range(disc.jn)
-        jn_dofs = np.arange(rng.start, rng.stop)
-        G = local_constraint_map(comm, disc, cmesh, blocks, scene.diameter)
+    tangential = has_crack and o.tangential_for(scene)
+    jn_dofs, jt_dofs = _dofs(fes, disc.jn if has_crack else None), _dofs(fes, tangential_component(disc) if
+                                                                         tangential else None)
+    G, Gt, mu = local_constraint_maps(comm, disc, cmesh, blocks if has_crack else [], scene, tangential)
+    slip = np.zeros(len(G))
+    if tangential:
+        sets = FrictionSets(G, Gt, mu, jn_dofs, jt_dofs, free)
+        steps, cg_steps = friction_loop(comm, op, rhs, x, sets, SIGN_RTOL)
+        active, slip = sets.contact, sets.sign
     else:
-        jn_dofs, G = np.zeros(0, dtype=int), np.zeros((0, 0))
-    aset = ActiveSet(G, jn_dofs, free)
-    if has_crack and o.crack_model == "bonded":
-        aset.set(np.ones(len(G), dtype=bool))
-    steps, cg_steps = 0, []
-    residual = x.CreateVector()
-    while True:
-        steps += 1
-        cg_steps.append(pcg(op, rhs, x, aset.project))
-        if not has_crack or o.crack_model == "bonded":
-            break
-        x.Cumulate()
-        op.apply(x, residual)
-        residual.data -= rhs  # K y - F: the crack faces' forces on the crack rows
-        residual.Cumulate()
-        j = x.FV().NumPy()[jn_dofs]
-        w = G @ j
-        lam = aset.Ginv.T @ residual.FV().NumPy()[jn_dofs]
-        w_max = comm.allreduce(float(np.max(np.abs(w), initial=0.0)), op=_max())
-        lam_max = comm.allreduce(float(np.max(np.abs(lam), initial=0.0)), op=_max())
-        active = np.where(aset.active, lam > -SIGN_RTOL * lam_max, w < -SIGN_RTOL * w_max)
-        changed = comm.allreduce(int(np.count_nonzero(active != aset.active)))
-        if changed == 0:
-            break
-        if steps >= MAX_ACTIVE_SET_STEPS:
-            raise RuntimeError(f"crack problem: the active set still changed after {steps} steps")
-        aset.set(active)
+        aset = ActiveSet(G, jn_dofs, free)
+        if has_crack and o.crack_model == "bonded":
+            aset.set(np.ones(len(G), dtype=bool))
+        steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and o.crack_model == "contact")
+        active = aset.active
     x.Cumulate()
     timings["solve"] = time.perf_counter() - t0
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
@@ -229,22 +211,69 @@ def _solve(comm, scene, o: SolveOptions):
             "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
             "memory_mb": _memory_per_rank(comm)}
     t0 = time.perf_counter()
-    gathered = gather_to_rank0(comm, cmesh, fes, x, aset.active, jn_dofs)
+    gathered = gather_to_rank0(comm, cmesh, fes, x, active, jn_dofs)
+    codes = np.zeros(fes.ndof)
+    codes[jn_dofs] = slip  # the slip direction per constraint point (points are numbered like jn's dofs)
+    slips = gather_to_rank0(comm, cmesh, fes, codes, active, jn_dofs)
     timings["gather"] = time.perf_counter() - t0
     if rank != 0:
         return None
     from .assemble0 import solution_on_rank0
 
-    return solution_on_rank0(pipe, scene, o, serial_mesh, gathered, timings, info, t_start)
+    return solution_on_rank0(pipe, scene, o, serial_mesh, gathered, timings, info, t_start,
+                             slips if tangential else None)
+
+
+def normal_loop(comm, op, rhs, x, aset: ActiveSet, iterate: bool) -> tuple[int, list[int]]:
+    """The frictionless active-set steps (module docstring); returns (steps, CG steps per step)."""
+    steps, cg_steps = 0, []
+    residual = x.CreateVector()
+    jn_dofs, G = aset.jn, aset.G
+    while True:
+        steps += 1
+        cg_steps.append(pcg(op, rhs, x, aset.project))
+        if not iterate:
+            return steps, cg_steps
+        x.Cumulate()
+        op.apply(x, residual)
+        residual.data -= rhs  # K y - F: the crack faces' forces on the crack rows
+        residual.Cumulate()
+        w = G @ x.FV().NumPy()[jn_dofs]
+        lam = aset.Ginv.T @ residual.FV().NumPy()[jn_dofs]
+        w_max = comm.allreduce(float(np.max(np.abs(w), initial=0.0)), op=_max())
+        lam_max = comm.allreduce(float(np.max(np.abs(lam), initial=0.0)), op=_max())
+        active = np.where(aset.active, lam > -SIGN_RTOL * lam_max, w < -SIGN_RTOL * w_max)
+        changed = comm.allreduce(int(np.count_nonzero(active != aset.active)))
+        if changed == 0:
+            return steps, cg_steps
+        if steps >= MAX_ACTIVE_SET_STEPS:
+            raise RuntimeError(f"crack problem: the active set still changed after {steps} steps")
+        aset.set(active)
+
+
+def tangential_component(disc) -> int:
+    """The compound component whose crack dofs carry the tangential jump (jt, or TDNNS's u_e)."""
+    return disc.jt if disc.jt is not None else disc.tangential
+
+
+def _dofs(fes, component: int | None) -> np.ndarray:
+    if component is None:
+        return np.zeros(0, dtype=int)
+    rng = fes.Range(component)
+    return np.arange(rng.start, rng.stop)
 
 
 def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list | str:
-    """Rank 0: G of the serial mesh (post.endpoint_map) as one (mid point, block) per crack edge,
-    or why the discretization cannot be distributed (`unsupported_discretization`).
+    """Rank 0: per crack edge (mid point, block of G, block of Gt or None, crack index), or why the
+    discretization cannot be distributed (`unsupported_discretization`).
 
-    G is computed from moments over the crack edges (a serial assembly); its blocks go to
-    the ranks, which place them on their own crack edges (the same dofs in the same order).
+    G (post.endpoint_map) and, with friction, Gt (friction_setup.tangential_point_map) are
+    computed on the serial mesh (moments over the crack edges, point evaluation); their
+    blocks go to the ranks, which place them on their own crack edges (the same dofs in
+    the same order).
     """
+    from ..friction_setup import tangential_point_map
+
     disc, loads = pipe.discretization(scene, serial_mesh, o)
     why = unsupported_discretization(disc, loads)
     if why is not None:
@@ -253,31 +282,46 @@ def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list | str:
         return []
     space = disc.fes.components[disc.jn]
     G = endpoint_map(space, serial_mesh, disc.facet_order)
+    tangential = o.tangential_for(scene)
+    Gt = tangential_point_map(disc, serial_mesh, G) if tangential else None
+    space_t = disc.fes.components[tangential_component(disc)] if tangential else None
     out = []
-    for crack in serial_mesh.cracks:
+    for k, crack in enumerate(serial_mesh.cracks):
         for e, mid in zip(crack.edge, crack.mid):
-            dofs = list(space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))))
-            out.append((np.asarray(mid, float), G[np.ix_(dofs, dofs)]))
+            node = ngs.NodeId(ngs.EDGE, int(e))
+            dofs = list(space.GetDofNrs(node))
+            block_t = Gt[np.ix_(dofs, list(space_t.GetDofNrs(node)))] if tangential else None
+            out.append((np.asarray(mid, float), G[np.ix_(dofs, dofs)], block_t, k))
     return out
 
 
-def local_constraint_map(comm, disc, cmesh, blocks: list | None, diameter: float) -> np.ndarray:
-    """G on this rank's crack unknowns from rank 0's blocks, matched by the edges' mid points."""
+def local_constraint_maps(comm, disc, cmesh, blocks: list | None, scene, tangential: bool):
+    """(G, Gt, mu per point) on this rank's crack unknowns from rank 0's blocks, matched by the edges' mid points
+    (Gt and mu empty without friction); collective."""
     blocks = comm.bcast(blocks, root=0)
+    n = disc.fes.components[disc.jn].ndof if disc.jn is not None and blocks else 0
+    G, Gt, mu = np.zeros((n, n)), np.zeros((n, n) if tangential else (0, 0)), np.zeros(n if tangential else 0)
+    if not n:
+        return G, Gt, mu
     space = disc.fes.components[disc.jn]
-    G = np.zeros((space.ndof, space.ndof))
-    if not blocks or not space.ndof:
-        return G
+    space_t = disc.fes.components[tangential_component(disc)] if tangential else None
+    friction = [float(c.friction) for c in scene.cracks]
     mids = np.array([b[0] for b in blocks])
     for crack in cmesh.cracks:
         for e, mid in zip(crack.edge, crack.mid):
             dist = np.linalg.norm(mids - mid, axis=1)
             k = int(np.argmin(dist))
-            if dist[k] > MATCH_RTOL * diameter:
+            if dist[k] > MATCH_RTOL * scene.diameter:
                 raise RuntimeError("crack problem: a crack edge of a subdomain matches no crack edge of the mesh")
-            dofs = list(space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(e))))
+            node = ngs.NodeId(ngs.EDGE, int(e))
+            dofs = list(space.GetDofNrs(node))
             G[np.ix_(dofs, dofs)] = blocks[k][1]
-    return G
+            if tangential:
+                if space_t.ndof != n:
+                    raise RuntimeError("crack problem with friction: the tangential and normal unknowns differ in number")
+                Gt[np.ix_(dofs, list(space_t.GetDofNrs(node)))] = blocks[k][2]
+                mu[dofs] = friction[blocks[k][3]]
+    return G, Gt, mu
 
 
 def _max():

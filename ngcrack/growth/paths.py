@@ -8,9 +8,11 @@ reaches a hole, the tip is taken onto the hole's edge at the crossing the same w
 crack joins the hole (that end is no tip any more; holes.py: what then). Where the
 segment would cross another crack, or come closer to it than CRACK_CLEARANCE da, or
 cross its own crack, the tip stops where it is (junctions are not supported). Where it
-would pass a hole without meeting it, closer than HOLE_CLEARANCE_RTOL of the body's
-diameter (the scene checks refuse a crack that near a hole's edge and not on it), the tip
-grows up to HOLE_STOP times that distance from the hole's edge and stops there.
+would pass a circular hole without meeting it, closer than HOLE_CLEARANCE_RTOL of the
+body's diameter (the scene checks refuse a crack that near a hole's edge and not on it), the
+ligament left would be thinner than any mesh resolves: the tip breaks into the hole at the
+point of its edge nearest to the tip, radially (if it turns at most GRAZE_TURN to reach it); else
+it grows up to HOLE_STOP times that distance from the hole's edge and stops there.
 """
 
 from __future__ import annotations
@@ -42,8 +44,11 @@ HOLE_CLEARANCE_RTOL = 2e-3
 #: a crack end closer than this fraction of the body's size to a hole's polygon (and not on it) lies on the
 #: hole's circle: pieces() joins it to the polygon
 JOIN_RTOL = 1e-3
-#: a tip that passes a hole closer than the scene checks allow grows up to this many times HOLE_CLEARANCE_RTOL of the diameter from
-#: its edge, and stops there
+#: a tip whose segment would pass a circular hole closer than HOLE_CLEARANCE_RTOL of the diameter breaks
+#: into it (graze_point) if it turns at most this much (radians) to reach it
+GRAZE_TURN = math.radians(60.0)
+#: a tip that passes a hole closer than the scene checks allow (and cannot break into it) grows up to
+#: this many times HOLE_CLEARANCE_RTOL of the diameter from its edge, and stops there
 HOLE_STOP = 1.25
 #: ... unless that is less than this fraction of da: then it stops where it is
 HOLE_MIN_STEP = 0.1
@@ -85,6 +90,22 @@ def hole_hit(hole, p, d, length: float):
         return None
     pts = np.array([c for g in getattr(hit, "geoms", [hit]) for c in g.coords], dtype=float)
     x = pts[np.argmin(np.linalg.norm(pts - p, axis=1))]
+    return float(x[0]), float(x[1])
+
+
+def graze_point(hole, p, d, length: float):
+    """Where a tip at p whose segment p -> p + length d passes a circular hole without meeting it
+    breaks into it: the point of the circle nearest to p (the crack meets the edge at a right angle,
+    leaving no sliver), if the tip turns at most GRAZE_TURN to reach it within `length`; else None
+    (and None for a polygonal hole)."""
+    if not hole.is_circle:
+        return None
+    c, r = np.asarray(hole.center, dtype=float), float(hole.radius)
+    m = np.asarray(p, dtype=float) - c
+    x = c + r * m / np.linalg.norm(m)
+    v = x - p
+    if not 0.0 < np.linalg.norm(v) <= length or float(v @ d) < math.cos(GRAZE_TURN) * np.linalg.norm(v):
+        return None
     return float(x[0]), float(x[1])
 
 
@@ -150,9 +171,13 @@ def extend_tip(scene, region: shapely.Polygon, k: int, end: str, phi: float, da:
     gap = HOLE_CLEARANCE_RTOL * scene.diameter
     for i, ring in enumerate(region.interiors):
         if reach.distance(ring) < gap:
-            x = hole_hit(scene.holes[i], p, d, (1.0 + SNAP_FRACTION) * da) if i < len(scene.holes) else None
+            hole = scene.holes[i] if i < len(scene.holes) else None
+            x = hole_hit(hole, p, d, (1.0 + SNAP_FRACTION) * da) if hole is not None else None
+            how = ""
+            if x is None and hole is not None:  # a near miss: the ligament left would be thinner than a mesh allows
+                x, how = graze_point(hole, p, d, (1.0 + SNAP_FRACTION) * da), " (a near miss: it broke into it)"
             if x is not None:  # the crack joins the hole: its end on the hole's edge is no tip any more
-                reason = (f"tip {label} reached hole[{i}] at ({x[0]:.4g}, {x[1]:.4g}) and joined it (the "
+                reason = (f"tip {label} reached hole[{i}] at ({x[0]:.4g}, {x[1]:.4g}){how} and joined it (the "
                           f"ligament is cut; the crack ends on the hole's edge)")
                 q, outcome = x, "hole"
                 break

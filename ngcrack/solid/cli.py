@@ -1,6 +1,6 @@
 """``ngcrack solve`` on a 3D scene: solve, write the JSON and VTK files, print a summary.
 
-The options that have a meaning in 3D (``--element tdnns``, ``--order``, ``--maxh``,
+The options that have a meaning in 3D (``--element tdnns|h1p1|h1p2``, ``--order``, ``--maxh``,
 ``--crack-h``, ``--front-h``, ``--crack-model contact|free``, ``--qp-solver pdas``) are
 checked before meshing; the 2D-only ones (``--tip-h``, ``--hp``, ``--adapt``, ``--plot``,
 ``--max-dof``) are refused by name. The JSON record and the VTK files are those of

@@ -111,16 +111,18 @@ def _plus_tets(smesh: SolidMesh, nodes: list[ngs.NodeId], owner: np.ndarray) -> 
 
 
 def _frame(mesh: ngs.Mesh, smesh: SolidMesh, which: np.ndarray) -> list[ngs.CoefficientFunction]:
-    """(nu, t1, t2): each crack's frame on its + side's tetrahedra (P0), zero elsewhere."""
+    """(nu, t1, t2): each crack's frame at the vertices of its + side's tetrahedra (P1, so
+    constant on those tetrahedra and on the crack's faces, and defined on surface elements too)."""
+    tets = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)])
     out = []
     for k in range(3):
         comps = []
         for d in range(3):
-            g = ngs.GridFunction(ngs.L2(mesh, order=0))
-            vals = np.zeros(mesh.ne)
+            g = ngs.GridFunction(ngs.H1(mesh, order=1))
+            vals = np.zeros(mesh.nv)
             for c in smesh.cracks:
                 vec = (c.normal, c.crack.e_a, np.cross(c.normal, c.crack.e_a))[k]
-                vals[which == c.index] = vec[d]
+                vals[tets[which == c.index].ravel()] = vec[d]
             g.vec.FV().NumPy()[:] = vals
             comps.append(g)
         out.append(ngs.CF(tuple(comps)))

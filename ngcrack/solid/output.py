@@ -9,7 +9,9 @@ jump |[u]_t| at the same points, closed_fraction the area fraction of the crack 
 whose constraint points are all closed.
 
 VTK (ParaView): OUT.vtu with the body's displacement and stress, OUT_cracks.vtu with
-the crack faces' normal jump (opening) as a field.
+the crack faces' opening (normal jump), sliding (|tangential jump|), closed flag and
+contact pressure (-sigma_nn less the faces' applied pressure, where closed; 0 where open)
+at their corners.
 """
 
 from __future__ import annotations
@@ -192,4 +194,22 @@ class SolidSolution:
         at = np.maximum(pick, 0)
         data = {"opening": np.where(has, w[at], 0.0), "sliding": np.where(has, s[at], 0.0),
                 "closed": np.where(has, closed[at], 0.0)}
+        data["contact_pressure"] = np.where(data["closed"] > 0, self._face_compression(points), 0.0)
         return points, tris, data
+
+    def _face_compression(self, corners: np.ndarray) -> np.ndarray:
+        """-sigma_nn - p at the crack faces' corners (the mean of the two sides, a little inside each
+        face): the contact pressure where the faces are closed (p the faces' applied pressure)."""
+        mesh = self.smesh.mesh
+        nrm = np.concatenate([np.tile(c.normal, (3 * len(c.elements), 1)) for c in self.smesh.cracks])
+        applied = np.concatenate([np.full(3 * len(c.elements), getattr(self.scene.cracks[c.index], "pressure", 0.0))
+                                  for c in self.smesh.cracks])
+        centre = np.repeat(corners.reshape(-1, 3, 3).mean(axis=1), 3, axis=0)
+        x = corners + 1e-3 * (centre - corners)
+        sig = self.fields["sigma"]
+        out = np.zeros(len(x))
+        for side in (1.0, -1.0):
+            y = x + side * 1e-6 * self.scene.size * nrm
+            sv = np.asarray(sig(mesh(y[:, 0], y[:, 1], y[:, 2]))).reshape(-1, 3, 3)
+            out -= 0.5 * np.einsum("ki,kij,kj->k", nrm, sv, nrm)
+        return out - applied
