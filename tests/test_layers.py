@@ -19,10 +19,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "schur", "constraints", "contact",
-                     "files", "errors", "extras", "element_names", "solid", "solid.contact")),
+                     "files", "errors", "extras", "element_names", "solid", "solid.contact", "solid.friction")),
     ("scene", ("scene", "scenes", "references", "sizing", "solid.scene")),
     ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
-    ("discretization", ("discretization", "elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element",
+    ("discretization", ("discretization", "elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element", "solid.friction_points",
                         "solid.h1")),
     ("post-processing", ("post", "post2d", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front",
                          "solid.face_pressure")),

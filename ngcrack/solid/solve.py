@@ -5,7 +5,8 @@ stages of an `ngcrack.pipeline.Pipeline` (`stages.run_solid`), cached as in 2D:
 scene -> mesh (geometry.make_mesh) -> hybridized TDNNS with the crack's jumps
 (element.build) -> the condensed sparse system (ngcrack.hybrid.condense, shared with 2D)
 -> the contact problem on it (contact.solve_contact: a primal-dual active set with one
-sparse factorization per active set) -> the fields, the crack summaries and the front's
+sparse factorization per active set; with friction, friction.solve_friction: a sparse
+semismooth Newton method on the Coulomb cone) -> the fields, the crack summaries and the front's
 fracture parameters (front.front_parameters). `nc.solve` sends a 3D scene here.
 """
 
@@ -74,10 +75,12 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, pipeline=N
     stages of `pipeline` (an `ngcrack.pipeline.Pipeline` whose cached stages the solve may
     reuse; None: a fresh one), `ngcrack.solid.stages.run_solid`."""
     opts = check_options(options)
-    for i, c in enumerate(scene.cracks):
-        if c.friction > 0 and opts["crack_model"] == "contact":
-            raise InputError(f"crack[{i}].friction = {c.friction:g}: Coulomb friction is not supported in 3D yet "
-                             "(frictionless contact only); set friction = 0")
+    mu = [float(c.friction) for c in scene.cracks]
+    frictional = any(m > 0 for m in mu) and opts["crack_model"] == "contact"
+    if frictional and opts["element"] != "tdnns":
+        i = next(i for i, m in enumerate(mu) if m > 0)
+        raise InputError(f"crack[{i}].friction = {mu[i]:g}: Coulomb friction in 3D is solved with element = 'tdnns' "
+                         f"(not {opts['element']!r}); set friction = 0 or element = 'tdnns'")
     SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
     from ..pipeline import Pipeline
     from .stages import run_solid

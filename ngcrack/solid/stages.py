@@ -10,7 +10,8 @@ scene with the pipeline's caches:
           (Pipeline.discretization: a new load value re-assembles the load vector only)
           -> condensed system (Pipeline.system: a new load rebuilds F only)
           -> contact (stages.sparse_contact_stage: the sparse active set, no dense Schur
-             complement) -> SolidSolution -> the fronts' K_I, K_II, K_III, G
+             complement; with friction `friction_stage`: the sparse semismooth Newton
+             method on the Coulomb cone) -> SolidSolution -> the fronts' K_I, K_II, K_III, G
 
 `options` is the checked dict of `solid.solve.check_options` with the mesh sizes.
 """
@@ -22,7 +23,7 @@ import time
 
 from ..discretization import Loads
 from ..parallel import task_manager
-from ..stages import sparse_contact_stage
+from ..stages import SparseAnswer, sparse_contact_stage
 from . import h1
 from .element import build
 from .geometry import SolidMesh, make_mesh
@@ -78,6 +79,22 @@ class SolidBody:
 SOLID = SolidBody()
 
 
+def friction_stage(smesh: SolidMesh, disc, system, mu: list[float], linear_solver: str) -> SparseAnswer:
+    """The crack problem with Coulomb friction on the sparse system (`solid.friction.solve_friction`
+    at the friction points of `solid.friction_points`), its forces in the element's force unit."""
+    from .friction import solve_friction
+    from .friction_points import friction_points
+
+    G = disc.constraint_map()
+    t0 = time.perf_counter()
+    points = friction_points(smesh, disc, system, mu)
+    result = solve_friction(system.K, system.F, system.contact, G, points, linear_solver=linear_solver)
+    for name in ("lam", "lam_t", "bound"):  # the system is in units of E (element.build)
+        setattr(result, name, getattr(result, name) * disc.force_unit)
+    result.points = points
+    return SparseAnswer(y=result.y, result=result, G=G, time_linear=0.0, time_contact=time.perf_counter() - t0)
+
+
 def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | None = None) -> SolidSolution:
     """Solve the 3D scene through `pipeline`'s stages (module docstring); `options` checked
     (`solid.solve.check_options`) with the mesh sizes; `smesh` a ready mesh of the scene."""
@@ -92,9 +109,13 @@ def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | Non
     t2 = time.perf_counter()
     system = pipeline.system(disc, loads, False)
     timings["condense"] = time.perf_counter() - t2
-    answer = sparse_contact_stage(system, disc, options["crack_model"], options["linear_solver"])
-    if answer.result is not None:  # the system is in the element's force unit (solid.element.build)
-        answer.result.lam = answer.result.lam * disc.force_unit
+    mu = [float(c.friction) for c in scene.cracks]
+    if disc.has_crack and options["crack_model"] == "contact" and any(m > 0 for m in mu):
+        answer = friction_stage(smesh, disc, system, mu, options["linear_solver"])
+    else:
+        answer = sparse_contact_stage(system, disc, options["crack_model"], options["linear_solver"])
+        if answer.result is not None:  # the system is in the element's force unit (solid.element.build)
+            answer.result.lam = answer.result.lam * disc.force_unit
     timings.update(linear=answer.time_linear, contact=answer.time_contact)
     with task_manager():
         gf = system.expand(answer.y)
