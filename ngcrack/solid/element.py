@@ -167,6 +167,8 @@ class SolidDiscretization(Discretization):
     #: per crack face (crack by crack) its constraint points, vertices first; -1 where the face's node
     #: carries no jump (on the front). None: P_order points per face, numbered face by face
     face_points: np.ndarray | None = None
+    #: the displacement of a trial, test or grid function's components (the displacement elements)
+    displacement_of: Callable | None = None
     fields: Callable | None = None
     boundary_values: Callable | None = None
     roller_pairs: Callable | None = None

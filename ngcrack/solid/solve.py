@@ -30,7 +30,10 @@ SCENE_CHECKS = {"h1p1": h1.check_scene, "h1p2": h1.check_scene}
 CRACK_MODELS = ("contact", "free")
 #: the options a 3D solve takes (others are refused by name)
 OPTIONS = ("element", "order", "maxh", "crack_h", "front_h", "grading", "crack_model", "linear_solver", "fronts",
-           "front_points", "qp_solver")
+           "front_points", "qp_solver", "estimate")
+#: the elements with an error estimate (ngcrack.solid.estimate); the displacement elements' stress is
+#: not equilibrated, so the Prager-Synge estimate has nothing to measure there
+ESTIMATES = ("tdnns",)
 
 
 def scene_loads(scene: SolidScene) -> Loads:
@@ -65,7 +68,13 @@ def check_options(options: dict) -> dict:
         v = options.get(key)
         if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
             raise InputError(f"{key} = {v!r}: must be a finite number > 0")
-    return {"element": element, "order": int(order), "crack_model": model,
+    estimate = options.get("estimate", False)
+    if not isinstance(estimate, bool):
+        raise InputError(f"estimate = {estimate!r}: must be True or False")
+    if estimate and element not in ESTIMATES:
+        raise InputError(f"estimate = True: 3D error estimates are for {', '.join(ESTIMATES)} only (element = "
+                         f"{element!r}: its stress C eps(u) is not equilibrated)")
+    return {"element": element, "order": int(order), "crack_model": model, "estimate": estimate,
             "linear_solver": options.get("linear_solver") or "auto",
             "fronts": options.get("fronts", True), "front_points": options.get("front_points")}
 

@@ -12,6 +12,7 @@ scene with the pipeline's caches:
           -> contact (stages.sparse_contact_stage: the sparse active set, no dense Schur
              complement; with friction `friction_stage`: the sparse semismooth Newton
              method on the Coulomb cone) -> SolidSolution -> the fronts' K_I, K_II, K_III, G
+          (and, asked for, the error estimate: `solid.estimate`)
 
 `options` is the checked dict of `solid.solve.check_options` with the mesh sizes.
 """
@@ -128,5 +129,11 @@ def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | Non
         t4 = time.perf_counter()
         sol.fronts = front_parameters(sol, points=options["front_points"])
         timings["fronts"] = time.perf_counter() - t4
+    if options.get("estimate"):
+        from .estimate import prager_synge
+
+        t5 = time.perf_counter()
+        sol.error_estimate = prager_synge(sol, loads)
+        timings["estimate"] = time.perf_counter() - t5
     timings["total"] = time.perf_counter() - t0
     return sol
