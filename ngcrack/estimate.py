@@ -58,7 +58,7 @@ Where the bound is not guaranteed (README, "Error estimates"):
   term (A acts on it as c_dev), but the identity above also needs (as sigma_h, rot(u - w)/2),
   bounded only with a Korn constant that is unknown on a cracked body;
 - TDNNS: sigma_h is normal-normal but not normal-tangential continuous (not in H(div));
-- nu > 0.3 in plane strain: the capped volumetric weight assumes C_td^2 <= 5;
+- nu > 0.3 in plane strain: the capped volumetric weight assumes C_td^2 <= 5 (a note says so);
 - body forces that are not P0 per triangle: the oscillation term
   osc_T = h_T / pi ||f - Pi_0 f||_T sqrt(c_dev) needs the same Korn constant;
 - BDM's P1 crack pressure may be slightly positive between its constraint points:
@@ -490,6 +490,9 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
         notes.append(f"reconstructed crack jump negative somewhere ({min_jump:.2e})")
     if any(getattr(c, "friction", 0.0) for c in sol.scene.cracks):
         notes.append("friction: the crack's shear traction times [w].t is not included (not covered)")
+    if lam + mu > VOLUMETRIC_WEIGHT * mu * (1 + 1e-12):  # (nu = 0.3 itself: not capped)
+        notes.append(f"lambda + mu > {VOLUMETRIC_WEIGHT:g} mu: the volumetric residual's weight is capped there "
+                     f"(robust in lambda; assumes a tr-dev-div constant C_td^2 <= {2 * VOLUMETRIC_WEIGHT:g})")
     return parts, min_jump
 
 
