@@ -10,8 +10,8 @@ plane strain at nu = 0.3, 0.45, 0.49, 0.499, 0.4999:
   * reference: the same element on maxh 1, crack_h 0.05, tip_h 0.005.
 Two estimates from the same solve: "robust" is `sol.error_estimate` (the volumetric
 strain residual weighted by min(lambda + mu, 2.5 mu), ngcrack/estimate.py); "plain" is
-the Prager-Synge estimate with the full weight lambda + mu, rebuilt from the estimate's
-terms. --quick: nu = 0.3 and 0.4999 only. Accuracy only: no timing is claimed.
+the Prager-Synge estimate with the full weight lambda + mu (the same reconstructed w),
+rebuilt from the estimate's terms. --quick: nu = 0.3 and 0.4999 only. Accuracy only: no timing is claimed.
 """
 
 from __future__ import annotations

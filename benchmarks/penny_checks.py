@@ -102,12 +102,12 @@ def run_case(case: str, order: int, front_h: float, beta: float, units: str = "P
            "cpu_s": cpu, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
            "kkt": sol.kkt, "active_sets": sol.contact.iterations, "closed": front.closed.tolist(),
            "K_I": front.K_I.tolist(), "K_II": front.K_II.tolist(), "K_III": front.K_III.tolist(),
-           "G": front.G.tolist(), "interaction": front.interaction.tolist(), "angle": front.angle.tolist(),
+           "G": front.G.tolist(), "scaled_to_J": front.scaled_to_J.tolist(), "angle": front.angle.tolist(),
            "closed_fraction": sol.crack_summaries()[0]["closed_fraction"], "units": units}
     if case == "sslv134" and units == "MPa":  # back to Pa sqrt(m) and J/m^2
         for key, f in (("K_I", 1e6), ("K_II", 1e6), ("K_III", 1e6), ("G", 1e6)):
             row[key] = (np.array(row[key]) * f).tolist()
-        row["interaction"] = (np.array(row["interaction"]) * 1e6).tolist()
+        row["scaled_to_J"] = (np.array(row["scaled_to_J"]) * 1e6).tolist()
     if case == "inclined":
         front.crack_obj = scene.cracks[0]
         k2, k3, kmax = kassir_sih(front, beta, nu)
@@ -145,14 +145,14 @@ def report(rows) -> None:
         K_I, G = np.array(r["K_I"]), np.array(r["G"])
         if r["case"] == "sslv134":
             sneddon = 2 * SSLV134["sigma"] * math.sqrt(SSLV134["a"] / math.pi)
-            Ki = np.array(r["interaction"])[:, 0]
+            Ki = np.array(r["scaled_to_J"])[:, 0]
             print(f"  K_I/ref   min {K_I.min() / SSLV134['K_I']:.4f} mean {K_I.mean() / SSLV134['K_I']:.4f} "
                   f"max {K_I.max() / SSLV134['K_I']:.4f}   (ref 1.596e6; mean K_I {K_I.mean():.4e})")
             print(f"  K_I/Sneddon min {K_I.min() / sneddon:.4f} mean {K_I.mean() / sneddon:.4f} "
                   f"max {K_I.max() / sneddon:.4f}   (Sneddon {sneddon:.4e})")
             print(f"  G/ref     min {G.min() / SSLV134['G']:.4f} mean {G.mean() / SSLV134['G']:.4f} "
                   f"max {G.max() / SSLV134['G']:.4f}   (ref 11.586; mean G {G.mean():.4f})")
-            print(f"  interaction-only K_I/ref mean {Ki.mean() / SSLV134['K_I']:.4f}; "
+            print(f"  K_I scaled to G = J / ref mean {Ki.mean() / SSLV134['K_I']:.4f}; "
                   f"max |K_II|, |K_III| / K_I: {np.max(np.abs(r['K_II'])) / K_I.mean():.4f}, "
                   f"{np.max(np.abs(r['K_III'])) / K_I.mean():.4f}")
         else:

@@ -30,13 +30,23 @@ from collections import defaultdict
 
 PY = sys.executable
 SOLVE = "import ngcrack as nc; nc.solve('griffith')"
+#: the peer benchmark's cheapest griffith configuration at loose targets (K_I within 4e-5)
+LOOSE = "maxh=4, crack_h=0.5, tip_h=0.005, grading=0.5, order=2"
+#: the system Python with GetFEM (the peer of benchmarks/getfem_peer.py), where installed
+SYSTEM_PYTHON = "/usr/bin/python3"
+JSON_OUT = os.path.join(tempfile.gettempdir(), "ngcrack-startup-griffith.json")
 COMMANDS = {
+    "python -c pass": [PY, "-c", "pass"],
     "import ngsolve": [PY, "-c", "import ngsolve"],
+    "import ngsolve, scipy.sparse, shapely (what a solve needs)": [PY, "-c", "import ngsolve, scipy.sparse, shapely"],
     "import ngcrack": [PY, "-c", "import ngcrack"],
     "ngcrack --help": [PY, "-m", "ngcrack.cli", "--help"],
-    "ngcrack solve griffith": [PY, "-m", "ngcrack.cli", "solve", "griffith"],
+    "ngcrack solve griffith --json": [PY, "-m", "ngcrack.cli", "solve", "griffith", "--json", JSON_OUT],
     "python: import + nc.solve('griffith')": [PY, "-c", SOLVE],
+    f"python: import + nc.solve('griffith', {LOOSE})": [PY, "-c", f"import ngcrack as nc; nc.solve('griffith', {LOOSE})"],
 }
+if os.path.exists(SYSTEM_PYTHON):
+    COMMANDS["GetFEM: /usr/bin/python3 -c 'import getfem'"] = [SYSTEM_PYTHON, "-c", "import getfem"]
 
 
 #: the children's environment: bytecode written and read, as an installed package has it
@@ -46,8 +56,11 @@ ENV["PYTHONPYCACHEPREFIX"] = os.path.join(tempfile.gettempdir(), "ngcrack-startu
 
 def cpu(args: list[str]) -> float:
     """CPU seconds (user + system) of one run of `args` in a child process."""
+    env = ENV
+    if args[0] == SYSTEM_PYTHON:  # the system's own Python: its own bytecode and packages
+        env = {k: v for k, v in ENV.items() if k not in ("PYTHONPATH", "PYTHONPYCACHEPREFIX")}
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True, env=ENV)
+    subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True, env=env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 

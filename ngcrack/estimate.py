@@ -40,11 +40,13 @@ stays at its nu = 0.3 value (C_td^2 = 5 assumed: C_td depends on the body and is
 known, and the sum of two square roots costs a factor up to sqrt(2)), so that the
 effectivity stays where it is at nu = 0.3 (the estimates guide's table, to nu = 0.4999).
 
-w is reconstructed, element by element, from the facet displacement traces (the crack's minus side seeing
-u_hat - j): PEERS' P0 traces are the Crouzeix-Raviart values of a local P1 field, BDM's
-P1 traces give a local P2 field (vertex values averaged over the element's two edges,
-mid points the edge means), TDNNS' tangential-continuous displacement is sampled at the
-element's P2 nodes. Local values are averaged node by node, each crack node
+w is reconstructed element by element. PEERS and BDM: from the facet displacement traces
+(the crack's minus side seeing u_hat - j): PEERS' P0 traces are the Crouzeix-Raviart
+values of a local P1 field, BDM's P1 traces give a local P2 field (vertex values averaged
+over the element's two edges, mid points the edge means). TDNNS: a local post-processing
+of its tangential-continuous u_h, the P2 field whose gradient is the L2-nearest to
+A sigma_h + skew(grad u_h) with the mean of u_h (sampling u_h itself gives an O(h)
+estimate of an O(h^2) stress error on smooth solutions). Local values are averaged node by node, each crack node
 duplicated per side (interior tips are not: w is continuous there), so w is continuous
 except across the crack; Dirichlet and roller nodes are then set to their data, and
 the crack nodes are moved symmetrically until [w].nu >= 0 at the vertices and the
@@ -56,7 +58,7 @@ Where the bound is not guaranteed (README, "Error estimates"):
   term (A acts on it as c_dev), but the identity above also needs (as sigma_h, rot(u - w)/2),
   bounded only with a Korn constant that is unknown on a cracked body;
 - TDNNS: sigma_h is normal-normal but not normal-tangential continuous (not in H(div));
-- nu > 0.3 in plane strain: the capped volumetric weight assumes C_td^2 <= 5;
+- nu > 0.3 in plane strain: the capped volumetric weight assumes C_td^2 <= 5 (a note says so);
 - body forces that are not P0 per triangle: the oscillation term
   osc_T = h_T / pi ||f - Pi_0 f||_T sqrt(c_dev) needs the same Korn constant;
 - BDM's P1 crack pressure may be slightly positive between its constraint points:
@@ -86,10 +88,13 @@ from .local_fields import (
     INWARD,
     _average,
     _element_sizes,
+    _evaluate,
     _facet_dof_table,
     _facet_values,
     _integrate,
     _Lagrange,
+    _postprocessed,
+    _Quadrature,
     _quadrature,
     _sample_local,
     _Topology,
@@ -378,6 +383,14 @@ def _admissible_displacement(sol, loads, crack_model: str, top: _Topology) -> tu
     the element-node table and the degree."""
     if sol.disc.traits.hybrid_traces:
         local, degree = _hybrid_traces(sol, top)
+    elif sol.disc.traits.gradient == "skew":  # TDNNS: the local post-processing of u
+        from .tips import displacement_gradient
+
+        quad = _quadrature(sol.crack_mesh, top) or _Quadrature.build(sol.crack_mesh, top, straight=True)
+        ne, nq = quad.weights.shape
+        grad = _evaluate(displacement_gradient(sol), quad.mips).reshape(ne, nq, 2, 2)
+        u = _evaluate(sol.u, quad.mips).reshape(ne, nq, 2)
+        local, degree = _postprocessed(quad, top, grad, u), 2
     else:
         degree = sol.disc.traits.estimate_degree
         local = _sample_local(sol.u, sol.crack_mesh, top, degree, 2)
@@ -477,6 +490,9 @@ def _prager_synge(sol, loads, crack_model: str, top: _Topology, A, notes: list[s
         notes.append(f"reconstructed crack jump negative somewhere ({min_jump:.2e})")
     if any(getattr(c, "friction", 0.0) for c in sol.scene.cracks):
         notes.append("friction: the crack's shear traction times [w].t is not included (not covered)")
+    if lam + mu > VOLUMETRIC_WEIGHT * mu * (1 + 1e-12):  # (nu = 0.3 itself: not capped)
+        notes.append(f"lambda + mu > {VOLUMETRIC_WEIGHT:g} mu: the volumetric residual's weight is capped there "
+                     f"(robust in lambda; assumes a tr-dev-div constant C_td^2 <= {2 * VOLUMETRIC_WEIGHT:g})")
     return parts, min_jump
 
 

@@ -312,15 +312,15 @@ def _append_hole(geo: SplineGeometry, point, hole, center: np.ndarray, scale: fl
         fixed = [float(np.arctan2(x[1] - c[1], x[0] - c[0]) % (2 * np.pi)) for x in on]
         gap = lambda a, b: abs((a - b + np.pi) % (2 * np.pi) - np.pi)  # noqa: E731
         angles = sorted([k * step for k in range(n) if all(gap(k * step, a) > step / 4 for a in fixed)] + fixed,
-                        reverse=True)  # clockwise
+                        key=lambda a: (-a) % (2 * np.pi))  # clockwise from angle 0
         xy = {a: x for a, x in zip(fixed, on)}
         ends = [point(xy[a] if a in xy else c + r * np.array([np.cos(a), np.sin(a)]), h) for a in angles]
         m = len(angles)
+        half = [0.5 * ((angles[k] - angles[(k + 1) % m]) % (2 * np.pi)) for k in range(m)]  # clockwise arcs
+        ctrl = [point(c + r / np.cos(half[k]) * np.array([np.cos(angles[k] - half[k]), np.sin(angles[k] - half[k])]), h)
+                for k in range(m)]  # the control point: where the end tangents meet
         for k in range(m):
-            a, b = angles[k], angles[(k + 1) % m]
-            half = 0.5 * ((a - b) % (2 * np.pi))  # clockwise from a to b: b = a - 2 half
-            ctrl = point(c + r / np.cos(half) * np.array([np.cos(a - half), np.sin(a - half)]), h)
-            geo.Append(["spline3", ends[k], ctrl, ends[(k + 1) % m]], leftdomain=1, rightdomain=0,
+            geo.Append(["spline3", ends[k], ctrl[k], ends[(k + 1) % m]], leftdomain=1, rightdomain=0,
                        bc=hole.labels[0], maxh=h)
         return
     pts = (np.asarray(hole.polygon, dtype=float) - center) / scale

@@ -302,9 +302,12 @@ class _Quadrature:
         self._gradients: dict[int, np.ndarray] = {}
 
     @classmethod
-    def build(cls, cmesh: CrackMesh, top: _Topology) -> _Quadrature | None:
+    def build(cls, cmesh: CrackMesh, top: _Topology, straight: bool = False) -> _Quadrature | None:
+        """The rule on the mesh; None where it is curved or the points cannot be built without
+        a point search. ``straight``: the rule on the straight triangles in any case, its points
+        found by the point search where needed (the same points and weights)."""
         mesh = cmesh.mesh
-        if getattr(mesh, "GetCurveOrder", lambda: 1)() > 1:
+        if not straight and getattr(mesh, "GetCurveOrder", lambda: 1)() > 1:
             return None
         ir = ngs.IntegrationRule(ngs.TRIG, INTORDER)
         ref = np.array([tuple(p)[:2] for p in ir.points], float)
@@ -313,6 +316,9 @@ class _Quadrature:
         det = np.abs((X[:, 0, 0] - X[:, 2, 0]) * (X[:, 1, 1] - X[:, 2, 1])
                      - (X[:, 1, 0] - X[:, 2, 0]) * (X[:, 0, 1] - X[:, 2, 1]))
         mips = _element_mesh_points(cmesh, top, lam)
+        if mips is None and straight:
+            pts = np.einsum("qv,evd->eqd", lam, X).reshape(-1, 2)
+            mips = mesh(pts[:, 0], pts[:, 1])
         if mips is None:
             return None
         return cls(lam=lam, weights=det[:, None] * np.asarray(ir.weights, float)[None, :], mips=mips)
@@ -364,6 +370,25 @@ class _Quadrature:
             i, j = (o + 1) % 3, (o + 2) % 3
             out.append(4 * (lam[None, :, i, None] * g[:, None, j, :] + lam[None, :, j, None] * g[:, None, i, :]))
         return np.stack(out, axis=2)
+
+
+def _postprocessed(quad: _Quadrature, top: _Topology, grad: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Local P2 displacements (ne, 6, 2) at each element's nodes, from a gradient and a
+    displacement at the quadrature points ((ne, nq, 2, 2), (ne, nq, 2)): per element and
+    component, grad w_i is the L2-nearest to grad[..., i, :], with the mean of u_i (the
+    local post-processing of mixed methods, from the stress's strain and the rotation)."""
+    G = quad.basis_gradient(top, 2)  # (ne, nq, 6, 2)
+    phi = quad.basis(2)  # (nq, 6)
+    wq = quad.weights
+    ne, nk = len(wq), phi.shape[1]
+    M = np.zeros((ne, nk + 1, nk + 1))
+    M[:, :nk, :nk] = np.einsum("eq,eqkd,eqld->ekl", wq, G, G)
+    area = wq.sum(axis=1, keepdims=True)
+    M[:, :nk, nk] = M[:, nk, :nk] = (wq @ phi) / area  # the mean (not the integral): rows of one size
+    rhs = np.empty((ne, nk + 1, 2))
+    rhs[:, :nk, :] = np.einsum("eq,eqkd,eqid->eki", wq, G, grad)
+    rhs[:, nk, :] = np.einsum("eq,eqi->ei", wq, u) / area
+    return np.linalg.solve(M, rhs)[:, :nk, :]
 
 
 def _quadrature(cmesh: CrackMesh, top: _Topology) -> _Quadrature | None:

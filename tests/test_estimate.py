@@ -3,7 +3,7 @@
 - exactness: a uniform stress state (the closed crack under compression) has a zero
   estimate up to round-off for the elements that reproduce it exactly;
 - effectivity on the manufactured solution of test_solver.py (exact stress known):
-  between 1 and 3 for PEERS and BDM and asymptotically constant; the baselines' ZZ
+  between 1 and 3 for PEERS, BDM and TDNNS and asymptotically constant; the baselines' ZZ
   estimate between 0.6 and 1.6;
 - the indicators: their squares sum to the estimate, they concentrate at the crack tips;
 - the reconstructed displacement is admissible on the crack ([w].nu >= 0);
@@ -28,9 +28,10 @@ from ngcrack.solve import solve
 X, Y = ngs.x, ngs.y
 LABELS = ("b", "r", "t", "l")
 #: effectivity bands on the manufactured solution (measured at maxh 0.1 / 0.05:
-#: peers 1.89 / 1.91, bdm 1.10 / 1.11, h1p1 1.01 / 1.01, h1p2 0.62 / 0.55: the P2 ZZ
-#: recovery of h1p2 underestimates and drifts, it is no bound)
-EFFECTIVITY = {"peers": (1.0, 3.0), "bdm": (1.0, 3.0), "h1p1": (0.8, 2.0), "h1p2": (0.4, 1.6)}
+#: peers 1.89 / 1.91, bdm 1.10 / 1.11, tdnns 2.11 / 2.02 (its displacement post-processed
+#: locally; sampled from u it grew as 1/h: 10.1 / 22.1), h1p1 1.01 / 1.01, h1p2 0.62 / 0.55:
+#: the P2 ZZ recovery of h1p2 underestimates and drifts, it is no bound)
+EFFECTIVITY = {"peers": (1.0, 3.0), "bdm": (1.0, 3.0), "tdnns": (1.0, 3.0), "h1p1": (0.8, 2.0), "h1p2": (0.4, 1.6)}
 
 
 def manufactured(nu=0.3, mu=1.0):
@@ -53,7 +54,7 @@ def test_manufactured_effectivity(element):
         eff.append(sol.error_estimate.energy / energy_error(sol, sig))
     lo, hi = EFFECTIVITY[element]
     assert lo <= min(eff) and max(eff) <= hi, eff
-    if element in ("peers", "bdm"):
+    if element in ("peers", "bdm", "tdnns"):
         assert abs(eff[1] - eff[0]) <= 0.05 * eff[0], eff  # asymptotically constant
 
 
@@ -141,11 +142,11 @@ def test_split_is_the_compliance_norm_up_to_nu_03_and_capped_above(nu):
         assert np.all(total < quad.energy(d, A))
 
 
-@pytest.mark.parametrize("element", ["peers", "bdm"])
+@pytest.mark.parametrize("element", ["peers", "bdm", "tdnns"])
 def test_manufactured_effectivity_does_not_grow_as_nu_tends_to_one_half(element):
     # the manufactured stress does not depend on nu (u is divergence free): measured at maxh
-    # 0.1, peers 1.89 -> 1.73, bdm 1.10 -> 1.10 from nu = 0.3 to 0.4999 (the plain estimate: 8.4
-    # and 17.7 already at 0.499)
+    # 0.1, peers 1.89 -> 1.73, bdm 1.10 -> 1.10, tdnns 2.11 -> 2.14 from nu = 0.3 to 0.4999 (the
+    # plain estimate: bdm 8.4 and peers 17.7 already at 0.499)
     eff = {}
     for nu in (0.3, 0.4999):
         scene, loads, sig = manufactured(nu=nu)

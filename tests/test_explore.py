@@ -505,7 +505,7 @@ def test_former_names_still_work():
 def test_estimate_sums_in_numpy_as_ngsolve_integrates(monkeypatch, element, crack_model):
     """The estimate's element integrals are sums over NGSolve's own quadrature points in
     numpy, with the fields evaluated in their own element (no point search): the same
-    numbers to 1e-12 as NGSolve's element-wise Integrate over the same integrands with
+    numbers to 1e-12 (tdnns 1e-10) as NGSolve's element-wise Integrate over the same integrands with
     the point search (the path kept for curved meshes). paper-1: a body force, a clamped
     edge, a crack partly in contact."""
     from ngcrack import estimate as est
@@ -520,12 +520,15 @@ def test_estimate_sums_in_numpy_as_ngsolve_integrates(monkeypatch, element, crac
     monkeypatch.setattr(local_fields, "_element_mesh_points", lambda cmesh, top, lam: None)
     monkeypatch.setattr(est, "_topology", est._Topology.build)
     slow = est.estimate(sol, loads, crack_model)
-    assert np.max(np.abs(fast.eta - slow.eta)) <= 1e-12 * np.max(slow.eta)
+    # tdnns: its displacement is post-processed by a local solve per triangle from u at the
+    # same points found by the point search, and averaged: round-off of |u| over h, 1e-11
+    tol = 1e-10 if element == "tdnns" else 1e-12
+    assert np.max(np.abs(fast.eta - slow.eta)) <= tol * np.max(slow.eta)
     assert np.array_equal(fast.eta, again.eta)
-    assert abs(fast.energy - slow.energy) <= 1e-12 * slow.energy
-    assert abs(fast.relative - slow.relative) <= 1e-12 * slow.relative
+    assert abs(fast.energy - slow.energy) <= tol * slow.energy
+    assert abs(fast.relative - slow.relative) <= tol * slow.relative
     for k, v in slow.terms.items():
-        assert abs(fast.terms[k] - v) <= 1e-12 * max(abs(v), slow.energy ** 2)
+        assert abs(fast.terms[k] - v) <= tol * max(abs(v), slow.energy ** 2)
     assert fast.notes == slow.notes and fast.min_jump == pytest.approx(slow.min_jump, rel=1e-12, abs=1e-300)
 
 

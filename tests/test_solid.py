@@ -89,8 +89,8 @@ def test_bad_solve_options_are_refused_before_meshing():
                       (dict(maxh=-1.0), "maxh"), (dict(tip_h=0.1), "tip_h")):
         with pytest.raises(ValueError, match=field):
             nc.solve(s, **kw)
-    with pytest.raises(ValueError, match=r"crack\[0\].friction"):
-        nc.solve(s.with_(friction=0.3))
+    with pytest.raises(ValueError, match=r"crack\[0\].friction.*tdnns"):  # Coulomb friction: tdnns only
+        nc.solve(s.with_(friction=0.3), element="h1p2")
 
 
 # ------------------------------------------------------------------ the element, no crack
@@ -241,11 +241,12 @@ def test_ellipse_front_follows_irwin():
     a, b = 1.0, 0.5
     irwin = math.sqrt(math.pi * b) / ellipe(1 - b * b / (a * a)) * (
         np.sin(front.angle) ** 2 + (b / a) ** 2 * np.cos(front.angle) ** 2) ** 0.25
-    assert np.all(np.abs(front.K_I / irwin - 1.0) < 0.09), front.K_I / irwin  # 7% at the major axis' ends
-    # pure mode I: the shear modes are noise, largest beside the major axis' ends where the tube is
-    # narrowed to half the radius of curvature (b^2/a = 0.25 = 1.7 front_h here)
+    # measured 0.958-1.075: 7.5% at the major axis' ends, where the tube (0.8 of the reach b^2/a = 0.25)
+    # is 1.3 front_h wide; front_h = 0.1: -2.6% to +1.2% (BENCHMARKS section 17)
+    assert np.all(np.abs(front.K_I / irwin - 1.0) < 0.09), front.K_I / irwin
+    # pure mode I: the shear modes are noise (measured: at most 1.1% of Irwin's K_I)
     for K in (front.K_II, front.K_III):
-        assert np.median(np.abs(K) / irwin) < 0.02 and np.max(np.abs(K) / irwin) < 0.2
+        assert np.max(np.abs(K) / irwin) < 0.03
 
 
 def test_2d_only_entry_points_refuse_a_3d_scene_by_name():
@@ -270,6 +271,7 @@ def test_cli_solves_a_3d_scene_to_json_and_vtk(tmp_path, capsys):
     assert main(["solve", str(path), "--json", str(out), "--vtk", str(tmp_path / "vtk" / "penny")]) == 0
     record = json.loads(out.read_text())
     assert record["dimension"] == 3 and record["ndof"]["contact"] > 0 and max(record["kkt"].values()) < 1e-12
+    assert record["error_estimate"]["total"] > 0.0  # tdnns has one (ngcrack.solid.estimate)
     (front,) = record["fronts"]
     assert set(front) == {"crack", "points", "K_I", "K_II", "K_III", "G"} and len(front["K_I"]) == len(front["points"])
     assert abs(np.mean(front["K_I"]) / (2 / math.sqrt(math.pi)) - 1) < 0.06

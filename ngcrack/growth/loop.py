@@ -179,9 +179,10 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     result_so_far) after every step. The other keywords go to every solve
     (element, order, maxh, tip_h, crack_h, grading, qp_solver, crack_model, friction_method, ...).
     paris: (C, m) for fatigue (fatigue.py): the load is the scene's (the cycle's maximum, load
-    factor 1), R the load ratio; every step advances the leading tip by da, the `cycles`
-    column counts the cycles (Paris law da/dN = C Delta_K^m integrated over the step), and
-    the run stops when K_max reaches K_Ic.
+    factor 1), R the load ratio; every step advances the leading tip by da and every other tip
+    by its share of the same cycles, da (Delta K_i / Delta K_max)^m (paris=(C, m, dK_th): none
+    at or below the threshold dK_th); the `cycles` column counts the cycles (Paris law
+    da/dN = C Delta_K^m integrated over the step), and the run stops when K_max reaches K_Ic.
     A tip reaching the boundary stops there; where the cracks then cut the body in pieces the
     run ends ("cut through", the last segment kept in `paths`). A tip reaching a hole joins it
     (the crack ends on the hole's edge, the ligament is cut, the other tips grow on; a body
@@ -205,7 +206,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     elapsed = time.perf_counter() - t0
     run = _Run(scene=scene, sol=sol, solver=options, result=result, region=body_region(scene), criterion=criterion,
                da=da, together=together, r_c=r_c, K_Ic=K_Ic, hole_crack=hole_crack,
-               cycles=Cycles(*fatigue, float(R)) if fatigue else None, elapsed=elapsed,
+               cycles=Cycles(*fatigue, R=float(R)) if fatigue else None, elapsed=elapsed,
                parts=options.since(dict.fromkeys(COST_PARTS, 0.0)), K_ref=K_Ic)
     stopped = ""
     for n in range(steps + 1):
@@ -308,6 +309,10 @@ def _direction_and_extension(run: _Run, values: list[dict], step: _Step, n: int)
             return
         lam_min = min(v["lambda"] for v in active)
         step.growing = [v for v in active if v["lambda"] <= lam_min * (1.0 + run.together)]
+        if run.cycles is not None:  # fatigue: every driven tip by its share of the step's cycles
+            step.growing = run.cycles.increments(active, run.da)
+            if not step.growing:
+                return
         t1, before = time.perf_counter(), dict(run.solver.spent)
         try:
             out = _advance(run.scene, run.sol, run.region, step.growing, run.da, run.criterion, run.solver,
@@ -431,7 +436,7 @@ def _extend(scene, region, angles: dict, growing: list[dict], da: float, frozen:
     for v in growing:
         if v["label"] in frozen:
             continue
-        ext = extend_tip(scene, region, v["crack"], v["end"], angles[v["label"]], da, new_segments)
+        ext = extend_tip(scene, region, v["crack"], v["end"], angles[v["label"]], v.get("da", da), new_segments)
         if ext.point is None:  # a crack in the way, or a hole right ahead: the tip stops where it is
             frozen[v["label"]] = ext.reason
             continue

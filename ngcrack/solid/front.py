@@ -3,36 +3,45 @@
 At a front point P with the local frame e1 (in the crack plane, normal to the front,
 pointing away from the crack), e2 (the crack normal) and e3 = e1 x e2 (along the
 front), the domain integrals over the tube around the front weighted by a q-function
-that is 1 at P and falls to 0 along the front and away from it,
+that is 1 at P and falls to 0 along the front and away from it, with the extension
+direction v = e1 of each point's foot on the front (v turns along a curved front),
 
-    J   = int ( sigma_ij u_i,1 - W delta_1j ) q,j dV / int q ds
-    I_m = int ( sigma_ij u^m_i,1 + sigma^m_ij u_i,1 - sigma_ij eps^m_ij delta_1j ) q,j dV / int q ds
+    J   = int P_lj (q v_l),j dV / int q ds,       P = sigma_ij u_i,l - W delta_lj
+    I_m = int [ P^m_lj (q v_l),j + (div P^m)_l q v_l ] dV / int q ds,
+          P^m = sigma_ij u^m_i,l + sigma^m_ij u_i,l - sigma_ij eps^m_ij delta_lj
 
-(indices in the front frame, ,1 the derivative along e1) give G = J and, with the
-auxiliary fields u^m of mode m with unit K (the 2D Williams fields of ngcrack.tips in
-plane strain for modes I and II, the antiplane field for mode III),
+give G = J and, with the auxiliary fields of mode m with unit K (the 2D Williams fields of
+ngcrack.tips in plane strain for modes I and II, the antiplane field for mode III, each in
+the frame of the point's foot and at its distance from the front),
 
     K_I = E' I_1 / 2,   K_II = E' I_2 / 2,   K_III = mu I_3,     E' = E / (1 - nu^2).
 
-The reported K are these scaled by one factor per point so that
-(K_I^2 + K_II^2) / E' + K_III^2 / (2 mu) = J: the magnitude from J, which is path
-independent, the mode mix from the interaction integrals, whose straight-front
-auxiliary fields leave a bias of about 2% on the penny (measured: order 2, front_h = 0.2a,
-J within 0.5% of Sneddon's G, the interaction integral's K_I 1.8% low); `interaction`
-keeps the unscaled values.
+Along a curved front (curvature kappa, turn = kappa / (1 + kappa x1)) these auxiliary
+fields are neither compatible nor in equilibrium, and div P^m is not zero: the auxiliary
+displacement turns with the frame, so its gradient along e3 gains the column
+turn (-u_3, 0, u_1), and div sigma^m = turn (s11 - s33, s12, 2 s13). Both are in I_m,
+in closed form: div P^m = sigma^m_ij,j u_i,1 + sigma_ij (u^m_i,1j - eps^m_ij,1). Left out,
+they bias the mode mix by O(kappa R): on a penny in shear K_II came 27% low and K_III 27%
+high. (q v),j includes q turn e3 e3 (v turns towards e3).
 
 q(x) = h(s) g(r): s the arc length of x's foot on the front from P, r the distance from
 the front in the plane normal to it; h = cos^2(pi s / 2 L) for |s| < L (a smooth bump
 of half-width L along the front), g = 1 for r < R/4 falling linearly to 0 at r = R.
 Both and their gradients are evaluated exactly at the quadrature points (numpy; the
 fields come from vectorized NGSolve evaluations). The gradient of u is that of 2D
-TDNNS: the strain from the stress (A sigma) plus the skew part of grad u.
+TDNNS: the strain from the stress (A sigma) plus the skew part of grad u. R is at most
+REACH_FRACTION of the front's reach (the distance inwards to the crack's medial axis), so
+that every point of the tube has one foot on the front.
 
-Approximations, stated: the auxiliary fields are the straight-front fields in the local
-frame (their curvature terms vanish as R -> 0); the crack-face traction terms of the 2D
-integral are left out, which is exact for frictionless faces that are open (no
-traction) and for closed ones for K_II and K_III (no shear); where the faces at P are
-closed K_I is set to 0 (it is the multiplier's, not the field's).
+Each point's integral is the average of the pointwise K over h(s - s_k) / L; along a
+closed front that average is undone mode by mode in the front's Fourier series (_unsmooth),
+which removes its O(L^2 K'') bias where K varies (1% on a penny in shear at L = 2 front_h).
+
+Approximations, stated: the crack-face traction terms of the 2D integral are left out,
+which is exact for frictionless faces that are open (no traction) and for closed ones for
+K_II and K_III (the same normal traction on both faces does no work in their auxiliary
+fields); where the faces at P are closed K_I is set to 0 (it is the multiplier's, not the
+field's).
 """
 
 from __future__ import annotations
@@ -42,17 +51,21 @@ from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ..tips import williams_displacement, williams_dx1, williams_stress
 from .face_pressure import face_pressure
 
 #: the tube radius R and the half-width L along the front, in front_h (the mesh size at the front)
-TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 2.0
+TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 3.0
 #: q's plateau: g = 1 for r < PLATEAU_FRACTION * R
 PLATEAU_FRACTION = 0.25
-#: the tube radius at a front point is at most this fraction of the front's radius of curvature
-#: there (the ends of an ellipse's major axis: b^2 / a), so that the tube does not fold over
-CURVATURE_FRACTION = 0.5
+#: the tube radius at a front point is at most this fraction of the front's reach there (the
+#: distance inwards to the crack's medial axis, at most the radius of curvature: b^2 / a at the
+#: ends of an ellipse's major axis), so that every point of the tube has one foot on the front
+REACH_FRACTION = 0.8
+#: undo the bump average along closed fronts (Fourier modes divided by the bump's transfer, at least MIN_TRANSFER)
+DECONVOLVE, MIN_TRANSFER = True, 0.75
 #: quadrature order on the tetrahedra in the tube
 QUADRATURE_ORDER = 6
 
@@ -69,7 +82,7 @@ class FrontParameters:
     G: np.ndarray
     closed: np.ndarray  # the faces at the point are closed (K_I set to 0)
     angle: np.ndarray  # the front's parameter at each point (disc, ellipse: the angle; polygon: arc length)
-    interaction: np.ndarray | None = None  # (n, 3): K_I, K_II, K_III from the interaction integrals alone
+    scaled_to_J: np.ndarray | None = None  # (n, 3): K_I, K_II, K_III scaled per point to G = J (a check)
 
     def to_json_dict(self) -> dict:
         return {"crack": self.crack, "points": self.points.tolist(), "K_I": self.K_I.tolist(),
@@ -101,13 +114,21 @@ class FrontGeometry:
         """ds/dphi on the front."""
         return np.hypot(self.a * np.sin(phi), self.b * np.cos(phi))
 
+    def reach(self, phi):
+        """The distance inwards from the front point to the crack's medial axis (the major axis' segment)."""
+        return self.b / self.a * self.speed(phi)
+
     def coordinates(self, x: np.ndarray):
         """For points x (k, 3): the foot's angle phi, (x1, x2) in the frame there and d(phi)/d(x3)."""
         d = x - self.c
         u, v, z = d @ self.ea, d @ self.eb, d @ self.n
         phi = np.arctan2(v / self.b, u / self.a)
-        if self.a != self.b:  # a few Newton steps towards the nearest point of the ellipse
-            for _ in range(4):
+        if self.a != self.b:  # the nearest of 4096 front points, then Newton steps to the nearest point
+            table = np.linspace(0.0, 2 * np.pi, 4096, endpoint=False)
+            _, nearest = cKDTree(np.column_stack([self.a * np.cos(table), self.b * np.sin(table)])).query(
+                np.column_stack([u, v]))
+            phi = table[nearest]
+            for _ in range(6):
                 c, s = np.cos(phi), np.sin(phi)
                 f = (self.a * c - u) * (-self.a * s) + (self.b * s - v) * (self.b * c)
                 df = (self.a * s) ** 2 + (self.b * c) ** 2 + (self.a * c - u) * (-self.a * c) + (self.b * s - v) * (-self.b * s)
@@ -117,7 +138,7 @@ class FrontGeometry:
         x1 = np.sum(rel * e1, axis=1)
         # curvature of the front: moving by x1 along e1 stretches the arc by (1 + kappa x1)
         kappa = self.a * self.b / self.speed(phi) ** 3
-        dphi_dx3 = 1.0 / (self.speed(phi) * np.maximum(1.0 + kappa * x1, 1e-3))
+        dphi_dx3 = -1.0 / (self.speed(phi) * np.maximum(1.0 + kappa * x1, 1e-3))
         return phi, x1, z, dphi_dx3
 
     def turning(self, phi, x1):
@@ -204,7 +225,7 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
     phi, x1, x2, dphi_dx3 = geom.coordinates(xyz)
     s = np.interp(phi % (2 * np.pi), phis, arc)
     r = np.hypot(x1, x2)
-    radius_i = np.minimum(R, CURVATURE_FRACTION / (geom.a * geom.b / geom.speed(phi_i) ** 3))
+    radius_i = np.minimum(R, REACH_FRACTION * geom.reach(phi_i))
     # fields in the local frame of each point's foot
     e1, e2, e3 = geom.frame(phi)
     Q = np.stack([e1, e2, e3], axis=1)  # rows: local = Q global
@@ -225,13 +246,18 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
     aux_sig, aux_du, aux_u = _aux_fields(x1, x2, E, nu)
     aux_eps = c_dev * aux_sig - c_tr * np.trace(aux_sig, axis1=2, axis2=3)[..., None, None] * np.eye(3)
     # the auxiliary displacement turns with the frame along a curved front: its gradient along
-    # e3 gains turn (u_1 e3 - u_3 e1); the strain used is that compatible one
+    # e3 gains the column T = turn (-u_3, 0, u_1) (u^a_i,3); the strain is kept the 2D one, so the
+    # auxiliary fields are neither compatible nor in equilibrium and two volume terms follow
     aux_du3 = np.zeros_like(aux_du)
     aux_du3[:, :, 2] = turn * aux_u[:, :, 0]
     aux_du3[:, :, 0] = -turn * aux_u[:, :, 2]
-    aux_eps[:, :, 2, 2] += aux_du3[:, :, 2]
-    aux_eps[:, :, 0, 2] += 0.5 * aux_du3[:, :, 0]
-    aux_eps[:, :, 2, 0] += 0.5 * aux_du3[:, :, 0]
+    # sigma_ij (u^a_i,1j - eps^a_ij,1) = sigma_13 T_13,1 + sigma_33 T_33,1 (d turn / d x1 = -turn^2)
+    incompat = (sig_l[None, :, 0, 2] * -(turn * aux_du[:, :, 2] - turn ** 2 * aux_u[:, :, 2])
+                + sig_l[None, :, 2, 2] * (turn * aux_du[:, :, 0] - turn ** 2 * aux_u[:, :, 0]))
+    # div sigma^a = turn (s11 - s33, s12, 2 s13) (the 2D fields are in 2D equilibrium), times u_i,1
+    noneq = turn * ((aux_sig[:, :, 0, 0] - aux_sig[:, :, 2, 2]) * du1[None, :, 0] + aux_sig[:, :, 0, 1] * du1[None, :, 1]
+                    + 2.0 * aux_sig[:, :, 0, 2] * du1[None, :, 2])
+    volume = incompat + noneq
 
     faces = face_pressure(sol, index, geom, R, e_prime)  # None without a pressure on the faces
     s_f = None if faces is None else np.interp(faces.phi % (2 * np.pi), phis, arc)
@@ -265,7 +291,8 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
                       - np.sum(sig_l[sel] * aux_eps[m, sel], axis=(1, 2)) * gqk[:, 0]
                       + qt * (np.sum(aux_sig[m, sel][:, :, 2] * du3[sel], axis=1)
                               + np.sum(sig_l[sel][:, :, 2] * aux_du3[m, sel], axis=1)
-                              - np.sum(sig_l[sel] * aux_eps[m, sel], axis=(1, 2))))
+                              - np.sum(sig_l[sel] * aux_eps[m, sel], axis=(1, 2)))
+                      + hk[sel] * g[sel] * volume[m, sel])
             K[k, m] = I
         if faces is not None:  # the crack-face pressure's term (ngcrack.solid.face_pressure)
             ds_f = _wrap((s_f - s_i[k]) / perimeter * 2 * np.pi) * perimeter / (2 * np.pi)
@@ -278,16 +305,39 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
         length = L  # int h ds = L for the cos^2 bump of half-width L
         J[k] /= length
         K[k] /= length
+    if DECONVOLVE:
+        K, J = _unsmooth(K, perimeter, L), _unsmooth(J, perimeter, L)
     K_I, K_II, K_III = 0.5 * e_prime * K[:, 0], 0.5 * e_prime * K[:, 1], mu * K[:, 2]
     closed = _closed_at(sol, index, geom.point(phi_i))
     K_I = np.where(closed, 0.0, K_I)
-    # the magnitude from J (path independent; exact for frictionless faces, open or closed), the
-    # mode mix from the interaction integrals: scale (K_I, K_II, K_III) to G = J
+    # G = J; the K with it scaled to J's energy are kept as `scaled_to_J` (a check: both converge)
     J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * mu)
-    # (where the faces are closed, J and the K are the noise of a frictionless closed front: unscaled)
     scale = np.where((J_K > 0) & (J > 0) & ~closed, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
-    return FrontParameters(index, geom.point(phi_i), scale * K_I, scale * K_II, scale * K_III, J, closed, phi_i,
-                           interaction=np.column_stack([K_I, K_II, K_III]))
+    return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, phi_i,
+                           scaled_to_J=scale[:, None] * np.column_stack([K_I, K_II, K_III]))
+
+
+def bump_transfer(omega, L):
+    """The factor by which the average over h(s) / L (h the cos^2 bump of half-width L) scales cos(omega s)."""
+    x = np.asarray(omega, dtype=float) * L
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.sinc(x / np.pi) * np.pi ** 2 / (np.pi ** 2 - x * x)
+    return np.where(np.abs(np.abs(x) - np.pi) < 1e-9, 0.5, out)
+
+
+def _unsmooth(values, perimeter: float, L: float):
+    """Undo the bump average along a closed front: values at n points equally spaced in arc length.
+
+    Each point's domain integral is the average of the pointwise value over h(s - s_k) / L;
+    in the Fourier modes of the front that multiplies mode m by bump_transfer(2 pi m / perimeter, L).
+    Dividing by it (at most by 1 / MIN_TRANSFER, so that the point-to-point noise of the shortest
+    modes is not amplified more) removes the O(L^2 K'') bias of the average where K varies.
+    """
+    n = values.shape[0]
+    omega = 2.0 * np.pi * np.fft.fftfreq(n, d=perimeter / n)
+    factor = 1.0 / np.maximum(bump_transfer(omega, L), MIN_TRANSFER)
+    spec = np.fft.fft(values, axis=0)
+    return np.real(np.fft.ifft(spec * factor.reshape((n,) + (1,) * (values.ndim - 1)), axis=0))
 
 
 def _closed_at(sol, index: int, points: np.ndarray) -> np.ndarray:
