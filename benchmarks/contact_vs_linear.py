@@ -209,7 +209,6 @@ def main_schur(args) -> None:
     from ngcrack.geometry import make_mesh
     from ngcrack.hybrid import condense
     from ngcrack.materials import compliance
-    from ngcrack.post import endpoint_map
     from ngcrack.schur import Factorization, mkl_available, schur_complement
     from ngcrack.solve import scene_loads
 
@@ -264,7 +263,7 @@ def main_schur(args) -> None:
     # never forming S: primal-dual active set on the condensed system; every step
     # refactorizes K with the active crack unknowns held at zero
     if ref is not None and m:
-        G = endpoint_map(disc.fes.components[disc.jn], cm, disc.facet_order)
+        G = disc.constraint_map()
         qp = solve_qp(ref, schur_complement(sysm.K, sysm.F, sysm.rest, sysm.contact).b, G=G)
         solver = "pardiso" if mkl_available() else "superlu"
         K = sp.csr_matrix(sysm.K)

@@ -47,7 +47,6 @@ def scene_qp(scene: str, element: str, maxh: float, crack_h):
     from ngcrack.geometry import make_mesh
     from ngcrack.hybrid import condense, reduce_to_contact
     from ngcrack.materials import compliance
-    from ngcrack.post import endpoint_map
     from ngcrack.solve import scene_loads
 
     sc = scenes.load(scene)
@@ -56,10 +55,7 @@ def scene_qp(scene: str, element: str, maxh: float, crack_h):
     mat = sc.material
     disc = E.build(element, cm, compliance(mat.E, mat.nu, mat.plane), loads)
     red = reduce_to_contact(condense(disc, loads))
-    if disc.constraint_map is not None:
-        G = disc.constraint_map()
-    else:
-        G = endpoint_map(disc.fes.components[disc.jn], cm, disc.facet_order)
+    G = disc.constraint_map()
     return red.S, red.b, G
 
 

@@ -422,32 +422,6 @@ def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, 
 # ----------------------------------------------------------------------------- warm starts
 
 
-def constraint_positions(disc, crack_mesh) -> tuple[np.ndarray, np.ndarray]:
-    """(crack index, arc length s) of every constrained value w_i = (G j)_i.
-
-    For the facet end-point map of `post.endpoint_map` the value i of an edge of order
-    p sits at the i-th of p + 1 equispaced points of that edge (P0: the mid point);
-    with an element's own `constraint_map` the mid point of the dof's edge is used.
-    """
-    import ngsolve as ngs
-
-    space = disc.fes.components[disc.jn]
-    n = space.ndof
-    crack_of = np.full(n, -1, dtype=int)
-    s_of = np.zeros(n)
-    for k, crack in enumerate(crack_mesh.cracks):
-        for e in range(len(crack)):
-            dofs = list(space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(crack.edge[e]))))
-            p = len(dofs) - 1
-            for q, d in enumerate(dofs):
-                if d < 0:
-                    continue
-                param = 0.5 if p == 0 or disc.constraint_map is not None else q / p
-                crack_of[d] = k
-                s_of[d] = crack.s_mid[e] + (param - 0.5) * crack.length[e]
-    return crack_of, s_of
-
-
 def warm_start_data(previous, crack: np.ndarray, s: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None]:
     """(initial_active, initial_guess) for a QP whose constrained values sit at (crack, s).
 

@@ -30,7 +30,7 @@ def constraint_points(disc, crack_mesh) -> tuple[np.ndarray, np.ndarray, np.ndar
     crack_of = np.full(n, -1, dtype=int)
     s_of = np.zeros(n)
     weight = np.zeros(n)
-    nodal = disc.constraint_map is not None
+    nodal = disc.nodal_constraints
     for k, crack in enumerate(crack_mesh.cracks):
         for e in range(len(crack)):
             L = crack.length[e]

@@ -7,7 +7,7 @@ vector of that traction (`Discretization.traction`): for every element, mean(u.d
 on the full solution vector x (`segment_mean`), and on the condensed unknowns y the
 row B = sign T^T (l + E^T l) restricted to the free dofs, as `hybrid.condense` forms its F.
 
-The constraints B y = 0 are eliminated by a change of basis, as the rollers are: k pivot
+The constraints B y = 0 are eliminated (`hybrid.eliminate`, dimension-free) by a change of basis, as the rollers are: k pivot
 unknowns in the constraints' support (column-pivoted QR, never a crack unknown) are
 expressed by the others, y = Z z with Z = [I; -B_P^-1 B_N] in the pivots' rows, and the
 condensed system becomes Z^T K Z z = Z^T F: still symmetric, positive definite where K
@@ -18,18 +18,12 @@ constraint's multiplier is the support's reaction, a uniform traction over the s
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
 from .geometry import boundary_region
-
-#: entries of a constraint row below this fraction of its largest are round-off (not its support)
-SUPPORT_RTOL = 1e-13
-#: a pivot of the constraints' QR below this fraction of the largest: dependent constraints
-RANK_RTOL = 1e-10
+from .hybrid import SUPPORT_RTOL
 
 
 def segment_length(mesh: ngs.Mesh, label: str) -> float:
@@ -40,8 +34,6 @@ def segment_length(mesh: ngs.Mesh, label: str) -> float:
 def segment_functional(disc, label: str, direction) -> np.ndarray:
     """l with sign * l . x = the mean of u.direction over the label's edges, x a full solution vector."""
     mesh = disc.crack_mesh.mesh
-    if disc.traction is None:
-        raise ValueError(f"element {disc.element!r} gives no traction integrand; point supports need one")
     w = segment_length(mesh, label)
     if not w > 0:
         raise ValueError(f"boundary label {label!r}: no edge of the mesh carries it")
@@ -57,15 +49,6 @@ def segment_mean(disc, gf: ngs.GridFunction, label: str, direction) -> float:
     return float(disc.sign * segment_functional(disc, label, direction) @ gf.vec.FV().NumPy())
 
 
-@dataclass
-class MeanConstraints:
-    """y = Z z: `Z` (n x (n - k)), `position` the new index of every old unknown (-1: a pivot)."""
-
-    Z: sp.csr_matrix
-    position: np.ndarray
-    rows: list  # (label, direction) of each constraint
-
-
 def constraint_rows(disc, held_mean: dict, T: sp.csr_matrix, free: np.ndarray) -> tuple[np.ndarray, list]:
     """B (k x n) on the condensed unknowns y = the columns of T, and (label, direction) per row."""
     a = disc.a
@@ -78,36 +61,6 @@ def constraint_rows(disc, held_mean: dict, T: sp.csr_matrix, free: np.ndarray) -
             rows.append(disc.sign * (T.T @ vec.FV().NumPy()[free]))
             names.append((label, tuple(float(c) for c in d)))
     return np.array(rows).reshape(len(rows), T.shape[1]), names
-
-
-def eliminate(B: np.ndarray, names: list, protected: np.ndarray) -> MeanConstraints:
-    """The change of basis that satisfies B y = 0; `protected` unknowns (the crack's) are never pivots."""
-    k, n = B.shape
-    scale = np.abs(B).max(axis=1, keepdims=True)
-    support = np.flatnonzero((np.abs(B) > SUPPORT_RTOL * scale).any(axis=0))
-    candidates = np.setdiff1d(support, protected)
-    if len(candidates) < k:
-        raise ValueError(f"point supports: {k} mean constraints on {len(candidates)} unknowns; a pin or roller "
-                         f"segment has too few boundary unknowns (widen it or refine the mesh there)")
-    Bs = B[:, candidates]
-    import scipy.linalg as sla  # (loaded by a scene with pin or roller points only)
-
-    _, R, perm = sla.qr(Bs, mode="economic", pivoting=True)
-    diag = np.abs(np.diag(R))
-    if diag[-1] <= RANK_RTOL * diag[0]:
-        raise ValueError(f"point supports: the mean constraints of {sorted({lab for lab, _ in names})} are "
-                         f"dependent (two supports on one segment?)")
-    pivots = np.sort(candidates[perm[:k]])
-    others = np.setdiff1d(support, pivots)
-    coef = -np.linalg.solve(B[:, pivots], B[:, others])  # y_P = coef y_others
-    position = np.full(n, -1, dtype=np.int64)
-    kept = np.setdiff1d(np.arange(n), pivots)
-    position[kept] = np.arange(len(kept))
-    r = np.concatenate([kept, np.repeat(pivots, len(others))])
-    c = np.concatenate([np.arange(len(kept)), np.tile(position[others], k)])
-    v = np.concatenate([np.ones(len(kept)), coef.ravel()])
-    Z = sp.csr_matrix((v, (r, c)), shape=(n, len(kept)))
-    return MeanConstraints(Z=Z, position=position, rows=names)
 
 
 def reactions(disc, gf: ngs.GridFunction, held_mean: dict) -> dict[str, tuple[float, float]]:

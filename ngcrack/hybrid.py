@@ -34,9 +34,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from .discretization import Discretization, Loads
-from .held_means import constraint_rows, eliminate
 from .parallel import task_manager
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
+
+#: entries of a constraint row below this fraction of its largest are round-off (not its support)
+SUPPORT_RTOL = 1e-13
+#: a pivot of the constraints' QR below this fraction of the largest: dependent constraints
+RANK_RTOL = 1e-10
 
 
 def _bits(ba: ngs.BitArray) -> np.ndarray:
@@ -234,7 +238,7 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
         if np.any(np.diff(contact) <= 0):  # the Schur complement's order is the order of `contact`
             raise AssertionError("crack unknowns out of order")
     if loads.held_mean:  # pin and roller points: their mean constraints eliminated (held_means.py)
-        B, names = constraint_rows(disc, loads.held_mean, T, free_idx)
+        B, names = disc.held_mean_rows(loads.held_mean, T, free_idx)
         held = eliminate(B, names, contact)
         Z = held.Z
         K = sp.csr_matrix(Z.T @ K @ Z)
@@ -340,3 +344,42 @@ def reduce_to_contact(system: CondensedSystem, linear_solver: str = "auto", schu
         data.method = "none"
     return ContactReduction(S=data.S, b=data.b, x0=data.x0, factorization=data.factorization, system=system,
                             timings=data.timings, method=data.method, largest_dense=data.largest_dense)
+
+
+@dataclass
+class MeanConstraints:
+    """y = Z z: `Z` (n x (n - k)), `position` the new index of every old unknown (-1: a pivot)."""
+
+    Z: sp.csr_matrix
+    position: np.ndarray
+    rows: list  # (label, direction) of each constraint
+
+
+def eliminate(B: np.ndarray, names: list, protected: np.ndarray) -> MeanConstraints:
+    """The change of basis that satisfies B y = 0; `protected` unknowns (the crack's) are never pivots."""
+    k, n = B.shape
+    scale = np.abs(B).max(axis=1, keepdims=True)
+    support = np.flatnonzero((np.abs(B) > SUPPORT_RTOL * scale).any(axis=0))
+    candidates = np.setdiff1d(support, protected)
+    if len(candidates) < k:
+        raise ValueError(f"point supports: {k} mean constraints on {len(candidates)} unknowns; a pin or roller "
+                         f"segment has too few boundary unknowns (widen it or refine the mesh there)")
+    Bs = B[:, candidates]
+    import scipy.linalg as sla  # (loaded by a scene with pin or roller points only)
+
+    _, R, perm = sla.qr(Bs, mode="economic", pivoting=True)
+    diag = np.abs(np.diag(R))
+    if diag[-1] <= RANK_RTOL * diag[0]:
+        raise ValueError(f"point supports: the mean constraints of {sorted({lab for lab, _ in names})} are "
+                         f"dependent (two supports on one segment?)")
+    pivots = np.sort(candidates[perm[:k]])
+    others = np.setdiff1d(support, pivots)
+    coef = -np.linalg.solve(B[:, pivots], B[:, others])  # y_P = coef y_others
+    position = np.full(n, -1, dtype=np.int64)
+    kept = np.setdiff1d(np.arange(n), pivots)
+    position[kept] = np.arange(len(kept))
+    r = np.concatenate([kept, np.repeat(pivots, len(others))])
+    c = np.concatenate([np.arange(len(kept)), np.tile(position[others], k)])
+    v = np.concatenate([np.ones(len(kept)), coef.ravel()])
+    Z = sp.csr_matrix((v, (r, c)), shape=(n, len(kept)))
+    return MeanConstraints(Z=Z, position=position, rows=names)

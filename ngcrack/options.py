@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS
-from .elements import check_element
+from .element_names import check_element
 from .errors import InputError
 from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_solver
 from .hybrid import Factorization

@@ -38,13 +38,14 @@ import numpy as np
 
 from . import elements as _elements
 from .crack_loads import pressure_cf
-from .elements import Discretization, Loads
+from .discretization import Discretization, Loads, PostProcessing
 from .errors import InputError
 from .geometry import CrackMesh, make_mesh
 from .hp import hp_mesh
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .materials import compliance
 from .options import SolveOptions
+from .post2d import PLANE
 from .scene import BoundaryCondition, Scene
 from .scene.points import held_directions
 from .scene.pressure import pressure_kind
@@ -73,12 +74,12 @@ STAGES = ("mesh", "assemble", "load", "condense", "factorize")
 
 # ------------------------------------------------------------------ loads
 
-def load_structure(scene: Scene) -> tuple:
+def load_structure(scene) -> tuple:
     """What the assembled forms depend on besides the load values: the supports and
-    which labels carry loads."""
+    which labels carry loads (a scene of either dimension)."""
     return (tuple(sorted((lab, bc.type) for lab, bc in scene.boundary.items())), scene.body_force is not None,
             tuple((pc.label, pc.type) for pc in getattr(scene, "points", ())),
-            tuple(pressure_kind(c.pressure) for c in scene.cracks))
+            tuple(pressure_kind(getattr(c, "pressure", None)) for c in scene.cracks))
 
 
 def geometry_key(scene: Scene) -> tuple:
@@ -87,53 +88,105 @@ def geometry_key(scene: Scene) -> tuple:
             scene.holes, scene.maxh, scene.tip_h, scene.crack_h, scene.grading)
 
 
+class PlanarBody:
+    """What the stages ask of a plane body (`Pipeline.body_for`): the mesh and its key, the
+    element and its key, the crack-face pressures and the held means of its loads, and the
+    post-processor (`post2d.PLANE`). The 3D counterpart is `ngcrack.solid.stages.SOLID`."""
+
+    dimension = 2
+    post = PLANE
+
+    def mesh_key(self, scene: Scene, options: SolveOptions) -> tuple:
+        """The scene's geometry and mesh sizes and the options' mesh sizes."""
+        return geometry_key(scene), options.mesh_key
+
+    def make_mesh(self, scene: Scene, options: SolveOptions) -> CrackMesh:
+        """geometry.make_mesh; with options.hp, hp.hp_mesh: a base mesh coarse at the tips
+        and hp geometric layers towards them."""
+        o = options
+        sizes = dict(maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
+        # hp: the coarse base mesh of hp.base_mesh (unless sizes are given) and the layers
+        return hp_mesh(scene, o.hp, sigma=o.hp_sigma, **sizes) if o.hp else make_mesh(scene, **sizes)
+
+    def element_key(self, scene: Scene, options: SolveOptions) -> tuple:
+        """The element and its order, the material."""
+        mat = scene.material
+        return options.element_key, (mat.E, mat.nu, mat.plane)
+
+    def build(self, scene: Scene, crack_mesh: CrackMesh, options: SolveOptions, loads: Loads) -> Discretization:
+        """The element family's spaces and assembled forms (`ngcrack.elements.build`)."""
+        mat = scene.material
+        return _elements.build(options.element, crack_mesh, compliance(mat.E, mat.nu, mat.plane), loads,
+                               order=options.order)
+
+    def crack_pressure(self, scene: Scene, k: int, parameter):
+        """The pressure on crack k's faces as a CoefficientFunction of position (a uniform
+        one through `parameter`); None where the element takes it as a number instead."""
+        crack = scene.cracks[k]
+        return pressure_cf(crack.pressure, np.asarray(crack.points), scene.diameter, parameter=parameter)
+
+    def held_mean(self, scene: Scene) -> dict:
+        """The pin and roller points' held means (label -> directions)."""
+        return held_directions(scene.polygon, scene.labels, getattr(scene, "points", ()))
+
+
+#: the one plane body
+PLANAR = PlanarBody()
+
+
 class ParameterLoads:
     """The scene's loads as NGSolve Parameters: the assembled linear form follows their values.
 
-    Every traction, displacement and body-force vector of the scene gets two Parameters
-    (zero ones too, so a load scaled to zero keeps the same form); `set(scene)` copies a
-    scene's values in (the scene must have the same `load_structure`).
+    Every traction, displacement and body-force vector of the scene gets one Parameter
+    per component (zero ones too, so a load scaled to zero keeps the same form);
+    `set(scene)` copies a scene's values in (the scene must have the same
+    `load_structure`). `body`: what depends on the body's dimension (PLANAR or the 3D one).
     """
 
-    def __init__(self, scene: Scene):
+    def __init__(self, scene, body=PLANAR):
         self.structure = load_structure(scene)
-        self.params: dict[tuple[str, str], tuple[ngs.Parameter, ngs.Parameter]] = {}
+        self.params: dict[tuple[str, str], tuple[ngs.Parameter, ...]] = {}
         traction, displacement, clamped, roller = {}, {}, set(), set()
+        dim = body.dimension
         for label, bc in scene.boundary.items():
             if bc.type == "clamped":
                 clamped.add(label)
             elif bc.type == "roller":
                 roller.add(label)
             else:
-                p = (ngs.Parameter(0.0), ngs.Parameter(0.0))
+                p = tuple(ngs.Parameter(0.0) for _ in range(dim))
                 self.params[(bc.type, label)] = p
                 (traction if bc.type == "traction" else displacement)[label] = ngs.CF(p)
-        body = None
+        force = None
         if scene.body_force is not None:
-            p = (ngs.Parameter(0.0), ngs.Parameter(0.0))
+            p = tuple(ngs.Parameter(0.0) for _ in range(dim))
             self.params[("body", "")] = p
-            body = ngs.CF(p)
+            force = ngs.CF(p)
         # crack-face pressures: a uniform one a Parameter, a table or callable a fixed function
         self.pressures: dict[int, ngs.Parameter] = {}
         crack_pressure = {}
         for k, crack in enumerate(scene.cracks):
-            if crack.pressure is None:
+            pressure = getattr(crack, "pressure", None)
+            if pressure is None:
                 continue
-            if isinstance(crack.pressure, float):
-                self.pressures[k] = ngs.Parameter(0.0)
-            crack_pressure[k] = pressure_cf(crack.pressure, np.asarray(crack.points), scene.diameter,
-                                            parameter=self.pressures.get(k))
-        self.loads = Loads(body_force=body, traction=traction, displacement=displacement,
+            param = ngs.Parameter(0.0) if isinstance(pressure, float) else None
+            cf = body.crack_pressure(scene, k, param)
+            if cf is None:  # the element takes it as a number
+                continue
+            if param is not None:
+                self.pressures[k] = param
+            crack_pressure[k] = cf
+        self.loads = Loads(body_force=force, traction=traction, displacement=displacement,
                            clamped=frozenset(clamped), roller=frozenset(roller), crack_pressure=crack_pressure,
-                           held_mean=held_directions(scene.polygon, scene.labels, getattr(scene, "points", ())))
+                           held_mean=body.held_mean(scene))
         self.set(scene)
 
-    def set(self, scene: Scene) -> None:
+    def set(self, scene) -> None:
         """Copy the load values of `scene` (of the same load structure) into the Parameters."""
-        for (kind, label), (px, py) in self.params.items():
+        for (kind, label), params in self.params.items():
             value = scene.body_force if kind == "body" else scene.boundary[label].value
-            px.Set(float(value[0]))
-            py.Set(float(value[1]))
+            for p, v in zip(params, value):
+                p.Set(float(v))
         for k, param in self.pressures.items():
             param.Set(float(scene.cracks[k].pressure))
 
@@ -202,7 +255,9 @@ class Pipeline:
     a growth path); it is not meant to be shared between threads.
     """
 
-    def __init__(self):
+    def __init__(self, post: PostProcessing = PLANE):
+        #: the post-processing of the body's dimension, chosen once (ngcrack.post2d.PLANE in 2D)
+        self.post = post
         self.counts = dict.fromkeys(STAGES, 0)
         self.redone: list[str] = []
         self._mesh: tuple | None = None  # (key, CrackMesh)
@@ -231,22 +286,28 @@ class Pipeline:
         self._systems, self._reductions = {}, {}
 
     # -------------------------------------------------------------- stages
-    def mesh(self, scene: Scene, options: SolveOptions) -> CrackMesh:
-        """The scene's mesh with cracks as interior edges (geometry.make_mesh), cached; with
-        options.hp, hp.hp_mesh: a base mesh coarse at the tips and hp geometric layers towards them."""
-        key = (geometry_key(scene), options.mesh_key)
+    @staticmethod
+    def body_for(scene):
+        """What the stages ask of the scene's body, by its dimension: PLANAR, or the 3D body
+        (`ngcrack.solid.stages.SOLID`) for a 3D scene."""
+        if getattr(scene, "dimension", 2) == 3:
+            from .solid.stages import SOLID
+
+            return SOLID
+        return PLANAR
+
+    def mesh(self, scene, options):
+        """The scene's mesh (a 2D CrackMesh with cracks as interior edges, or a 3D SolidMesh),
+        cached under the body's mesh key (`PlanarBody.make_mesh`)."""
+        body = self.body_for(scene)
+        key = (body.dimension, body.mesh_key(scene, options))
         if self._mesh is None or self._mesh[0] != key:
-            o = options
-            sizes = dict(maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
-            # hp: the coarse base mesh of hp.base_mesh (unless sizes are given) and the layers
-            cmesh = hp_mesh(scene, o.hp, sigma=o.hp_sigma, **sizes) if o.hp else make_mesh(scene, **sizes)
-            self._mesh = (key, cmesh)
+            self._mesh = (key, body.make_mesh(scene, options))
             self.counts["mesh"] += 1
             self.redone.append("mesh")
         return self._mesh[1]
 
-    def discretization(self, scene: Scene, crack_mesh: CrackMesh, options: SolveOptions,
-                       loads: Loads | None = None) -> tuple[Discretization, Loads]:
+    def discretization(self, scene, crack_mesh, options, loads: Loads | None = None) -> tuple[Discretization, Loads]:
         """The element's spaces and assembled forms on `crack_mesh` and the loads they hold.
 
         Without `loads`, the scene's loads become Parameters of the assembled linear form
@@ -254,8 +315,8 @@ class Pipeline:
         vector. Given `loads` (CoefficientFunctions), the forms are reused only for that
         same Loads object.
         """
-        mat = scene.material
-        key = (options.element_key, (mat.E, mat.nu, mat.plane),
+        body = self.body_for(scene)
+        key = (body.dimension, body.element_key(scene, options),
                load_structure(scene) if loads is None else ("given", id(loads)))
         cached = self._disc
         if cached is not None and cached[0] == key and cached[1].crack_mesh is crack_mesh \
@@ -264,14 +325,13 @@ class Pipeline:
             if ploads is not None:
                 self.settle_estimates()  # before the loads' Parameters change under them
                 ploads.set(scene)
-                disc.f.Assemble()  # (tens of microseconds: starting the TaskManager would cost more)
+                disc.assemble_load()  # (tens of microseconds: starting the TaskManager would cost more)
                 self.counts["load"] += 1
                 self.redone.append("load vector")
             return disc, held
-        ploads = ParameterLoads(scene) if loads is None else None
+        ploads = ParameterLoads(scene, body) if loads is None else None
         held = ploads.loads if ploads is not None else loads
-        disc = _elements.build(options.element, crack_mesh, compliance(mat.E, mat.nu, mat.plane), held,
-                               order=options.order)
+        disc = body.build(scene, crack_mesh, options, held)
         self._disc = (key, disc, ploads, held)
         self._systems, self._reductions = {}, {}
         self.counts["assemble"] += 1
@@ -308,10 +368,11 @@ class Pipeline:
     @staticmethod
     def check(scene: Scene, options: SolveOptions, loads: Loads | None = None, size: bool = True) -> None:
         """Every check of a request that needs the scene, before any work: the options
-        against the scene (friction), the size guard and the thin parts (`size`), the
+        against the scene (friction), what the element cannot solve (nu = 1/2), the size guard and the thin parts (`size`), the
         supports of given loads, an undetermined pressure."""
         o = options
         o.check_for(scene)
+        _elements.check_material(o.element, scene.material)
         if size:
             check_request(scene, o.element, o.maxh, o.tip_h, o.crack_h, o.grading, order=o.order, max_dof=o.max_dof)
         if loads is not None:
@@ -361,7 +422,7 @@ class Pipeline:
         conditioning = condition_estimates(red) if o.condition else {}
         rec = recovery_stage(red, system, disc, answer.jn, case)
         timings["recover"] = rec.time
-        faces = faces_stage(system, disc, cmesh, rec, answer, normal_contact, mu if tangential else None,
+        faces = faces_stage(system, disc, self.post, rec, answer, normal_contact, mu if tangential else None,
                             [c.pressure for c in scene.cracks], case)
 
         # linear: the factorization and solves a plain linear solve needs too (with the
@@ -379,7 +440,7 @@ class Pipeline:
             ndof={"total": disc.fes.ndof, "global": system.n, "contact": m},
             built=list(disc.built) + [built_line(answer.qp, m, o, disc)],
             options=backend.report(o), solve_options=o, backend=backend,
-            conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces,
+            conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces, post=self.post,
         )
         self.post_process(sol, loads)
         self._pending = [r for r in self._pending if r() is not None and r().estimate_pending] + [weakref.ref(sol)]
@@ -402,10 +463,9 @@ class Pipeline:
                              f"{residual:.1e} of its solve); is every part of the body held?")
         return red
 
-    @staticmethod
-    def post_process(sol: Solution, loads: Loads) -> None:
+    def post_process(self, sol: Solution, loads: Loads) -> None:
         """The tips' K_I, K_II, G and the error estimate of a solved `sol` (their times in sol.timings)."""
-        tips_stage(sol, loads)
+        tips_stage(sol, loads, self.post)
         # computed when first asked for; the Parameters of `loads` change with the next load value,
         # so a pending estimate is settled before that (Pipeline.discretization)
-        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model))
+        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model, self.post))

@@ -16,7 +16,7 @@ import numpy as np
 
 from .constraints import KKT_KEYS
 from .contact import QPResult
-from .discretization import Discretization
+from .discretization import Discretization, PostProcessing
 from .options import SolveOptions
 
 if TYPE_CHECKING:  # the 2D types (a 3D body brings its own scene, mesh and profiles)
@@ -106,6 +106,8 @@ class Solution:
     _estimate: object = field(default=None, repr=False)
     _no_estimate: str = field(default="", repr=False)
     _pending_estimate: object = field(default=None, repr=False, compare=False)
+    #: the post-processing of the body's dimension that made the profiles and tips (the pipeline's)
+    post: PostProcessing | None = field(default=None, repr=False, compare=False)
 
     def __repr__(self) -> str:
         """A few lines: scene, element, sizes, KKT, the tips' K and the estimate if computed
@@ -209,10 +211,8 @@ class Solution:
         return self.profiles
 
     def save_vtk(self, path, **kwargs):
-        """Write the fields and the crack faces for ParaView (ngcrack.vtk.save_vtk)."""
-        from .vtk import save_vtk
-
-        return save_vtk(self, path, **kwargs)
+        """Write the fields and the crack faces for ParaView (the post-processor's writer: ngcrack.vtk.save_vtk in 2D)."""
+        return self.post.save_vtk(self, path, **kwargs)
 
     def to_json_dict(self) -> dict:
         """The result as the `solve --json` dictionary (README, "Command line")."""

@@ -79,8 +79,7 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     if getattr(scene, "dimension", 2) == 3:  # a 3D body: the solid pipeline (ngcrack.solid)
         from .solid.solve import solve_solid
 
-        given = [k for k, v in (("options", options), ("loads", loads), ("warm_start", warm_start),
-                                ("pipeline", pipeline)) if v is not None]
+        given = [k for k, v in (("options", options), ("loads", loads), ("warm_start", warm_start)) if v is not None]
         if given:
             raise InputError(f"{given[0]}: not available for a 3D scene yet; give the options as keywords")
         if crack_mesh is not None:
@@ -89,7 +88,7 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
 
         if active():
             raise InputError("dim: a 3D scene is not distributed yet; run it without mpiexec")
-        return solve_solid(scene, element=element, **changes)
+        return solve_solid(scene, element=element, pipeline=pipeline, **changes)
     if element is not None:
         changes["element"] = element
     opts = SolveOptions.of(options, **changes)

@@ -7,11 +7,11 @@
         constraint points and at the profiles' samples, the consistent tractions
     tips and estimate (`tips_stage`, `estimate_stage`): on the Solution
 
-`ngcrack.pipeline.Pipeline.run` calls them in this order. The crack problem and the
-recovery are dimension-free (they see the element through `ngcrack.discretization`); the
-crack faces, the tips and the estimate still call the 2D post-processing by name
-(ngcrack.post, ngcrack.tips, ngcrack.estimate): the edges tests/test_layers.py lists in
-KNOWN_2D_IMPORTS, to be reached through the element and the mesh when a 3D body comes.
+`ngcrack.pipeline.Pipeline.run` calls them in this order. Every stage is dimension-free:
+it sees the element through its `Discretization` and what depends on the body's
+dimension after the recovery (the crack profiles and their tractions, the tips, the
+estimate) through the post-processor the pipeline chose once (`PostProcessing`; the 2D
+one is `ngcrack.post2d.PLANE`).
 """
 
 from __future__ import annotations
@@ -25,30 +25,18 @@ import ngsolve as ngs
 import numpy as np
 
 from .constraints import discrete_contact_forces, kkt_at_constraints
-from .contact import QPResult, constraint_positions, solve_qp, warm_start_data
-from .discretization import Discretization, Loads
+from .contact import QPResult, solve_qp, warm_start_data
+from .discretization import Discretization, Loads, PostProcessing
 from .errors import InputError
 from .friction import FrictionResult, solve_crack_problem
 from .friction_setup import crack_problem
 from .hybrid import CondensedSystem, ContactReduction
 from .options import SolveOptions
-from .post import (
-    CrackProfile,
-    component_forces,
-    consistent_tractions,
-    crack_profile,
-    endpoint_map,
-    field_scales,
-    kkt_residuals,
-    lumped_traction,
-    tributary_lengths,
-)
-from .scene.pressure import pressure_values
 from .solution import Solution
-from .tips import tip_parameters
 
 if TYPE_CHECKING:
     from .geometry import CrackMesh
+    from .post import CrackProfile
 
 
 class SolveError(RuntimeError):
@@ -96,15 +84,14 @@ def crack_stage(red: ContactReduction, disc: Discretization, cmesh: CrackMesh, c
     o, m = options, len(red.system.contact)
     qp, G = None, None
     if len(contact):
-        G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(
-            disc.fes.components[disc.jn], cmesh, disc.facet_order)
+        G = disc.constraint_map()
     if m and o.crack_model == "contact":
         if tangential:
             qp = solve_crack_problem(crack_problem(red, disc, cmesh, G, friction), solver=o.qp_solver,
                                      solver_options=o.qp_options, method=o.friction_method)
             jn = qp.z
         else:
-            positions = constraint_positions(disc, cmesh)
+            positions = disc.constraint_positions()
             initial_active, initial_guess = warm_start_data(warm_start, *positions)
             qp = dataclasses.replace(
                 solve_qp(red.S, red.b, G=G, solver=o.qp_solver, solver_options=o.qp_options,
@@ -130,15 +117,15 @@ def recovery_stage(red: ContactReduction, system: CondensedSystem, disc: Discret
     return Recovered(y=y, gf=gf, fields=disc.fields(gf), time=elapsed)
 
 
-def faces_stage(system: CondensedSystem, disc: Discretization, cmesh: CrackMesh, rec: Recovered,
+def faces_stage(system: CondensedSystem, disc: Discretization, post: PostProcessing, rec: Recovered,
                 answer: CrackAnswer, normal_contact: np.ndarray, friction: list[float] | None, pressures: list,
                 case: str) -> CrackFaces:
     """The crack profiles, the KKT residuals (constraint points and samples) and the tractions."""
-    profiles = crack_profiles(disc, cmesh, rec.gf, rec.fields, friction, pressures)
-    scales = field_scales(cmesh, rec.fields["u"], rec.fields["sigma"]) if profiles else (0.0, 0.0)
-    kkt, forces = constraint_kkt(system, rec.y, normal_contact, answer.G, cmesh, profiles, *scales)
-    profiles = with_tractions(profiles, disc, system, rec.y, cmesh, answer.G, forces)
-    kkt_sampled = kkt_residuals(profiles, *scales)
+    profiles = post.profiles(disc, rec.gf, rec.fields, friction, pressures)
+    u_scale, sigma_scale, jump, length = post.scales(disc, rec.fields, profiles)
+    kkt, forces = constraint_kkt(system, rec.y, normal_contact, answer.G, jump, length, u_scale, sigma_scale)
+    profiles = post.with_tractions(profiles, disc, system, rec.y, answer.G, forces)
+    kkt_sampled = post.sampled_kkt(profiles, u_scale, sigma_scale)
     # the discrete Coulomb law at the QP's constraint points (0 without friction)
     kkt["friction"] = float(answer.qp.kkt["friction"]) if isinstance(answer.qp, FrictionResult) else 0.0
     sampled = [getattr(p, k) for p in profiles for k in p.__dataclass_fields__ if k != "state"] + [
@@ -148,10 +135,10 @@ def faces_stage(system: CondensedSystem, disc: Discretization, cmesh: CrackMesh,
     return CrackFaces(profiles=profiles, kkt=kkt, kkt_sampled=kkt_sampled, forces=forces)
 
 
-def tips_stage(sol: Solution, loads: Loads) -> None:
-    """K_I, K_II, G at the tips of a solved `sol` (sol.tips; its time in sol.timings)."""
+def tips_stage(sol: Solution, loads: Loads, post: PostProcessing) -> None:
+    """The fracture parameters of a solved `sol` (sol.tips; its time in sol.timings)."""
     t0 = time.perf_counter()
-    sol.tips = tip_parameters(sol, body_force=loads.body_force)
+    sol.tips = post.tips(sol, loads.body_force)
     sol.timings["tips"] = time.perf_counter() - t0
     sol.timings["total"] += sol.timings["tips"]
 
@@ -189,63 +176,51 @@ def condition_estimates(red: ContactReduction) -> dict:
     return out
 
 
-def constraint_kkt(system: CondensedSystem, y: np.ndarray, contact: np.ndarray, G, cmesh: CrackMesh,
-                   profiles: list[CrackProfile], u_scale: float, sigma_scale: float) -> tuple[dict, np.ndarray | None]:
+def constraint_kkt(system: CondensedSystem, y: np.ndarray, contact: np.ndarray, G, sampled_jump: float,
+                   length: float, u_scale: float, sigma_scale: float) -> tuple[dict, np.ndarray | None]:
     """(kkt, forces) at the QP's constraint points: w = G j from the answer, the forces from its residual.
 
-    W = the largest jump on the crack (|w| at the constraint points, |[u]| at the edge mid
-    points); the body scales are max |u| and max |sigma| times the mean crack edge length.
+    W = the largest jump on the crack (|w| at the constraint points, `sampled_jump` at the
+    post-processor's samples); the body scales are max |u| and max |sigma| times `length`
+    (the mean crack edge length).
     """
     if G is None or not len(contact):
         return kkt_at_constraints(np.zeros(0), np.zeros(0), 0.0), None
     w = G @ y[contact]
     forces, bound = discrete_contact_forces(system.K, system.F, y, contact, G)
-    jump_max = max([float(np.max(np.abs(w)))] + [float(np.max(np.hypot(p.normal_jump, p.tangential_jump)))
-                                                   for p in profiles])
-    edge = float(np.mean(np.concatenate([c.length for c in cmesh.cracks])))
-    kkt = kkt_at_constraints(w, forces, jump_max, jump_scale=u_scale, force_scale=sigma_scale * edge, lam_bound=bound)
+    jump_max = max(float(np.max(np.abs(w))), sampled_jump)
+    kkt = kkt_at_constraints(w, forces, jump_max, jump_scale=u_scale, force_scale=sigma_scale * length, lam_bound=bound)
     return kkt, forces
 
 
-def crack_profiles(disc: Discretization, cmesh: CrackMesh, gf: ngs.GridFunction, fields: dict,
-                   friction: list[float] | None, pressures: list | None = None) -> list[CrackProfile]:
-    """One CrackProfile per crack from the solved GridFunction (no crack: an empty list);
-    `pressures`: each crack's face pressure (scene.pressure fields), kept in the profiles."""
-    if disc.jn is None:
-        return []
-    comps = gf.components
-    jn_vals = comps[disc.jn].vec.FV().NumPy()
-    jt_vals = comps[disc.jt].vec.FV().NumPy() if disc.jt is not None else None
-    displacement = disc.tangential_jump(gf) if disc.tangential_jump is not None else None
-    jump_space = disc.fes.components[disc.jn]
-    profiles = []
-    for k, crack in enumerate(cmesh.cracks):
-        jumps = disc.crack_jumps(gf, crack) if disc.crack_jumps is not None else None
-        prof = crack_profile(cmesh, crack, jump_space, jn_vals, jt_vals, fields["sigma"],
-                             displacement=displacement, jumps=jumps, two_sided=disc.two_sided_traction,
-                             friction=friction[k] if friction is not None else 0.0)
-        if pressures is not None and pressures[k] is not None:
-            prof = dataclasses.replace(prof, face_pressure=pressure_values(pressures[k], prof.s))
-        profiles.append(prof)
-    return profiles
+@dataclass(frozen=True)
+class SparseAnswer:
+    """The sparse contact stage's answer: every condensed unknown `y`, the contact solver's
+    `result` (None for a free crack or none), the constraint map `G` (None without a crack),
+    and the seconds of the plain linear solve or of the contact solve."""
+
+    y: np.ndarray
+    result: object
+    G: object
+    time_linear: float
+    time_contact: float
 
 
-def with_tractions(profiles: list[CrackProfile], disc: Discretization, system: CondensedSystem, y: np.ndarray,
-                   cmesh: CrackMesh, G, forces) -> list[CrackProfile]:
-    """The profiles with the element's consistent (or, for the baselines, lumped nodal) crack tractions."""
-    if not profiles or not any(c is not None for c in disc.traction_rows):
-        return profiles
-    lumped = disc.traction_rows[0] is not None and forces is not None  # nodal contact forces
-    tractions = consistent_tractions(system, y, cmesh, skip=("normal_stress", "shear_stress") if lumped else ())
-    if lumped:
-        space = disc.fes.components[disc.jn]
-        w = tributary_lengths(space, cmesh, G)
-        normal = lumped_traction(space, cmesh, G, forces, w)
-        # the nodal forces are the contact's; the faces carry the crack-face pressure besides
-        normal = [nv - p.face_pressure for nv, p in zip(normal, profiles)]
-        shear = lumped_traction(space, cmesh, G, component_forces(system, y, disc.traction_rows[1], G), w)
-        tractions = [dict(t, normal_stress=n, shear_stress=q) for t, n, q in zip(tractions, normal, shear)]
-    return [dataclasses.replace(p, **t) for p, t in zip(profiles, tractions)]
+def sparse_contact_stage(system: CondensedSystem, disc: Discretization, crack_model: str,
+                         linear_solver: str) -> SparseAnswer:
+    """The contact problem on the sparse condensed system (`ngcrack.solid.contact.solve_contact`:
+    an active set with one sparse factorization per step, no dense Schur complement), or one
+    linear solve for a free crack or none."""
+    from .schur import Factorization
+    from .solid.contact import solve_contact
+
+    G = disc.constraint_map() if disc.has_crack else None
+    t0 = time.perf_counter()
+    if not disc.has_crack or crack_model == "free":
+        y = Factorization(system.K, linear_solver).solve(system.F)
+        return SparseAnswer(y=y, result=None, G=G, time_linear=time.perf_counter() - t0, time_contact=0.0)
+    result = solve_contact(system.K, system.F, system.contact, G, linear_solver=linear_solver)
+    return SparseAnswer(y=result.y, result=result, G=G, time_linear=0.0, time_contact=time.perf_counter() - t0)
 
 
 def built_line(qp, m: int, o: SolveOptions, disc: Discretization) -> str:
@@ -260,13 +235,10 @@ def built_line(qp, m: int, o: SolveOptions, disc: Discretization) -> str:
     return f"crack model {o.crack_model!r}: one linear solve, no QP"
 
 
-def estimate_stage(sol: Solution, loads: Loads, crack_model: str):
-    """The solve's error estimate (estimate.py), or None where none exists (with the reason
-    in sol.no_estimate)."""
-    from .estimate import estimate
-
+def estimate_stage(sol: Solution, loads: Loads, crack_model: str, post: PostProcessing):
+    """The solve's error estimate, or None where none exists (with the reason in sol.no_estimate)."""
     try:
-        est = estimate(sol, loads, crack_model)
+        est = post.estimate(sol, loads, crack_model)
     except InputError as exc:
         sol.no_estimate = str(exc)
         return None

@@ -19,14 +19,14 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "schur", "constraints", "contact",
-                     "files", "errors", "extras", "solid", "solid.contact", "solid.friction")),
+                     "files", "errors", "extras", "element_names", "solid", "solid.contact", "solid.friction")),
     ("scene", ("scene", "scenes", "references", "sizing", "solid.scene")),
     ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
     ("discretization", ("discretization", "elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element", "solid.friction_points",
                         "solid.h1")),
-    ("post-processing", ("post", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front",
-                         "solid.face_pressure", "solid.face_friction")),
-    ("options and solution", ("options", "solution", "stages", "friction_checks", "solid.output")),
+    ("post-processing", ("post", "post2d", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front",
+                         "solid.face_pressure", "solid.estimate", "solid.face_friction")),
+    ("options and solution", ("options", "solution", "stages", "friction_checks", "solid.output", "solid.stages")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
     ("loops over the pipeline", ("adapt", "distributed")),
     ("one-shot solve", ("solve", "volume")),
@@ -198,27 +198,14 @@ def test_no_module_outside_the_elements_tests_an_element_name():
 #: element families and the hp meshes, the crack profiles sampled along crack edges, the 2D
 #: interaction integral and the estimate on triangles, the ParaView writer, the 2D views
 TWO_D = ("scene", "scenes", "references", "sizing", "quadrature", "materials", "geometry", "crack_sides",
-         "crack_loads", "held_means", "load_points", "elements", "hp", "post", "tips", "tstress", "local_fields",
+         "crack_loads", "held_means", "load_points", "elements", "hp", "post", "post2d", "tips", "tstress", "local_fields",
          "estimate", "vtk", "plots", "explorer", "interactive")
 
 #: the modules that must stay free of any 2D assumption: the element's protocol, the
 #: condensed system and the reduction, the crack problem (QP, friction), the KKT residuals,
 #: the stages, the options and the solution
-DIMENSION_FREE = ("errors", "memory", "parallel", "files", "constraints", "contact", "schur", "discretization",
-                  "hybrid", "friction", "friction_setup", "stages", "options", "solution")
-
-#: the 2D modules a dimension-free one still imports at run time, each with its reason;
-#: this list may only shrink (a 3D body reaches these parts through its element and mesh)
-KNOWN_2D_IMPORTS = {
-    ("hybrid", "held_means"): "the held means of pins and rollers are integrals over 2D boundary edges",
-    ("options", "elements"): "the element names and orders are those of the 2D families' registry",
-    ("stages", "post"): "the crack profiles are sampled along the 2D crack edges",
-    ("stages", "tips"): "the fracture parameters are the 2D interaction integral",
-    ("stages", "estimate"): "the error estimate is computed on triangles",
-    ("stages", "scene.pressure"): "a crack-face pressure is a function of the 2D crack's arc length",
-    ("solution", "vtk"): "Solution.save_vtk writes the 2D ParaView files",
-}
-
+DIMENSION_FREE = ("errors", "memory", "parallel", "files", "constraints", "contact", "schur", "element_names",
+                  "discretization", "hybrid", "friction", "friction_setup", "stages", "options", "solution")
 
 class _WithoutTypeChecking:
     """A module's source without its `if TYPE_CHECKING:` blocks (imports for annotations only)."""
@@ -245,17 +232,15 @@ def _is_2d(module: str) -> bool:
 
 def test_the_dimension_free_modules_import_nothing_2d():
     """No dimension-free module imports a 2D one at run time (annotations under
-    TYPE_CHECKING aside), but for the known edges listed with their reasons."""
+    TYPE_CHECKING aside): the stages reach the element through its Discretization and
+    the post-processing through the post-processor the pipeline chose (post2d.PLANE in 2D)."""
     modules = _modules()
     assert not set(DIMENSION_FREE) & set(TWO_D)
     edges = set()
     for name in DIMENSION_FREE:
         assert name in modules, f"DIMENSION_FREE names a module that does not exist: {name}"
         edges |= {(name, target) for target in _imports(name, _WithoutTypeChecking(modules[name])) if _is_2d(target)}
-    unexpected = sorted(edges - set(KNOWN_2D_IMPORTS))
-    assert not unexpected, f"dimension-free modules import 2D ones: {unexpected}"
-    gone = sorted(set(KNOWN_2D_IMPORTS) - edges)
-    assert not gone, f"these 2D imports are gone: remove them from KNOWN_2D_IMPORTS: {gone}"
+    assert sorted(edges) == [], f"dimension-free modules import 2D ones: {sorted(edges)}"
 
 
 def test_no_merge_conflict_markers_are_left():

@@ -124,3 +124,67 @@ def test_solve_takes_a_scene_name_and_refuses_anything_else():
         nc.solve("griffith", loads="abc")
     with pytest.raises(TypeError, match="warm_start"):
         nc.solve("griffith", warm_start="abc")
+
+
+def test_what_an_element_cannot_solve_is_refused_before_any_meshing(scene):
+    """h1p1 at nu = 1/2 in plane strain: an InputError naming material.nu and the elements
+    that can, raised by Pipeline.check (0 meshes, 0 assemblies)."""
+    pipe = Pipeline()
+    incompressible = scene.with_(nu=0.5, plane="strain")
+    with pytest.raises(nc.InputError, match=r"material\.nu = 0\.5.*allowed elements at nu = 0\.5: peers, bdm, tdnns"):
+        pipe.run(incompressible, SolveOptions(element="h1p1", **COARSE))
+    assert pipe.counts["mesh"] == 0 and pipe.counts["assemble"] == 0
+
+
+def test_every_family_implements_the_methods_the_stages_call():
+    """Every family's Discretization overrides each method of the base class that the
+    stages and the condensed system call (none is an optional attribute)."""
+    from ngcrack.discretization import Discretization
+    from ngcrack.elements import base, h1, tdnns
+
+    methods = ("fields", "boundary_values", "traction", "constraint_map", "constraint_positions", "crack_jumps",
+               "tangential_jump", "held_mean_rows")
+    for cls in (base.WeaklySymmetricHybrid, tdnns.TdnnsDiscretization, h1.H1Discretization):
+        missing = [m for m in methods if getattr(cls, m) is getattr(Discretization, m)]
+        assert missing == [], f"{cls.__name__} does not implement {missing}"
+
+
+#: a tiny 3D body: a penny crack in a box, order 1, coarse (about 50 000 unknowns)
+TINY_3D = {
+    "name": "penny-tiny",
+    "domain": {"box": [[-4.0, -4.0, -4.0], [4.0, 4.0, 4.0]]},
+    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}],
+    "material": {"E": 1000.0, "nu": 0.3},
+    "boundary": {"xmin": {"type": "roller"}, "ymin": {"type": "roller"}, "zmin": {"type": "roller"},
+                 "zmax": {"type": "traction", "value": [0.0, 0.0, 1.0]}},
+    "mesh": {"maxh": 4.0, "crack_h": 0.8, "front_h": 0.5},
+}
+
+
+def _tiny_3d(t: float):
+    import copy
+
+    from ngcrack.solid.scene import SolidScene
+
+    d = copy.deepcopy(TINY_3D)
+    d["boundary"]["zmax"]["value"] = [0.0, 0.3 * t, t]
+    return SolidScene.from_dict(d)
+
+
+def test_a_3d_body_runs_through_the_same_stages_and_a_new_load_rebuilds_the_load_only():
+    """A 3D scene through a kept Pipeline: a new load value re-assembles the load vector only
+    (1 mesh, 1 assembly, 1 condensation); the answer equals a fresh solve's exactly, and
+    under tension (every face open: a linear solve) doubling the load doubles every unknown."""
+    pipe = Pipeline()
+    first = nc.solve(_tiny_3d(1.0), pipeline=pipe, fronts=False)
+    assert pipe.counts == {"mesh": 1, "assemble": 1, "load": 0, "condense": 1, "factorize": 0}
+    shut = nc.solve(_tiny_3d(-0.5), pipeline=pipe, fronts=False)  # compression: every face closes
+    assert pipe.counts == {"mesh": 1, "assemble": 1, "load": 1, "condense": 1, "factorize": 0}
+    assert pipe.redone == ["load vector"]
+    fresh = nc.solve(_tiny_3d(-0.5), fronts=False)
+    assert np.max(np.abs(shut.y - fresh.y)) <= 1e-12 * np.max(np.abs(fresh.y))
+    assert shut.contact.active.all() and max(shut.kkt.values()) < 1e-10
+    double = nc.solve(_tiny_3d(2.0), pipeline=pipe, fronts=False)
+    assert pipe.counts["load"] == 2 and pipe.counts["assemble"] == 1 and pipe.counts["mesh"] == 1
+    assert not first.contact.active.any()
+    assert np.max(np.abs(double.y - 2.0 * first.y)) <= 1e-12 * np.max(np.abs(double.y))

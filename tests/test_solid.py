@@ -271,6 +271,7 @@ def test_cli_solves_a_3d_scene_to_json_and_vtk(tmp_path, capsys):
     assert main(["solve", str(path), "--json", str(out), "--vtk", str(tmp_path / "vtk" / "penny")]) == 0
     record = json.loads(out.read_text())
     assert record["dimension"] == 3 and record["ndof"]["contact"] > 0 and max(record["kkt"].values()) < 1e-12
+    assert record["error_estimate"]["total"] > 0.0  # tdnns has one (ngcrack.solid.estimate)
     (front,) = record["fronts"]
     assert set(front) == {"crack", "points", "K_I", "K_II", "K_III", "G"} and len(front["K_I"]) == len(front["points"])
     assert abs(np.mean(front["K_I"]) / (2 / math.sqrt(math.pi)) - 1) < 0.06

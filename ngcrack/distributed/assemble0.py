@@ -14,10 +14,9 @@ import weakref
 
 import numpy as np
 
-from ..contact import QPResult, constraint_positions
+from ..contact import QPResult
 from ..friction import FrictionResult, coulomb_residual
 from ..friction_setup import tangential_point_map
-from ..post import endpoint_map
 from ..solution import Backend, Solution
 from ..stages import CrackAnswer, Recovered, SolveError, faces_stage
 from .gather import scatter_into
@@ -49,13 +48,12 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
     m = len(system.contact)
     G, qp = None, None
     if len(normal_contact):
-        G = disc.constraint_map() if disc.constraint_map is not None else endpoint_map(
-            disc.fes.components[disc.jn], cmesh, disc.facet_order)
+        G = disc.constraint_map()
     jn = y[normal_contact] if len(normal_contact) else np.zeros(0)
     if m and o.crack_model == "contact":
         rng = disc.fes.Range(disc.jn)
         active = np.flatnonzero(flags[rng.start:rng.stop])
-        positions = constraint_positions(disc, cmesh)
+        positions = disc.constraint_positions()
         if tangential:
             codes, _ = scatter_into(slips, cmesh.mesh, disc.fes, MATCH_RTOL * scene.diameter)
             qp = friction_result(system, disc, cmesh, y, G, active, np.sign(codes[rng.start:rng.stop]), mu,
@@ -70,7 +68,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
         raise SolveError(f"{case}: the local recovery gave non-finite values")
     rec = Recovered(y=y, gf=gf, fields=disc.fields(gf), time=0.0)
     answer = CrackAnswer(qp=qp, G=G, jn=jn, time=0.0)
-    faces = faces_stage(system, disc, cmesh, rec, answer, normal_contact, mu if tangential else None,
+    faces = faces_stage(system, disc, pipe.post, rec, answer, normal_contact, mu if tangential else None,
                         [c.pressure for c in scene.cracks], case)
     if qp is not None and faces.forces is not None:
         qp.multiplier = np.asarray(faces.forces)
@@ -95,7 +93,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
                                   f"preconditioner {info['preconditioner']}, {info['active_set_steps']} active-set "
                                   f"steps, CG steps {info['cg_steps']}"],
         options=report, solve_options=o, backend=backend, conditioning={}, kkt_sampled=faces.kkt_sampled,
-        forces=faces.forces,
+        forces=faces.forces, post=pipe.post,
     )
     pipe.post_process(sol, loads)
     pipe._pending = [weakref.ref(sol)]

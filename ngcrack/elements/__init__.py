@@ -8,10 +8,7 @@ bilinear form is assembled with static condensation; `hybrid.py` takes it from t
 
 from __future__ import annotations
 
-import math
-import numbers
-
-from ..errors import InputError
+from ..element_names import ELEMENTS, MIXED, ORDERED, ORDERS, check_element
 from . import bdm, h1, peers, tdnns
 from .base import Discretization, ElementTraits, Loads
 
@@ -22,34 +19,15 @@ FAMILIES = {
     "h1p1": lambda *args: h1.build(*args, order=1),
     "h1p2": lambda *args: h1.build(*args, order=2),
 }
-#: the locking-free mixed elements (the baselines h1p1, h1p2 are displacement elements)
-MIXED = ("peers", "bdm", "tdnns")
-ELEMENTS = tuple(FAMILIES)
-#: families that take an `order`, and the orders each has
-ORDERS = {"bdm": bdm.ORDERS, "tdnns": tdnns.ORDERS}
-ORDERED = tuple(ORDERS)
+if tuple(FAMILIES) != ELEMENTS:
+    raise ImportError("ngcrack.elements: the families' registry differs from ngcrack.element_names.ELEMENTS")
 #: what the post-processing asks of each family (ElementTraits), known before anything is built
 TRAITS = {"peers": peers.TRAITS, "bdm": bdm.TRAITS, "tdnns": tdnns.TRAITS, "h1p1": h1.TRAITS[1], "h1p2": h1.TRAITS[2]}
 
 
-def check_element(name: str, order=None) -> int | None:
-    """The one check of an element and its order: `name` one of ELEMENTS; `order` None
-    (the family's default) or, for a family that has several (ORDERED), one of its ORDERS.
-    Returns the order as an int (or None)."""
-    if not isinstance(name, str) or name not in FAMILIES:
-        raise InputError(f"element = {name!r}: allowed values are {', '.join(ELEMENTS)}")
-    if order is None:
-        return None
-    if name not in ORDERED:
-        raise InputError(f"order = {order!r}: element {name!r} has a fixed order; elements with an order: "
-                         f"{', '.join(ORDERED)}")
-    allowed = ORDERS[name]
-    whole = isinstance(order, numbers.Real) and not isinstance(order, bool) and math.isfinite(float(order)) \
-        and float(order).is_integer()
-    if not whole or int(order) not in allowed:
-        raise InputError(f"order = {order!r}: allowed values for {name} are {', '.join(map(str, allowed))} (or None "
-                         f"for the element's default)")
-    return int(order)
+def check_material(name: str, material) -> None:
+    """Refuse, before any meshing, a material that element `name` cannot solve (ElementTraits.check_material)."""
+    TRAITS[name].check_material(name, material, [e for e in ELEMENTS if TRAITS[e].incompressible])
 
 
 def build(name: str, crack_mesh, material, loads: Loads, order: int | None = None) -> Discretization:
@@ -64,5 +42,5 @@ def build(name: str, crack_mesh, material, loads: Loads, order: int | None = Non
     return FAMILIES[name](crack_mesh, material, loads, order=order)
 
 
-__all__ = ["Discretization", "ElementTraits", "Loads", "ELEMENTS", "MIXED", "ORDERED", "ORDERS", "TRAITS", "build",
+__all__ = ["Discretization", "ElementTraits", "Loads", "ELEMENTS", "MIXED", "ORDERED", "ORDERS", "TRAITS", "build", "check_material",
            "check_element"]

@@ -22,14 +22,17 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
 
 from ..discretization import Discretization, ElementTraits, Loads  # noqa: F401  (the element's protocol)
 from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_bc, crack_frame_cf
+from ..held_means import constraint_rows
 from ..materials import Compliance
 from ..parallel import task_manager
+from .facets import endpoint_map, facet_basis
 
 #: extra quadrature order for element-boundary terms that carry the crack indicator
 CRACK_BONUS_INTORDER = 2
@@ -42,6 +45,105 @@ PRESSURE_SPLIT_RTOL = 1e-6
 #: round-off. The floor selects the minimum-norm pressure, i.e. the limit nu -> 1/2, and
 #: changes nothing else beyond 1e-10 relative.
 SPHERICAL_FLOOR = 1e-10
+
+
+@dataclass(eq=False)
+class PlanarDiscretization(Discretization):
+    """What the 2D families share: the crack's constraint points and jumps read from the
+    facet jump unknowns along the crack edges (`facets`). The displacement baselines,
+    whose constraint points are crack nodes, override `constraint_map`, `crack_jumps`."""
+
+    def constraint_map(self) -> np.ndarray:
+        """G: the facet jump's dofs -> its values at k + 1 equispaced points of each crack edge."""
+        return endpoint_map(self.fes.components[self.jn], self.crack_mesh, self.facet_order)
+
+    def constraint_positions(self) -> tuple[np.ndarray, np.ndarray]:
+        """(crack index, arc length s) of every constrained value w_i = (G j)_i.
+
+        For the facet end-point map the value i of an edge of order p sits at the i-th of
+        p + 1 equispaced points of that edge (P0: the mid point); with nodal constraint
+        points the mid point of the dof's edge is used.
+        """
+        space = self.fes.components[self.jn]
+        n = space.ndof
+        crack_of = np.full(n, -1, dtype=int)
+        s_of = np.zeros(n)
+        for k, crack in enumerate(self.crack_mesh.cracks):
+            for e in range(len(crack)):
+                dofs = list(space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(crack.edge[e]))))
+                p = len(dofs) - 1
+                for q, d in enumerate(dofs):
+                    if d < 0:
+                        continue
+                    param = 0.5 if p == 0 or self.nodal_constraints else q / p
+                    crack_of[d] = k
+                    s_of[d] = crack.s_mid[e] + (param - 0.5) * crack.length[e]
+        return crack_of, s_of
+
+    def crack_jumps(self, gf: ngs.GridFunction, crack) -> tuple[np.ndarray, np.ndarray]:
+        """([u].nu, [u].t) at the crack edges' mid points: the normal jump from the jn facet
+        unknowns; the tangential one from the jt facet unknowns or, without them, from the
+        tangential component of `tangential_jump` at the mid point."""
+        comps = gf.components
+        dofs, B = facet_basis(self.fes.components[self.jn], self.crack_mesh, crack, [0.5])
+        jn = np.einsum("ek,ek->e", comps[self.jn].vec.FV().NumPy()[dofs], B[:, :, 0])
+        if self.jt is not None:
+            jt = np.einsum("ek,ek->e", comps[self.jt].vec.FV().NumPy()[dofs], B[:, :, 0])
+        else:
+            mid = crack.mid
+            vals = np.asarray(self.tangential_jump(gf)(self.crack_mesh.mesh(mid[:, 0], mid[:, 1])))
+            jt = np.einsum("ei,ei->e", vals.reshape(len(crack), 2), crack.tangent)
+        return jn, jt
+
+    def tangential_jump(self, gf: ngs.GridFunction) -> ngs.CoefficientFunction:
+        """jt t on the crack edges (t the crack's tangent): the facet tangential jump as a vector."""
+        _, t = crack_frame_cf(self.crack_mesh)
+        return gf.components[self.jt] * t
+
+    def held_mean_rows(self, held_mean: dict, T, free: np.ndarray) -> tuple[np.ndarray, list]:
+        """The mean constraints of the pin and roller points as integrals over their
+        boundary edges (`held_means.constraint_rows`)."""
+        return constraint_rows(self, held_mean, T, free)
+
+
+@dataclass(eq=False)
+class WeaklySymmetricHybrid(PlanarDiscretization):
+    """The hybrid form of weakly imposed symmetry (PEERS, BDM): `rows` maps the stress
+    spaces' symbols to the two stress rows and their divergences; `layout` = (number of
+    stress spaces, index of u, index of the rotation, index of the element pressure or
+    None without the incompressible split)."""
+
+    rows: Callable | None = None
+    layout: tuple = ()
+
+    def stress(self, sym) -> tuple:
+        """(sigma_h, sigma, div sigma) of the symbols `sym` (sigma = sigma_h + p I with the split)."""
+        ns, _, _, idx_p = self.layout
+        (r1, r2), (d1, d2) = self.rows(sym[:ns])
+        sig_h = stress_matrix(r1, r2)
+        sig = sig_h + sym[idx_p] * ngs.Id(2) if idx_p is not None else sig_h
+        return sig_h, sig, ngs.CF((d1, d2))
+
+    def trace(self, sym) -> ngs.CoefficientFunction:
+        """The facet displacement trace u_hat of the symbols `sym`."""
+        return ngs.CF((sym[self.uhat[0]], sym[self.uhat[1]]))
+
+    def fields(self, gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
+        _, idx_u, idx_r, _ = self.layout
+        comps = gf.components
+        return {"sigma": self.stress(comps)[1], "u": comps[idx_u], "rotation": comps[idx_r]}
+
+    def boundary_values(self, gf: ngs.GridFunction, loads: Loads) -> None:
+        g, reg = displacement_data(self.crack_mesh.mesh, loads.displacement)
+        for i, comp_i in enumerate(self.uhat):
+            gf.components[comp_i].Set(g[i], ngs.BND, definedon=reg)
+
+    def roller_pairs(self, labels) -> list:
+        return cartesian_roller_pairs(self.fes, self.crack_mesh.mesh, self.uhat, labels)
+
+    def traction(self, g: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        return -(g * self.trace(self.fes.TestFunction()))
+
 
 
 def crack_facet_space(crack_mesh: CrackMesh, order: int) -> ngs.FESpace:
@@ -177,18 +279,17 @@ def weakly_symmetric_hybrid(
     stress_spaces: list[ngs.FESpace],
     rows: Callable[[tuple], tuple[list, list]],
     rotation_spaces: list[ngs.FESpace],
-    rotation: Callable[[tuple], ngs.CoefficientFunction],
     facet_order: int,
     built: list[str],
     trace_rows: Callable[[tuple], tuple] | None = None,
     displacement_order: int = 0,
     traits: ElementTraits | None = None,
-) -> Discretization:
+) -> WeaklySymmetricHybrid:
     """Assemble the hybrid form above for the given stress and rotation spaces.
 
     `rows(symbols)` maps the stress-space symbols (trial or test functions) to the two
-    stress rows and their divergences; `rotation(symbols)` maps the rotation-space
-    symbols to the scalar rotation r. `trace_rows(symbols)`, where given, maps them to
+    stress rows and their divergences; the first rotation space holds the scalar
+    rotation r. `trace_rows(symbols)`, where given, maps them to
     two rows with the same normal traces on every element boundary as the stress rows
     (the parts with zero normal trace left out; PEERS: the curls of the bubbles), used in
     the element-boundary terms. `displacement_order` is the degree of the discontinuous
@@ -222,38 +323,36 @@ def weakly_symmetric_hybrid(
         built.append("incompressible split: global P0 element pressure, local mean-trace multiplier")
     fes = ngs.FESpace(spaces)
     ns, nr = len(stress_spaces), len(rotation_spaces)
-    idx_u = ns
-    idx_r = slice(ns + 1, ns + 1 + nr)
+    idx_u, idx_r = ns, ns + 1
     idx_ux, idx_uy = ns + 1 + nr, ns + 2 + nr
     idx_jn, idx_jt = ns + 3 + nr, ns + 4 + nr
-    idx_p = len(spaces) - 2
+    idx_p = len(spaces) - 2 if split else None
+    disc = WeaklySymmetricHybrid(
+        element=element, crack_mesh=crack_mesh, fes=fes, a=ngs.BilinearForm(fes, condense=True), f=None,
+        uhat=(idx_ux, idx_uy), jn=idx_jn if has_crack else None, jt=idx_jt if has_crack else None,
+        facet_order=facet_order, built=built, definite=not split,
+        traits=traits if traits is not None else ElementTraits(), rows=rows, layout=(ns, idx_u, idx_r, idx_p))
     trial, test = fes.TrialFunction(), fes.TestFunction()
 
-    def stress(sym):
-        (r1, r2), (d1, d2) = rows(sym[:ns])
-        sig_h = stress_matrix(r1, r2)
-        sig = sig_h + sym[idx_p] * ngs.Id(2) if split else sig_h
-        return sig_h, sig, ngs.CF((d1, d2))
-
     def unpack(sym):
-        _, sig, div = stress(sym)
-        return sig, div, sym[idx_u], rotation(sym[idx_r]), ngs.CF((sym[idx_ux], sym[idx_uy]))
+        _, sig, div = disc.stress(sym)
+        return sig, div, sym[idx_u], sym[idx_r], disc.trace(sym)
 
     def boundary_stress(sym):
         if trace_rows is None:
-            return stress(sym)[1]
+            return disc.stress(sym)[1]
         sig_n = stress_matrix(*trace_rows(sym[:ns]))
         return sig_n + sym[idx_p] * ngs.Id(2) if split else sig_n
 
     sig, div_sig, u, r, uh = unpack(trial)
     tau, div_tau, v, eta, muh = unpack(test)
     n = ngs.specialcf.normal(2)
-    a = ngs.BilinearForm(fes, condense=True)
+    a = disc.a
     volume = ngs.InnerProduct(compliance.apply(sig), tau) + div_tau * u + div_sig * v + skew(tau) * r + skew(sig) * eta
     a += volume.Compile() * ngs.dx
     if split:
         lam, mu_l = trial[idx_p + 1], test[idx_p + 1]
-        a += (ngs.Trace(stress(trial)[0]) * mu_l + ngs.Trace(stress(test)[0]) * lam) * ngs.dx
+        a += (ngs.Trace(disc.stress(trial)[0]) * mu_l + ngs.Trace(disc.stress(test)[0]) * lam) * ngs.dx
     sig, tau = boundary_stress(trial), boundary_stress(test)
     a += (-((tau * n) * uh + (sig * n) * muh)).Compile() * ngs.dx(element_boundary=True)
     if has_crack:
@@ -265,34 +364,6 @@ def weakly_symmetric_hybrid(
         a += ((tau * n) * (chi * (jn * nu + jt * t)) + (sig * n) * (chi * (kn * nu + kt * t))) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    traction = lambda g: -(g * muh)  # noqa: E731
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction,
-                    crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
-
-    def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
-        comps = gf.components
-        return {"sigma": stress(comps)[1], "u": comps[idx_u], "rotation": rotation(comps[idx_r])}
-
-    def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
-        g, reg = displacement_data(mesh, loads.displacement)
-        for i, comp_i in enumerate((idx_ux, idx_uy)):
-            gf.components[comp_i].Set(g[i], ngs.BND, definedon=reg)
-
-    return Discretization(
-        element=element,
-        crack_mesh=crack_mesh,
-        boundary_values=boundary_values,
-        roller_pairs=lambda roller: cartesian_roller_pairs(fes, mesh, (idx_ux, idx_uy), roller),
-        fes=fes,
-        a=a,
-        f=f,
-        uhat=(idx_ux, idx_uy),
-        jn=idx_jn if has_crack else None,
-        jt=idx_jt if has_crack else None,
-        facet_order=facet_order,
-        fields=fields,
-        built=built,
-        definite=not split,
-        traction=traction,
-        traits=traits if traits is not None else ElementTraits(),
-    )
+    disc.f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=disc.traction,
+                         crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
+    return disc

@@ -23,12 +23,13 @@ from __future__ import annotations
 
 import ngsolve as ngs
 
+from ..element_names import ORDERS as _ORDERS
 from ..errors import InputError
 from ..geometry import CrackMesh
 from ..materials import Compliance
 from .base import Discretization, ElementTraits, Loads, weakly_symmetric_hybrid
 
-ORDERS = (1, 2, 3)
+ORDERS = _ORDERS["bdm"]
 DEFAULT_ORDER = 1
 #: the rotation field completes grad u; a Prager-Synge estimate from the hybrid traces
 TRAITS = ElementTraits(gradient="rotation", estimate="prager-synge", estimate_degree=2, hybrid_traces=True,
@@ -56,7 +57,6 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         stress_spaces=[bdm, bdm],
         rows=_rows,
         rotation_spaces=[ngs.L2(mesh, order=k - 1)],
-        rotation=lambda sym: sym[0],
         facet_order=k,
         built=built,
         displacement_order=k - 1,

@@ -18,6 +18,7 @@ Plane strain at nu = 1/2 has no finite C: the baselines refuse it.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
@@ -27,17 +28,102 @@ from ..geometry import CrackMesh, boundary_regex, boundary_region, crack_frame_c
 from ..materials import Compliance
 from ..parallel import task_manager
 from .base import (
-    Discretization,
     ElementTraits,
     Loads,
+    PlanarDiscretization,
     cartesian_roller_pairs,
     displacement_data,
     load_vector,
     roller_edges,
 )
 
-#: per order: grad u is the field grad_u; a ZZ recovery estimate of the order's degree
-TRAITS = {k: ElementTraits(gradient="gradient", estimate="zz-recovery", estimate_degree=k) for k in (1, 2)}
+#: per order: grad u is the field grad_u; a ZZ recovery estimate of the order's degree; no nu = 1/2
+TRAITS = {k: ElementTraits(gradient="gradient", estimate="zz-recovery", estimate_degree=k, incompressible=False)
+          for k in (1, 2)}
+
+
+
+@dataclass(eq=False)
+class H1Discretization(PlanarDiscretization):
+    """The P_k displacement element with duplicated crack faces: u = u_c + H+ (jn nu_h + jt t_h)
+    (module docstring). `frame` = (nu_x, nu_y) the nodal crack normal (P1 GridFunctions),
+    `plus` the + side's indicator, `lame` = (lambda, mu), `jump` the jump's space."""
+
+    frame: tuple | None = None
+    plus: ngs.GridFunction | None = None
+    lame: tuple[float, float] = (0.0, 0.0)
+    jump: ngs.FESpace | None = None
+
+    def _nu_t(self) -> tuple[ngs.CoefficientFunction, ngs.CoefficientFunction]:
+        nu_x, nu_y = self.frame
+        return ngs.CF((nu_x, nu_y)), ngs.CF((nu_y, -nu_x))
+
+    def displacement(self, sym) -> ngs.CoefficientFunction:
+        """u of the symbols `sym`."""
+        u = ngs.CF((sym[0], sym[1]))
+        if self.has_crack:
+            nu_cf, t_cf = self._nu_t()
+            u = u + self.plus * (sym[2] * nu_cf + sym[3] * t_cf)
+        return u
+
+    @staticmethod
+    def grad_continuous(sym) -> ngs.CoefficientFunction:
+        """grad u_c of the symbols `sym`."""
+        return ngs.CF((ngs.grad(sym[0]), ngs.grad(sym[1])), dims=(2, 2))
+
+    def grad_jump(self, sym) -> ngs.CoefficientFunction:
+        """grad(u_e) where H+ = 1; nu_h varies only at kinks (linear), so the product rule."""
+        nu_x, nu_y = self.frame
+        nu_cf, t_cf = self._nu_t()
+        grad_nu = ngs.CF((ngs.grad(nu_x), ngs.grad(nu_y)), dims=(2, 2))  # row i: grad nu_i
+        grad_t = ngs.CF((ngs.grad(nu_y), -ngs.grad(nu_x)), dims=(2, 2))
+        return ngs.OuterProduct(nu_cf, ngs.grad(sym[2])) + sym[2] * grad_nu \
+            + ngs.OuterProduct(t_cf, ngs.grad(sym[3])) + sym[3] * grad_t
+
+    def grad_displacement(self, sym) -> ngs.CoefficientFunction:
+        """grad u of the symbols `sym` (H+ is constant per triangle)."""
+        g = self.grad_continuous(sym)
+        return g + self.plus * self.grad_jump(sym) if self.has_crack else g
+
+    def stress_of(self, eps) -> ngs.CoefficientFunction:
+        """C eps."""
+        lam, mu = self.lame
+        return 2.0 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2)
+
+    def fields(self, gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
+        comps = gf.components
+        grad = self.grad_displacement(comps)
+        return {"sigma": self.stress_of(_sym_part(grad)), "u": self.displacement(comps), "grad_u": grad}
+
+    def boundary_values(self, gf: ngs.GridFunction, loads: Loads) -> None:
+        g, reg = displacement_data(self.crack_mesh.mesh, loads.displacement)
+        for i in (0, 1):
+            gf.components[i].Set(g[i], ngs.BND, definedon=reg)
+
+    def roller_pairs(self, labels) -> list:
+        return cartesian_roller_pairs(self.fes, self.crack_mesh.mesh, (0, 1), labels, nodal=True)
+
+    def traction(self, g: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        return g * self.displacement(self.fes.TestFunction())
+
+    def constraint_map(self) -> np.ndarray:
+        return _constraint_map(self.jump, self.crack_mesh, self.facet_order)
+
+    def crack_jumps(self, gf: ngs.GridFunction, crack) -> tuple[np.ndarray, np.ndarray]:
+        """The jump at the edge mid points, projected onto each edge's own frame (the nodal
+        frame equals it on straight segments; at kinks it is averaged)."""
+        mid = crack.mid
+        mp = self.crack_mesh.mesh(mid[:, 0], mid[:, 1])
+        jn = np.asarray(gf.components[2](mp)).reshape(-1)
+        jt = np.asarray(gf.components[3](mp)).reshape(-1)
+        nu_m = np.asarray(self._nu_t()[0](mp)).reshape(-1, 2)
+        t_m = np.column_stack([nu_m[:, 1], -nu_m[:, 0]])
+        jump_vec = jn[:, None] * nu_m + jt[:, None] * t_m
+        return (np.einsum("ei,ei->e", jump_vec, crack.normal), np.einsum("ei,ei->e", jump_vec, crack.tangent))
+
+
+def _sym_part(g) -> ngs.CoefficientFunction:
+    return 0.5 * (g + g.trans)
 
 
 def _lame(compliance: Compliance) -> tuple[float, float]:
@@ -157,7 +243,7 @@ def _constraint_map(jump: ngs.FESpace, crack_mesh: CrackMesh, order: int) -> np.
     return G
 
 
-def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int = 1) -> Discretization:
+def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int = 1) -> H1Discretization:
     """The P_order displacement discretization with duplicated crack faces."""
     if compliance.spherical <= 0.0 or not math.isfinite(0.5 / compliance.spherical):
         raise InputError("material.nu = 0.5: the displacement baselines h1p1/h1p2 need nu < 1/2 in plane strain "
@@ -176,118 +262,43 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         spaces += [jump, jump]
         # nodal normal field nu_h (P1) and the side indicator H+
         nu_x, nu_y = _nodal_frame(crack_mesh, nodes)
-        nu_cf = ngs.CF((nu_x, nu_y))
-        t_cf = ngs.CF((nu_y, -nu_x))
-        grad_nu = ngs.CF((ngs.grad(nu_x), ngs.grad(nu_y)), dims=(2, 2))  # row i: grad nu_i
-        grad_t = ngs.CF((ngs.grad(nu_y), -ngs.grad(nu_x)), dims=(2, 2))
         H = ngs.GridFunction(ngs.L2(mesh, order=0))
         H.vec.FV().NumPy()[:] = (crack_side(crack_mesh) > 0).astype(float)
         built.append(f"crack faces duplicated: P{order} jump at {len(nodes)} crack vertices and the crack edges")
     fes = ngs.FESpace(spaces)
-
-    def displacement(sym):
-        u = ngs.CF((sym[0], sym[1]))
-        if has_crack:
-            u = u + H * (sym[2] * nu_cf + sym[3] * t_cf)
-        return u
-
-    def grad_continuous(sym):
-        return ngs.CF((ngs.grad(sym[0]), ngs.grad(sym[1])), dims=(2, 2))
-
-    def grad_jump(sym):
-        # grad(u_e) where H+ = 1; nu_h varies only at kinks (linear), so the product rule
-        return ngs.OuterProduct(nu_cf, ngs.grad(sym[2])) + sym[2] * grad_nu \
-            + ngs.OuterProduct(t_cf, ngs.grad(sym[3])) + sym[3] * grad_t
-
-    def grad_displacement(sym):
-        g = grad_continuous(sym)
-        if has_crack:
-            g = g + H * grad_jump(sym)  # H+ is constant per triangle
-        return g
-
-    def sym_part(g):
-        return 0.5 * (g + g.trans)
-
-    def strain(sym):
-        return sym_part(grad_displacement(sym))
-
-    def stress_of(eps):
-        return 2.0 * mu * eps + lam * ngs.Trace(eps) * ngs.Id(2)
-
+    disc = H1Discretization(
+        element=name, crack_mesh=crack_mesh, fes=fes, a=ngs.BilinearForm(fes, condense=True), f=None, uhat=(0, 1),
+        jn=2 if has_crack else None, jt=3 if has_crack else None, facet_order=order, built=built, sign=1.0,
+        two_sided_traction=True, fixed_dofs=tuple(sorted(set(
+            _roller_fixed_dofs(fes, mesh, loads, nodes, jump) if has_crack and loads.roller else []))),
+        traction_rows=(2, 3) if has_crack else (None, None), nodal_constraints=True, traits=TRAITS[order],
+        frame=(nu_x, nu_y) if has_crack else None, plus=H if has_crack else None, lame=(lam, mu),
+        jump=jump if has_crack else None)
     trial, test = fes.TrialFunction(), fes.TestFunction()
-    a = ngs.BilinearForm(fes, condense=True)
+    a = disc.a
     # eps(u) = eps(u_c) + H+ eps(u_e): the u_c part everywhere, the terms with u_e on the
     # + side's triangles only (H+ = 1 there, 0 elsewhere); the same matrix as with H+ in
     # every element, up to round-off
-    eps_c, eps_c_test = sym_part(grad_continuous(trial)), sym_part(grad_continuous(test))
-    a += ngs.InnerProduct(stress_of(eps_c), eps_c_test).Compile() * ngs.dx
+    eps_c, eps_c_test = _sym_part(disc.grad_continuous(trial)), _sym_part(disc.grad_continuous(test))
+    a += ngs.InnerProduct(disc.stress_of(eps_c), eps_c_test).Compile() * ngs.dx
     if has_crack:
         plus = ngs.BitArray(mesh.ne)
         plus.Clear()
         for el in np.flatnonzero(H.vec.FV().NumPy() > 0):
             plus[int(el)] = True
-        eps_e, eps_e_test = sym_part(grad_jump(trial)), sym_part(grad_jump(test))
-        a += (ngs.InnerProduct(stress_of(eps_c), eps_e_test) + ngs.InnerProduct(stress_of(eps_e), eps_c_test)
-              + ngs.InnerProduct(stress_of(eps_e), eps_e_test)) * ngs.dx(definedonelements=plus)
+        eps_e, eps_e_test = _sym_part(disc.grad_jump(trial)), _sym_part(disc.grad_jump(test))
+        a += (ngs.InnerProduct(disc.stress_of(eps_c), eps_e_test) + ngs.InnerProduct(disc.stress_of(eps_e), eps_c_test)
+              + ngs.InnerProduct(disc.stress_of(eps_e), eps_e_test)) * ngs.dx(definedonelements=plus)
     with task_manager():
         a.Assemble()
-    v = displacement(test)
     crack_load = None
     if has_crack:
         seg_normal, _ = crack_frame_cf(crack_mesh)
+        nu_cf, t_cf = disc._nu_t()
 
         def crack_load(p):
             # [v] = u_e = jn nu_h + jt t_h, its normal part against the edge's own normal
             return p * ((test[2] * nu_cf + test[3] * t_cf) * seg_normal)
-    traction = lambda g: g * v  # noqa: E731
-    f = load_vector(fes, mesh, loads, built, body=lambda b: b * v, traction=traction, crack=crack_load)
-
-    def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
-        comps = gf.components
-        return {"sigma": stress_of(strain(comps)), "u": displacement(comps), "grad_u": grad_displacement(comps)}
-
-    fixed = _roller_fixed_dofs(fes, mesh, loads, nodes, jump) if has_crack and loads.roller else []
-
-    def constraint_map() -> np.ndarray:
-        return _constraint_map(jump, crack_mesh, order)
-
-    def crack_jumps(gf: ngs.GridFunction, crack) -> tuple[np.ndarray, np.ndarray]:
-        mid = crack.mid
-        mp = mesh(mid[:, 0], mid[:, 1])
-        jn = np.asarray(gf.components[2](mp)).reshape(-1)
-        jt = np.asarray(gf.components[3](mp)).reshape(-1)
-        # the nodal frame (nu_h, t_h) equals the edge's own frame on straight segments;
-        # at kinks project the jump onto the edge's frame
-        nu_m = np.asarray(nu_cf(mp)).reshape(-1, 2)
-        t_m = np.column_stack([nu_m[:, 1], -nu_m[:, 0]])
-        jump_vec = jn[:, None] * nu_m + jt[:, None] * t_m
-        return (np.einsum("ei,ei->e", jump_vec, crack.normal), np.einsum("ei,ei->e", jump_vec, crack.tangent))
-
-    def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
-        g, reg = displacement_data(mesh, loads.displacement)
-        for i in (0, 1):
-            gf.components[i].Set(g[i], ngs.BND, definedon=reg)
-
-    return Discretization(
-        element=name,
-        traction=traction,
-        crack_mesh=crack_mesh,
-        fes=fes,
-        a=a,
-        f=f,
-        uhat=(0, 1),
-        jn=2 if has_crack else None,
-        jt=3 if has_crack else None,
-        facet_order=order,
-        fields=fields,
-        built=built,
-        boundary_values=boundary_values,
-        roller_pairs=lambda roller: cartesian_roller_pairs(fes, mesh, (0, 1), roller, nodal=True),
-        sign=1.0,
-        constraint_map=constraint_map if has_crack else None,
-        crack_jumps=crack_jumps if has_crack else None,
-        two_sided_traction=True,
-        fixed_dofs=tuple(sorted(set(fixed))),
-        traction_rows=(2, 3) if has_crack else (None, None),
-        traits=TRAITS[order],
-    )
+    disc.f = load_vector(fes, mesh, loads, built, body=lambda b: b * disc.displacement(test), traction=disc.traction,
+                         crack=crack_load)
+    return disc

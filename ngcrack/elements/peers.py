@@ -66,7 +66,6 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discre
     bubble = cubic_bubbles(mesh)
     built = ["stress rows: RT0 + curl(cubic bubble), broken", "rotation: continuous P1"]
     rotation_spaces = [ngs.H1(mesh, order=1)]
-    rotation = lambda sym: sym[0]  # noqa: E731
     return weakly_symmetric_hybrid(
         "peers",
         crack_mesh,
@@ -75,7 +74,6 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads) -> Discre
         stress_spaces=[rt0, rt0, bubble, bubble],
         rows=_rows,
         rotation_spaces=rotation_spaces,
-        rotation=rotation,
         facet_order=0,
         built=built,
         trace_rows=_normal_trace_rows,

@@ -44,9 +44,12 @@ here. The "plus" bubbles are needed for the same reason at every order.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import ngsolve as ngs
 import numpy as np
 
+from ..element_names import ORDERS as _ORDERS
 from ..errors import InputError
 from ..geometry import CrackMesh, boundary_regex, crack_frame_cf
 from ..materials import Compliance
@@ -54,9 +57,9 @@ from ..parallel import task_manager
 from .base import (
     PRESSURE_SPLIT_RTOL,
     SPHERICAL_FLOOR,
-    Discretization,
     ElementTraits,
     Loads,
+    PlanarDiscretization,
     crack_boundary,
     crack_facet_space,
     displacement_data,
@@ -64,11 +67,53 @@ from .base import (
     on_crack_edges,
 )
 
-ORDERS = (1, 2, 3)
+ORDERS = _ORDERS["tdnns"]
 DEFAULT_ORDER = 1
 #: grad u from A sigma and the skew part of grad_u; a Prager-Synge estimate from u
 TRAITS = ElementTraits(gradient="skew", estimate="prager-synge", estimate_degree=2,
                        estimate_note="tdnns stress is not in H(div): not a bound")
+
+
+
+@dataclass(eq=False)
+class TdnnsDiscretization(PlanarDiscretization):
+    """The hybridized TDNNS element: u = u_c + H+ u_e with H+ (`plus`) the + side's
+    indicator and u_e (component `tangential`) the crack edges' HCurl copy; `pressure` the
+    component of the incompressible split's element pressure (None without it)."""
+
+    plus: ngs.GridFunction | None = None
+    pressure: int | None = None
+
+    def displacement(self, sym) -> ngs.CoefficientFunction:
+        """u of the symbols `sym`."""
+        return sym[1] + self.plus * sym[self.tangential] if self.has_crack else sym[1]
+
+    def grad_displacement(self, sym) -> ngs.CoefficientFunction:
+        """grad u of the symbols `sym` (H+ is constant on each triangle: grad(H+ u_e) = H+ grad(u_e))."""
+        g = ngs.Grad(sym[1])
+        return g + self.plus * ngs.Grad(sym[self.tangential]) if self.has_crack else g
+
+    def stress(self, sym) -> ngs.CoefficientFunction:
+        """sigma of the symbols `sym` (plus the element pressure with the split)."""
+        return sym[0] + sym[self.pressure] * ngs.Id(2) if self.pressure is not None else sym[0]
+
+    def fields(self, gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
+        comps = gf.components
+        return {"sigma": self.stress(comps), "u": self.displacement(comps), "grad_u": self.grad_displacement(comps)}
+
+    def boundary_values(self, gf: ngs.GridFunction, loads: Loads) -> None:
+        g, reg = displacement_data(self.crack_mesh.mesh, loads.displacement)
+        gf.components[1].Set(g, ngs.BND, definedon=reg)
+        gf.components[2].Set(g, ngs.BND, definedon=reg)
+
+    def traction(self, g: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        test = self.fes.TestFunction()
+        n, t = ngs.specialcf.normal(2), ngs.specialcf.tangential(2)
+        return -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t))
+
+    def tangential_jump(self, gf: ngs.GridFunction) -> ngs.CoefficientFunction:
+        """u_e: its tangential trace on a crack edge is single-valued and equals [u].t."""
+        return gf.components[self.tangential]
 
 
 def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
@@ -90,6 +135,15 @@ def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
     if np.any(minus & (vals > 0)):
         raise InputError("maxh: a triangle touches two cracks from opposite sides; refine the mesh near the cracks")
     return H
+
+
+def tdnns_order(order, where: str = "") -> int:
+    """The stress degree k of a TDNNS element: `order` (one of ORDERS), DEFAULT_ORDER for None;
+    an InputError naming the allowed values otherwise (`where`: " in 3D", for the message)."""
+    k = DEFAULT_ORDER if order is None else order
+    if isinstance(k, bool) or k not in ORDERS:
+        raise InputError(f"order = {order!r}: allowed values for tdnns{where} are {', '.join(map(str, ORDERS))}")
+    return k
 
 
 def tdnns_spaces(mesh: ngs.Mesh, k: int, loads: Loads) -> tuple[list, list[str]]:
@@ -121,11 +175,9 @@ def tdnns_terms(A_sig, sig, tau, trial, test, n, ue: int | None = None):
     return volume, boundary
 
 
-def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> Discretization:
+def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> TdnnsDiscretization:
     """The hybridized TDNNS discretization of stress degree k = `order` (default 1)."""
-    k = DEFAULT_ORDER if order is None else order
-    if k not in ORDERS:
-        raise InputError(f"order = {order!r}: allowed values for tdnns are {', '.join(map(str, ORDERS))}")
+    k = tdnns_order(order)
     mesh = crack_mesh.mesh
     spaces, built = tdnns_spaces(mesh, k, loads)
     has_crack = bool(crack_mesh.cracks)
@@ -142,23 +194,16 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         built.append(f"incompressible split: global P{k} element pressure, local trace multiplier")
     fes = ngs.FESpace(spaces)
     idx_jn, idx_ue = (3, 4) if has_crack else (None, None)
-    idx_p = len(spaces) - 2 if split else None
-
-    def displacement(sym):
-        return sym[1] + H * sym[idx_ue] if has_crack else sym[1]
-
-    def grad_displacement(sym):
-        # H+ is constant on each triangle, so grad(H+ u_e) = H+ grad(u_e) elementwise
-        return ngs.Grad(sym[1]) + H * ngs.Grad(sym[idx_ue]) if has_crack else ngs.Grad(sym[1])
-
-    def stress(sym):
-        return sym[0] + sym[idx_p] * ngs.Id(2) if split else sym[0]
-
+    disc = TdnnsDiscretization(
+        element="tdnns", crack_mesh=crack_mesh, fes=fes, a=ngs.BilinearForm(fes, condense=True), f=None, uhat=(2, 2),
+        jn=idx_jn, jt=None, facet_order=k, built=built, definite=not split,
+        traction_rows=(None, idx_ue) if has_crack else (None, None), tangential=idx_ue, traits=TRAITS,
+        plus=H if has_crack else None, pressure=len(spaces) - 2 if split else None)
     trial, test = fes.TrialFunction(), fes.TestFunction()
-    sig, tau = stress(trial), stress(test)
-    v = displacement(test)
+    sig, tau = disc.stress(trial), disc.stress(test)
+    v = disc.displacement(test)
     n = ngs.specialcf.normal(2)
-    a = ngs.BilinearForm(fes, condense=True)
+    a = disc.a
     # u = u_c + H+ u_e: the u_c terms everywhere, the u_e terms on the + side's triangles
     # only (H+ = 1 there, 0 elsewhere), the crack jump jn on the crack's triangles only
     # (chi = 0 on every other element boundary): the same matrix as with H+ and chi in
@@ -166,7 +211,7 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
     volume, boundary = tdnns_terms(compliance.apply(sig), sig, tau, trial, test, n)
     a += volume.Compile() * ngs.dx
     if split:
-        a += (ngs.Trace(trial[0]) * test[idx_p + 1] + ngs.Trace(test[0]) * trial[idx_p + 1]) * ngs.dx
+        a += (ngs.Trace(trial[0]) * test[disc.pressure + 1] + ngs.Trace(test[0]) * trial[disc.pressure + 1]) * ngs.dx
     a += boundary.Compile() * ngs.dx(element_boundary=True)
     if has_crack:
         plus = ngs.BitArray(mesh.ne)
@@ -181,38 +226,6 @@ def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: in
         a += ((n * (tau * n)) * (chi * trial[idx_jn]) + (n * (sig * n)) * (chi * test[idx_jn])) * crack_boundary(crack_mesh)
     with task_manager():
         a.Assemble()
-    t = ngs.specialcf.tangential(2)
-    traction = lambda g: -((g * n) * (test[2].Trace() * n) + (g * t) * (test[1].Trace() * t))  # noqa: E731
-    f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=traction,
-                    crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
-
-    def fields(gf: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
-        comps = gf.components
-        return {"sigma": stress(comps), "u": displacement(comps), "grad_u": grad_displacement(comps)}
-
-    def boundary_values(gf: ngs.GridFunction, loads: Loads) -> None:
-        g, reg = displacement_data(mesh, loads.displacement)
-        gf.components[1].Set(g, ngs.BND, definedon=reg)
-        gf.components[2].Set(g, ngs.BND, definedon=reg)
-
-    return Discretization(
-        element="tdnns",
-        traction=traction,
-        crack_mesh=crack_mesh,
-        fes=fes,
-        a=a,
-        f=f,
-        uhat=(2, 2),
-        jn=idx_jn,
-        jt=None,
-        facet_order=k,
-        fields=fields,
-        built=built,
-        boundary_values=boundary_values,
-        roller_pairs=lambda roller: [],
-        definite=not split,
-        tangential_jump=(lambda gf: gf.components[idx_ue]) if has_crack else None,
-        traction_rows=(None, idx_ue) if has_crack else (None, None),
-        tangential=idx_ue,
-        traits=TRAITS,
-    )
+    disc.f = load_vector(fes, mesh, loads, built, body=lambda b: -(b * v), traction=disc.traction,
+                         crack=(lambda p: -(p * test[idx_jn])) if has_crack else None)
+    return disc

@@ -4,9 +4,9 @@ The options that have a meaning in 3D (``--element tdnns|h1p1|h1p2``, ``--order`
 ``--crack-h``, ``--front-h``, ``--crack-model contact|free``, ``--qp-solver pdas``) are
 checked before meshing; the 2D-only ones (``--tip-h``, ``--hp``, ``--adapt``, ``--plot``,
 ``--max-dof``) are refused by name. The JSON record and the VTK files are those of
-``ngcrack.solid.output``; the summary printed lists the unknowns, the seconds, the KKT
-residuals, each crack's opening, sliding and closed fraction and each front's range of
-K_I, K_II and K_III.
+``ngcrack.solid.output`` (with ``error_estimate`` for tdnns: ngcrack.solid.estimate); the
+summary printed lists the unknowns, the seconds, the KKT residuals, the estimate, each
+crack's opening, sliding and closed fraction and each front's range of K_I, K_II and K_III.
 """
 
 from __future__ import annotations
@@ -27,12 +27,13 @@ def solve_command(scene, args, json_path) -> int:
             raise InputError(f"{flag}: not available for a 3D scene yet")
     from ..cli_errors import check_finite
     from ..files import Staged
-    from .solve import check_options, solve_solid
+    from .solve import ESTIMATES, check_options, solve_solid
 
     options = {k: v for k, v in (("element", args.element), ("order", args.order), ("maxh", args.maxh),
                                  ("crack_h", args.crack_h), ("front_h", getattr(args, "front_h", None)),
                                  ("crack_model", args.crack_model), ("qp_solver", args.qp_solver)) if v is not None}
-    check_options(options)  # before meshing
+    # the error estimate where the element has one, as in 2D (the JSON's error_estimate)
+    options["estimate"] = check_options(options)["element"] in ESTIMATES  # checked before meshing
     sol = solve_solid(scene, **options)
     result = sol.to_json_dict()
     check_finite(result)
@@ -50,6 +51,9 @@ def solve_command(scene, args, json_path) -> int:
           f"{n['contact']} contact), {t['total']:.2f} s ({t['contact']:.2f} s contact)")
     print(f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
           f"complementarity {k['complementarity']:.1e}")
+    if "error_estimate" in result:
+        e = result["error_estimate"]
+        print(f"error estimate (Prager-Synge, stress in the energy norm): {e['total']:.4g} (crack term {e['contact']:.2g})")
     for c, crack in enumerate(result["cracks"]):
         print(f"crack {c}: max opening {crack['max_opening']:.4g}, max sliding {crack['max_sliding']:.4g}, "
               f"closed {crack['closed_fraction']:.1%} of area {crack['area']:.4g}")

@@ -38,14 +38,11 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..elements.base import Discretization, Loads
-from ..elements.tdnns import tdnns_spaces, tdnns_terms
-from ..errors import InputError
+from ..discretization import Discretization, Loads
+from ..elements.tdnns import ORDERS, tdnns_order, tdnns_spaces, tdnns_terms  # noqa: F401  (ORDERS: the 3D orders too)
 from ..parallel import task_manager
 from .geometry import SolidMesh
 
-ORDERS = (1, 2, 3)
-DEFAULT_ORDER = 1
 ELEMENTS = ("tdnns", "h1p2")
 
 
@@ -151,9 +148,12 @@ def constraint_map(smesh: SolidMesh, jn_space: ngs.FESpace, full: ngs.FESpace, k
     return matrix(blocks_g), matrix(blocks_v), np.array(where)
 
 
-@dataclass
+@dataclass(eq=False)
 class SolidDiscretization(Discretization):
-    """A Discretization (ngcrack.elements.base) with the 3D crack's constraint points."""
+    """A Discretization (ngcrack.discretization) with the 3D crack's constraint points.
+
+    Its methods are the element's own maps, handed in by `build` (all required; the
+    constraint map only with a crack)."""
 
     constraint_points: np.ndarray | None = None
     order: int = 1
@@ -164,15 +164,33 @@ class SolidDiscretization(Discretization):
     #: per crack face (crack by crack) its constraint points, vertices first; -1 where the face's node
     #: carries no jump (on the front). None: P_order points per face, numbered face by face
     face_points: np.ndarray | None = None
+    #: the displacement of a trial, test or grid function's components (the displacement elements)
+    displacement_of: Callable | None = None
+    fields: Callable | None = None
+    boundary_values: Callable | None = None
+    roller_pairs: Callable | None = None
+    constraint_map: Callable | None = None
+
+    def __post_init__(self):
+        missing = [k for k in ("fields", "boundary_values", "roller_pairs") if getattr(self, k) is None]
+        if missing or (self.has_crack and self.constraint_map is None):
+            raise TypeError(f"SolidDiscretization: the element's maps {missing or ['constraint_map']} are required")
+
+    def assemble_load(self) -> None:
+        """Assemble `f` again, in the system's force unit (`force_unit`)."""
+        self.f.Assemble()
+        self.f.vec.data *= 1.0 / self.force_unit
+
+    def tangential_jump(self, gf: ngs.GridFunction) -> ngs.CoefficientFunction:
+        """u_e, the crack's HCurl copy: its tangential trace on the crack is [u]_t."""
+        return gf.components[self.tangential]
 
 
 def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None = None,
           pressure=None) -> SolidDiscretization:
     """The hybridized TDNNS discretization of stress degree `order` (1, 2 or 3; default 1);
     `pressure`: per crack, a uniform pressure on its faces (None or 0: none)."""
-    k = DEFAULT_ORDER if order is None else order
-    if k not in ORDERS:
-        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+    k = tdnns_order(order, " in 3D")
     mesh = smesh.mesh
     spaces, built = tdnns_spaces(mesh, k, loads)
     has_crack = bool(smesh.cracks)

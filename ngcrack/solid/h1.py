@@ -279,5 +279,5 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, element: str = "h
         facet_order=k, fields=fields, built=built, boundary_values=boundary_values, roller_pairs=lambda roller: [],
         definite=True, sign=1.0, tangential=4 if has_crack else None,
         constraint_map=(lambda: G) if has_crack else None, constraint_points=where, order=k,
-        point_crack=owner, face_points=face_points,
+        point_crack=owner, face_points=face_points, displacement_of=displacement,
     )

@@ -38,6 +38,7 @@ class SolidSolution:
     options: dict
     timings: dict = field(default_factory=dict)
     fronts: list = field(default_factory=list)
+    error_estimate: dict | None = None  # ngcrack.solid.estimate.prager_synge, with estimate=True
     dimension = 3
 
     @property
@@ -111,6 +112,8 @@ class SolidSolution:
         return self.disc.constraint_points[mine], active
 
     def crack_summaries(self) -> list[dict]:
+        if self.disc.jn is None:
+            return []
         w = self.normal_jumps()
         s = self.tangential_jumps()
         closed = np.zeros(len(w), dtype=bool) if self.contact is None else self.contact.active
@@ -147,6 +150,8 @@ class SolidSolution:
             "contact_iterations": 0 if self.contact is None else int(self.contact.iterations),
             "fronts": [f.to_json_dict() for f in self.fronts],
             "cracks": self.crack_summaries(),
+            **({} if self.error_estimate is None else {"error_estimate": {
+                k: self.error_estimate[k] for k in ("total", "stress", "contact")}}),
         }
 
     def save_vtk(self, path, subdivision: int = 0) -> list[Path]:

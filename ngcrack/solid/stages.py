@@ -1,0 +1,139 @@
+"""A 3D body in the pipeline's stages: what `ngcrack.pipeline.Pipeline` asks of a 3D scene.
+
+`SOLID` (a `SolidBody`) gives the pipeline's stages the parts that depend on the body's
+dimension, as `ngcrack.pipeline.PLANAR` does for a plane body: the mesh key and the OCC
+mesh (`solid.geometry`), the element and its key (`solid.element`, `solid.h1`), the
+loads' crack pressures and held means. `run_solid(pipeline, scene, options)` runs the stages on a 3D
+scene with the pipeline's caches:
+
+    scene -> mesh (Pipeline.mesh) -> forms, the loads as NGSolve Parameters
+          (Pipeline.discretization: a new load value re-assembles the load vector only)
+          -> condensed system (Pipeline.system: a new load rebuilds F only)
+          -> contact (stages.sparse_contact_stage: the sparse active set, no dense Schur
+             complement; with friction `friction_stage`: the sparse semismooth Newton
+             method on the Coulomb cone) -> SolidSolution -> the fronts' K_I, K_II, K_III, G
+          (and, asked for, the error estimate: `solid.estimate`)
+
+`options` is the checked dict of `solid.solve.check_options` with the mesh sizes.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+from ..discretization import Loads
+from ..parallel import task_manager
+from ..stages import SparseAnswer, sparse_contact_stage
+from . import h1
+from .element import build
+from .geometry import SolidMesh, make_mesh
+from .output import SolidSolution
+from .scene import SolidScene
+
+#: the keys of a 3D solve's options dict that size the mesh
+SIZES = ("maxh", "crack_h", "front_h", "grading")
+#: the 3D element builders, (smesh, E, nu, loads, order, pressure) -> SolidDiscretization
+BUILDERS = {"tdnns": lambda smesh, E, nu, loads, order, pressure: build(smesh, E, nu, loads, order, pressure),
+            "h1p1": lambda smesh, E, nu, loads, order, pressure: h1.build(smesh, E, nu, loads, "h1p1", pressure),
+            "h1p2": lambda smesh, E, nu, loads, order, pressure: h1.build(smesh, E, nu, loads, "h1p2", pressure)}
+
+
+class SolidBody:
+    """What the stages ask of a 3D body (module docstring)."""
+
+    dimension = 3
+
+    def mesh_key(self, scene: SolidScene, options: dict) -> tuple:
+        """The domain, the cracks' geometry and the resolved mesh sizes."""
+        d = scene.to_dict()
+        cracks = [{k: v for k, v in c.items() if k not in ("friction", "pressure")} for c in d.get("crack", [])]
+        sizes = scene.mesh_sizes(*(options.get(k) for k in SIZES))
+        return json.dumps({"domain": d["domain"], "crack": cracks, "sizes": sizes}, sort_keys=True)
+
+    def make_mesh(self, scene: SolidScene, options: dict) -> SolidMesh:
+        """The OCC mesh of the scene (`solid.geometry.make_mesh`)."""
+        return make_mesh(scene, *(options.get(k) for k in SIZES))
+
+    def element_key(self, scene: SolidScene, options: dict) -> tuple:
+        """The element and its order, the material and the cracks' uniform pressures (the
+        elements assemble them as numbers: a new pressure re-assembles)."""
+        return (options["element"], options["order"], scene.material.E, scene.material.nu,
+                tuple(c.pressure for c in scene.cracks))
+
+    def build(self, scene: SolidScene, smesh: SolidMesh, options: dict, loads: Loads):
+        """The element's spaces and assembled forms (BUILDERS: `solid.element`, `solid.h1`)."""
+        pressure = [c.pressure for c in scene.cracks]
+        return BUILDERS[options["element"]](smesh, scene.material.E, scene.material.nu, loads, options["order"],
+                                            pressure if any(pressure) else None)
+
+    def crack_pressure(self, scene: SolidScene, k: int, parameter) -> None:
+        """None: the 3D elements take the cracks' pressures as numbers (`element_key`), not as loads."""
+        return None
+
+    def held_mean(self, scene: SolidScene) -> dict:
+        """A 3D scene has no pin or roller points."""
+        return {}
+
+
+#: the one 3D body
+SOLID = SolidBody()
+
+
+def friction_stage(smesh: SolidMesh, disc, system, mu: list[float], linear_solver: str) -> SparseAnswer:
+    """The crack problem with Coulomb friction on the sparse system (`solid.friction.solve_friction`
+    at the friction points of `solid.friction_points`), its forces in the element's force unit."""
+    from .friction import solve_friction
+    from .friction_points import friction_points
+
+    G = disc.constraint_map()
+    t0 = time.perf_counter()
+    points = friction_points(smesh, disc, system, mu)
+    result = solve_friction(system.K, system.F, system.contact, G, points, linear_solver=linear_solver)
+    for name in ("lam", "lam_t", "bound"):  # the system is in units of E (element.build)
+        setattr(result, name, getattr(result, name) * disc.force_unit)
+    result.points = points
+    return SparseAnswer(y=result.y, result=result, G=G, time_linear=0.0, time_contact=time.perf_counter() - t0)
+
+
+def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | None = None) -> SolidSolution:
+    """Solve the 3D scene through `pipeline`'s stages (module docstring); `options` checked
+    (`solid.solve.check_options`) with the mesh sizes; `smesh` a ready mesh of the scene."""
+    pipeline.redone = []
+    t0 = time.perf_counter()
+    timings = {}
+    smesh = smesh if smesh is not None else pipeline.mesh(scene, options)
+    timings["mesh"] = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    disc, loads = pipeline.discretization(scene, smesh, options)
+    timings["assemble"] = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    system = pipeline.system(disc, loads, False)
+    timings["condense"] = time.perf_counter() - t2
+    mu = [float(c.friction) for c in scene.cracks]
+    if disc.has_crack and options["crack_model"] == "contact" and any(m > 0 for m in mu):
+        answer = friction_stage(smesh, disc, system, mu, options["linear_solver"])
+    else:
+        answer = sparse_contact_stage(system, disc, options["crack_model"], options["linear_solver"])
+        if answer.result is not None:  # the system is in the element's force unit (solid.element.build)
+            answer.result.lam = answer.result.lam * disc.force_unit
+    timings.update(linear=answer.time_linear, contact=answer.time_contact)
+    with task_manager():
+        gf = system.expand(answer.y)
+    public = {k: v for k, v in options.items() if k not in SIZES}
+    sol = SolidSolution(scene=scene, smesh=smesh, disc=disc, system=system, y=answer.y, gf=gf,
+                        contact=answer.result, G=answer.G, options=public, timings=timings)
+    if options["fronts"] and smesh.cracks:
+        from .front import front_parameters
+
+        t4 = time.perf_counter()
+        sol.fronts = front_parameters(sol, points=options["front_points"])
+        timings["fronts"] = time.perf_counter() - t4
+    if options.get("estimate"):
+        from .estimate import prager_synge
+
+        t5 = time.perf_counter()
+        sol.error_estimate = prager_synge(sol, loads)
+        timings["estimate"] = time.perf_counter() - t5
+    timings["total"] = time.perf_counter() - t0
+    return sol
