@@ -21,6 +21,16 @@ def add_mesh_options(p, positive) -> None:
     p.add_argument("--crack-h", dest="crack_h", type=positive, help="mesh size along the cracks")
 
 
+def add_run_options(p, count, crack_models: str, json_fields: str, animation: str) -> None:
+    """The crack model, the size budget and the outputs of a stepping command: `crack_models`
+    the --crack-model help, `json_fields` what its JSON holds, `animation` what its GIF shows."""
+    p.add_argument("--crack-model", dest="crack_model", default="contact", help=crack_models)
+    p.add_argument("--max-dof", dest="max_dof", type=count, help="largest number of unknowns of each solve")
+    p.add_argument("--json", required=True, help=f"write the result here: {json_fields}")
+    p.add_argument("--csv", help="write the table (one row per step and tip) here")
+    p.add_argument("--gif", help=f"write an animation of {animation} here")
+
+
 def output_paths(args, *names: str) -> dict:
     """Check the output options `names` (json first: any suffix; the others must end in .NAME), in order."""
     return {name: check_output(getattr(args, name), f"--{name}", None if name == "json" else f".{name}")

@@ -56,12 +56,14 @@ COMPARE = textwrap.dedent('''
     cases = {"griffith": nc.scenes.load("griffith"), "inclined-compression": nc.scenes.load("inclined-compression")}
     # Coulomb friction: every closed point slips (mu 0.3) or sticks (mu 0.7 > tan 30 deg)
     cases.update({f"friction-{mu}": nc.scenes.load("inclined-compression").with_(friction=mu) for mu in (0.3, 0.7)})
+    options = {"peers": nc.SolveOptions(element="peers")}  # rollers on facet unknowns, the direct preconditioner
+    cases["peers"] = cases["inclined-compression"]
     for name in sys.argv[2:]:
-        scene = cases[name]
-        sol = distributed_solve(scene)
+        scene, o = cases[name], options.get(name, nc.SolveOptions())
+        sol = distributed_solve(scene, o)
         if sol is None:
             continue
-        ser = nc.Pipeline().run(scene, nc.SolveOptions())  # the serial direct path
+        ser = nc.Pipeline().run(scene, o)  # the serial direct path
         K = [[t.K_I, t.K_II] for t in sol.tips]
         Ks = [[t.K_I, t.K_II] for t in ser.tips]
         jump = lambda s: np.concatenate([np.r_[p.normal_jump, p.tangential_jump] for p in s.profiles])
@@ -85,10 +87,10 @@ def _compare(d, names: list[str]) -> dict:
 
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory):
-    return _compare(tmp_path_factory.mktemp("mpi"), ["griffith", "inclined-compression", "friction-0.3"])
+    return _compare(tmp_path_factory.mktemp("mpi"), ["griffith", "inclined-compression", "friction-0.3", "peers"])
 
 
-@pytest.mark.parametrize("name", ["griffith", "inclined-compression", "friction-0.3"])
+@pytest.mark.parametrize("name", ["griffith", "inclined-compression", "friction-0.3", "peers"])
 def test_distributed_equals_serial(compared, name):
     _equals_serial(compared, name)
 
@@ -115,7 +117,8 @@ def _equals_serial(compared, name):
     assert kkt.pop("friction") <= 1e-9  # the Coulomb law: to the Krylov tolerance
     assert max(kkt.values()) <= 1e-12
     assert r["info"]["ranks"] == 2
-    assert r["info"]["preconditioner"].startswith("bddc")  # the Krylov solves are preconditioned by BDDC
+    # the Krylov solves are preconditioned by BDDC (tdnns), peers keeps the direct preconditioner
+    assert r["info"]["preconditioner"].startswith("direct" if name == "peers" else "bddc")
 
 
 def test_friction_slips(compared):
@@ -182,6 +185,14 @@ def test_mpi_missing_is_one_line():
     assert proc.returncode != 0
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "ngcrack[mpi]" in lines[0], proc.stderr
+
+
+def test_3d_scene_is_one_line():
+    """A 3D scene under mpiexec is refused (not solved on every rank alone): one line from rank 0."""
+    proc = _run(["-m", "ngcrack.cli", "solve", "penny", "--maxh", "0.5"])
+    assert proc.returncode != 0
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "3D scene is not distributed" in lines[0], proc.stderr
 
 
 def test_unsupported_element_is_one_line():

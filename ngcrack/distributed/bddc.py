@@ -62,9 +62,10 @@ def _per_component(fes: ngs.FESpace, edge) -> list[list[int]]:
 PRECONDITIONERS = ("bddc", "direct")
 #: the distributed solve's, where `bddc_applies`; "direct" otherwise
 DEFAULT = "bddc"
-#: the spaces whose higher-order facet unknowns break the coarse space above (the vector facet
-#: space of bdm and peers, peers' vertex rotations): CG stalls or loses definiteness with
-#: them as interface unknowns, so those elements keep the direct preconditioner
+#: the spaces of the elements that keep the direct preconditioner: bdm's vector facet space
+#: breaks the coarse space above as the normal-facet one does (CG with BDDC stalls, 400
+#: steps at griffith's default mesh), and for peers (vertex rotations in H1) BDDC's coarse
+#: space is every unknown, i.e. the direct solve
 NOT_BDDC_SPACES = (ngs.FacetFESpace, ngs.H1)
 
 
@@ -78,9 +79,14 @@ def default_for(disc) -> str:
     return DEFAULT if bddc_applies(disc.fes) else "direct"
 
 
-def preconditioner(disc, kind: str = DEFAULT):
+def preconditioner(disc, kind: str = DEFAULT, free=None):
     """(operator, description): the preconditioner `kind` of the condensed matrix of `disc` (an approximate
-    inverse of the matrix as assembled, of its sign: the Krylov solver flips both)."""
+    inverse of the matrix as assembled, of its sign: the Krylov solver flips both) on the unknowns `free` (a
+    boolean mask; None: the space's coupling free dofs). The unknowns the space leaves free but `free` holds
+    (bdm's and peers' roller components) are taken out of the space's free dofs first: without them the
+    matrix is singular (the body's rigid motions)."""
+    if free is not None:
+        _hold(disc.fes, free)
     if kind == "bddc":
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
         mark_coarse_space(disc.fes, disc.fes.mesh, crack_edges)
@@ -90,3 +96,11 @@ def preconditioner(disc, kind: str = DEFAULT):
     if kind == "direct":
         return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
     raise ValueError(f"preconditioner = {kind!r}: allowed values are {', '.join(PRECONDITIONERS)}")
+
+
+def _hold(fes: ngs.FESpace, free) -> None:
+    """Clear in the space's free dofs (both, and the coupling ones) every dof that `free` holds."""
+    for bits in (fes.FreeDofs(), fes.FreeDofs(True)):
+        for d in range(fes.ndof):
+            if bits[d] and not free[d]:
+                bits[d] = False

@@ -165,9 +165,9 @@ def _solve(comm, scene, o: SolveOptions):
     loads = ParameterLoads(scene).loads
     mat = scene.material
     disc = _elements.build(o.element, cmesh, compliance(mat.E, mat.nu, mat.plane), loads, order=o.order)
-    pre, coarse = preconditioner(disc, default_for(disc))
-    fes, a, f = disc.fes, disc.a, disc.f
     free = free_mask(disc, loads)
+    pre, coarse = preconditioner(disc, default_for(disc), free)
+    fes, a, f = disc.fes, disc.a, disc.f
     fmod = f.vec.CreateVector()
     fmod.data = f.vec
     fmod.data += a.harmonic_extension_trans * fmod

@@ -137,6 +137,15 @@ def plus_side(crack_mesh: CrackMesh) -> ngs.GridFunction:
     return H
 
 
+def tdnns_order(order, where: str = "") -> int:
+    """The stress degree k of a TDNNS element: `order` (one of ORDERS), DEFAULT_ORDER for None;
+    an InputError naming the allowed values otherwise (`where`: " in 3D", for the message)."""
+    k = DEFAULT_ORDER if order is None else order
+    if isinstance(k, bool) or k not in ORDERS:
+        raise InputError(f"order = {order!r}: allowed values for tdnns{where} are {', '.join(map(str, ORDERS))}")
+    return k
+
+
 def tdnns_spaces(mesh: ngs.Mesh, k: int, loads: Loads) -> tuple[list, list[str]]:
     """The spaces of the hybridized TDNNS element of stress degree k, in 2D or 3D (stress, u, u_hat_n), and their
     description: clamped boundaries fix u and u_hat_n, rollers fix u_hat_n."""
@@ -168,9 +177,7 @@ def tdnns_terms(A_sig, sig, tau, trial, test, n, ue: int | None = None):
 
 def build(crack_mesh: CrackMesh, compliance: Compliance, loads: Loads, order: int | None = None) -> TdnnsDiscretization:
     """The hybridized TDNNS discretization of stress degree k = `order` (default 1)."""
-    k = DEFAULT_ORDER if order is None else order
-    if k not in ORDERS:
-        raise InputError(f"order = {order!r}: allowed values for tdnns are {', '.join(map(str, ORDERS))}")
+    k = tdnns_order(order)
     mesh = crack_mesh.mesh
     spaces, built = tdnns_spaces(mesh, k, loads)
     has_crack = bool(crack_mesh.cracks)

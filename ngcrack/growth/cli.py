@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from ngcrack.cli_errors import check_finite
-from ngcrack.cli_runs import Finished, add_mesh_options, output_paths, run_until_signal, solve_options, write_all
+from ngcrack.cli_runs import Finished, add_mesh_options, add_run_options, output_paths, run_until_signal, solve_options, write_all
 from ngcrack.files import check_distinct, check_output_stem
 from ngcrack.interrupts import check as check_interrupt
 
@@ -40,12 +40,8 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--E", type=positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--friction", type=positive, metavar="MU", help="Coulomb coefficient of every crack")
     p.add_argument("--qp-solver", dest="qp_solver", help="the crack QP's solver (default: solve's)")
-    p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
-    p.add_argument("--max-dof", dest="max_dof", type=count, help="largest number of unknowns of each solve")
-    p.add_argument("--json", required=True, help="write the result here: scene, element, criterion, da, K_Ic, "
-                                                 "stopped, steps (with their tips) and the final cracks")
-    p.add_argument("--csv", help="write the table (one row per step and tip) here")
-    p.add_argument("--gif", help="write an animation of the deformed body and the crack faces here")
+    add_run_options(p, count, "contact (default), free or bonded", "scene, element, criterion, da, K_Ic, stopped, "
+                    "steps (with their tips) and the final cracks", "the deformed body and the crack faces")
     p.add_argument("--png", help="write the paths and the load factors against crack length here")
     p.add_argument("--vtk", metavar="OUT", help="ParaView: OUT_NNNN.vtu and OUT_NNNN_cracks.vtu per step, written as "
                                                 "the steps finish, and their collection OUT.pvd")

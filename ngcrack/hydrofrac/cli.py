@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from ngcrack.cli_runs import add_mesh_options
+from ngcrack.cli_runs import add_mesh_options, add_run_options
 
 
 def add_parser(subparsers, positive, count):
@@ -20,12 +20,8 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--injection", nargs=2, type=float, metavar=("X", "Y"),
                    help="injection point on the crack (default: its centre)")
     add_mesh_options(p, positive)
-    p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default) or free")
-    p.add_argument("--max-dof", dest="max_dof", type=count, help="largest number of unknowns of each solve")
-    p.add_argument("--json", required=True, help="write the result here: scene, element, rate, K_Ic, stopped, "
-                                                 "steps (with their tips) and the final cracks")
-    p.add_argument("--csv", help="write the table (one row per step and tip) here")
-    p.add_argument("--gif", help="write an animation of the opening crack here")
+    add_run_options(p, count, "contact (default) or free", "scene, element, rate, K_Ic, stopped, steps (with their "
+                    "tips) and the final cracks", "the opening crack")
     p.set_defaults(func=run)
     return p
 

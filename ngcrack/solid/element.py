@@ -39,13 +39,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..discretization import Discretization, Loads
-from ..elements.tdnns import tdnns_spaces, tdnns_terms
-from ..errors import InputError
+from ..elements.tdnns import ORDERS, tdnns_order, tdnns_spaces, tdnns_terms  # noqa: F401  (ORDERS: the 3D orders too)
 from ..parallel import task_manager
 from .geometry import SolidMesh
 
-ORDERS = (1, 2, 3)
-DEFAULT_ORDER = 1
 ELEMENTS = ("tdnns", "h1p2")
 
 
@@ -193,9 +190,7 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
           pressure=None) -> SolidDiscretization:
     """The hybridized TDNNS discretization of stress degree `order` (1, 2 or 3; default 1);
     `pressure`: per crack, a uniform pressure on its faces (None or 0: none)."""
-    k = DEFAULT_ORDER if order is None else order
-    if k not in ORDERS:
-        raise InputError(f"order = {order!r}: allowed values for tdnns in 3D are {', '.join(map(str, ORDERS))}")
+    k = tdnns_order(order, " in 3D")
     mesh = smesh.mesh
     spaces, built = tdnns_spaces(mesh, k, loads)
     has_crack = bool(smesh.cracks)
