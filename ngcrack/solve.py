@@ -84,10 +84,10 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
             raise InputError(f"{given[0]}: not available for a 3D scene yet; give the options as keywords")
         if crack_mesh is not None:
             changes["smesh"] = crack_mesh
-        from .distributed import active
+        from .distributed import NOT_3D, active, refuse
 
         if active():
-            raise InputError("dim: a 3D scene is not distributed yet; run it without mpiexec")
+            refuse(NOT_3D)
         return solve_solid(scene, element=element, pipeline=pipeline, **changes)
     if element is not None:
         changes["element"] = element

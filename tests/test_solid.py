@@ -279,3 +279,30 @@ def test_cli_solves_a_3d_scene_to_json_and_vtk(tmp_path, capsys):
     assert "K_I" in capsys.readouterr().out
     # a 2D-only option is refused by name with exit code 2, before any meshing
     assert main(["solve", str(path), "--hp", "2"]) == 2
+
+
+@pytest.mark.parametrize("reverse", [False, True])
+def test_polygon_sides_have_outward_frames_and_stations_clear_of_the_corners(reverse):
+    from ngcrack.solid.front import HALF_WIDTH_H, TUBE_RADIUS_H, SegmentFront
+
+    square = [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]
+    d = penny(crack=[{"shape": "polygon", "points": square[::-1] if reverse else square}])
+    crack = SolidScene.from_dict(d).cracks[0]
+    h = 0.1
+    L, R = HALF_WIDTH_H * h, TUBE_RADIUS_H * h
+    for j in range(4):
+        side = SegmentFront(crack, j)
+        mid = side.point(0.5 * side.length)
+        e1, e2, e3 = (v[0] for v in side.frame(np.array([0.0])))
+        # e1 points away from the crack (the outward normal of the side), e3 = e1 x e2 along the side
+        assert np.allclose(e1, mid / np.linalg.norm(mid)) and np.allclose(e3, np.cross(e1, e2))
+        assert abs(abs(e2 @ np.array([0.0, 0.0, 1.0])) - 1.0) < 1e-12
+        phi, s = side.stations(h, L, R, None)
+        assert len(phi) >= 3 and phi.min() >= L + R - 1e-12 and phi.max() <= side.length - L - R + 1e-12
+        # a point 0.3 outward and 0.2 off the plane of the side's middle: its coordinates in the frame
+        x = mid + 0.3 * e1 + 0.2 * e2
+        p, x1, x2, dphi = side.coordinates(x[None, :])
+        assert np.allclose([p[0], x1[0], x2[0]], [0.5 * side.length, 0.3, 0.2]) and abs(abs(dphi[0]) - 1) < 1e-12
+        assert np.allclose(side.reach(np.array([1.0])), 1.0)  # from the side's middle to the two next sides
+    # too short a side for the tube and the q-function's width: no station, K not computed there
+    assert len(SegmentFront(crack, 0).stations(0.2, 3 * 0.2, 4 * 0.2, None)[0]) == 0

@@ -34,6 +34,10 @@ from ..errors import InputError
 #: environment variables through which mpiexec (MPICH/hydra, Open MPI, Slurm's PMI) tells a
 #: process the size of its world, read without importing MPI
 SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MPI_LOCALNRANKS", "PMIX_SIZE")
+#: and its rank
+RANK_VARIABLES = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "MPI_LOCALRANKID", "PMIX_RANK")
+#: what a 3D scene under mpiexec is told
+NOT_3D = "dim: a 3D scene is not distributed yet; run it without mpiexec"
 
 
 class MPIUnavailable(InputError):
@@ -47,6 +51,23 @@ def world_size() -> int:
         if value and value.isdigit():
             return int(value)
     return 1
+
+
+def world_rank() -> int:
+    """This process's rank under mpiexec (0 outside mpiexec), from the environment."""
+    for name in RANK_VARIABLES:
+        value = os.environ.get(name)
+        if value and value.isdigit():
+            return int(value)
+    return 0
+
+
+def refuse(message: str) -> None:
+    """Refuse a request that every rank finds alike with one line: InputError on rank 0, a quiet exit with the
+    same status (2) on the others."""
+    if world_rank() == 0:
+        raise InputError(message)
+    raise SystemExit(2)
 
 
 def require_mpi():

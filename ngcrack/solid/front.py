@@ -37,6 +37,9 @@ Each point's integral is the average of the pointwise K over h(s - s_k) / L; alo
 closed front that average is undone mode by mode in the front's Fourier series (_unsmooth),
 which removes its O(L^2 K'') bias where K varies (1% on a penny in shear at L = 2 front_h).
 
+A polygon's front is taken side by side (SegmentFront): straight, so without curvature terms,
+with points at least L + R from both corners (K at the corners is not computed).
+
 Approximations, stated: the crack-face traction terms of the 2D integral are left out,
 which is exact for frictionless faces that are open (no traction) and for closed ones for
 K_II and K_III (the same normal traction on both faces does no work in their auxiliary
@@ -54,6 +57,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..tips import williams_displacement, williams_dx1, williams_stress
+from .face_friction import face_friction
 from .face_pressure import face_pressure
 
 #: the tube radius R and the half-width L along the front, in front_h (the mesh size at the front)
@@ -98,6 +102,29 @@ class FrontGeometry:
         self.a, self.b = crack.semi_axes
         self.c = crack.center
         self.ea, self.eb, self.n = crack.e_a, crack.e_b, crack.normal
+        self._phis = np.linspace(0, 2 * np.pi, 2001)
+        mid = 0.5 * (self._phis[1:] + self._phis[:-1])
+        self._arc = np.concatenate([[0.0], np.cumsum(self.speed(mid) * np.diff(self._phis))])
+        #: the front's length (the front is closed: arc lengths wrap around it)
+        self.periodic = float(self._arc[-1])
+
+    def arc(self, phi):
+        """The arc length from phi = 0 to phi."""
+        return np.interp(np.asarray(phi) % (2 * np.pi), self._phis, self._arc)
+
+    def delta(self, s, s0):
+        """The arc length from s0 to s the short way round."""
+        P = self.periodic
+        return (s - s0 + 0.5 * P) % P - 0.5 * P
+
+    def stations(self, h: float, L: float, R: float, n_points: int | None):
+        """The front points: n equally spaced in arc length (default one per 2 h, 8 at least)."""
+        n = n_points or max(8, int(self.periodic / (2 * h)))
+        s_i = np.arange(n) * self.periodic / n
+        return np.interp(s_i, self._arc, self._phis), s_i
+
+    def within(self, phi, pad):
+        return np.ones(np.shape(phi), dtype=bool)
 
     def point(self, phi):
         return self.c + np.multiply.outer(self.a * np.cos(phi), self.ea) + np.multiply.outer(self.b * np.sin(phi), self.eb)
@@ -147,8 +174,76 @@ class FrontGeometry:
         return kappa / np.maximum(1.0 + kappa * x1, 1e-3)  # used where 1 + kappa x1 >= 1/2 only
 
 
-def _wrap(d):
-    return (d + np.pi) % (2 * np.pi) - np.pi
+class SegmentFront:
+    """One straight side of a polygon crack's front: the parameter phi is the arc length from its start.
+
+    Its front points keep a distance of at least L + R (the q-function's half-width along the
+    front plus the tube's radius) from both corners, where the straight-front auxiliary fields and
+    the half-plane crack of the side do not hold; K at the corners is not computed.
+    """
+
+    periodic = None
+
+    def __init__(self, crack, side: int):
+        p = crack.points
+        self.crack = crack
+        self.A, B = p[side], p[(side + 1) % len(p)]
+        self.length = float(np.linalg.norm(B - self.A))
+        self.t = (B - self.A) / self.length
+        self.n = crack.normal
+        q = p - crack.center
+        ccw = np.dot(np.sum(np.cross(q, np.roll(q, -1, axis=0)), axis=0), self.n) > 0
+        self.e1 = np.cross(self.t, self.n) * (1.0 if ccw else -1.0)  # outward: away from the crack
+        self.e3 = np.cross(self.e1, self.n)
+        self.start = float(sum(np.linalg.norm(p[(k + 1) % len(p)] - p[k]) for k in range(side)))
+        self._others = [(p[k], p[(k + 1) % len(p)]) for k in range(len(p)) if k != side]
+
+    def point(self, phi):
+        return self.A + np.multiply.outer(phi, self.t)
+
+    def frame(self, phi):
+        shape = np.shape(phi) + (3,)
+        return (np.broadcast_to(self.e1, shape), np.broadcast_to(self.n, shape), np.broadcast_to(self.e3, shape))
+
+    def speed(self, phi):
+        return np.ones(np.shape(phi))
+
+    def turning(self, phi, x1):
+        return np.zeros(np.shape(phi))
+
+    def reach(self, phi):
+        """The distance from the point to the nearest other side of the polygon."""
+        x = np.atleast_2d(self.point(phi))
+        out = np.full(len(x), np.inf)
+        for a, b in self._others:
+            d = b - a
+            t = np.clip((x - a) @ d / (d @ d), 0.0, 1.0)
+            out = np.minimum(out, np.linalg.norm(x - (a + np.multiply.outer(t, d)), axis=1))
+        return out.reshape(np.shape(phi))
+
+    def coordinates(self, x: np.ndarray):
+        d = x - self.A
+        phi = d @ self.t
+        return phi, d @ self.e1, d @ self.n, np.full(len(x), float(self.t @ self.e3))
+
+    def arc(self, phi):
+        return np.asarray(phi, dtype=float)
+
+    def delta(self, s, s0):
+        return s - s0
+
+    def stations(self, h: float, L: float, R: float, n_points: int | None, spacing: float | None = None):
+        """Points about 2 h apart (or `spacing`) at least L + R from both corners."""
+        margin = L + R
+        room = self.length - 2 * margin
+        if room < 0:
+            return np.zeros(0), np.zeros(0)
+        n = max(1, int(room / (spacing or 2 * h)) + 1)
+        s_i = margin + (np.arange(n) + 0.5) * room / n if n > 1 else np.array([0.5 * self.length])
+        return s_i, s_i
+
+    def within(self, phi, pad):
+        return (phi > -pad) & (phi < self.length + pad)
 
 
 # --------------------------------------------------------------------- the domain integral
@@ -156,10 +251,10 @@ def _tube_points(sol, geom: FrontGeometry, R: float):
     """Quadrature points of the tetrahedra within R (plus a cell) of the front, with weights."""
     mesh = sol.smesh.mesh
     pts = sol.smesh.points
-    _, x1, x2, _ = geom.coordinates(pts)
+    phi, x1, x2, _ = geom.coordinates(pts)
     dist = np.hypot(x1, x2)
     h = sol.smesh.sizes["front_h"]
-    near = dist < R + 2.0 * h
+    near = (dist < R + 2.0 * h) & geom.within(phi, R + 2.0 * h)
     tets = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)])
     sel = np.flatnonzero(near[tets].any(axis=1))
     rule = ngs.IntegrationRule(ngs.TET, QUADRATURE_ORDER)
@@ -202,28 +297,36 @@ def front_parameters(sol, points: int | None = None) -> list[FrontParameters]:
     for i, crack_faces in enumerate(sol.smesh.cracks):
         crack = crack_faces.crack
         if crack.shape == "polygon":
-            continue  # straight fronts with corners: a later step (module docstring of ngcrack.solid)
+            sides = [f for f in (_one_front(sol, i, SegmentFront(crack, j), None) for j in range(len(crack.points)))
+                     if f is not None]
+            if sides:
+                out.append(_joined(i, sides))
+            continue
         out.append(_one_front(sol, i, FrontGeometry(crack), points))
     return out
 
 
-def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> FrontParameters:
+def _joined(index: int, sides: list[FrontParameters]) -> FrontParameters:
+    """One polygon's sides as one front (angle: the arc length along the outline from its first point)."""
+    cat = {key: np.concatenate([getattr(f, key) for f in sides]) for key in
+           ("points", "K_I", "K_II", "K_III", "G", "closed", "angle", "scaled_to_J")}
+    return FrontParameters(index, **cat)
+
+
+def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters | None:
+    """The parameters at the stations of one closed front or one polygon side (None: no station)."""
     E, nu = sol.scene.material.E, sol.scene.material.nu
     mu = E / (2 * (1 + nu))
     e_prime = E / (1 - nu * nu)
     h = sol.smesh.sizes["front_h"]
     R, L = TUBE_RADIUS_H * h, HALF_WIDTH_H * h
-    perimeter = float(np.sum(geom.speed(np.linspace(0, 2 * np.pi, 721)[:-1])) * 2 * np.pi / 720)
-    n = n_points or max(8, int(perimeter / (2 * h)))
-    # points equally spaced in arc length
-    phis = np.linspace(0, 2 * np.pi, 2001)
-    arc = np.concatenate([[0.0], np.cumsum(geom.speed(0.5 * (phis[1:] + phis[:-1])) * np.diff(phis))])
-    phi_i = np.interp(np.arange(n) * perimeter / n, arc, phis)
-    s_i = np.arange(n) * perimeter / n
-
+    phi_i, s_i = geom.stations(h, L, R, n_points)
+    n = len(phi_i)
+    if n == 0:
+        return None
     mp, xyz, w = _tube_points(sol, geom, R)
     phi, x1, x2, dphi_dx3 = geom.coordinates(xyz)
-    s = np.interp(phi % (2 * np.pi), phis, arc)
+    s = geom.arc(phi)
     r = np.hypot(x1, x2)
     radius_i = np.minimum(R, REACH_FRACTION * geom.reach(phi_i))
     # fields in the local frame of each point's foot
@@ -260,11 +363,13 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
     volume = incompat + noneq
 
     faces = face_pressure(sol, index, geom, R, e_prime)  # None without a pressure on the faces
-    s_f = None if faces is None else np.interp(faces.phi % (2 * np.pi), phis, arc)
+    s_f = None if faces is None else geom.arc(faces.phi)
+    fric = face_friction(sol, index, geom, R, e_prime, mu)  # None without friction on the faces
+    s_t = None if fric is None else geom.arc(fric.phi)
     K = np.zeros((n, 3))
     J = np.zeros(n)
     for k in range(n):
-        ds = _wrap((s - s_i[k]) / perimeter * 2 * np.pi) * perimeter / (2 * np.pi)
+        ds = geom.delta(s, s_i[k])
         Rk = radius_i[k]
         inner = PLATEAU_FRACTION * Rk
         g = np.clip((Rk - r) / (Rk - inner), 0.0, 1.0)
@@ -295,25 +400,30 @@ def _one_front(sol, index: int, geom: FrontGeometry, n_points: int | None) -> Fr
                       + hk[sel] * g[sel] * volume[m, sel])
             K[k, m] = I
         if faces is not None:  # the crack-face pressure's term (ngcrack.solid.face_pressure)
-            ds_f = _wrap((s_f - s_i[k]) / perimeter * 2 * np.pi) * perimeter / (2 * np.pi)
+            ds_f = geom.delta(s_f, s_i[k])
             h_f = np.where(np.abs(ds_f) < L, np.cos(0.5 * np.pi * ds_f / L) ** 2, 0.0)
             ramp = (faces.r > inner) & (faces.r < Rk)
             dJ, dI = faces.terms(h_f * np.clip((Rk - faces.r) / (Rk - inner), 0.0, 1.0),
                                  np.where(ramp, h_f / (Rk - inner), 0.0))
             J[k] += dJ
             K[k, 0] += dI
+        if fric is not None:  # the crack faces' friction in the shear modes (ngcrack.solid.face_friction)
+            ds_t = geom.delta(s_t, s_i[k])
+            q_t = np.where(np.abs(ds_t) < L, np.cos(0.5 * np.pi * ds_t / L) ** 2, 0.0)
+            K[k, 1:] += fric.terms(q_t * np.clip((Rk - fric.r) / (Rk - inner), 0.0, 1.0))
         length = L  # int h ds = L for the cos^2 bump of half-width L
         J[k] /= length
         K[k] /= length
-    if DECONVOLVE:
-        K, J = _unsmooth(K, perimeter, L), _unsmooth(J, perimeter, L)
+    if DECONVOLVE and geom.periodic:
+        K, J = _unsmooth(K, geom.periodic, L), _unsmooth(J, geom.periodic, L)
     K_I, K_II, K_III = 0.5 * e_prime * K[:, 0], 0.5 * e_prime * K[:, 1], mu * K[:, 2]
     closed = _closed_at(sol, index, geom.point(phi_i))
     K_I = np.where(closed, 0.0, K_I)
     # G = J; the K with it scaled to J's energy are kept as `scaled_to_J` (a check: both converge)
     J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * mu)
     scale = np.where((J_K > 0) & (J > 0) & ~closed, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
-    return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, phi_i,
+    angle = phi_i if geom.periodic else geom.start + phi_i
+    return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, angle,
                            scaled_to_J=scale[:, None] * np.column_stack([K_I, K_II, K_III]))
 
 
