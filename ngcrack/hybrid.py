@@ -33,7 +33,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from .discretization import Discretization, Loads
+from .discretization import Discretization, Loads, refuse
 from .parallel import task_manager
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
 
@@ -227,7 +227,8 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
     if tangential and disc.jn is not None:
         comp = disc.jt if disc.jt is not None else disc.tangential
         if comp is None:
-            raise ValueError(f"friction: element {disc.element!r} has no tangential jump unknowns")
+            raise refuse("tangential", True, "False", f"element {disc.element!r} has no tangential jump unknowns "
+                         "(friction needs them)")
         rng = fes.Range(comp)
         p = pos[np.arange(rng.start, rng.stop)]
         at = np.searchsorted(keep, p)

@@ -25,6 +25,13 @@ once and again when a Parameter changes):
 or was reused for a new load (load), `redone` what the last run recomputed. Answers
 from cached stages equal fresh ones to round-off: the same functions run on the same
 data. `nc.solve` is the one-shot use: a fresh Pipeline, one run.
+
+What depends on the body's dimension the stages ask of a body object chosen by the
+scene (`Pipeline.body_for`: `PLANAR`, or `ngcrack.solid.stages.SOLID` for a 3D scene):
+the mesh and its key, the element and its key, the loads' crack pressures and held
+means. A 3D scene runs through the same mesh, discretization and system stages
+(`ngcrack.solid.stages.run_solid`, which `nc.solve` and `solve_solid` call), with the
+sparse contact stage in place of the reduction and the QP.
 """
 
 from __future__ import annotations

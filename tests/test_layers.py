@@ -25,7 +25,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("discretization", ("discretization", "elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element", "solid.friction_points",
                         "solid.h1")),
     ("post-processing", ("post", "post2d", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front",
-                         "solid.face_pressure", "solid.estimate")),
+                         "solid.face_pressure", "solid.estimate", "solid.face_friction")),
     ("options and solution", ("options", "solution", "stages", "friction_checks", "solid.output", "solid.stages")),
     ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
     ("loops over the pipeline", ("adapt", "distributed")),

@@ -191,7 +191,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     crack, or where their new tip would close (frozen, with the reason); the run stops after
     `steps` steps, when no tip is left inside the body, or when none can grow.
     estimate: also compute every step's error estimate (the table's `error_estimate` column,
-    empty otherwise; it costs about a tenth of a step).
+    empty otherwise; it costs about 5% of a step).
     """
     from .result import GrowthResult
 

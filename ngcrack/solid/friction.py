@@ -80,6 +80,7 @@ class FrictionPoints:
     face_rows: np.ndarray  # (faces, per): the constraint rows of each face
     where: np.ndarray | None = None  # (q, 3) the points in space
     basis: np.ndarray | None = None  # (q, 2, 3) each point's crack plane basis (e_a, e_b)
+    crack: np.ndarray | None = None  # (q,) each point's crack
 
 
 @dataclass

@@ -69,7 +69,7 @@ def friction_points(smesh, disc, system, mu: list[float]) -> FrictionPoints:
     per = (disc.order + 1) * (disc.order + 2) // 2
     table = disc.face_points if disc.face_points is not None else np.arange(len(disc.constraint_points)).reshape(-1, per)
     rows, cols, vals = [], [], []
-    face, omega, mus, where, basis = [], [], [], [], []
+    face, omega, mus, where, basis, crack = [], [], [], [], [], []
     q = 0
     start = 0
     for c in smesh.cracks:
@@ -101,9 +101,10 @@ def friction_points(smesh, disc, system, mu: list[float]) -> FrictionPoints:
                 mus.append(mu[c.index])
                 where.append(np.array(mip.point))
                 basis.append(frame)
+                crack.append(c.index)
                 q += 1
         start += len(c.elements)
     B = sp.csr_matrix((vals, (rows, cols)), shape=(2 * q, system.n))
     return FrictionPoints(B=B, face=np.array(face, dtype=int), omega=np.array(omega), mu=np.array(mus),
                           face_rows=np.asarray(table), where=np.array(where).reshape(-1, 3),
-                          basis=np.array(basis).reshape(-1, 2, 3))
+                          basis=np.array(basis).reshape(-1, 2, 3), crack=np.array(crack, dtype=int))

@@ -57,6 +57,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..tips import williams_displacement, williams_dx1, williams_stress
+from .face_friction import face_friction
 from .face_pressure import face_pressure
 
 #: the tube radius R and the half-width L along the front, in front_h (the mesh size at the front)
@@ -363,6 +364,8 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
 
     faces = face_pressure(sol, index, geom, R, e_prime)  # None without a pressure on the faces
     s_f = None if faces is None else geom.arc(faces.phi)
+    fric = face_friction(sol, index, geom, R, e_prime, mu)  # None without friction on the faces
+    s_t = None if fric is None else geom.arc(fric.phi)
     K = np.zeros((n, 3))
     J = np.zeros(n)
     for k in range(n):
@@ -404,6 +407,10 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
                                  np.where(ramp, h_f / (Rk - inner), 0.0))
             J[k] += dJ
             K[k, 0] += dI
+        if fric is not None:  # the crack faces' friction in the shear modes (ngcrack.solid.face_friction)
+            ds_t = geom.delta(s_t, s_i[k])
+            q_t = np.where(np.abs(ds_t) < L, np.cos(0.5 * np.pi * ds_t / L) ** 2, 0.0)
+            K[k, 1:] += fric.terms(q_t * np.clip((Rk - fric.r) / (Rk - inner), 0.0, 1.0))
         length = L  # int h ds = L for the cos^2 bump of half-width L
         J[k] /= length
         K[k] /= length

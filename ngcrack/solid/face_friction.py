@@ -1,0 +1,79 @@
+"""The crack faces' friction term in the front's interaction integrals (ngcrack.solid.front).
+
+With a traction t on the crack faces the domain integrals gain a face integral (as the
+pressure's, ngcrack.solid.face_pressure): I_m += - int t+ . d[u^m]/dx_1 q dA over the
+crack's plane, t+ the traction on the + face and [u^m] the auxiliary jump (traction-free
+faces: no term in the auxiliary stresses). The friction forces of a frictional solve
+(ngcrack.solid.friction) are point forces at the friction points (lam_t,q: minus the + face's
+friction traction integrated against its point). Each face's forces are spread over it as
+a uniform traction t+ = -(sum of its lam_t) / area and the term is integrated with
+NGSolve's rule on the crack faces (at the points themselves, the faces along a curved
+front, with their points a front_h / 1000 from it, gave weights 1/sqrt(r) of 15 and mode II
+terms 10 times too large):
+
+    I_m += int q lam_t / area . d[u^m]/dx_1 dA,
+
+with, r the distance behind the front (x_1 = -r), d sqrt(r)/dx_1 = -1 / (2 sqrt(r)):
+[u^II] = (8 / E') sqrt(r / 2 pi) e1 and [u^III] = (4 / mu) sqrt(r / 2 pi) e3. Only the
+shear modes: the normal pressure of closed faces does no work on K_II, K_III and K_I is 0
+there. J (the reported G) has no friction term yet.
+
+`face_friction` is the one call the front integral makes; it returns None without friction.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+#: quadrature order on the crack faces (the auxiliary term has an integrable r^(-1/2))
+QUADRATURE_ORDER = 8
+
+
+@dataclass
+class FaceFriction:
+    """One crack's friction points near its front with their weights in the shear modes' terms."""
+
+    phi: np.ndarray  # the foot's parameter on the front
+    r: np.ndarray  # distance behind the front
+    weights: np.ndarray  # (q, 2): lam_t . d[u^m]/dx_1 for m = II, III
+
+    def terms(self, q: np.ndarray) -> np.ndarray:
+        """(the mode II, the mode III interaction term) for the q-function's values at the points."""
+        return q @ self.weights
+
+
+def face_friction(sol, index: int, geom, R: float, e_prime: float, mu: float) -> FaceFriction | None:
+    """Crack `index`'s face quadrature points within R of its front, or None without friction on it."""
+    res = sol.contact
+    points = getattr(res, "points", None)
+    if points is None or getattr(points, "crack", None) is None or not np.any(points.crack == index):
+        return None
+    faces = sol.smesh.cracks[index]
+    first = sum(len(c.elements) for c in sol.smesh.cracks[:index])
+    nf = len(faces.elements)
+    # each face's friction force (global 3-vector), spread over the face as a uniform traction
+    force = np.einsum("qi,qij->qj", res.lam_t, points.basis)
+    mine = points.crack == index
+    total = np.zeros((nf, 3))
+    np.add.at(total, points.face[mine] - first, force[mine])
+    mesh = sol.smesh.mesh
+    rule = ngs.IntegrationRule(ngs.TRIG, QUADRATURE_ORDER)
+    k = len(rule.weights)
+    mp = mesh.MapToAllElements(rule, ngs.BND).reshape(mesh.GetNE(ngs.BND), k)[faces.elements].ravel()
+    xyz = np.column_stack([np.asarray(c(mp)).ravel() for c in (ngs.x, ngs.y, ngs.z)])
+    jac = np.asarray(ngs.specialcf.JacobianMatrix(3, 2)(mp)).reshape(-1, 3, 2)
+    w = np.linalg.norm(np.cross(jac[:, :, 0], jac[:, :, 1]), axis=1) * np.tile(np.array(rule.weights), nf)
+    area = w.reshape(nf, k).sum(axis=1)
+    traction = np.repeat(total / area[:, None], k, axis=0)  # lam per unit area: minus the + face's traction
+    phi, x1, _, _ = geom.coordinates(xyz)
+    r = np.maximum(-x1, 0.0)
+    near = (r < R) & (r > 0)
+    e1, _, e3 = geom.frame(phi[near])
+    d = -w[near] / (2.0 * np.sqrt(2.0 * math.pi * r[near]))  # d sqrt(r / 2 pi) / dx_1, times the weight
+    weights = np.column_stack([8.0 / e_prime * d * np.sum(traction[near] * e1, axis=1),
+                               4.0 / mu * d * np.sum(traction[near] * e3, axis=1)])
+    return FaceFriction(phi[near], r[near], weights)
