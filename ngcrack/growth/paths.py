@@ -258,6 +258,14 @@ def extended_cracks(scene, extensions) -> list:
             for p, c in zip(pts, scene.cracks)]
 
 
+def _hole_size(hole) -> float:
+    """A length of `hole`: its radius, or its polygon's largest extent."""
+    if hole.is_circle:
+        return float(hole.radius)
+    pts = np.asarray(hole.polygon, dtype=float)
+    return float(np.ptp(pts, axis=0).max())
+
+
 def hole_approaches(scene, paths) -> list[dict]:
     """The closest approach of the cracks (`paths`: point sequences) to each hole of `scene`:
     one dict per hole, {"hole", "label", "distance", "crack", "point"} (the crack point nearest
@@ -275,7 +283,9 @@ def hole_approaches(scene, paths) -> list[dict]:
                 ring = shapely.LinearRing(hole.polygon)
                 q = shapely.ops.nearest_points(line, ring)[0]
                 d = q.distance(ring)
-            if best is None or d < best[0]:
+            # a tie within round-off (a crack that joined the hole and one that leaves it) goes to
+            # the first crack, whatever the last bits of the points
+            if best is None or d < best[0] - 1e-9 * _hole_size(hole):
                 best = (d, k, (float(q.x), float(q.y)))
         if best is not None:
             out.append({"hole": i, "label": hole.labels[0] if hole.labels else f"hole[{i}]",
