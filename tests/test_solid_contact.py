@@ -192,13 +192,15 @@ def test_closed_inclined_penny_slip_is_reduced_by_the_coulomb_bound():
         s = res.slip
         big = np.linalg.norm(s0, axis=1) > 0.3 * np.linalg.norm(s0, axis=1).max()
         ratio = np.sum(s[big] * s0[big], axis=1) / np.sum(s0[big] ** 2, axis=1)
-        # the shear modes with the faces' friction term (ngcrack.solid.face_friction): K_II follows
-        # the slip (measured 0.595-0.622 of the frictionless K_II at mu = 0.4, 0.03-0.06 at mu = 1.5);
-        # K_III less so (0.71-0.73 and 0.27-0.28: see the guide)
-        k0, k = free.fronts[0].K_II, sol.fronts[0].K_II
-        strong = np.abs(k0) > 0.5 * np.abs(k0).max()
+        # the shear modes with the faces' friction term (ngcrack.solid.face_friction), the faces on
+        # the front taking their inner neighbour's traction: measured 0.612-0.631 (K_II) and
+        # 0.628-0.636 (K_III) of the frictionless values at mu = 0.4, 0.045-0.076 and 0.082-0.094
+        # at mu = 1.5 (without that, K_III was 0.71-0.73 and 0.27-0.28)
         target = max(1.0 - mu, 0.0)
-        assert np.all(np.abs(k[strong] / k0[strong] - target) < 0.07), k[strong] / k0[strong]
+        for name, tol in (("K_II", 0.08), ("K_III", 0.1)):
+            k0, k = getattr(free.fronts[0], name), getattr(sol.fronts[0], name)
+            strong = np.abs(k0) > 0.5 * np.abs(k0).max()
+            assert np.all(np.abs(k[strong] / k0[strong] - target) < tol), (name, k[strong] / k0[strong])
         if mu < 1.0:
             # the slip where it is largest, over the frictionless one: measured 0.565-0.603 against
             # 1 - mu = 0.6 (tiny mesh, order 1)
