@@ -184,6 +184,15 @@ class Discretization:
         """A vector CoefficientFunction whose tangential component on the crack is [u].t."""
         raise NotImplementedError(f"{type(self).__name__}.tangential_jump")
 
+    def friction_points(self, crack_mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(crack index, arc length, quadrature weight) of every constrained value (G's rows):
+        where the Coulomb law is imposed."""
+        raise refuse("friction", "> 0", "0", f"element {self.element!r} has no friction points")
+
+    def tangential_point_map(self, crack_mesh, normal_map: np.ndarray) -> np.ndarray:
+        """Gt: the tangential jump dofs -> the tangential jumps at the constraint points."""
+        raise refuse("friction", "> 0", "0", f"element {self.element!r} has no tangential jumps")
+
     def assemble_load(self) -> None:
         """Assemble the load vector `f` again (its loads' Parameters changed)."""
         self.f.Assemble()

@@ -16,7 +16,6 @@ import numpy as np
 
 from ..contact import QPResult
 from ..friction import FrictionResult, coulomb_residual
-from ..friction_setup import tangential_point_map
 from ..solution import Backend, Solution
 from ..stages import CrackAnswer, Recovered, SolveError, faces_stage
 from .gather import scatter_into
@@ -107,7 +106,7 @@ def friction_result(system, disc, cmesh, y: np.ndarray, G: np.ndarray, active: n
     system's residual (lam_n = G^-T r_n, lam_t = -Gt^-T r_t), the Coulomb residuals."""
     nn = system.n_normal
     cols = np.asarray(system.tangential_dofs, dtype=int)
-    sub = tangential_point_map(disc, cmesh, G)[:, cols]
+    sub = disc.tangential_point_map(cmesh, G)[:, cols]
     rows = np.flatnonzero(np.any(sub != 0.0, axis=1))
     Gt = sub[rows]
     r = system.K @ y - system.F

@@ -267,12 +267,11 @@ def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list | str:
     """Rank 0: per crack edge (mid point, block of G, block of Gt or None, crack index), or why the
     discretization cannot be distributed (`unsupported_discretization`).
 
-    G (post.endpoint_map) and, with friction, Gt (friction_setup.tangential_point_map) are
+    G (post.endpoint_map) and, with friction, Gt (the element's tangential_point_map) are
     computed on the serial mesh (moments over the crack edges, point evaluation); their
     blocks go to the ranks, which place them on their own crack edges (the same dofs in
     the same order).
     """
-    from ..friction_setup import tangential_point_map
 
     disc, loads = pipe.discretization(scene, serial_mesh, o)
     why = unsupported_discretization(disc, loads)
@@ -283,7 +282,7 @@ def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list | str:
     space = disc.fes.components[disc.jn]
     G = endpoint_map(space, serial_mesh, disc.facet_order)
     tangential = o.tangential_for(scene)
-    Gt = tangential_point_map(disc, serial_mesh, G) if tangential else None
+    Gt = disc.tangential_point_map(serial_mesh, G) if tangential else None
     space_t = disc.fes.components[tangential_component(disc)] if tangential else None
     out = []
     for k, crack in enumerate(serial_mesh.cracks):

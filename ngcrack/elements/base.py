@@ -57,6 +57,18 @@ class PlanarDiscretization(Discretization):
         """G: the facet jump's dofs -> its values at k + 1 equispaced points of each crack edge."""
         return endpoint_map(self.fes.components[self.jn], self.crack_mesh, self.facet_order)
 
+    def friction_points(self, crack_mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(crack index, arc length, Newton-Cotes or nodal weight) of every constrained value."""
+        from .friction_points import constraint_points
+
+        return constraint_points(self, crack_mesh)
+
+    def tangential_point_map(self, crack_mesh, normal_map: np.ndarray) -> np.ndarray:
+        """Gt: the tangential jump dofs -> the tangential jumps at the constraint points."""
+        from .friction_points import tangential_point_map
+
+        return tangential_point_map(self, crack_mesh, normal_map)
+
     def constraint_positions(self) -> tuple[np.ndarray, np.ndarray]:
         """(crack index, arc length s) of every constrained value w_i = (G j)_i.
 
