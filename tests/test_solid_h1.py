@@ -14,19 +14,11 @@ import math
 
 import numpy as np
 import pytest
+from test_solid import PENNY  # the coarse penny of the 3D tests
 
 import ngcrack as nc
 from ngcrack.solid.scene import SolidScene
 
-PENNY = {
-    "name": "penny-coarse",
-    "domain": {"box": [[-10.0, -10.0, -10.0], [10.0, 10.0, 10.0]]},
-    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}],
-    "material": {"E": 1000.0, "nu": 0.3},
-    "boundary": {"xmin": {"type": "roller"}, "ymin": {"type": "roller"}, "zmin": {"type": "roller"},
-                 "zmax": {"type": "traction", "value": [0.0, 0.0, 1.0]}},
-    "mesh": {"maxh": 5.0, "crack_h": 0.4, "front_h": 0.2},
-}
 K_SNEDDON = 2.0 / math.sqrt(math.pi)
 
 
