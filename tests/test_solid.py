@@ -96,11 +96,16 @@ def test_bad_solve_options_are_refused_before_meshing():
 # ------------------------------------------------------------------ the element, no crack
 @pytest.fixture(scope="module")
 def cube():
+    return clamped_cube(0.3)
+
+
+def clamped_cube(maxh: float):
+    """A unit cube clamped on xmin under a small body force, and its mesh (no crack)."""
     from ngcrack.solid.geometry import make_mesh
 
     s = SolidScene.from_dict({"name": "cube", "domain": {"box": [[0, 0, 0], [1, 1, 1]]},
                               "material": {"E": 1.0, "nu": 0.3}, "load": {"body_force": [0, 0, -1e-3]},
-                              "boundary": {"xmin": {"type": "clamped"}}, "mesh": {"maxh": 0.3}})
+                              "boundary": {"xmin": {"type": "clamped"}}, "mesh": {"maxh": maxh}})
     return s, make_mesh(s)
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 import pytest
+from test_solid import clamped_cube  # the clamped cube of the 3D tests
 
 import ngcrack as nc
 from ngcrack.solid.scene import SolidScene
@@ -17,12 +18,7 @@ from ngcrack.solid.scene import SolidScene
 
 @pytest.fixture(scope="module")
 def cube():
-    from ngcrack.solid.geometry import make_mesh
-
-    s = SolidScene.from_dict({"name": "cube", "domain": {"box": [[0, 0, 0], [1, 1, 1]]},
-                              "material": {"E": 1.0, "nu": 0.3}, "load": {"body_force": [0, 0, -1e-3]},
-                              "boundary": {"xmin": {"type": "clamped"}}, "mesh": {"maxh": 0.5}})
-    return s, make_mesh(s)
+    return clamped_cube(0.5)
 
 
 def test_estimate_is_refused_for_the_displacement_elements():

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from test_solid import PENNY  # the coarse penny of the 3D tests
+from test_solid import PENNY, clamped_cube  # the coarse penny and the clamped cube of the 3D tests
 
 import ngcrack as nc
 from ngcrack.solid.scene import SolidScene
@@ -51,12 +51,7 @@ def test_bad_element_and_order_are_refused_before_meshing():
 
 @pytest.fixture(scope="module")
 def cube():
-    from ngcrack.solid.geometry import make_mesh
-
-    s = SolidScene.from_dict({"name": "cube", "domain": {"box": [[0, 0, 0], [1, 1, 1]]},
-                              "material": {"E": 1.0, "nu": 0.3}, "load": {"body_force": [0, 0, -1e-3]},
-                              "boundary": {"xmin": {"type": "clamped"}}, "mesh": {"maxh": 0.3}})
-    return s, make_mesh(s)
+    return clamped_cube(0.3)
 
 
 def test_h1p1_locks_at_nu_04999_where_tdnns_does_not(cube):
