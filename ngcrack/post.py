@@ -184,7 +184,7 @@ def _component_rows(system, comp: int) -> tuple[np.ndarray, np.ndarray]:
     rng = fes.Range(comp)
     free_pos = -np.ones(fes.ndof, dtype=int)
     free_pos[system._free] = np.arange(len(system._free))
-    T = system._T.tocsr()
+    T = system._T_csr
     dofs, rows = [], []
     for d in range(rng.start, rng.stop):
         p = free_pos[d]
@@ -217,7 +217,7 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) 
         if comp is None or key in skip:
             continue
         if r is None:
-            r = np.asarray(system.K @ y - system.F)
+            r = np.asarray(system.K_csr @ y - system.F)
         space = disc.fes.components[comp]
         dofs, rows = _component_rows(system, comp)
         u, v = space.TnT()
@@ -262,7 +262,7 @@ def component_forces(system, y: np.ndarray, comp: int, G) -> np.ndarray:
     rng = system.disc.fes.Range(comp)
     dofs, rows = _component_rows(system, comp)
     res = np.zeros(rng.stop - rng.start)
-    res[dofs] = np.asarray(system.K[rows] @ y - system.F[rows]).ravel()
+    res[dofs] = np.asarray(system.K_csr[rows] @ y - system.F[rows]).ravel()
     Ginv = _inverse_map(G, len(res))
     return res if Ginv is None else np.asarray(Ginv.T @ res).ravel()
 
