@@ -15,7 +15,7 @@ import weakref
 
 import numpy as np
 
-from .csr import CSR, as_csr
+from .csr import CSR, as_csr, distinct
 
 
 class ContactSolverError(RuntimeError):
@@ -72,7 +72,7 @@ def _sparse_inverse(dense: np.ndarray) -> CSR:
     bounds = np.searchsorted(label[order], np.arange(n_blocks + 1))
     sizes = np.diff(bounds)
     rows, cols, vals = [], [], []
-    for b in np.unique(sizes):
+    for b in distinct(sizes):
         idx = np.stack([order[bounds[k]:bounds[k + 1]] for k in np.flatnonzero(sizes == b)])  # (blocks, b)
         inv = np.linalg.inv(dense[idx[:, :, None], idx[:, None, :]])
         rows.append(np.repeat(idx, b, axis=1).ravel())

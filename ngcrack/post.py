@@ -14,6 +14,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .constraints import CLOSED_RTOL, faces_closed
+from .csr import distinct
 from .elements.facets import endpoint_map, facet_basis, facet_moments  # noqa: F401  (re-exported)
 from .geometry import CrackEdges, CrackMesh
 
@@ -230,7 +231,7 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) 
         # M t = rhs on the traces' unknowns (M's nonzero diagonal), by NGSolve's sparse Cholesky
         rows_, cols_, vals_ = m.mat.COO()
         rows_, cols_, vals_ = np.asarray(rows_), np.asarray(cols_), np.asarray(vals_)
-        on = np.unique(rows_[(rows_ == cols_) & (np.abs(vals_) > 0)])
+        on = distinct(rows_[(rows_ == cols_) & (np.abs(vals_) > 0)])
         free = ngs.BitArray(space.ndof)
         free.Clear()
         for d in on:
