@@ -111,8 +111,8 @@ class CSR:
         return self._row_ids
 
     @property
-    def T(self) -> _Transposed:
-        return _Transposed(self)
+    def T(self) -> TransposedCSR:
+        return TransposedCSR(self)
 
     def _entries(self, mask: np.ndarray, indices: np.ndarray, shape: tuple[int, int]) -> CSR:
         """The entries where `mask` holds, with new column `indices` (in storage order)."""
@@ -196,7 +196,7 @@ class CSR:
         return _product(self.data, self.row_ids, self.indices, self.shape[0], x)
 
 
-class _Transposed:
+class TransposedCSR:
     """The transpose of a CSR matrix, for products (`A.T @ x`)."""
 
     __slots__ = ("A",)
