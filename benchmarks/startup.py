@@ -26,6 +26,7 @@ No number here is a test threshold (tests/test_startup.py asserts which modules 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import resource
 import statistics
@@ -42,8 +43,9 @@ LOOSE = "maxh=4, crack_h=0.5, tip_h=0.005, grading=0.5, order=2"
 SYSTEM_PYTHON = "/usr/bin/python3"
 JSON_OUT = os.path.join(tempfile.gettempdir(), "ngcrack-startup-griffith.json")
 #: the loose solve in a child that prints its own in-process CPU (after the imports, as the peer benchmark)
-LOOSE_CHILD = ("import time, ngcrack as nc; solve = nc.solve; t0 = time.process_time(); "
-               f"solve(nc.scenes.load('griffith'), {LOOSE}); print(time.process_time() - t0)")
+LOOSE_CHILD = ("import json, time, ngcrack as nc; solve = nc.solve; t0 = time.process_time(); "
+               f"sol = solve(nc.scenes.load('griffith'), {LOOSE}); "
+               "print(json.dumps({'cpu': time.process_time() - t0, 'timings': sol.timings}))")
 COMMANDS = {
     "python -c pass": [PY, "-c", "pass"],
     "import ngsolve": [PY, "-c", "import ngsolve"],
@@ -72,7 +74,7 @@ for _v in ("NGCRACK_THREADS", "OMP_NUM_THREADS"):  # one thread, as the peer ben
 
 def cpu(args: list[str], inner: list | None = None) -> float:
     """CPU seconds (user + system) of one run of `args` in a child process; the last line
-    the child prints (its own in-process CPU, where it prints one) goes to `inner`."""
+    the child prints (JSON: its own in-process CPU and stage timings) goes to `inner`."""
     env = ENV
     if args[0] == SYSTEM_PYTHON:  # the system's own Python: its own bytecode and packages
         env = {k: v for k, v in ENV.items() if k not in ("PYTHONPATH", "PYTHONPYCACHEPREFIX")}
@@ -80,7 +82,7 @@ def cpu(args: list[str], inner: list | None = None) -> float:
     out = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, check=True, env=env, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if inner is not None and out.stdout.strip():
-        inner.append(float(out.stdout.split()[-1]))
+        inner.append(json.loads(out.stdout.strip().splitlines()[-1]))
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
@@ -98,12 +100,17 @@ def getfem_cheapest(repeat: int) -> float | None:
 def print_floor(times: dict, inner: list, getfem: float | None) -> None:
     """The whole loose griffith run against its floor (least of each)."""
     py, floor = min(times["python -c pass"]), min(times[FLOOR_NAME])
-    modules, whole, solve = min(times[MODULES_NAME]), min(times[LOOSE_NAME]), min(inner)
+    modules, whole = min(times[MODULES_NAME]), min(times[LOOSE_NAME])
+    best = min(inner, key=lambda r: r["cpu"])
+    solve = best["cpu"]
     print(f"\nthe floor of a whole process (least CPU s): python alone {py:.3f}; `import ngsolve, netgen.geom2d` "
           f"{floor:.3f}")
     print(f"ngcrack's loose griffith run, whole process {whole:.3f} = floor {floor:.3f} + ngcrack's modules "
           f"{modules - floor:.3f} + the solve in-process {solve:.3f} + the rest {whole - modules - solve:+.3f} "
           "(leaving the interpreter, freeing the solve)")
+    stages = ", ".join(f"{k} {v:.3f}" for k, v in best["timings"].items() if k not in ("total", "linear", "contact"))
+    print(f"the loose solve's stages (wall s, one thread, of its least-CPU run): {stages}; total "
+          f"{best['timings'].get('total', 0.0):.3f}")
     if getfem is not None:
         print(f"GetFEM's whole cheapest griffith run (h = 0.2): {getfem:.3f}; within 1.5x of it: at most "
               f"{1.5 * getfem:.3f}; the floor alone is {floor / getfem:.2f} times GetFEM's run, the floor and "
