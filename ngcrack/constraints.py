@@ -14,7 +14,8 @@ from __future__ import annotations
 import weakref
 
 import numpy as np
-import scipy.sparse as sp
+
+from .csr import CSR, as_csr, distinct
 
 
 class ContactSolverError(RuntimeError):
@@ -40,15 +41,15 @@ def faces_closed(normal_jump, scale: float) -> np.ndarray:
 G_SPARSE_FILL = 0.1
 
 
-def _blocks(Gs) -> tuple[int, np.ndarray]:
-    """The connected components of G's pattern (undirected): their number and each index's
-    component, numbered by their smallest index (as scipy's connected_components numbers
-    them; the blocks are a few unknowns each, so the propagation of the smallest index
-    stops after a few sweeps, and scipy.sparse.csgraph, which loads scipy.linalg, is not
-    needed)."""
-    coo = sp.coo_matrix(Gs)
-    rows, cols = np.concatenate([coo.row, coo.col]), np.concatenate([coo.col, coo.row])
-    label = np.arange(Gs.shape[0])
+def _blocks(G: np.ndarray) -> tuple[int, np.ndarray]:
+    """The connected components of the pattern of the dense G (undirected): their number
+    and each index's component, numbered by their smallest index (as scipy's
+    connected_components numbers them; the blocks are a few unknowns each, so the
+    propagation of the smallest index stops after a few sweeps, and scipy.sparse.csgraph,
+    which loads scipy.linalg, is not needed)."""
+    row, col = np.nonzero(G)
+    rows, cols = np.concatenate([row, col]), np.concatenate([col, row])
+    label = np.arange(G.shape[0])
     while True:
         new = label.copy()
         np.minimum.at(new, rows, label[cols])
@@ -59,26 +60,25 @@ def _blocks(Gs) -> tuple[int, np.ndarray]:
     return len(roots), label
 
 
-def _sparse_inverse(Gs) -> sp.csr_matrix:
-    """The inverse of a sparse block-diagonal G (blocks = its connected components).
+def _sparse_inverse(dense: np.ndarray) -> CSR:
+    """The inverse of a sparse block-diagonal G (blocks = its connected components), given
+    as a dense array (which costs no more memory than the dense m x m Schur complement).
 
-    Blocks of equal size are inverted together (numpy's batched inverse); G is read as
-    a dense array, which costs no more memory than the dense m x m Schur complement.
+    Blocks of equal size are inverted together (numpy's batched inverse).
     """
-    m = Gs.shape[0]
-    n_blocks, label = _blocks(Gs)
+    m = dense.shape[0]
+    n_blocks, label = _blocks(dense)
     order = np.argsort(label, kind="stable")
     bounds = np.searchsorted(label[order], np.arange(n_blocks + 1))
     sizes = np.diff(bounds)
-    dense = Gs.toarray()
     rows, cols, vals = [], [], []
-    for b in np.unique(sizes):
+    for b in distinct(sizes):
         idx = np.stack([order[bounds[k]:bounds[k + 1]] for k in np.flatnonzero(sizes == b)])  # (blocks, b)
         inv = np.linalg.inv(dense[idx[:, :, None], idx[:, None, :]])
         rows.append(np.repeat(idx, b, axis=1).ravel())
         cols.append(np.tile(idx, (1, b)).ravel())
         vals.append(inv.ravel())
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(m, m))
+    return CSR.from_triplets(np.concatenate(vals), np.concatenate(rows), np.concatenate(cols), (m, m))
 
 
 #: the last G inverted (a weak reference) and its inverse: one solve maps through the
@@ -111,18 +111,18 @@ def _inverse_map(G, m: int):
 
 
 def _compute_inverse_map(G, m: int):
-    if sp.issparse(G):
-        Gs = sp.csc_matrix(G)
+    if hasattr(G, "tocsr") and not isinstance(G, np.ndarray):  # a sparse G (scipy or CSR)
+        dense = as_csr(G).canonical().toarray()
     else:
         G = np.asarray(G, dtype=float)
         if G.shape != (m, m):
             raise ValueError(f"G: a square matrix of size {m} (the number of crack unknowns) was expected, got {G.shape}")
         if np.count_nonzero(G) == m and np.all(np.diag(G) == 1.0):  # the identity
             return None
-        Gs = sp.csc_matrix(G)
-    if Gs.nnz > G_SPARSE_FILL * m * m:
-        return np.linalg.inv(Gs.toarray())
-    return _sparse_inverse(Gs)
+        dense = G
+    if np.count_nonzero(dense) > G_SPARSE_FILL * m * m:
+        return np.linalg.inv(dense)
+    return _sparse_inverse(dense)
 
 
 def scaled_problem(S: np.ndarray, b: np.ndarray, Ginv) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -172,9 +172,10 @@ def discrete_contact_forces(K, F: np.ndarray, y: np.ndarray, contact: np.ndarray
     `bound` = |G^{-T}| times that, per constraint point.
     """
     contact = np.asarray(contact, dtype=int)
-    K_c = K[contact]
+    sparse = not isinstance(K, np.ndarray)
+    K_c = as_csr(K)[contact] if sparse else K[contact]
     r = np.asarray(K_c @ y - F[contact])
-    n = np.diff(K_c.indptr) + 1 if sp.isspmatrix_csr(K_c) else np.full(len(r), K_c.shape[1] + 1)
+    n = np.diff(K_c.indptr) + 1 if sparse else np.full(len(r), K_c.shape[1] + 1)
     u = np.finfo(float).eps / 2
     gamma = n * u / (1.0 - n * u)
     bound = gamma * (np.asarray(abs(K_c) @ np.abs(y)) + np.abs(F[contact]))
