@@ -334,6 +334,10 @@ def _max():
     return MPI.MAX
 
 
+#: the dofs this rank counts (bddc.owned; the name other modules of the package import)
+_owned = owned
+
+
 def _memory_per_rank(comm) -> list[float]:
     """Peak resident memory of every rank, in MB (Linux: ru_maxrss in kB)."""
     import resource
