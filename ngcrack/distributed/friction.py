@@ -69,6 +69,12 @@ class FrictionSets:
             vals[self.jn] = self.Pn @ vals[self.jn]
             vals[self.jt] = self.Pt @ vals[self.jt]
 
+    def held(self):
+        """The held values' rows over this rank's dofs: G's contact rows on jn, Gt's sticking rows on jt."""
+        from .solve import held_rows
+
+        return held_rows([(self.G[self.contact], self.jn), (self.Gt[self.stick], self.jt)], len(self.free))
+
     def slip_forces(self) -> np.ndarray:
         """-Gt^T lam_t of the slipping points (lam_t = tau s): the tangential rows' right-hand side."""
         lam_t = np.where(self.stick, 0.0, self.tau * self.sign)
@@ -79,6 +85,8 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
     """The steps of the module docstring; returns (steps, CG steps per step). `rhs` is F (distributed), `x` the
     answer (cumulated on return)."""
     from mpi4py import MPI
+
+    from .solve import hold
 
     rhs_c = rhs.CreateVector()
     rhs_c.data = rhs
@@ -120,3 +128,4 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
             raise RuntimeError(f"crack problem with friction: no convergence in {steps} steps "
                                f"({changed} set changes, threshold change {moved:.1e} of {lam_max:.1e})")
         sets.set(contact, stick, sign, tau)
+        hold(op, sets.held())

@@ -106,6 +106,27 @@ class ActiveSet:
         if len(self.jn):
             vals[self.jn] = self.P @ vals[self.jn]
 
+    def held(self):
+        """The held values' rows over this rank's dofs (G's active rows on the crack unknowns), sparse."""
+        return held_rows([(self.G[self.active], self.jn)], len(self.free))
+
+
+def held_rows(blocks, ndof: int):
+    """Sparse rows over `ndof` dofs stacked from (rows, their columns' dofs) blocks."""
+    import scipy.sparse as sp
+
+    parts = []
+    for rows, dofs in blocks:
+        M = sp.coo_matrix(rows)
+        parts.append(sp.csr_matrix((M.data, (M.row, np.asarray(dofs)[M.col])), shape=(rows.shape[0], ndof)))
+    return sp.vstack(parts).tocsr() if parts else sp.csr_matrix((0, ndof))
+
+
+def hold(op: Operator, rows) -> None:
+    """Tell the preconditioner the held values' rows where it takes them into its local solves (collective)."""
+    if hasattr(op.C, "hold"):
+        op.C.hold(rows)
+
 
 def _fail(comm, rank: int, exc: BaseException) -> None:
     """One line on stderr and the whole communicator stopped: no rank waits for a dead one."""
@@ -206,6 +227,7 @@ def _solve(comm, scene, o: SolveOptions):
         aset = ActiveSet(G, jn_dofs, free)
         if has_crack and o.crack_model == "bonded":
             aset.set(np.ones(len(G), dtype=bool))
+            hold(op, aset.held())
         steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and o.crack_model == "contact")
         active = aset.active
     x.Cumulate()
@@ -254,6 +276,7 @@ def normal_loop(comm, op, rhs, x, aset: ActiveSet, iterate: bool) -> tuple[int, 
         if steps >= MAX_ACTIVE_SET_STEPS:
             raise RuntimeError(f"crack problem: the active set still changed after {steps} steps")
         aset.set(active)
+        hold(op, aset.held())
 
 
 def tangential_component(disc) -> int:
