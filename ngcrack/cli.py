@@ -130,11 +130,7 @@ def cmd_solve(args) -> int:
     if changes:
         scene = scene.with_(**changes)
     if getattr(scene, "dimension", 2) == 3:  # a 3D body (ngcrack.solid)
-        from .distributed import NOT_3D, active, refuse
         from .solid.cli import solve_command
-
-        if active():  # under mpiexec -n N, N > 1: every rank would solve and write alone
-            refuse(NOT_3D)
 
         return solve_command(scene, args, json_path)
     _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})

@@ -15,7 +15,8 @@ from __future__ import annotations
 import weakref
 
 import numpy as np
-import scipy.sparse as sp
+
+from .csr import CSR, as_csr, distinct
 
 
 class ContactSolverError(RuntimeError):
@@ -41,18 +42,18 @@ def faces_closed(normal_jump, scale: float) -> np.ndarray:
 G_SPARSE_FILL = 0.1
 
 
-def _blocks(Gs) -> tuple[int, np.ndarray, np.ndarray]:
-    """The blocks of G: the connected components of its pattern as a bipartite graph (rows and
-    columns distinct nodes), their number and each row's and each column's component, numbered
-    in the order of their smallest node (rows first). A block-diagonal G whose blocks are
-    permuted (the tangential map of a crack edge's constraint points to its own tangential
-    unknowns, numbered apart) has its blocks found as well as one whose blocks sit on the
-    diagonal. The minimum index is propagated along the pattern's entries with pointer
-    jumping (scipy.sparse.csgraph, which loads scipy.linalg, is not needed)."""
-    m = Gs.shape[0]
-    coo = sp.coo_matrix(Gs)
-    a, b = coo.row, coo.col + m
-    rows, cols = np.concatenate([a, b]), np.concatenate([b, a])
+def _blocks(G: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+    """The blocks of the dense G: the connected components of its pattern as a bipartite
+    graph (rows and columns distinct nodes), their number and each row's and each column's
+    component, numbered in the order of their smallest node (rows first). A block-diagonal G
+    whose blocks are permuted (the tangential map of friction: a crack edge's constraint
+    points against its own tangential unknowns, numbered apart) has its blocks found as well
+    as one whose blocks sit on the diagonal. The smallest index is propagated along the
+    pattern's entries with pointer jumping (scipy.sparse.csgraph, which loads scipy.linalg,
+    is not needed)."""
+    m = G.shape[0]
+    row, col = np.nonzero(G)
+    rows, cols = np.concatenate([row, col + m]), np.concatenate([col + m, row])
     label = np.arange(2 * m)
     while True:
         new = label.copy()
@@ -65,18 +66,17 @@ def _blocks(Gs) -> tuple[int, np.ndarray, np.ndarray]:
     return len(roots), label[:m], label[m:]
 
 
-def _sparse_inverse(Gs) -> sp.csr_matrix | np.ndarray:
-    """The inverse of a sparse G that is block diagonal up to a permutation of its rows and
-    columns (blocks = the components of `_blocks`): a block G[R, C] gives G^{-1}[C, R].
+def _sparse_inverse(dense: np.ndarray) -> CSR | np.ndarray:
+    """The inverse of a G that is block diagonal up to a permutation of its rows and columns
+    (blocks = the components of `_blocks`), given as a dense array (which costs no more
+    memory than the dense m x m Schur complement): a block G[R, C] gives G^{-1}[C, R].
 
-    Blocks of equal size are inverted together (numpy's batched inverse); G is read as
-    a dense array, which costs no more memory than the dense m x m Schur complement. A
-    component with fewer rows than columns (G singular) goes to the dense inverse, which
-    raises numpy's LinAlgError.
+    Blocks of equal size are inverted together (numpy's batched inverse). A component with
+    fewer rows than columns (G singular) goes to the dense inverse, which raises numpy's
+    LinAlgError.
     """
-    m = Gs.shape[0]
-    n_blocks, row_label, col_label = _blocks(Gs)
-    dense = Gs.toarray()
+    m = dense.shape[0]
+    n_blocks, row_label, col_label = _blocks(dense)
     r_order, c_order = np.argsort(row_label, kind="stable"), np.argsort(col_label, kind="stable")
     r_bounds = np.searchsorted(row_label[r_order], np.arange(n_blocks + 1))
     c_bounds = np.searchsorted(col_label[c_order], np.arange(n_blocks + 1))
@@ -84,9 +84,7 @@ def _sparse_inverse(Gs) -> sp.csr_matrix | np.ndarray:
     if not np.array_equal(sizes, np.diff(c_bounds)):
         return np.linalg.inv(dense)
     rows, cols, vals = [], [], []
-    for b in np.unique(sizes):
-        if b == 0:
-            continue
+    for b in distinct(sizes):
         ks = np.flatnonzero(sizes == b)
         R = np.stack([r_order[r_bounds[k]:r_bounds[k + 1]] for k in ks])  # (blocks, b)
         C = np.stack([c_order[c_bounds[k]:c_bounds[k + 1]] for k in ks])
@@ -94,7 +92,7 @@ def _sparse_inverse(Gs) -> sp.csr_matrix | np.ndarray:
         rows.append(np.repeat(C, b, axis=1).ravel())
         cols.append(np.tile(R, (1, b)).ravel())
         vals.append(inv.ravel())
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(m, m))
+    return CSR.from_triplets(np.concatenate(vals), np.concatenate(rows), np.concatenate(cols), (m, m))
 
 
 #: the last G inverted (a weak reference) and its inverse: one solve maps through the
@@ -127,18 +125,18 @@ def _inverse_map(G, m: int):
 
 
 def _compute_inverse_map(G, m: int):
-    if sp.issparse(G):
-        Gs = sp.csc_matrix(G)
+    if hasattr(G, "tocsr") and not isinstance(G, np.ndarray):  # a sparse G (scipy or CSR)
+        dense = as_csr(G).canonical().toarray()
     else:
         G = np.asarray(G, dtype=float)
         if G.shape != (m, m):
             raise ValueError(f"G: a square matrix of size {m} (the number of crack unknowns) was expected, got {G.shape}")
         if np.count_nonzero(G) == m and np.all(np.diag(G) == 1.0):  # the identity
             return None
-        Gs = sp.csc_matrix(G)
-    if Gs.nnz > G_SPARSE_FILL * m * m:
-        return np.linalg.inv(Gs.toarray())
-    return _sparse_inverse(Gs)
+        dense = G
+    if np.count_nonzero(dense) > G_SPARSE_FILL * m * m:
+        return np.linalg.inv(dense)
+    return _sparse_inverse(dense)
 
 
 def scaled_problem(S: np.ndarray, b: np.ndarray, Ginv) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -188,9 +186,10 @@ def discrete_contact_forces(K, F: np.ndarray, y: np.ndarray, contact: np.ndarray
     `bound` = |G^{-T}| times that, per constraint point.
     """
     contact = np.asarray(contact, dtype=int)
-    K_c = K[contact]
+    sparse = not isinstance(K, np.ndarray)
+    K_c = as_csr(K)[contact] if sparse else K[contact]
     r = np.asarray(K_c @ y - F[contact])
-    n = np.diff(K_c.indptr) + 1 if sp.isspmatrix_csr(K_c) else np.full(len(r), K_c.shape[1] + 1)
+    n = np.diff(K_c.indptr) + 1 if sparse else np.full(len(r), K_c.shape[1] + 1)
     u = np.finfo(float).eps / 2
     gamma = n * u / (1.0 - n * u)
     bound = gamma * (np.asarray(abs(K_c) @ np.abs(y)) + np.abs(F[contact]))

@@ -65,6 +65,7 @@ from functools import lru_cache
 import numpy as np
 
 from .constraints import ContactSolverError, _inverse_map, scaled_problem
+from .csr import distinct
 from .errors import InputError
 
 #: solvers reached without cvxpy
@@ -443,7 +444,7 @@ def warm_start_data(previous, crack: np.ndarray, s: np.ndarray) -> tuple[np.ndar
     old_active[qp.active] = True
     active = np.zeros(len(s), dtype=bool)
     guess = np.zeros(len(s))
-    for k in np.unique(crack):
+    for k in distinct(crack):
         new = np.flatnonzero(crack == k)
         old = np.flatnonzero(qp.crack == k)
         if not len(old):

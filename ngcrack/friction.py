@@ -52,7 +52,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
 from .constraints import ContactSolverError, _inverse_map, faces_closed, scaled_problem
 from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_MAX_ITER, ExchangeRule, QPResult, _limited_blas, spd_solve
@@ -115,10 +114,15 @@ class CrackProblem:
         if self.Gn.shape != (m, m) or self.Gt.shape != (mt, mt) or self.S.shape != (m + mt, m + mt):
             raise ValueError(f"CrackProblem: Gn {self.Gn.shape} and Gt {self.Gt.shape} must be square and S "
                              f"{self.S.shape} of their total size")
+        import scipy.sparse as sp  # (a crack with friction only)
+
+        from .csr import CSR
+
         blocks = []
         for G, k in ((self.Gn, m), (self.Gt, mt)):
             inv = _inverse_map(G, k) if k else None
-            blocks.append(sp.identity(k, format="csr") if inv is None else sp.csr_matrix(inv))
+            blocks.append(sp.identity(k, format="csr") if inv is None
+                          else inv.to_scipy() if isinstance(inv, CSR) else sp.csr_matrix(inv))
         Ginv = sp.block_diag(blocks, format="csr")
         A, c, D = scaled_problem(self.S, self.b, Ginv)
         beta = float(np.max(np.abs(c))) if len(c) else 0.0
@@ -140,7 +144,7 @@ class _PointForm:
     beta: float
     m: int
     p: np.ndarray
-    Ginv: sp.csr_matrix
+    Ginv: object  # a scipy.sparse CSR matrix
     mu_s: np.ndarray  # mu scaled to the units of v: tau = mu_s * lam_n(scaled)
 
 

@@ -27,6 +27,7 @@ from netgen.libngpy import _meshing
 from netgen.meshing import MeshingParameters
 
 from .crack_sides import ON_EDGE_RTOL, crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
+from .csr import distinct
 from .errors import InputError
 from .path_sizes import PathGrading, check_path_grading, grading_points, segment_sizes
 from .scene import Scene
@@ -477,7 +478,7 @@ def element_points(crack_mesh: CrackMesh, lam: np.ndarray) -> np.ndarray | None:
     ne, nk = len(T), len(lam)
     if ne == 0:
         return None
-    probe = np.unique(np.r_[0, ne - 1, np.linspace(0, ne - 1, 7).astype(int)])
+    probe = distinct(np.r_[0, ne - 1, np.linspace(0, ne - 1, 7).astype(int)])
     pts = np.einsum("kv,evd->ekd", lam, P[T[probe]]).reshape(-1, 2)
     found = crack_mesh.mesh(pts[:, 0], pts[:, 1])
     mips = np.zeros(ne * nk, dtype=found.dtype)

@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import ngsolve as ngs
 import numpy as np
-import scipy.sparse as sp
 
+from .csr import CSR
 from .geometry import boundary_region
 from .hybrid import SUPPORT_RTOL
 
@@ -49,7 +49,7 @@ def segment_mean(disc, gf: ngs.GridFunction, label: str, direction) -> float:
     return float(disc.sign * segment_functional(disc, label, direction) @ gf.vec.FV().NumPy())
 
 
-def constraint_rows(disc, held_mean: dict, T: sp.csr_matrix, free: np.ndarray) -> tuple[np.ndarray, list]:
+def constraint_rows(disc, held_mean: dict, T: CSR, free: np.ndarray) -> tuple[np.ndarray, list]:
     """B (k x n) on the condensed unknowns y = the columns of T, and (label, direction) per row."""
     a = disc.a
     rows, names = [], []
@@ -71,8 +71,7 @@ def reactions(disc, gf: ngs.GridFunction, held_mean: dict) -> dict[str, tuple[fl
     condensation is exact), at the cost of a few sparse rows instead of an application of the form."""
     if not held_mean:
         return {}
-    vals, cols, first = disc.a.mat.CSR()
-    A = sp.csr_matrix((np.asarray(vals), np.asarray(cols), np.asarray(first)), shape=(disc.a.mat.height, disc.a.mat.width))
+    A = CSR.from_ngsolve(disc.a.mat)
     fmod = disc.f.vec.CreateVector()
     fmod.data = disc.f.vec
     fmod.data += disc.a.harmonic_extension_trans * disc.f.vec

@@ -31,8 +31,8 @@ from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
-import scipy.sparse as sp
 
+from .csr import CSR
 from .discretization import Discretization, Loads, refuse
 from .parallel import task_manager
 from .schur import SCHUR_BLOCK, Factorization, schur_complement  # noqa: F401  (re-exported)
@@ -52,25 +52,33 @@ def _bits(ba: ngs.BitArray) -> np.ndarray:
     return vals != 0.0
 
 
-def _to_scipy(mat) -> sp.csr_matrix:
-    """NGSolve's sparse matrix as scipy CSR on NGSolve's own arrays (no copy of the
-    values: valid while `mat` lives and is not reassembled)."""
-    vals, cols, first = mat.CSR()
-    return sp.csr_matrix((np.asarray(vals), np.asarray(cols), np.asarray(first)), shape=(mat.height, mat.width), copy=False)
+def _to_scipy(mat):
+    """NGSolve's sparse matrix as scipy CSR on NGSolve's own arrays (imports scipy.sparse)."""
+    return CSR.from_ngsolve(mat).to_scipy()
 
 
-def _congruence(A: sp.csr_matrix, column: np.ndarray, coef: np.ndarray, n: int, sign: float) -> sp.csr_matrix:
+def _congruence(A, column: np.ndarray, coef: np.ndarray, n: int, sign: float) -> CSR:
     """sign T^T A T for a T with at most one entry per row, T[g, column[g]] = coef[g]
-    (column -1: an empty row), in one pass over A's entries (no sparse products)."""
+    (column -1: an empty row), in one pass over A's entries (no sparse products).
+
+    Entries of T^T A T that sum three or more nonzero products (a roller whose normal is
+    not along an axis) are summed by scipy, in its order, as before; an axis-aligned
+    roller's coefficients are 1 and 0, and every other entry has at most two terms.
+    """
     counts = np.diff(A.indptr)
     i, c_i = np.repeat(column, counts), np.repeat(sign * coef, counts)  # per entry, by its row
     j, c_j = column[A.indices], coef[A.indices]
     ok = (i >= 0) & (j >= 0)
     i, j = i[ok], j[ok]
     vals = A.data[ok] * (c_i[ok] * c_j[ok])
-    K = sp.csr_matrix((vals, (i, j)), shape=(n, n))
-    K.sum_duplicates()
-    K.eliminate_zeros()
+    K = CSR.from_triplets(vals, i, j, (n, n), drop_zeros=True)
+    if K is None:
+        import scipy.sparse as sp
+
+        Ks = sp.csr_matrix((vals, (i, j)), shape=(n, n))
+        Ks.sum_duplicates()
+        Ks.eliminate_zeros()
+        K = CSR.from_scipy(Ks)
     return K
 
 
@@ -80,14 +88,17 @@ class CondensedSystem:
 
     `to_global(y)` maps back to the condensed NGSolve unknowns (fixed values included);
     `expand(y)` returns the full NGSolve GridFunction (local unknowns recovered).
+    K and the change of basis T are held as `csr.CSR` (`K_csr`, `_T_csr`: numpy alone,
+    what the 2D solve path uses); `K` and `_T` are the same matrices as scipy.sparse CSR
+    on the same arrays, made on first use (for the paths that need scipy).
     """
 
     disc: Discretization
-    K: sp.csr_matrix
+    K_csr: CSR
     F: np.ndarray
     contact: np.ndarray  # positions of the jn unknowns in y
     rest: np.ndarray  # positions of all other unknowns in y
-    _T: sp.csr_matrix
+    _T_csr: CSR
     _free: np.ndarray
     _fixed: np.ndarray
     _x_fixed: np.ndarray
@@ -101,13 +112,23 @@ class CondensedSystem:
     @property
     def n(self) -> int:
         """The number of global unknowns (after condensation)."""
-        return self.K.shape[0]
+        return self.K_csr.shape[0]
+
+    @property
+    def K(self):
+        """K as a scipy.sparse CSR matrix (on K_csr's arrays; imports scipy.sparse)."""
+        return self.K_csr.to_scipy()
+
+    @property
+    def _T(self):
+        """The change of basis T as a scipy.sparse CSR matrix (imports scipy.sparse)."""
+        return self._T_csr.to_scipy()
 
     def without_contact(self) -> CondensedSystem:
         """The same system with the crack normal jumps treated as ordinary unknowns."""
         return CondensedSystem(
-            disc=self.disc, K=self.K, F=self.F, contact=np.zeros(0, dtype=int), rest=np.arange(self.n),
-            _T=self._T, _free=self._free, _fixed=self._fixed, _x_fixed=self._x_fixed, _fmod=self._fmod,
+            disc=self.disc, K_csr=self.K_csr, F=self.F, contact=np.zeros(0, dtype=int), rest=np.arange(self.n),
+            _T_csr=self._T_csr, _free=self._free, _fixed=self._fixed, _x_fixed=self._x_fixed, _fmod=self._fmod,
             timings=dict(self.timings),
         )
 
@@ -130,8 +151,8 @@ class CondensedSystem:
             disc.boundary_values(gf, loads)
             x_fixed = gf.vec.FV().NumPy()[self._fixed].copy()
             if np.any(x_fixed):
-                rhs -= _to_scipy(a.mat)[self._free][:, self._fixed] @ x_fixed
-        return dataclasses.replace(self, F=disc.sign * (self._T.T @ rhs), _x_fixed=x_fixed, _fmod=fmod,
+                rhs -= CSR.from_ngsolve(a.mat)[self._free][:, self._fixed] @ x_fixed
+        return dataclasses.replace(self, F=disc.sign * (self._T_csr.T @ rhs), _x_fixed=x_fixed, _fmod=fmod,
                                    timings=dict(self.timings))
 
     def expand(self, y: np.ndarray) -> ngs.GridFunction:
@@ -139,7 +160,7 @@ class CondensedSystem:
         gf = ngs.GridFunction(self.disc.fes)
         vec = gf.vec.FV().NumPy()
         vec[:] = 0.0
-        vec[self._free] = self._T @ y
+        vec[self._free] = self._T_csr @ y
         vec[self._fixed] = self._x_fixed
         a = self.disc.a
         with task_manager():
@@ -177,7 +198,7 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
     fmod.data = f.vec
     with task_manager():
         fmod.data += a.harmonic_extension_trans * fmod
-    A = _to_scipy(a.mat)
+    A = CSR.from_ngsolve(a.mat)
     coupling_free = _bits(fes.FreeDofs(True))
     fixed = ~_bits(fes.FreeDofs(False))
     free_idx = np.flatnonzero(coupling_free)
@@ -204,7 +225,7 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
     rows = np.concatenate([keep, [pos[dx] for dx, _, _ in pairs], [pos[dy] for _, dy, _ in pairs]]).astype(int)
     cols = np.concatenate([np.arange(len(keep)), len(keep) + np.arange(len(pairs)), len(keep) + np.arange(len(pairs))]).astype(int)
     vals = np.concatenate([np.ones(len(keep)), [-nrm[1] for *_, nrm in pairs], [nrm[0] for *_, nrm in pairs]])
-    T = sp.csr_matrix((vals, (rows, cols)), shape=(len(free_idx), n_red))
+    T = CSR.from_triplets(vals, rows, cols, (len(free_idx), n_red))  # one entry per row: never None
     # T has at most one entry per row: the column and coefficient of each NGSolve dof
     column = np.full(fes.ndof, -1, dtype=np.int64)
     coef = np.zeros(fes.ndof)
@@ -242,20 +263,20 @@ def condense(disc: Discretization, loads: Loads, tangential: bool = False) -> Co
         B, names = disc.held_mean_rows(loads.held_mean, T, free_idx)
         held = eliminate(B, names, contact)
         Z = held.Z
-        K = sp.csr_matrix(Z.T @ K @ Z)
+        K = CSR.from_scipy(Z.T @ K.to_scipy() @ Z)
         F = Z.T @ F
-        T = sp.csr_matrix(T @ Z)
+        T = CSR.from_scipy(T.to_scipy() @ Z)
         contact = held.position[contact]
         n_red = Z.shape[1]
     mask = np.ones(n_red, dtype=bool)
     mask[contact] = False
     return CondensedSystem(
         disc=disc,
-        K=K,
+        K_csr=K,
         F=F,
         contact=contact,
         rest=np.flatnonzero(mask),
-        _T=T,
+        _T_csr=T,
         _free=free_idx,
         _fixed=fixed_idx,
         _x_fixed=x_fixed,
@@ -284,13 +305,13 @@ class ContactReduction:
     timings: dict = field(default_factory=dict)
     method: str = "none"
     largest_dense: int = 0
-    _K_rc: sp.csr_matrix | None = field(default=None, repr=False)  # K[rest][:, contact], sliced once
+    _K_rc: CSR | None = field(default=None, repr=False)  # K[rest][:, contact], sliced once
 
-    def coupling(self) -> sp.csr_matrix:
+    def coupling(self) -> CSR:
         """K_rc = K[rest][:, contact], sliced on first use and kept (shared by `with_load`)."""
         if self._K_rc is None:
             sysm = self.system
-            self._K_rc = sp.csr_matrix(sysm.K[sysm.rest][:, sysm.contact])
+            self._K_rc = sysm.K_csr[sysm.rest][:, sysm.contact]
         return self._K_rc
 
     def with_load(self, system: CondensedSystem) -> ContactReduction:
@@ -299,7 +320,7 @@ class ContactReduction:
         One solve: x0 = K_rr^{-1} F_r and b = F_c - K_cr x0; S, the factorization and
         the method are shared. Timings: "factorize" and "schur" 0 (reused), "solve".
         """
-        if system.K is not self.system.K or not np.array_equal(system.contact, self.system.contact):
+        if system.K_csr is not self.system.K_csr or not np.array_equal(system.contact, self.system.contact):
             raise ValueError("with_load: the system has another matrix or other crack unknowns; use reduce_to_contact")
         t0 = time.perf_counter()
         x0 = self.factorization.solve(system.F[system.rest])
@@ -338,7 +359,7 @@ def reduce_to_contact(system: CondensedSystem, linear_solver: str = "auto", schu
         method, m_contact = "auto", np.zeros(0, dtype=int)
     else:
         method, m_contact = ("auto" if schur is True else schur), system.contact
-    data = schur_complement(system.K, system.F, system.rest, m_contact, linear_solver=linear_solver,
+    data = schur_complement(system.K_csr, system.F, system.rest, m_contact, linear_solver=linear_solver,
                             method=method if len(m_contact) else "blocked" if method == "factor" else method,
                             definite=system.disc.definite)
     if schur is False or not len(m_contact):
@@ -351,7 +372,7 @@ def reduce_to_contact(system: CondensedSystem, linear_solver: str = "auto", schu
 class MeanConstraints:
     """y = Z z: `Z` (n x (n - k)), `position` the new index of every old unknown (-1: a pivot)."""
 
-    Z: sp.csr_matrix
+    Z: object  # a scipy.sparse CSR matrix
     position: np.ndarray
     rows: list  # (label, direction) of each constraint
 
@@ -382,5 +403,7 @@ def eliminate(B: np.ndarray, names: list, protected: np.ndarray) -> MeanConstrai
     r = np.concatenate([kept, np.repeat(pivots, len(others))])
     c = np.concatenate([np.arange(len(kept)), np.tile(position[others], k)])
     v = np.concatenate([np.ones(len(kept)), coef.ravel()])
+    import scipy.sparse as sp
+
     Z = sp.csr_matrix((v, (r, c)), shape=(n, len(kept)))
     return MeanConstraints(Z=Z, position=position, rows=names)

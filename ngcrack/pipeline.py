@@ -245,7 +245,7 @@ def relative_residual(system: CondensedSystem, x_rest: np.ndarray) -> float:
     forward residual that tells: about eps cond(D K_rr D) for a regular system, O(1)
     for a singular one.
     """
-    r, K = system.rest, system.K
+    r, K = system.rest, system.K_csr
     y = np.zeros(system.n)
     y[r] = x_rest  # K_rr x_rest = (K y)_r with y_c = 0, without copying K_rr
     diag = np.abs(K.diagonal()[r])
@@ -363,7 +363,7 @@ class Pipeline:
         """The factorization of K_rr and the Schur complement on the crack unknowns, cached per layout."""
         key = (options.reduction_key, len(system.contact), system.n_normal)
         cached = self._reductions.get(key)
-        if cached is not None and cached.system.K is system.K and np.array_equal(cached.system.contact, system.contact):
+        if cached is not None and cached.system.K_csr is system.K_csr and np.array_equal(cached.system.contact, system.contact):
             self.redone.append("one solve (factorization and S reused)")
             return cached.with_load(system)
         linear_solver, schur = options.reduction_key
@@ -457,7 +457,7 @@ class Pipeline:
 
     def _reduce(self, system: CondensedSystem, options: SolveOptions, case: str) -> ContactReduction:
         """The reduction stage with its checks: a finite system, a regular factorization, a finite solve."""
-        if not (np.all(np.isfinite(system.K.data)) and np.all(np.isfinite(system.F))):
+        if not (np.all(np.isfinite(system.K_csr.data)) and np.all(np.isfinite(system.F))):
             raise SolveError(f"{case}: the assembled system has non-finite entries (check the loads and material data)")
         try:
             red = self.reduction(system, options)

@@ -14,6 +14,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .constraints import CLOSED_RTOL, faces_closed
+from .csr import distinct
 from .elements.facets import endpoint_map, facet_basis, facet_moments  # noqa: F401  (re-exported)
 from .geometry import CrackEdges, CrackMesh
 
@@ -184,7 +185,7 @@ def _component_rows(system, comp: int) -> tuple[np.ndarray, np.ndarray]:
     rng = fes.Range(comp)
     free_pos = -np.ones(fes.ndof, dtype=int)
     free_pos[system._free] = np.arange(len(system._free))
-    T = system._T.tocsr()
+    T = system._T_csr
     dofs, rows = [], []
     for d in range(rng.start, rng.stop):
         p = free_pos[d]
@@ -217,7 +218,7 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) 
         if comp is None or key in skip:
             continue
         if r is None:
-            r = np.asarray(system.K @ y - system.F)
+            r = np.asarray(system.K_csr @ y - system.F)
         space = disc.fes.components[comp]
         dofs, rows = _component_rows(system, comp)
         u, v = space.TnT()
@@ -230,7 +231,7 @@ def consistent_tractions(system, y: np.ndarray, crack_mesh: CrackMesh, skip=()) 
         # M t = rhs on the traces' unknowns (M's nonzero diagonal), by NGSolve's sparse Cholesky
         rows_, cols_, vals_ = m.mat.COO()
         rows_, cols_, vals_ = np.asarray(rows_), np.asarray(cols_), np.asarray(vals_)
-        on = np.unique(rows_[(rows_ == cols_) & (np.abs(vals_) > 0)])
+        on = distinct(rows_[(rows_ == cols_) & (np.abs(vals_) > 0)])
         free = ngs.BitArray(space.ndof)
         free.Clear()
         for d in on:
@@ -262,7 +263,7 @@ def component_forces(system, y: np.ndarray, comp: int, G) -> np.ndarray:
     rng = system.disc.fes.Range(comp)
     dofs, rows = _component_rows(system, comp)
     res = np.zeros(rng.stop - rng.start)
-    res[dofs] = np.asarray(system.K[rows] @ y - system.F[rows]).ravel()
+    res[dofs] = np.asarray(system.K_csr[rows] @ y - system.F[rows]).ravel()
     Ginv = _inverse_map(G, len(res))
     return res if Ginv is None else np.asarray(Ginv.T @ res).ravel()
 

@@ -56,8 +56,8 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
-import scipy.sparse as sp
 
+from .csr import CSR, as_csr, to_scipy
 from .errors import InputError
 
 #: columns of K_rc solved at once when forming the Schur complement ("blocked")
@@ -155,13 +155,13 @@ class _Pardiso:
     returned densely (`self.S`) and the partial factor solves with the other block.
     """
 
-    def __init__(self, K: sp.spmatrix, mtype: int = _SPD, schur: np.ndarray | None = None):
+    def __init__(self, K, mtype: int = _SPD, schur: np.ndarray | None = None):
         lib = _mkl()
         if lib is None:
             raise LinearSolverError("linear_solver = 'pardiso' needs MKL (pip install mkl)")
         self._fn = lib.pardiso_64
-        A = sp.triu(K, format="csr") if mtype == _SPD else sp.csr_matrix(K)
-        A.sort_indices()
+        K = as_csr(K).canonical()  # K (a CSR or scipy matrix): columns increasing in each row, no duplicates
+        A = K.triu() if mtype == _SPD else K
         self.n = A.shape[0]
         self.mtype = mtype
         self.a = np.ascontiguousarray(A.data, dtype=np.float64)
@@ -246,7 +246,7 @@ class Factorization:
 
     BACKENDS = LINEAR_SOLVERS
 
-    def __init__(self, K: sp.spmatrix, backend: str = "auto", definite: bool = True):
+    def __init__(self, K, backend: str = "auto", definite: bool = True):
         if backend not in self.BACKENDS:
             raise InputError(f"linear_solver = {backend!r}: allowed values are {', '.join(self.BACKENDS)}")
         if backend == "auto":
@@ -257,6 +257,10 @@ class Factorization:
         if self.n == 0:
             self._solve = lambda b: np.zeros_like(b)
             return
+        if backend not in ("pardiso",):  # the other solvers take scipy's matrices
+            import scipy.sparse as sp
+
+            K = to_scipy(K)
         if backend == "superlu":
             import scipy.sparse.linalg as spla  # (with scipy.linalg: loaded only where used)
 
@@ -322,7 +326,7 @@ class _PartialFactorization(Factorization):
         self.S = S
 
 
-def _pardiso_schur(K: sp.csr_matrix, rest: np.ndarray, contact: np.ndarray) -> _PartialFactorization:
+def _pardiso_schur(K: CSR, rest: np.ndarray, contact: np.ndarray) -> _PartialFactorization:
     """S from MKL PARDISO's partial factorization of K with the crack unknowns last."""
     p = _Pardiso(K, _SPD, schur=contact)
     # the partial factor solves in the original order of the unknowns, which is K_rr's
@@ -332,9 +336,12 @@ def _pardiso_schur(K: sp.csr_matrix, rest: np.ndarray, contact: np.ndarray) -> _
     return _PartialFactorization("pardiso", p.solve, np.array(p.S), len(rest))
 
 
-def _superlu_schur(K: sp.csr_matrix, rest: np.ndarray, contact: np.ndarray, fac: Factorization) -> np.ndarray | None:
+def _superlu_schur(K, rest: np.ndarray, contact: np.ndarray, fac: Factorization) -> np.ndarray | None:
     """S = L_cc U_cc from SuperLU on K reordered as (K_rr's fill-reducing order, c); None if SuperLU pivoted."""
+    import scipy.sparse as sp
     import scipy.sparse.linalg as spla
+
+    K = to_scipy(K)
 
     nr = len(rest)
     order = np.concatenate([rest[np.argsort(fac.lu.perm_c)], contact])
@@ -382,14 +389,15 @@ def resolve_method(method: str, linear_solver: str, definite: bool) -> tuple[str
     return solver, method
 
 
-def schur_complement(K: sp.spmatrix, F: np.ndarray, rest: np.ndarray, contact: np.ndarray,
+def schur_complement(K, F: np.ndarray, rest: np.ndarray, contact: np.ndarray,
                      linear_solver: str = "auto", method: str = "auto", definite: bool = True) -> SchurData:
     """Factorize K_rr and form S and b on the unknowns `contact` (module docstring).
 
-    Timings: "factorize" (for "factor" it includes S, which comes out of the same
-    factorization), "solve" (x0 and b) and "schur" (the extra work for S).
+    K is a `csr.CSR` or a scipy.sparse matrix. Timings: "factorize" (for "factor" it
+    includes S, which comes out of the same factorization), "solve" (x0 and b) and
+    "schur" (the extra work for S).
     """
-    K = sp.csr_matrix(K)
+    K = as_csr(K)
     solver, method = resolve_method(method, linear_solver, definite)
     m = len(contact)
     t0 = time.perf_counter()
@@ -405,15 +413,17 @@ def schur_complement(K: sp.spmatrix, F: np.ndarray, rest: np.ndarray, contact: n
     t2 = time.perf_counter()
     largest = m * m
     if m and S is None:
+        import scipy.sparse as sp  # (a partial factorization without PARDISO, or blocked solves)
+
         K_cc = K[contact][:, contact].toarray()
-        K_cr = sp.csr_matrix(K[contact][:, rest])
+        K_cr = K[contact][:, rest].to_scipy()
         if method == "factor":  # superlu
             S = _superlu_schur(K, rest, contact, fac)
             if S is None:
                 warnings.warn("SuperLU pivoted in the partial factorization; forming S by blocked solves", stacklevel=2)
                 method = "blocked"
         if S is None:
-            K_rc = sp.csc_matrix(K[rest][:, contact])
+            K_rc = sp.csc_matrix(K[rest][:, contact].to_scipy())
             block = SCHUR_BLOCK if method == "blocked" else 1
             S = np.empty((m, m))
             for start in range(0, m, block):

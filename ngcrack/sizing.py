@@ -354,22 +354,51 @@ class ThinPart:
 def local_size(scene, points: np.ndarray, maxh=None, tip_h=None, crack_h=None, grading=None) -> np.ndarray:
     """The mesh size netgen aims at at `points` (N, 2): min(H, h_f + g d_f) over the crack
     segments (h_f = crack_h) and the crack ends (h_f = tip_h), as in `estimate_triangles`."""
-    import shapely
-
     H, tip, ch, g = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     h = np.full(len(points), H)
-    pts = shapely.points(points)
     for hole in scene.holes:
         if hole.edge_h < H:
-            ring = shapely.LinearRing(hole.loop(HOLE_PIECES))
-            h = np.minimum(h, hole.edge_h + g * shapely.distance(pts, ring))
+            loop = np.asarray(hole.loop(HOLE_PIECES), dtype=float)
+            h = np.minimum(h, hole.edge_h + g * _polyline_distance(points, np.vstack([loop, loop[:1]])))
     for crack in scene.cracks:
         if ch and ch < H:
-            h = np.minimum(h, ch + g * shapely.distance(pts, shapely.LineString(crack.points)))
+            h = np.minimum(h, ch + g * _polyline_distance(points, np.asarray(crack.points, dtype=float)))
         if tip:
             for end in (crack.points[0], crack.points[-1]):
                 h = np.minimum(h, tip + g * np.linalg.norm(points - np.asarray(end), axis=1))
     return h
+
+
+def _polyline_distance(points: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """The distance of each point to the polyline (GEOS's numbers: shapely's on many pairs)."""
+    from .scene.measures import point_segment_distances
+    from .scene.planar import BRUTE_FORCE_PAIRS
+
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    if len(points) * (len(line) - 1) > BRUTE_FORCE_PAIRS:
+        import shapely
+
+        return shapely.distance(shapely.points(points), shapely.LineString(line))
+    rows = max(1, BRUTE_FORCE_PAIRS // max(len(line) - 1, 1))
+    return np.concatenate([point_segment_distances(points[i:i + rows, None], line[None, :-1], line[None, 1:]).min(axis=1)
+                           for i in range(0, len(points), rows)] or [np.zeros(0)])
+
+
+def _rays_hitting(X0: np.ndarray, X1: np.ndarray, A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs (ray i, wall segment j) where the segment X0[i]-X1[i] meets A[j]-B[j]."""
+    from .scene.measures import segment_distances
+    from .scene.planar import BRUTE_FORCE_PAIRS
+
+    if len(X0) * len(A) > BRUTE_FORCE_PAIRS:  # shapely's spatial index
+        import shapely
+
+        rays = shapely.linestrings(np.stack([X0, X1], axis=1))
+        return shapely.STRtree(shapely.linestrings(np.stack([A, B], axis=1))).query(rays, predicate="intersects")
+    rows = max(1, BRUTE_FORCE_PAIRS // max(len(A), 1))
+    hits = [np.nonzero(segment_distances(X0[i:i + rows, None], X1[i:i + rows, None], A[None], B[None]) == 0.0)
+            for i in range(0, len(X0), rows)]
+    return (np.concatenate([r + i * rows for i, (r, _) in enumerate(hits)]).astype(int),
+            np.concatenate([c for _, c in hits]).astype(int))
 
 
 def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> ThinPart | None:
@@ -381,11 +410,9 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
     counts by the median over its samples in the middle half of its length (so the wedge
     at an acute corner is not a thin part); the least over the pieces is returned. A
     one-layer strip is about 1.15 across (a layer of triangles of side h is 0.87 h high).
-    The rays are cast together through an STRtree of the walls; of more than
-    MAX_RAY_PIECES pieces, every k-th casts rays.
+    The rays are cast together (through shapely's STRtree of the walls where there are
+    many); of more than MAX_RAY_PIECES pieces, every k-th casts rays.
     """
-    import shapely
-
     holes = scene.holes
     chains = [list(scene.polygon) + [scene.polygon[0]]]
     chains += [list(h.loop(HOLE_PIECES)) + [h.loop(HOLE_PIECES)[0]] for h in holes]
@@ -413,8 +440,7 @@ def thinnest_part(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> T
     # every ray, piece by piece: from x = p + t d along the inward normal, to the first wall hit
     X = (P0[:, None, :] + ts[None, :, None] * D[:, None, :]).reshape(-1, 2)
     N = np.repeat(Nn, len(ts), axis=0)
-    rays = shapely.linestrings(np.stack([X + 1e-9 * reach * N, X + reach * N], axis=1))
-    ray_i, seg_j = shapely.STRtree(shapely.linestrings(np.stack([A, B], axis=1))).query(rays, predicate="intersects")
+    ray_i, seg_j = _rays_hitting(X + 1e-9 * reach * N, X + reach * N, A, B)
     width = np.full(len(X), np.inf)
     if len(ray_i):
         e = B[seg_j] - A[seg_j]

@@ -84,10 +84,15 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
             raise InputError(f"{given[0]}: not available for a 3D scene yet; give the options as keywords")
         if crack_mesh is not None:
             changes["smesh"] = crack_mesh
-        from .distributed import NOT_3D, active, refuse
+        from .distributed import active
 
-        if active():
-            refuse(NOT_3D)
+        if active():  # under mpiexec -n N, N > 1: one solve over the ranks (None on ranks > 0)
+            if pipeline is not None or crack_mesh is not None:
+                raise InputError(f"{'pipeline' if pipeline is not None else 'crack_mesh'}: not available in a "
+                                 "distributed solve (mpiexec -n N, N > 1)")
+            from .distributed.solid import solve_scene
+
+            return solve_scene(scene, **({"element": element} if element is not None else {}), **changes)
         return solve_solid(scene, element=element, pipeline=pipeline, **changes)
     if element is not None:
         changes["element"] = element

@@ -157,7 +157,7 @@ def condition_estimates(red: ContactReduction) -> dict:
     import scipy.sparse.linalg as spla
 
     sysm = red.system
-    K_rr = sysm.K[sysm.rest][:, sysm.rest]
+    K_rr = sysm.K_csr[sysm.rest][:, sysm.rest].to_scipy()
     n = K_rr.shape[0]
     diag = np.abs(K_rr.diagonal())
     d = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
@@ -187,7 +187,7 @@ def constraint_kkt(system: CondensedSystem, y: np.ndarray, contact: np.ndarray, 
     if G is None or not len(contact):
         return kkt_at_constraints(np.zeros(0), np.zeros(0), 0.0), None
     w = G @ y[contact]
-    forces, bound = discrete_contact_forces(system.K, system.F, y, contact, G)
+    forces, bound = discrete_contact_forces(system.K_csr, system.F, y, contact, G)
     jump_max = max(float(np.max(np.abs(w))), sampled_jump)
     kkt = kkt_at_constraints(w, forces, jump_max, jump_scale=u_scale, force_scale=sigma_scale * length, lam_bound=bound)
     return kkt, forces

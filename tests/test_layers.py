@@ -18,7 +18,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundations", ("materials", "memory", "parallel", "quadrature", "schur", "constraints", "contact",
+    ("foundations", ("materials", "memory", "parallel", "quadrature", "csr", "schur", "constraints", "contact",
                      "files", "errors", "extras", "element_names", "solid", "solid.contact", "solid.friction")),
     ("scene", ("scene", "scenes", "references", "sizing", "path_sizes", "solid.scene")),
     ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
@@ -204,7 +204,7 @@ TWO_D = ("scene", "scenes", "references", "sizing", "quadrature", "materials", "
 #: the modules that must stay free of any 2D assumption: the element's protocol, the
 #: condensed system and the reduction, the crack problem (QP, friction), the KKT residuals,
 #: the stages, the options and the solution
-DIMENSION_FREE = ("errors", "memory", "parallel", "files", "constraints", "contact", "schur", "element_names",
+DIMENSION_FREE = ("errors", "memory", "parallel", "files", "csr", "constraints", "contact", "schur", "element_names",
                   "discretization", "hybrid", "friction", "friction_setup", "stages", "options", "solution")
 
 class _WithoutTypeChecking:

@@ -187,14 +187,6 @@ def test_mpi_missing_is_one_line():
     assert len(lines) == 1 and "ngcrack[mpi]" in lines[0], proc.stderr
 
 
-def test_3d_scene_is_one_line():
-    """A 3D scene under mpiexec is refused (not solved on every rank alone): one line from rank 0."""
-    proc = _run(["-m", "ngcrack.cli", "solve", "penny", "--maxh", "0.5"])
-    assert proc.returncode != 0
-    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
-    assert len(lines) == 1 and "3D scene is not distributed" in lines[0], proc.stderr
-
-
 def test_unsupported_element_is_one_line():
     """A displacement element is refused alike on every rank: one line from rank 0, no abort."""
     proc = _run(["-m", "ngcrack.cli", "solve", "griffith", "--element", "h1p1"])

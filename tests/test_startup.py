@@ -1,9 +1,11 @@
 """What `import ngcrack`, `ngcrack --help` and a solve load: sets of modules, not times.
 
 `import ngcrack` imports its public names on first use (PEP 562), so the package alone
-loads nothing but itself; the command line's parser loads no numerics; a solve loads
-NGSolve, numpy, scipy and shapely but none of the optional parts (pandas, widgets,
-cvxpy, meshio, dask, jupytext, matplotlib). benchmarks/startup.py prints the times.
+loads nothing but itself; the command line's parser loads no numerics; a plain 2D solve
+loads NGSolve and numpy but none of the optional parts (pandas, widgets, cvxpy, meshio,
+dask, jupytext, matplotlib), nor scipy.sparse (its condensed system is `ngcrack.csr`,
+numpy alone) nor shapely (the scene's planar checks). benchmarks/startup.py prints the
+times.
 """
 
 from __future__ import annotations
@@ -49,12 +51,24 @@ def test_the_command_line_parser_loads_no_numerics():
 def test_a_solve_loads_no_optional_part():
     loaded = _loaded("import ngcrack as nc; sol = nc.solve('griffith', maxh=4, tip_h=0.05, crack_h=0.2); sol.tips; "
                      "sol.crack_profiles(); sol.error_estimate")
-    assert {"ngsolve", "numpy", "scipy", "shapely"} <= _top(loaded)
+    assert {"ngsolve", "numpy"} <= _top(loaded)
     assert not _top(loaded) & NOT_FOR_A_SOLVE
     assert not {"ngcrack.explorer", "ngcrack.sweeps", "ngcrack.growth", "ngcrack.paper", "ngcrack.plots"} & loaded
-    # scipy.linalg loads its own BLAS (0.05-0.09 s of CPU): only friction, point supports,
-    # superlu and large dense QPs need it
-    assert not {"scipy.linalg", "scipy.sparse.linalg", "scipy.sparse.csgraph", "threadpoolctl"} & loaded
+    # scipy.sparse costs 0.08-0.11 s of CPU at import (scipy 1.17 builds an array-API copy
+    # of numpy, loading numpy.f2py and numpy.testing), scipy.linalg loads its own BLAS: only
+    # friction, point supports, superlu, large dense QPs and the 3D paths need scipy
+    assert not {"scipy", "shapely"} & _top(loaded)
+    assert not {m for m in loaded if m.startswith(("numpy.f2py", "numpy.testing"))}
+
+
+def test_a_plain_griffith_solve_loads_neither_scipy_sparse_nor_shapely():
+    """What the command-line user's cheapest griffith run loads (the peer benchmark's first
+    mesh): scipy.sparse and shapely cost 0.09-0.13 s of CPU at import together, as much as
+    the solve; numpy.ma (0.02 s, loaded by np.unique) is not needed either."""
+    loaded = _loaded("import ngcrack as nc; nc.solve('griffith', maxh=4, crack_h=0.5, tip_h=0.005, grading=0.5, "
+                     "order=2)")
+    assert not {"scipy", "shapely"} & _top(loaded)
+    assert not {"numpy.ma", "numpy.f2py", "numpy.testing", "numpy.random"} & loaded
 
 
 def test_the_solve_command_loads_no_sweeps(tmp_path):

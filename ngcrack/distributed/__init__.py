@@ -36,8 +36,6 @@ from ..errors import InputError
 SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MPI_LOCALNRANKS", "PMIX_SIZE")
 #: and its rank
 RANK_VARIABLES = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "MPI_LOCALRANKID", "PMIX_RANK")
-#: what a 3D scene under mpiexec is told
-NOT_3D = "dim: a 3D scene is not distributed yet; run it without mpiexec"
 
 
 class MPIUnavailable(InputError):

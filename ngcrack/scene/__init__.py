@@ -10,7 +10,8 @@ A :class:`Scene` is plain, immutable data. It is validated completely when it is
 before any meshing, so no invalid Scene can exist: every bad field raises
 :class:`SceneError` (a ``ValueError``) with a one-line message naming the field and
 what is allowed. The package is pure geometry (its predicates and distances are
-shapely's): it imports neither ngsolve nor netgen.
+GEOS's formulas on numpy, shapely only for large or holed scenes): it imports neither
+ngsolve nor netgen.
 
 Modules, lowest first (each imports only those above it):
 

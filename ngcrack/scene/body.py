@@ -15,10 +15,12 @@ import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import shapely
+
+if TYPE_CHECKING:
+    import shapely
 
 from . import toml as _toml
 from .fields import (
@@ -341,6 +343,8 @@ class Scene:
     def region(self) -> shapely.Polygon:
         """The body as a shapely Polygon: the domain with the holes cut out (a circle as
         its inscribed polygon of CIRCLE_SEGMENTS sides). Cracks are not part of it."""
+        import shapely
+
         return shapely.Polygon(self.polygon, [h.loop() for h in self.holes])
 
     @property

@@ -24,11 +24,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import shapely
 
 from .fields import SceneError, check_keys, fmt, fmt_pt, pair, points, positive, short
 from .measures import Point, diameter, point_segment_distance, signed_area
-from .planar import MIN_GAP_RTOL, Walls, check_polyline_simple
+from .planar import MIN_GAP_RTOL, Walls, check_polyline_simple, pairs_within
 from .types import MAX_SCALE, MIN_SIZE_RTOL, RESERVED_LABEL_PREFIX
 
 __all__ = ["CIRCLE_SEGMENTS", "MAX_HOLES", "Hole", "check_holes"]
@@ -192,8 +191,7 @@ def make_hole(raw: Any, k: int, tol: float) -> Hole:
 
 def _crosses(walls: Walls, loop: np.ndarray, tol: float) -> bool:
     """True if an edge of the closed ``loop`` comes within ``tol`` of an edge of ``walls``."""
-    lines = shapely.linestrings(np.stack([loop, np.roll(loop, -1, axis=0)], axis=1))
-    return bool(walls.tree.query(lines, predicate="dwithin", distance=tol).size)
+    return bool(pairs_within((loop, np.roll(loop, -1, axis=0)), walls.A, walls.B, tol).size)
 
 
 def check_holes(raw: Any, outer: Walls, diam: float, tol: float) -> tuple[Hole, ...]:
@@ -221,6 +219,10 @@ def check_holes(raw: Any, outer: Walls, diam: float, tol: float) -> tuple[Hole, 
                      else f"vertex {int(np.argmin(inside))} {fmt_pt(loop[int(np.argmin(inside))])}")
             raise SceneError(f"{fld}: the hole ({where}) is not strictly inside domain.polygon; a "
                              f"hole must lie inside the body without touching its boundary")
+        if len(holes) == 1:
+            break
+        import shapely  # (a scene with two holes or more)
+
         shape = shapely.Polygon(loop)
         for j, other in enumerate(shapes):
             if shape.distance(other) <= tol:

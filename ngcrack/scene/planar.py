@@ -3,9 +3,12 @@
 A polygon must be simple, a crack must not touch itself, lie inside the body (its end
 points may lie on the boundary) and keep clear of every other crack; no part of the body
 may be thinner than the mesher can resolve. Each check refuses with a :class:`SceneError`
-naming the field, the segments and the points involved. The predicates and distances
-are shapely's; every search goes through a spatial index (shapely's STRtree), so the
-checks cost about O(n log n) in the number of vertices, not O(n^2).
+naming the field, the segments and the points involved. The distances are GEOS's
+formulas on numpy (`measures`: shapely's numbers bit for bit). A small scene (up to
+BRUTE_FORCE_PAIRS pairs of segments or points) compares every pair on numpy and does
+not import shapely (0.01-0.02 s of CPU); a larger one searches through shapely's
+spatial index (an STRtree), so the checks cost about O(n log n) in the number of
+vertices, not O(n^2).
 
 Tolerances: ``tol`` (``GEOMETRY_RTOL * diameter``) decides "the same point", "on the
 boundary", "touches"; the gap check uses the coarser ``MIN_GAP_RTOL * diameter``.
@@ -18,10 +21,9 @@ import itertools
 from collections.abc import Sequence
 
 import numpy as np
-import shapely
 
 from .fields import SceneError, fmt, fmt_pt
-from .measures import Point, dist
+from .measures import Point, dist, in_region, point_segment_distances, segment_distances
 
 #: Narrowest gap of the body, relative to its diameter, that is accepted: two boundary
 #: or crack pieces closer than ``MIN_GAP_RTOL * diameter`` (a needle spike, a crack
@@ -34,6 +36,11 @@ MIN_GAP_RTOL = 1e-3
 #: is longer than ``GAP_PATH_FACTOR`` times its width: so a short edge, or a corner
 #: sharper than ``asin(1 / GAP_PATH_FACTOR)`` (5.7 degrees) only near its vertex, is not one.
 GAP_PATH_FACTOR = 10.0
+#: up to this many pairs (of segments, or of points and segments) a search compares every
+#: pair on numpy; above, it goes through shapely's STRtree
+BRUTE_FORCE_PAIRS = 200_000
+#: rows of a pairwise comparison at a time
+_ROWS = 256
 
 
 def _segments(pts: Sequence[Point], closed: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -42,17 +49,37 @@ def _segments(pts: Sequence[Point], closed: bool) -> tuple[np.ndarray, np.ndarra
     return P[:m], P[(np.arange(m) + 1) % len(P)]
 
 
-def _lines(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+def _lines(A: np.ndarray, B: np.ndarray):
+    import shapely
+
     return shapely.linestrings(np.stack([A, B], axis=1))
 
 
-def _pairs_within(tree: shapely.STRtree, geoms, distance: float) -> np.ndarray:
-    """(k, 2) index pairs (input, tree) of geometries within ``distance``, sorted."""
-    hits = tree.query(geoms, predicate="dwithin", distance=distance)
+def _sorted_pairs(hits: np.ndarray) -> np.ndarray:
     if hits.size == 0:
         return np.zeros((0, 2), dtype=int)
-    hits = hits.T
     return hits[np.lexsort((hits[:, 1], hits[:, 0]))]
+
+
+def pairs_within(first, A: np.ndarray, B: np.ndarray, distance: float) -> np.ndarray:
+    """(k, 2) index pairs (i, j), sorted, of the items of `first` within ``distance`` of the
+    segments A[j]-B[j]: `first` is a pair (C, D) of segment ends or an array of points."""
+    segments = isinstance(first, tuple)
+    n = len(first[0]) if segments else len(first)
+    if n * len(A) > BRUTE_FORCE_PAIRS:  # shapely's spatial index
+        import shapely
+
+        geoms = _lines(*first) if segments else shapely.points(np.asarray(first, dtype=float).reshape(-1, 2))
+        return _sorted_pairs(shapely.STRtree(_lines(A, B)).query(geoms, predicate="dwithin", distance=distance).T)
+    out = []
+    for i in range(0, n, _ROWS):
+        if segments:
+            d = segment_distances(first[0][i:i + _ROWS, None], first[1][i:i + _ROWS, None], A[None], B[None])
+        else:
+            d = point_segment_distances(np.asarray(first, dtype=float)[i:i + _ROWS, None], A[None], B[None])
+        r, c = np.nonzero(d <= distance)
+        out.append(np.stack([r + i, c], axis=1))
+    return _sorted_pairs(np.concatenate(out) if out else np.zeros((0, 2), dtype=int))
 
 
 def check_polyline_simple(pts: Sequence[Point], fld: str, tol: float, closed: bool,
@@ -72,8 +99,7 @@ def check_polyline_simple(pts: Sequence[Point], fld: str, tol: float, closed: bo
             f"has zero length; consecutive points must differ"
             + ("; do not repeat the first vertex at the end (the polygon closes "
                "itself)" if closed and j == 0 else ""))
-    lines = _lines(A, B)
-    for i, j in _pairs_within(shapely.STRtree(lines), lines, tol):
+    for i, j in pairs_within((A, B), A, B, tol):
         if j <= i:
             continue
         adjacent = j == i + 1 or (closed and i == 0 and j == m - 1)
@@ -81,8 +107,8 @@ def check_polyline_simple(pts: Sequence[Point], fld: str, tol: float, closed: bo
             # shared point: p2 == q1 (or q2 == p1 when closing the loop); the two
             # segments may only meet there, so neither far end may touch the other
             far_a, far_b = (A[i], B[j]) if j == i + 1 else (B[i], A[j])
-            bad = (shapely.distance(shapely.Point(far_a), lines[j]) <= tol
-                   or shapely.distance(shapely.Point(far_b), lines[i]) <= tol)
+            bad = (point_segment_distances(far_a, A[j], B[j]) <= tol
+                   or point_segment_distances(far_b, A[i], B[i]) <= tol)
         else:
             bad = True
         if bad:
@@ -112,33 +138,56 @@ class Walls:
             owner += [(li, e) for e in range(len(a))]
         self.A, self.B = np.concatenate(A), np.concatenate(B)
         self.owner = owner
-        self.lines = _lines(self.A, self.B)
-        self.tree = shapely.STRtree(self.lines)
-        outer, *holes = [pts for pts, _, _ in self.loops]
-        self.region = shapely.Polygon(outer, holes)
-        shapely.prepare(self.region)
+        self._tree = None
+
+    def _small(self, k: int) -> bool:
+        return k * len(self.A) <= BRUTE_FORCE_PAIRS
+
+    @property
+    def tree(self):
+        """shapely's STRtree of the edges (made on first use: large scenes only)."""
+        if self._tree is None:
+            import shapely
+
+            self._tree = shapely.STRtree(_lines(self.A, self.B))
+        return self._tree
 
     def edge_name(self, k: int) -> str:
         li, e = self.owner[k]
         _, labels, fld = self.loops[li]
         return f"edge {e} {labels[e]!r} of {fld}"
 
+    def _distances(self, P: np.ndarray) -> np.ndarray:
+        return point_segment_distances(P[:, None], self.A[None], self.B[None])
+
     def distance(self, P: np.ndarray) -> np.ndarray:
         """Distance of each point (k, 2) to the nearest boundary edge."""
         P = np.asarray(P, dtype=float).reshape(-1, 2)
+        if self._small(len(P)):
+            return self._distances(P).min(axis=1)
+        import shapely
+
         _, d = self.tree.query_nearest(shapely.points(P), return_distance=True, all_matches=False)
         return d
 
     def nearest_edge(self, P: np.ndarray) -> np.ndarray:
         """Index (into the edges) of the boundary edge nearest to each point."""
-        idx = self.tree.query_nearest(shapely.points(np.asarray(P, float).reshape(-1, 2)),
-                                      all_matches=False)
-        return idx[1]
+        P = np.asarray(P, dtype=float).reshape(-1, 2)
+        if self._small(len(P)):
+            return self._distances(P).argmin(axis=1)
+        import shapely
+
+        return self.tree.query_nearest(shapely.points(P), all_matches=False)[1]
 
     def inside(self, P: np.ndarray) -> np.ndarray:
         """True where a point lies strictly inside the region (not on its boundary)."""
         P = np.asarray(P, dtype=float).reshape(-1, 2)
-        return shapely.contains_xy(self.region, P[:, 0], P[:, 1])
+        if self._small(len(P)):
+            return in_region(P, [pts for pts, _, _ in self.loops])
+        import shapely
+
+        outer, *holes = [pts for pts, _, _ in self.loops]
+        return shapely.contains_xy(shapely.Polygon(outer, holes), P[:, 0], P[:, 1])
 
 
 def check_crack_in_domain(walls: Walls, pts: Sequence[Point], fld: str, tol: float) -> None:
@@ -164,10 +213,9 @@ def check_crack_in_domain(walls: Walls, pts: Sequence[Point], fld: str, tol: flo
             f"points must lie strictly inside")
     ends_on = [P[k] for k in (0, last) if on[k]]
     A, B = _segments(pts, closed=False)
-    lines = _lines(A, B)
     M = 0.5 * (A + B)
     bad_mid = (walls.distance(M) <= tol) | ~walls.inside(M)
-    pairs = _pairs_within(walls.tree, lines, tol)
+    pairs = pairs_within((A, B), walls.A, walls.B, tol)
     rule = (f"a crack must lie inside {body} and may touch its boundary only at its "
             "first or last point")
     for s in sorted(set(pairs[:, 0].tolist()) | set(np.flatnonzero(bad_mid).tolist())):
@@ -176,8 +224,8 @@ def check_crack_in_domain(walls: Walls, pts: Sequence[Point], fld: str, tol: flo
         for e in pairs[pairs[:, 0] == s, 1]:
             c, dd = walls.A[e], walls.B[e]
             edge = walls.edge_name(e)
-            contacts = [x for x in (a, b) if shapely.distance(shapely.Point(x), walls.lines[e]) <= tol]
-            contacts += [x for x in (c, dd) if shapely.distance(shapely.Point(x), lines[s]) <= tol]
+            contacts = [x for x in (a, b) if point_segment_distances(x, c, dd) <= tol]
+            contacts += [x for x in (c, dd) if point_segment_distances(x, a, b) <= tol]
             if not contacts:
                 raise SceneError(f"{where} crosses {edge}; {rule}")
             if max(dist(x, y) for x in contacts for y in contacts) > tol:
@@ -199,8 +247,7 @@ def check_cracks_disjoint(cracks: Sequence[Sequence[Point]], tol: float) -> None
     local = np.concatenate([np.arange(len(a)) for a, _ in segs])
     A = np.concatenate([a for a, _ in segs])
     B = np.concatenate([b for _, b in segs])
-    lines = _lines(A, B)
-    pairs = _pairs_within(shapely.STRtree(lines), lines, tol)
+    pairs = pairs_within((A, B), A, B, tol)
     pairs = pairs[owner[pairs[:, 0]] > owner[pairs[:, 1]]]
     if not len(pairs):
         return
@@ -303,14 +350,12 @@ def check_gaps(walls: Walls, cracks: Sequence[Sequence[Point]], diameter: float,
     for (a, b, _, _), L in zip(segs, seg_len):
         adjacency[a].append((b, float(L)))
         adjacency[b].append((a, float(L)))
-    lines = _lines(X[SA], X[SB])
-    pts = shapely.points(X)
-    hits = _pairs_within(shapely.STRtree(lines), pts, g)
+    hits = pairs_within(X, X[SA], X[SB], g)
     hits = hits[(SA[hits[:, 1]] != hits[:, 0]) & (SB[hits[:, 1]] != hits[:, 0])]
     if not len(hits):
         return
-    d = shapely.distance(pts[hits[:, 0]], lines[hits[:, 1]])
-    loc = shapely.line_locate_point(lines[hits[:, 1]], pts[hits[:, 0]])
+    d = point_segment_distances(X[hits[:, 0]], X[SA[hits[:, 1]]], X[SB[hits[:, 1]]])
+    loc = _locate(X[hits[:, 0]], X[SA[hits[:, 1]]], X[SB[hits[:, 1]]])
     # the way round along the one wall both sides belong to, where they do: short enough
     # there, the pair is a corner or a short edge, not a gap
     near = np.zeros(len(hits), dtype=bool)
@@ -328,8 +373,9 @@ def check_gaps(walls: Walls, cracks: Sequence[Sequence[Point]], diameter: float,
         width = float(d[k])
         if width >= g:
             break
-        x = shapely.line_interpolate_point(lines[s], shapely.line_locate_point(lines[s], pts[v]))
-        xp = (x.x, x.y)
+        a, b = X[SA[s]], X[SB[s]]
+        f = float(_locate(X[v], a, b)) / seg_len[s] if seg_len[s] > 0 else 0.0
+        xp = (float(a[0] + f * (b[0] - a[0])), float(a[1] + f * (b[1] - a[1])))
         limit = GAP_PATH_FACTOR * max(width, tol)
         around = _path_length(adjacency, nodes, v, int(SA[s]), int(SB[s]), xp, limit)
         if around > limit:
@@ -348,6 +394,17 @@ def check_gaps(walls: Walls, cracks: Sequence[Sequence[Point]], diameter: float,
     raise SceneError(
         f"{fld}: the body is only {fmt(width)} wide at {where}, between {names[v]} and {segs[s][2]}; "
         f"parts narrower than {MIN_GAP_RTOL:g} of the body's diameter ({fmt(g)}) are refused: {advice}")
+
+
+def _locate(P, A, B) -> np.ndarray:
+    """How far along each segment A-B (from A) the nearest point to P lies (GEOS's
+    projection onto a segment, clamped to it)."""
+    P, A, B = (np.asarray(v, dtype=float) for v in (P, A, B))
+    D = B - A
+    len2 = np.sum(D * D, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(len2 > 0, ((P[..., 0] - A[..., 0]) * D[..., 0] + (P[..., 1] - A[..., 1]) * D[..., 1]) / len2, 0.0)
+    return np.clip(r, 0.0, 1.0) * np.sqrt(len2)
 
 
 def _path_length(adjacency, nodes, start: int, a: int, b: int, x: Point, limit: float) -> float:

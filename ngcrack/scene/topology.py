@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import shapely
 
 from .fields import SceneError, fmt, fmt_pt, unique
 from .holes import hole_ends
@@ -160,8 +159,7 @@ def parts(scene) -> tuple[Part, ...]:
                 pieces += [(labels[i], loop[(i + 1) % len(loop)], loop[i]) for i in range(len(loop))]
         point = interior_point(V)
         if hole_loops:
-            region = shapely.Polygon(V, hole_loops).representative_point()
-            point = (region.x, region.y)
+            point = interior_point(V, hole_loops)
         out.append(Part(loop=tuple(V), pieces=tuple(pieces), crack_faces=tuple(faces),
                         cracks=tuple(sorted(set(ids))), point=point, hole_loops=hole_loops,
                         holes=tuple(holes)))
@@ -174,6 +172,8 @@ def _joined_parts(scene) -> tuple[Part, ...]:
     lines, each face's edges told apart as crack faces or boundary pieces (their labels) by where
     their midpoints lie. A circular hole no crack touches is listed in ``holes`` (check_held holds
     it by its own points); every other hole's edges are among ``pieces``."""
+    import shapely  # (cracks joining holes only)
+
     tol = scene.tol
     ends = [scene.cracks[i].points[k] for i, k, _ in scene.hole_joins()]
     through = hole_ends(scene.holes, ends, tol)

@@ -34,7 +34,16 @@ def solve_command(scene, args, json_path) -> int:
                                  ("crack_model", args.crack_model), ("qp_solver", args.qp_solver)) if v is not None}
     # the error estimate where the element has one, as in 2D (the JSON's error_estimate)
     options["estimate"] = check_options(options)["element"] in ESTIMATES  # checked before meshing
-    sol = solve_solid(scene, **options)
+    from ..distributed import active
+
+    if active():  # under mpiexec -n N, N > 1: one solve over the ranks; rank 0 writes and prints
+        from ..distributed.solid import solve_scene
+
+        sol = solve_scene(scene, **options)
+        if sol is None:
+            return 0
+    else:
+        sol = solve_solid(scene, **options)
     result = sol.to_json_dict()
     check_finite(result)
     with Staged() as staged:

@@ -34,6 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
+from ..csr import to_scipy
 from ..schur import Factorization
 
 #: at most this many active-set steps
@@ -62,7 +63,7 @@ def _transform(K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, G) -> tuple
     from ..constraints import _inverse_map
 
     Ginv = _inverse_map(G, len(contact))
-    Ginv = sp.csr_matrix(Ginv) if Ginv is not None else sp.identity(len(contact), format="csr")
+    Ginv = sp.csr_matrix(to_scipy(Ginv)) if Ginv is not None else sp.identity(len(contact), format="csr")
     rest = np.setdiff1d(np.arange(n), contact)
     Ic = sp.csr_matrix((np.ones(len(rest)), (rest, rest)), shape=(n, n))
     P = sp.csr_matrix((np.ones(len(contact)), (contact, np.arange(len(contact)))), shape=(n, len(contact)))

@@ -187,9 +187,11 @@ class SolidDiscretization(Discretization):
 
 
 def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None = None,
-          pressure=None) -> SolidDiscretization:
+          pressure=None, constraints: bool = True) -> SolidDiscretization:
     """The hybridized TDNNS discretization of stress degree `order` (1, 2 or 3; default 1);
-    `pressure`: per crack, a uniform pressure on its faces (None or 0: none)."""
+    `pressure`: per crack, a uniform pressure on its faces (None or 0: none); `constraints`
+    False: no constraint map (a subdomain of a distributed mesh, whose crack faces' surface
+    elements may sit on another rank: ngcrack.distributed.solid places the map's blocks)."""
     k = tdnns_order(order, " in 3D")
     mesh = smesh.mesh
     spaces, built = tdnns_spaces(mesh, k, loads)
@@ -203,7 +205,8 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
         nodes += [ngs.NodeId(ngs.FACE, int(f)) for c in smesh.cracks for f in c.faces]
         spaces += [jn_space, _compress(hcurl, nodes)]
         H = plus_side(smesh)
-        G, V, where = constraint_map(smesh, jn_space, facet, k)
+        if constraints:
+            G, V, where = constraint_map(smesh, jn_space, facet, k)
         built.append(f"crack: normal jump P{k} per face, tangential jump from the crack's HCurl dofs (front excluded)")
     fes = ngs.FESpace(spaces)
     # the system is assembled in units of E (stresses and loads divided by E, displacements

@@ -110,13 +110,11 @@ def _occ_crack(crack: PlanarCrack):
     return wp.Ellipse(b, a).Face()
 
 
-def make_mesh(scene: SolidScene, maxh=None, crack_h=None, front_h=None, grading=None,
-              curve: int = CURVE_ORDER) -> SolidMesh:
-    """Mesh the scene (sizes: the arguments, else the scene's [mesh], else the defaults)."""
+def occ_geometry(scene: SolidScene, sizes: dict):
+    """The scene's OCC geometry with its names and local sizes (`sizes`: scene.mesh_sizes): what
+    `make_mesh` meshes, and what a subdomain of a distributed mesh is curved with."""
     from netgen import occ
 
-    sizes = scene.mesh_sizes(maxh, crack_h, front_h, grading)
-    t0 = time.perf_counter()
     parts = [_occ_body(scene.domain)]
     for i, c in enumerate(scene.cracks):
         face = _occ_crack(c)
@@ -126,8 +124,16 @@ def make_mesh(scene: SolidScene, maxh=None, crack_h=None, front_h=None, grading=
             e.name = f"front{i}"
             e.maxh = sizes["front_h"]
         parts.append(face)
-    shape = occ.Glue(parts) if len(parts) > 1 else parts[0]
-    ngmesh = occ.OCCGeometry(shape).GenerateMesh(maxh=sizes["maxh"], grading=sizes["grading"])
+    return occ.OCCGeometry(occ.Glue(parts) if len(parts) > 1 else parts[0])
+
+
+def make_mesh(scene: SolidScene, maxh=None, crack_h=None, front_h=None, grading=None,
+              curve: int = CURVE_ORDER) -> SolidMesh:
+    """Mesh the scene (sizes: the arguments, else the scene's [mesh], else the defaults)."""
+
+    sizes = scene.mesh_sizes(maxh, crack_h, front_h, grading)
+    t0 = time.perf_counter()
+    ngmesh = occ_geometry(scene, sizes).GenerateMesh(maxh=sizes["maxh"], grading=sizes["grading"])
     mesh = ngs.Mesh(ngmesh)
     if curve:
         mesh.Curve(curve)

@@ -39,6 +39,8 @@ class SolidSolution:
     timings: dict = field(default_factory=dict)
     fronts: list = field(default_factory=list)
     error_estimate: dict | None = None  # ngcrack.solid.estimate.prager_synge, with estimate=True
+    #: a distributed solve's ranks, CG steps, preconditioner and memory per rank (ngcrack.distributed.solid)
+    distributed: dict | None = None
     dimension = 3
 
     @property
@@ -152,6 +154,7 @@ class SolidSolution:
             "cracks": self.crack_summaries(),
             **({} if self.error_estimate is None else {"error_estimate": {
                 k: self.error_estimate[k] for k in ("total", "stress", "contact")}}),
+            **({} if self.distributed is None else {"distributed": self.distributed}),
         }
 
     def save_vtk(self, path, subdivision: int = 0) -> list[Path]:

@@ -1,0 +1,273 @@
+"""A 3D scene (ngcrack.solid) solved over the ranks of MPI_COMM_WORLD.
+
+The 2D distributed solve's stages (`distributed.solve`) on the 3D element:
+
+- mesh: rank 0 meshes the scene serially (the mesh a serial solve gets) and keeps it;
+  netgen distributes a copy; every rank curves its subdomain with the scene's geometry
+  and finds its crack faces and interior crack edges again (`solid_mesh`);
+- system: every rank builds the hybridized TDNNS element (`solid.element.build`) on its
+  subdomain and assembles the condensed facet system in parallel; the crack's constraint
+  map G is made on rank 0's serial mesh and its per-face blocks placed on each rank;
+- crack problem: the active-set steps of the 2D solve (`solve.normal_loop`), each step a
+  projected CG with the active constraint values of a crack face held at zero by a
+  projection on that face's unknowns (`FaceActiveSet`); preconditioner: NGSolve's BDDC
+  with the coarse space of `coarse_space` (up to 3 ranks, `BDDC_MAX_RANKS`) or the
+  condensed matrix factorized on rank 0 ("direct": above 3 ranks, or asked for);
+- gather: the condensed unknowns go to rank 0 by node coordinates; rank 0 assembles the
+  serial system (no factorization), recovers the element-local unknowns and runs the
+  serial post-processing (KKT residuals from the serial system's residual, the fronts'
+  K_I, K_II, K_III, G, the error estimate): one SolidSolution on rank 0, written once.
+
+Not distributed yet (refused by name before any work): Coulomb friction in 3D, the
+displacement baselines h1p1 / h1p2 (their constraints sit at vertices).
+"""
+
+from __future__ import annotations
+
+import time
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import InputError
+from .krylov import Operator
+from .solid_mesh import TooFewTetrahedra, check_ranks, crack_layout, distribute, gather_to_rank0, local_solid_mesh, scatter_into
+
+#: the 3D preconditioners of the distributed CG: NGSolve's BDDC with `coarse_space`, or the condensed
+#: matrix gathered and factorized on rank 0 ("direct": NGSolve's masterinverse)
+PRECONDITIONERS = ("bddc", "direct")
+#: BDDC is the default up to this many ranks (3 subdomains and more: NGSolve's BDDC crashed in its
+#: apply on the 3D system, a segmentation fault at mpiexec -n 4 with or without the crack's unknowns);
+#: above it the direct preconditioner
+BDDC_MAX_RANKS = 3
+
+
+def default_preconditioner(size: int) -> str:
+    """The preconditioner a distributed 3D solve over `size` ranks uses unless told."""
+    return "bddc" if size <= BDDC_MAX_RANKS else "direct"
+
+
+def check_supported(scene, opts: dict) -> None:
+    """What the distributed 3D solve does not do, refused on every rank before any work."""
+    if opts["element"] != "tdnns":
+        raise InputError(f"element = {opts['element']!r}: a distributed 3D solve takes element = 'tdnns' (the "
+                         "displacement baselines' crack constraints sit at vertices); run it without mpiexec")
+    if opts["crack_model"] == "contact" and any(float(c.friction) > 0 for c in scene.cracks):
+        i = next(i for i, c in enumerate(scene.cracks) if float(c.friction) > 0)
+        raise InputError(f"crack[{i}].friction = {float(scene.cracks[i].friction):g}: Coulomb friction in 3D is not "
+                         "distributed yet; run it without mpiexec or set friction = 0")
+
+
+class FaceActiveSet:
+    """The active constraint values of this rank's crack faces and the projection holding them at zero.
+
+    G is block diagonal, one p x p block per crack face (rows: the face's constraint points,
+    placed on the face's jn unknowns); the projection acts face by face."""
+
+    def __init__(self, faces: list[np.ndarray], blocks: list[np.ndarray], n: int, jn_dofs: np.ndarray,
+                 free: np.ndarray):
+        self.faces, self.blocks = faces, blocks
+        self.jn, self.free = jn_dofs, free
+        self.G = self._matrix(blocks, n)
+        self.Ginv = self._matrix([np.linalg.inv(b) for b in blocks], n)
+        self.active = np.zeros(n, dtype=bool)
+        self.P = sp.identity(n, format="csr")
+        self.n = n
+
+    def _matrix(self, blocks, n: int) -> sp.csr_matrix:
+        if not blocks:
+            return sp.csr_matrix((n, n))
+        rows = np.concatenate([np.repeat(d, len(d)) for d in self.faces])
+        cols = np.concatenate([np.tile(d, len(d)) for d in self.faces])
+        return sp.csr_matrix((np.concatenate([b.ravel() for b in blocks]), (rows, cols)), shape=(n, n))
+
+    def set(self, active: np.ndarray) -> None:
+        self.active = active.copy()
+        rows, cols, vals = [np.arange(self.n)], [np.arange(self.n)], [np.ones(self.n)]
+        for d, b in zip(self.faces, self.blocks):
+            on = active[d]
+            if not on.any():
+                continue
+            GA = b[on]
+            Q = GA.T @ np.linalg.solve(GA @ GA.T, GA)
+            rows.append(np.repeat(d, len(d)))
+            cols.append(np.tile(d, len(d)))
+            vals.append(-Q.ravel())
+        self.P = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                               shape=(self.n, self.n))
+
+    def project(self, vec: ngs.BaseVector) -> None:
+        vals = vec.FV().NumPy()
+        vals[~self.free] = 0.0
+        if len(self.jn):
+            vals[self.jn] = self.P @ vals[self.jn]
+
+
+def solve_scene(scene, *, preconditioner: str | None = None, **options):
+    """`nc.solve` / `ngcrack solve` of a 3D scene under mpiexec: the options of a serial 3D solve
+    (`solid.solve.OPTIONS`, checked by name before any work), the SolidSolution on rank 0, None elsewhere."""
+    from ..solid.solve import check_options
+
+    try:
+        opts = check_options(options)
+    except ValueError:
+        from . import world_rank
+
+        if world_rank() == 0:
+            raise
+        raise SystemExit(2) from None
+    sizes = {k: options.get(k) for k in ("maxh", "crack_h", "front_h", "grading")}
+    return solve(scene, {**opts, **sizes}, preconditioner)
+
+
+def solve(scene, opts: dict, preconditioner_kind: str | None = None):
+    """The distributed 3D solve (module docstring): the SolidSolution on rank 0, None on the others.
+    `opts`: the checked options of `solid.solve.check_options` with the mesh sizes."""
+    from . import require_mpi
+    from .solve import _fail
+
+    comm = require_mpi()
+    kind = preconditioner_kind or default_preconditioner(comm.size)
+    try:  # alike on every rank, before any communication: rank 0 reports, the others leave quietly
+        check_supported(scene, opts)
+        if kind not in PRECONDITIONERS:
+            raise InputError(f"preconditioner = {kind!r}: allowed values are {', '.join(PRECONDITIONERS)}")
+    except ValueError:
+        if comm.rank == 0:
+            raise
+        raise SystemExit(2) from None
+    try:
+        return _solve(comm, scene, opts, kind)
+    except TooFewTetrahedra:  # found alike on every rank: rank 0 reports, no abort needed
+        if comm.rank == 0:
+            raise
+        raise SystemExit(2) from None
+    except Exception as exc:  # noqa: BLE001 -- any failure of one rank stops all of them
+        _fail(comm, comm.rank, exc)
+        raise
+
+
+def _solve(comm, scene, opts: dict, kind: str):
+    from ..pipeline import Pipeline
+    from ..solid.element import build
+    from ..solid.geometry import CURVE_ORDER
+    from ..solid.solve import scene_loads
+    from .solve import _memory_per_rank, _owned, normal_loop
+
+    rank = comm.rank
+    timings: dict[str, float] = {}
+    t_start = t0 = time.perf_counter()
+    sizes = scene.mesh_sizes(*(opts.get(k) for k in ("maxh", "crack_h", "front_h", "grading")))
+    pipe = Pipeline() if rank == 0 else None
+    smesh = pipe.mesh(scene, opts) if rank == 0 else None
+    ne = comm.bcast(smesh.mesh.ne if rank == 0 else None, root=0)
+    check_ranks(ne, comm.size)
+    layout = comm.bcast(crack_layout(smesh, opts["order"]) if rank == 0 else None, root=0)
+    timings["mesh"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    mesh = distribute(smesh, scene, comm, sizes, CURVE_ORDER)
+    lsm, placed = local_solid_mesh(mesh, scene, layout, sizes)
+    timings["distribute"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    loads = scene_loads(scene)
+    pressure = [c.pressure for c in scene.cracks]
+    disc = build(lsm, scene.material.E, scene.material.nu, loads, opts["order"],
+                 pressure if any(pressure) else None, constraints=False)
+    fes, a, f = disc.fes, disc.a, disc.f
+    free = np.array(list(fes.FreeDofs(True)), dtype=bool)
+    pre, described = _preconditioner(disc, lsm, kind)
+    fmod = f.vec.CreateVector()
+    fmod.data = f.vec
+    fmod.data += a.harmonic_extension_trans * fmod
+    x = f.vec.CreateVector()
+    x[:] = 0.0
+    if loads.displacement:  # prescribed values: moved to the right-hand side
+        gD = ngs.GridFunction(fes)
+        disc.boundary_values(gD, loads)
+        x.data = gD.vec
+        x.FV().NumPy()[free] = 0.0
+    rhs = fmod.CreateVector()
+    rhs.data = fmod - a.mat * x
+    rhs.data *= disc.sign
+    x[:] = 0.0
+    timings["assemble"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    has_crack = disc.jn is not None
+    jn_dofs = np.arange(fes.Range(disc.jn).start, fes.Range(disc.jn).stop) if has_crack else np.zeros(0, int)
+    jn_space = fes.components[disc.jn] if has_crack else None
+    faces, blocks = [], []
+    for local_faces, bl in placed:
+        for f_nr, b in zip(local_faces, bl):
+            faces.append(np.array(jn_space.GetDofNrs(ngs.NodeId(ngs.FACE, int(f_nr))), dtype=int))
+            blocks.append(b)
+    aset = FaceActiveSet(faces, blocks, len(jn_dofs), jn_dofs, free)
+    op = Operator(A=a.mat, C=pre, sign=disc.sign)
+    steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
+    x.Cumulate()
+    timings["solve"] = time.perf_counter() - t0
+    info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
+            "preconditioner": described, "krylov": "cg",
+            "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
+            # crack faces whose two tetrahedra sit on two ranks (their unknowns shared)
+            "shared_crack_faces": int(comm.allreduce(sum(len(f) for f, _ in placed)) - sum(len(c.centroids) for c in layout)),
+            "memory_mb": _memory_per_rank(comm)}
+    t0 = time.perf_counter()
+    flags = np.zeros(fes.ndof, dtype=bool)
+    flags[jn_dofs] = aset.active
+    gathered = gather_to_rank0(comm, mesh, fes, x.FV().NumPy(), flags)
+    timings["gather"] = time.perf_counter() - t0
+    if rank != 0:
+        return None
+    from .solid_rank0 import solution_on_rank0
+
+    return solution_on_rank0(pipe, scene, opts, smesh, gathered, timings, info, t_start)
+
+
+#: the coarse space of the 3D BDDC, as stated in the results
+COARSE_SPACE = ("all normal-facet dofs, all edge dofs, the lowest-order face dof of the other facet components, "
+                "all crack dofs")
+
+
+def coarse_space(fes: ngs.FESpace, mesh: ngs.Mesh, crack_faces: set[int], crack_edges: set[int]) -> int:
+    """Mark WIREBASKET the 3D coarse space (COARSE_SPACE) on the coupling unknowns of `fes`; returns how many.
+
+    Measured on the coarse penny (21k unknowns, CG to 1e-8): with the 2D choice (normal-facet
+    dofs, the lowest-order dof of the others) CG took 142 steps; all edge dofs added, 35."""
+    normal_facet = [isinstance(comp, ngs.NormalFacetFESpace) for comp in fes.components]
+    starts = np.array([fes.Range(k).start for k in range(len(fes.components))])
+    interface, wirebasket = ngs.COUPLING_TYPE.INTERFACE_DOF, ngs.COUPLING_TYPE.WIREBASKET_DOF
+    marked = 0
+    for ntype, items, crack in ((ngs.EDGE, mesh.edges, crack_edges), (ngs.FACE, mesh.faces, crack_faces)):
+        everything = ntype == ngs.EDGE
+        for item in items:
+            on_crack = item.nr in crack
+            seen = set()
+            for d in fes.GetDofNrs(ngs.NodeId(ntype, item.nr)):
+                if d < 0:
+                    continue
+                k = int(np.searchsorted(starts, d, side="right")) - 1
+                first = k not in seen
+                seen.add(k)
+                if (everything or on_crack or normal_facet[k] or first) and fes.CouplingType(d) == interface:
+                    fes.SetCouplingType(d, wirebasket)
+                    marked += 1
+    return marked
+
+
+def _preconditioner(disc, lsm, kind: str):
+    if kind == "direct":
+        return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
+    faces = {int(f) for c in lsm.cracks for f in c.faces}
+    edges = {int(e.nr) for c in lsm.cracks for f in c.faces for e in lsm.mesh[ngs.NodeId(ngs.FACE, int(f))].edges}
+    edges |= {int(e) for c in lsm.cracks for e in c.interior_edges}
+    coarse_space(disc.fes, lsm.mesh, faces, edges)
+    pre = ngs.Preconditioner(disc.a, "bddc")
+    disc.a.Assemble()  # BDDC collects the element matrices during assembly
+    return pre.mat, f"bddc, coarse space: {COARSE_SPACE}"
+
+
+__all__ = ["FaceActiveSet", "check_supported", "coarse_space", "scatter_into", "solve"]
