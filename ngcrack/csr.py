@@ -78,9 +78,9 @@ class CSR:
                     return None
                 vals = np.bincount(group, weights=vals)
                 rows, cols = rows[new], cols[new]
-        if drop_zeros:
-            nz = vals != 0.0
-            rows, cols, vals = rows[nz], cols[nz], vals[nz]
+                if drop_zeros:  # sums that cancel
+                    nz = vals != 0.0
+                    rows, cols, vals = rows[nz], cols[nz], vals[nz]
         indptr = np.zeros(shape[0] + 1, dtype=np.int32 if max(shape) < 2**31 - 1 and len(vals) < 2**31 - 1 else np.int64)
         np.cumsum(np.bincount(rows, minlength=shape[0]), out=indptr[1:])
         return cls(vals, cols.astype(indptr.dtype), indptr, shape)
