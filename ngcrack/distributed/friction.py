@@ -25,7 +25,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from .krylov import pcg
+from .krylov import held_rows, hold, pcg
 
 #: the fixed point on tau = mu lam_n stops when tau changes by less than this fraction of max lam_n
 COULOMB_RTOL = 1e-12
@@ -71,8 +71,6 @@ class FrictionSets:
 
     def held(self):
         """The held values' rows over this rank's dofs: G's contact rows on jn, Gt's sticking rows on jt."""
-        from .solve import held_rows
-
         return held_rows([(self.G[self.contact], self.jn), (self.Gt[self.stick], self.jt)], len(self.free))
 
     def slip_forces(self) -> np.ndarray:
@@ -85,8 +83,6 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
     """The steps of the module docstring; returns (steps, CG steps per step). `rhs` is F (distributed), `x` the
     answer (cumulated on return)."""
     from mpi4py import MPI
-
-    from .solve import hold
 
     rhs_c = rhs.CreateVector()
     rhs_c.data = rhs
@@ -128,4 +124,4 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
             raise RuntimeError(f"crack problem with friction: no convergence in {steps} steps "
                                f"({changed} set changes, threshold change {moved:.1e} of {lam_max:.1e})")
         sets.set(contact, stick, sign, tau)
-        hold(op, sets.held())
+        hold(op, sets)
