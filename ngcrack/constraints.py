@@ -2,10 +2,11 @@
 
 G maps the crack unknowns j (a jump space's own basis) to the values that must be
 non-negative, w = G j: the identity for P0 jumps, each edge's end-point values for P1
-jumps; it is block diagonal and invertible. Both crack problems, the frictionless QP
-(contact.py) and the problem with Coulomb friction (friction.py), are posed in w and
-Jacobi-scaled the same way (`scaled_problem`); the KKT residuals of an answer are taken
-at the same constraint points, with the contact forces computed from the solved system
+jumps; it is block diagonal (up to a permutation of its rows and columns) and
+invertible. Both crack problems, the frictionless QP (contact.py) and the problem with
+Coulomb friction (friction.py), are posed in w and Jacobi-scaled the same way
+(`scaled_problem`); the KKT residuals of an answer are taken at the same constraint
+points, with the contact forces computed from the solved system
 (`discrete_contact_forces`, `kkt_at_constraints`).
 """
 
@@ -41,42 +42,55 @@ def faces_closed(normal_jump, scale: float) -> np.ndarray:
 G_SPARSE_FILL = 0.1
 
 
-def _blocks(G: np.ndarray) -> tuple[int, np.ndarray]:
-    """The connected components of the pattern of the dense G (undirected): their number
-    and each index's component, numbered by their smallest index (as scipy's
-    connected_components numbers them; the blocks are a few unknowns each, so the
-    propagation of the smallest index stops after a few sweeps, and scipy.sparse.csgraph,
-    which loads scipy.linalg, is not needed)."""
+def _blocks(G: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+    """The blocks of the dense G: the connected components of its pattern as a bipartite
+    graph (rows and columns distinct nodes), their number and each row's and each column's
+    component, numbered in the order of their smallest node (rows first). A block-diagonal G
+    whose blocks are permuted (the tangential map of friction: a crack edge's constraint
+    points against its own tangential unknowns, numbered apart) has its blocks found as well
+    as one whose blocks sit on the diagonal. The smallest index is propagated along the
+    pattern's entries with pointer jumping (scipy.sparse.csgraph, which loads scipy.linalg,
+    is not needed)."""
+    m = G.shape[0]
     row, col = np.nonzero(G)
-    rows, cols = np.concatenate([row, col]), np.concatenate([col, row])
-    label = np.arange(G.shape[0])
+    rows, cols = np.concatenate([row, col + m]), np.concatenate([col + m, row])
+    label = np.arange(2 * m)
     while True:
         new = label.copy()
         np.minimum.at(new, rows, label[cols])
+        new = new[new]
         if np.array_equal(new, label):
             break
         label = new
     roots, label = np.unique(label, return_inverse=True)
-    return len(roots), label
+    return len(roots), label[:m], label[m:]
 
 
-def _sparse_inverse(dense: np.ndarray) -> CSR:
-    """The inverse of a sparse block-diagonal G (blocks = its connected components), given
-    as a dense array (which costs no more memory than the dense m x m Schur complement).
+def _sparse_inverse(dense: np.ndarray) -> CSR | np.ndarray:
+    """The inverse of a G that is block diagonal up to a permutation of its rows and columns
+    (blocks = the components of `_blocks`), given as a dense array (which costs no more
+    memory than the dense m x m Schur complement): a block G[R, C] gives G^{-1}[C, R].
 
-    Blocks of equal size are inverted together (numpy's batched inverse).
+    Blocks of equal size are inverted together (numpy's batched inverse). A component with
+    fewer rows than columns (G singular) goes to the dense inverse, which raises numpy's
+    LinAlgError.
     """
     m = dense.shape[0]
-    n_blocks, label = _blocks(dense)
-    order = np.argsort(label, kind="stable")
-    bounds = np.searchsorted(label[order], np.arange(n_blocks + 1))
-    sizes = np.diff(bounds)
+    n_blocks, row_label, col_label = _blocks(dense)
+    r_order, c_order = np.argsort(row_label, kind="stable"), np.argsort(col_label, kind="stable")
+    r_bounds = np.searchsorted(row_label[r_order], np.arange(n_blocks + 1))
+    c_bounds = np.searchsorted(col_label[c_order], np.arange(n_blocks + 1))
+    sizes = np.diff(r_bounds)
+    if not np.array_equal(sizes, np.diff(c_bounds)):
+        return np.linalg.inv(dense)
     rows, cols, vals = [], [], []
     for b in distinct(sizes):
-        idx = np.stack([order[bounds[k]:bounds[k + 1]] for k in np.flatnonzero(sizes == b)])  # (blocks, b)
-        inv = np.linalg.inv(dense[idx[:, :, None], idx[:, None, :]])
-        rows.append(np.repeat(idx, b, axis=1).ravel())
-        cols.append(np.tile(idx, (1, b)).ravel())
+        ks = np.flatnonzero(sizes == b)
+        R = np.stack([r_order[r_bounds[k]:r_bounds[k + 1]] for k in ks])  # (blocks, b)
+        C = np.stack([c_order[c_bounds[k]:c_bounds[k + 1]] for k in ks])
+        inv = np.linalg.inv(dense[R[:, :, None], C[:, None, :]])
+        rows.append(np.repeat(C, b, axis=1).ravel())
+        cols.append(np.tile(R, (1, b)).ravel())
         vals.append(inv.ravel())
     return CSR.from_triplets(np.concatenate(vals), np.concatenate(rows), np.concatenate(cols), (m, m))
 

@@ -78,9 +78,9 @@ class CSR:
                     return None
                 vals = np.bincount(group, weights=vals)
                 rows, cols = rows[new], cols[new]
-        if drop_zeros:
-            nz = vals != 0.0
-            rows, cols, vals = rows[nz], cols[nz], vals[nz]
+                if drop_zeros:  # sums that cancel
+                    nz = vals != 0.0
+                    rows, cols, vals = rows[nz], cols[nz], vals[nz]
         indptr = np.zeros(shape[0] + 1, dtype=np.int32 if max(shape) < 2**31 - 1 and len(vals) < 2**31 - 1 else np.int64)
         np.cumsum(np.bincount(rows, minlength=shape[0]), out=indptr[1:])
         return cls(vals, cols.astype(indptr.dtype), indptr, shape)
@@ -111,8 +111,8 @@ class CSR:
         return self._row_ids
 
     @property
-    def T(self) -> _Transposed:
-        return _Transposed(self)
+    def T(self) -> TransposedCSR:
+        return TransposedCSR(self)
 
     def _entries(self, mask: np.ndarray, indices: np.ndarray, shape: tuple[int, int]) -> CSR:
         """The entries where `mask` holds, with new column `indices` (in storage order)."""
@@ -196,7 +196,7 @@ class CSR:
         return _product(self.data, self.row_ids, self.indices, self.shape[0], x)
 
 
-class _Transposed:
+class TransposedCSR:
     """The transpose of a CSR matrix, for products (`A.T @ x`)."""
 
     __slots__ = ("A",)

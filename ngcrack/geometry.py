@@ -29,6 +29,7 @@ from netgen.meshing import MeshingParameters
 from .crack_sides import ON_EDGE_RTOL, crack_frame_cf, crack_side  # noqa: F401  (re-exported for the elements)
 from .csr import distinct
 from .errors import InputError
+from .path_sizes import PathGrading, check_path_grading, grading_points, segment_sizes
 from .scene import Scene
 from .sizing import check_mesh_sizes, estimate_triangles, mesh_sizes
 
@@ -221,11 +222,13 @@ def _holds_displacement(scene: Scene, label: str) -> bool:
 
 def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | None = None,
                    frame: tuple[np.ndarray, float] | None = None, maxh: float | None = None,
-                   grading: float = 0.3) -> SplineGeometry:
+                   grading: float = 0.3, path_grading: PathGrading | None = None) -> SplineGeometry:
     """A netgen 2D spline geometry: the polygon, its labels, and the cracks as slits.
 
     tip_h is the mesh size at crack end points (the crack is graded from there, see
-    `graded_polyline`), crack_h the size along crack segments. With `frame` =
+    `graded_polyline`), crack_h the size along crack segments; with `path_grading` (a
+    path_sizes.PathGrading) a segment asks for more the farther it lies from the
+    nearest crack end (`path_sizes.segment_sizes`). With `frame` =
     (center, scale) the geometry and sizes are given to netgen in the coordinates
     (x - center) / scale.
     """
@@ -286,12 +289,15 @@ def build_geometry(scene: Scene, tip_h: float | None = None, crack_h: float | No
     for k, hole in enumerate(scene.holes):
         on = [cracks[i][e] for i, e, h in joins if h == k]
         _append_hole(geo, point, hole, center, scale, on, tol)
+    ends_h = grading_points(cracks) if path_grading else np.zeros((0, 2))
+    fine = [scene_points(line) for line in path_grading.fine] if path_grading else []
     for k, pts in enumerate(cracks):
         if tip_h:
             pts = graded_polyline(pts, tip_h, crack_h or maxh_hint, grading_hint)
-        for p, q in zip(pts[:-1], pts[1:]):
+        sizes = segment_sizes(ends_h, pts[:-1], pts[1:], crack_h, path_grading, maxh_hint, fine, tol) if crack_h else None
+        for i, (p, q) in enumerate(zip(pts[:-1], pts[1:])):
             geo.Append(["line", point(p, h_of(p)), point(q, h_of(q))], leftdomain=1, rightdomain=1, bc=crack_bc(k),
-                       maxh=crack_h if crack_h else 1e99)
+                       maxh=float(sizes[i]) if crack_h else 1e99)
     return geo
 
 
@@ -387,10 +393,13 @@ def mesh_quality(P: np.ndarray, T: np.ndarray) -> float:
 
 
 def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = None,
-              crack_h: float | None = None, grading: float | None = None) -> CrackMesh:
+              crack_h: float | None = None, grading: float | None = None,
+              path_grading: PathGrading | float | None = None) -> CrackMesh:
     """Mesh the scene with netgen; the arguments override the scene's [mesh] values, and
     where neither gives a size the defaults of `sizing.default_mesh_sizes` apply (maxh a
     tenth of the diameter; crack_h and tip_h from the shortest crack, graded).
+    `path_grading`: the crack's size grows with the distance from the nearest crack end
+    (`ngcrack.path_sizes`; None: crack_h all along).
 
     Warns if netgen produced a triangle of quality below MIN_QUALITY (a strong grading
     can do that); such a triangle spoils the accuracy nearby. Every call meshes: the
@@ -398,7 +407,7 @@ def make_mesh(scene: Scene, maxh: float | None = None, tip_h: float | None = Non
     """
     check_mesh_sizes(scene, maxh, tip_h, crack_h, grading)
     maxh, tip_h, crack_h, grading = mesh_sizes(scene, maxh, tip_h, crack_h, grading)
-    return _make_mesh(scene, maxh, tip_h, crack_h, grading)
+    return _make_mesh(scene, maxh, tip_h, crack_h, grading, check_path_grading(path_grading))
 
 
 def _warn_quality(scene: Scene, quality: float, maxh: float, grading: float, stacklevel: int) -> None:
@@ -408,11 +417,13 @@ def _warn_quality(scene: Scene, quality: float, maxh: float, grading: float, sta
                       f"grading={grading:g}); a milder grading or another maxh gives a better mesh", stacklevel=stacklevel)
 
 
-def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float) -> CrackMesh:
+def _make_mesh(scene: Scene, maxh: float, tip_h, crack_h, grading: float,
+               path_grading: PathGrading | None = None) -> CrackMesh:
     # netgen meshes the scene scaled to unit diameter, and the vertices are mapped back:
     # a scaled scene gets the same mesh, scaled (up to round-off)
     center, scale = normalizing_frame(scene)
-    geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h, frame=(center, scale), maxh=maxh, grading=grading)
+    geo = build_geometry(scene, tip_h=tip_h, crack_h=crack_h, frame=(center, scale), maxh=maxh, grading=grading,
+                         path_grading=path_grading)
     budget = MESH_TIME_BUDGET + MESH_SECONDS_PER_TRIANGLE * estimate_triangles(scene, maxh, tip_h, crack_h, grading)
     sizes = f"maxh={maxh:g}, tip_h={tip_h}, crack_h={crack_h}, grading={grading:g}"
     with _netgen_budget(budget) as state:

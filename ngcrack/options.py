@@ -25,6 +25,7 @@ from .element_names import check_element
 from .errors import InputError
 from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_solver
 from .hybrid import Factorization
+from .path_sizes import PathGrading, check_path_grading
 from .schur import SCHUR_METHODS
 
 #: the default element family: measured against the finite bodies' converged answers at
@@ -97,7 +98,10 @@ class SolveOptions:
     jumps in the crack problem (None: where a crack has friction). condition: estimate
     condition numbers. max_dof: the largest number of unknowns (None: the size guard's
     default ceiling and the memory the process may use). adapt: a relative error
-    tolerance in (0, 1) for adaptive refinement (None: one solve).
+    tolerance in (0, 1) for adaptive refinement (None: one solve). path_grading: the
+    crack's mesh size grows from crack_h with the distance from the nearest crack end at this
+    rate, or a `path_sizes.PathGrading` (None, the default: crack_h all along; growth
+    grades its path by default, `ngcrack.growth.checks.GROWTH_PATH_GRADING`).
     """
 
     element: str = DEFAULT_ELEMENT
@@ -118,6 +122,7 @@ class SolveOptions:
     adapt: float | None = None
     hp: int | None = None
     hp_sigma: float | None = None
+    path_grading: PathGrading | float | None = None
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -143,6 +148,7 @@ class SolveOptions:
         if not isinstance(self.condition, bool):
             raise InputError(f"condition = {self.condition!r}: must be True or False")
         set_(self, "max_dof", whole_number("max_dof", self.max_dof))
+        set_(self, "path_grading", check_path_grading(self.path_grading))
         if self.hp is not None or self.hp_sigma is not None:
             set_(self, "hp", whole_number("hp", self.hp, minimum=0) if self.hp is not None else 0)
             if self.hp > HP_MAX_LAYERS:
@@ -183,7 +189,7 @@ class SolveOptions:
     @property
     def mesh_key(self) -> tuple:
         """The mesh options (besides the scene's geometry and [mesh] values)."""
-        return (self.maxh, self.tip_h, self.crack_h, self.grading, self.hp or 0, self.hp_sigma)
+        return (self.maxh, self.tip_h, self.crack_h, self.grading, self.hp or 0, self.hp_sigma, self.path_grading)
 
     @property
     def element_key(self) -> tuple:

@@ -112,6 +112,8 @@ class PlanarBody:
         and hp geometric layers towards them."""
         o = options
         sizes = dict(maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
+        if o.path_grading is not None:  # the crack's size graded from its tips (ngcrack.path_sizes)
+            sizes["path_grading"] = o.path_grading
         # hp: the coarse base mesh of hp.base_mesh (unless sizes are given) and the layers
         return hp_mesh(scene, o.hp, sigma=o.hp_sigma, **sizes) if o.hp else make_mesh(scene, **sizes)
 

@@ -148,12 +148,14 @@ def test_json_contract(tension_mts):
 
 
 def test_error_estimate_per_step_when_asked():
-    """grow(..., estimate=True): each step's relative estimate, step 0's equal to a fresh solve's."""
+    """grow(..., estimate=True): each step's relative estimate, step 0's equal to a fresh solve's
+    (with growth's path grading)."""
+    from ngcrack.growth.checks import GROWTH_PATH_GRADING
     scene = inclined_crack(angle=45.0, load=1.0)
     res = nc.grow(scene, da=0.1, steps=1, K_Ic=1.0, criterion="mts", estimate=True)
     ests = [s["error_estimate"] for s in res.to_json_dict()["steps"]]
     assert len(ests) == 2 and all(0.0 < e < 1.0 for e in ests)
-    assert ests[0] == pytest.approx(nc.solve(scene).error_estimate.relative, rel=1e-9)
+    assert ests[0] == pytest.approx(nc.solve(scene, path_grading=GROWTH_PATH_GRADING).error_estimate.relative, rel=1e-9)
 
 
 def test_pure_mode_II_kink():

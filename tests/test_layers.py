@@ -20,7 +20,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("materials", "memory", "parallel", "quadrature", "csr", "schur", "constraints", "contact",
                      "files", "errors", "extras", "element_names", "solid", "solid.contact", "solid.friction")),
-    ("scene", ("scene", "scenes", "references", "sizing", "solid.scene")),
+    ("scene", ("scene", "scenes", "references", "sizing", "path_sizes", "solid.scene")),
     ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
     ("discretization", ("discretization", "elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element", "solid.friction_points",
                         "solid.h1")),

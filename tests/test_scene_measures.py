@@ -33,8 +33,9 @@ def test_distances_equal_shapely_bitwise():
     assert np.array_equal(measures.point_segment_distances(X, A, B), shapely.distance(shapely.points(X), lines))
     other = shapely.linestrings(np.stack([C, X], axis=1))
     assert np.array_equal(measures.segment_distances(A, B, C, X), shapely.distance(lines, other))
-    assert measures.point_segment_distance(X[1000], A[1000], B[1000]) == shapely.Point(X[1000]).distance(
-        shapely.LineString([A[1000], B[1000]]))
+    for k in range(300, 4000, 37):  # one pair at a time, in floats (the checks' loops)
+        assert measures.point_segment_distance(X[k], A[k], B[k]) == shapely.Point(X[k]).distance(
+            shapely.LineString([A[k], B[k]]))
 
 
 def test_inside_and_interior_point_equal_shapely():

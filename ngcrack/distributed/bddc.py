@@ -1,32 +1,45 @@
-"""NGSolve's BDDC preconditioner on the condensed facet system, and its coarse space.
+"""The preconditioners of the distributed CG: BDDC per rank subdomain, NGSolve's element-wise BDDC, direct.
 
-NGSolve's "bddc" treats every element as a subdomain: the interface unknowns are
+"subdomains" (the default for TDNNS, subdomains.py): BDDC with each rank's part of the mesh
+as one subdomain, exact local solves and a coarse space of three rigid-motion averages per
+face between two ranks (3 coarse unknowns at two subdomains).
+
+"bddc": NGSolve's "bddc" treats every element as a subdomain: the interface unknowns are
 averaged, the local problems solved exactly, and the wirebasket unknowns form the coarse
-problem, gathered and factorized on one rank ("masterinverse"). The coarse space chosen
-here (marked WIREBASKET before assembly):
+problem, gathered and factorized on one rank ("masterinverse"). Its coarse space here
+(marked WIREBASKET before assembly):
 
-- every unknown of a normal-facet component (TDNNS's u_hat_n, all its orders): with
-  the higher-order normal-facet unknowns left as interface unknowns NGSolve's BDDC is
-  not a usable preconditioner (its spectrum spreads over 1e-3..1e16 and CG stalls,
-  also on a symmetric positive definite form with the same spaces; measured in
-  BENCHMARKS section 18);
+- every unknown of a normal-facet component (TDNNS's u_hat_n, all its orders);
 - the lowest-order unknown of every facet in every other facet component (the
-  tangential Nedelec dof of TDNNS's u): with the normal-facet unknowns they fix an
-  element's rigid motions;
+  tangential Nedelec dof of TDNNS's u);
 - every unknown on the crack edges (the crack jumps act on one side's elements only,
   so an element's own matrix is singular in them).
 
-The interface space left to the local solves is the higher-order tangential trace. On
-this space CG needs about 20 steps to 1e-8 at every mesh size measured (9k-59k unknowns),
-but the coarse problem is about three quarters of the condensed system at order 1: it is
-the part that does not shrink with the ranks.
+Why the higher-order normal-facet unknowns must be coarse: an element's condensed matrix
+has exactly the rigid motions as kernel, and with only the lowest-order unknowns fixed its
+interface block is nonsingular (measured on one triangle), but the coarse matrix, the sum
+of the elements' Schur complements on the lowest-order unknowns, is singular. Its kernel
+is the coarse vectors that are a rigid motion's traces on every element: the lowest-order
+tangential and normal unknowns of a rigid motion are its edge means, i.e. its values at the
+edge mid points, so the kernel is the piecewise rigid motions continuous at the edge mid
+points -- the Crouzeix-Raviart functions on which Korn's inequality fails (a space of
+dimension 8, 16 and 32, the 3 rigid motions included, on unit squares of 6, 34 and 138
+triangles; tests/test_bddc_coarse.py). A rotation's normal trace is linear along an edge (its slope
+the rotation) and its tangential trace constant, so the first-order normal-facet unknown is
+what ties the elements' rotations together: with it in the coarse space the kernel is
+gone. At order 1 that leaves one unknown in four (the higher-order tangential one) to the
+local solves: the coarse problem is three quarters of the condensed system, no smaller
+choice from the element's unknowns works, and the element-wise method does not scale.
+
+"direct": the condensed matrix gathered on rank 0 and factorized there (NGSolve's
+"masterinverse"; exact, CG stops after a step or two).
 """
 
 from __future__ import annotations
 
 import ngsolve as ngs
 
-#: how the coarse space is described in the results and BENCHMARKS
+#: how the element-wise coarse space is described in the results and BENCHMARKS
 COARSE_SPACE = ("all normal-facet dofs, the lowest-order dof of every facet in the other facet components, "
                 "all crack-edge dofs")
 
@@ -56,12 +69,10 @@ def _per_component(fes: ngs.FESpace, edge) -> list[list[int]]:
     return out
 
 
-#: the preconditioners of the distributed CG: "bddc" (NGSolve's BDDC with the coarse space
-#: above) and "direct" (the condensed matrix gathered on rank 0 and factorized there:
-#: NGSolve's "masterinverse"; exact, CG stops after a step or two)
-PRECONDITIONERS = ("bddc", "direct")
+#: the preconditioners of the distributed CG (module docstring)
+PRECONDITIONERS = ("subdomains", "bddc", "direct")
 #: the distributed solve's, where `bddc_applies`; "direct" otherwise
-DEFAULT = "bddc"
+DEFAULT = "subdomains"
 #: the spaces of the elements that keep the direct preconditioner: bdm's vector facet space
 #: breaks the coarse space above as the normal-facet one does (CG with BDDC stalls, 400
 #: steps at griffith's default mesh), and for peers (vertex rotations in H1) BDDC's coarse
@@ -70,8 +81,11 @@ NOT_BDDC_SPACES = (ngs.FacetFESpace, ngs.H1)
 
 
 def bddc_applies(fes: ngs.FESpace) -> bool:
-    """Whether the coarse space above was measured to work on `fes` (TDNNS's HCurl and normal-facet traces)."""
-    return not any(isinstance(comp, NOT_BDDC_SPACES) for comp in fes.components)
+    """Whether both BDDC variants were measured to work on `fes` (TDNNS's HCurl and normal-facet traces; the
+    subdomain variant interpolates the rigid motions into these two)."""
+    comps = list(fes.components)
+    return (not any(isinstance(c, NOT_BDDC_SPACES) for c in comps) and any(isinstance(c, ngs.HCurl) for c in comps)
+            and any(isinstance(c, ngs.NormalFacetFESpace) for c in comps))
 
 
 def default_for(disc) -> str:
@@ -79,23 +93,38 @@ def default_for(disc) -> str:
     return DEFAULT if bddc_applies(disc.fes) else "direct"
 
 
-def preconditioner(disc, kind: str = DEFAULT, free=None):
-    """(operator, description): the preconditioner `kind` of the condensed matrix of `disc` (an approximate
-    inverse of the matrix as assembled, of its sign: the Krylov solver flips both) on the unknowns `free` (a
-    boolean mask; None: the space's coupling free dofs). The unknowns the space leaves free but `free` holds
-    (bdm's and peers' roller components) are taken out of the space's free dofs first: without them the
-    matrix is singular (the body's rigid motions)."""
+def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
+    """(operator, description): the preconditioner `kind` of the condensed matrix of `disc` on the unknowns `free`
+    (a boolean mask; None: the space's coupling free dofs): for "bddc" and "direct" an approximate inverse of
+    the matrix as assembled, of its sign (the Krylov solver flips both), for "subdomains" one of the
+    sign-flipped matrix with an `apply` method (`comm`: the ranks; None: MPI's world). The unknowns the space
+    leaves free but `free` holds (bdm's and peers' roller components) are taken out of the space's free dofs
+    first: without them the matrix is singular (the body's rigid motions)."""
+    if kind not in PRECONDITIONERS:
+        raise ValueError(f"preconditioner = {kind!r}: allowed values are {', '.join(PRECONDITIONERS)}")
     if free is not None:
         _hold(disc.fes, free)
+    if kind == "subdomains":
+        import numpy as np
+
+        from .subdomains import COARSE_SPACE as SUBDOMAIN_SPACE
+        from .subdomains import SubdomainBDDC
+
+        if comm is None:
+            from mpi4py import MPI
+
+            comm = MPI.COMM_WORLD
+        fes = disc.fes
+        mask = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
+        pre = SubdomainBDDC(comm, disc.a.mat, fes, mask, disc.sign)
+        return pre, f"bddc {SUBDOMAIN_SPACE} ({pre.coarse_size} coarse unknowns)"
     if kind == "bddc":
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
         mark_coarse_space(disc.fes, disc.fes.mesh, crack_edges)
         pre = ngs.Preconditioner(disc.a, "bddc")
         disc.a.Assemble()  # BDDC collects the element matrices during assembly
-        return pre.mat, f"bddc, coarse space: {COARSE_SPACE}"
-    if kind == "direct":
-        return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
-    raise ValueError(f"preconditioner = {kind!r}: allowed values are {', '.join(PRECONDITIONERS)}")
+        return pre.mat, f"bddc element-wise, coarse space: {COARSE_SPACE}"
+    return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
 
 
 def _hold(fes: ngs.FESpace, free) -> None:
@@ -104,3 +133,66 @@ def _hold(fes: ngs.FESpace, free) -> None:
         for d in range(fes.ndof):
             if bits[d] and not free[d]:
                 bits[d] = False
+
+
+def unconstrained_steps(disc, kind: str, tols=(1e-6, 1e-8), comm=None) -> dict:
+    """CG steps with the preconditioner `kind` on the sign-flipped condensed system of `disc` without crack
+    constraints (the space's free dofs), to each preconditioned relative residual of `tols`; the coarse problem's
+    global size; the last answer's largest relative difference to the direct solve (collective; for
+    BENCHMARKS 18 and the tests); the global unknowns."""
+    import numpy as np
+
+    from .krylov import Operator, pcg
+
+    if comm is None:
+        from mpi4py import MPI
+
+        comm = MPI.COMM_WORLD
+    fes = disc.fes
+    pre, _ = preconditioner(disc, kind, comm=comm)
+    free = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
+    if kind == "subdomains":
+        coarse = pre.coarse_size
+    else:
+        wb = np.array([fes.CouplingType(d) == ngs.COUPLING_TYPE.WIREBASKET_DOF for d in range(fes.ndof)], dtype=bool)
+        coarse = int(comm.allreduce(int(np.count_nonzero(free & wb & owned(fes)))))
+    f = disc.f.vec.CreateVector()
+    f.data = disc.f.vec
+    f.data += disc.a.harmonic_extension_trans * f
+    f.data *= disc.sign
+
+    def project(v):
+        v.FV().NumPy()[~free] = 0.0
+
+    project(f)
+    op = Operator(A=disc.a.mat, C=pre, sign=disc.sign)
+    steps, x = [], f.CreateVector()
+    for tol in tols:
+        x[:] = 0.0
+        steps.append(pcg(op, f, x, project, tol=tol))
+    exact = f.CreateVector()
+    exact.data = disc.sign * (disc.a.mat.Inverse(fes.FreeDofs(True), inverse="masterinverse") * f)
+    x.Cumulate()
+    exact.Cumulate()
+    diff = x.CreateVector()
+    diff.data = x - exact
+    unknowns = int(comm.allreduce(int(np.count_nonzero(free & owned(fes)))))
+    return {"steps": steps, "coarse": coarse, "unknowns": unknowns, "seconds": op.seconds,
+            "difference": ngs.Norm(diff) / max(ngs.Norm(exact), 1e-300)}
+
+
+def owned(fes: ngs.FESpace):
+    """The dofs this rank counts (the lowest rank sharing a dof counts it), a boolean mask."""
+    import numpy as np
+    from mpi4py import MPI
+
+    pd = fes.ParallelDofs()
+    own = np.ones(fes.ndof, dtype=bool)
+    if pd is None:
+        return own
+    rank = MPI.COMM_WORLD.rank
+    for d in range(fes.ndof):
+        procs = pd.Dof2Proc(d)
+        if len(procs) and min(procs) < rank:
+            own[d] = False
+    return own

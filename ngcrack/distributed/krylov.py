@@ -12,6 +12,7 @@ the constrained problem. Every inner product is NGSolve's (reduced over the rank
 from __future__ import annotations
 
 import os
+import time
 from dataclasses import dataclass
 
 import ngsolve as ngs
@@ -31,23 +32,38 @@ class KrylovError(RuntimeError):
 
 @dataclass
 class Operator:
-    """K = sign * A and C = sign * (A's preconditioner) on NGSolve vectors."""
+    """K = sign * A and its preconditioner on NGSolve vectors: C = sign * (A's preconditioner) for an NGSolve
+    matrix `C`, `C.apply` (an approximate inverse of K itself, subdomains.py) otherwise."""
 
     A: ngs.BaseMatrix
-    C: ngs.BaseMatrix
+    C: object
     sign: float
+    #: seconds spent in `pcg` with this operator
+    seconds: float = 0.0
 
     def apply(self, x: ngs.BaseVector, out: ngs.BaseVector) -> None:
         out.data = self.A * x
         out.data *= self.sign
 
     def precondition(self, r: ngs.BaseVector, out: ngs.BaseVector) -> None:
+        if hasattr(self.C, "apply"):
+            self.C.apply(r, out)
+            return
         out.data = self.C * r
         out.data *= self.sign
 
 
 def pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: float = TOL,
         max_steps: int = MAX_STEPS) -> int:
+    """`_pcg`, its time added to op.seconds."""
+    t0 = time.perf_counter()
+    try:
+        return _pcg(op, rhs, x, project, tol, max_steps)
+    finally:
+        op.seconds += time.perf_counter() - t0
+
+
+def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: float, max_steps: int) -> int:
     """Solve P K P x = P rhs for x in range(P), starting from P x; returns the CG steps.
 
     `project(v)` applies P to v in place (each rank its own entries: P must be the same

@@ -21,6 +21,10 @@ MAX_DA_FRACTION = 0.1
 #: da must be at least this fraction of the mesh size at the tips: a shorter segment is below
 #: what the mesh resolves (da = 1e-6 on a tip mesh of 5e-3 was taken for a cut-through)
 MIN_DA_TIP_FRACTION = 0.1
+#: the crack's mesh size along a growth run's path grows from crack_h at this rate with the distance from
+#: the nearest crack end (`ngcrack.path_sizes`, where its effect on K is measured; `path_grading=None` meshes
+#: the whole path at crack_h, `path_sizes.PathGrading(rate, fine)` keeps the polylines `fine` at crack_h)
+GROWTH_PATH_GRADING = 0.1
 #: solve options grow sets itself
 _RESERVED = ("warm_start", "crack_mesh", "loads")
 

@@ -5,7 +5,7 @@ included; the previous step's contact set warm-starts the QP where the solve use
 takes K_I, K_II, G at every tip inside the body (`sol.tips`), and for the tips that grow
 chooses the kink (criteria.py) and adds a segment of length da (paths.py). The next
 step's solve meshes the grown scene afresh: the new tip is graded as a tip (tip_h), the
-grown path meshed at crack_h.
+path from crack_h at the tips coarser with the distance from them (path_grading).
 
 Load. Under one proportional load, unilateral contact and Coulomb friction make the static
 problem positively homogeneous of degree one in the load: the solution at lambda times
@@ -56,8 +56,7 @@ from dataclasses import dataclass, field
 
 import shapely
 
-from ngcrack.options import SolveOptions
-from ngcrack.pipeline import Pipeline, SolveError
+from ngcrack.pipeline import SolveError
 from ngcrack.scene import SceneError, tip_label
 
 from ..errors import InputError
@@ -80,6 +79,7 @@ from .criteria import (
 from .fatigue import Cycles
 from .holes import HOLE_REASON, leave_holes
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
+from .solves import COST_PARTS, Solver, solve_step
 
 #: tips whose load factor lies within this fraction of the smallest grow together
 GROW_TOGETHER_RTOL = 0.02
@@ -105,33 +105,6 @@ KINK_NOISE_RTOL = 5e-3
 #: a tip whose K_eq is below this fraction of the largest K_eq of the run so far has no driving
 #: force (its K is the noise of the computed K, its load factor would be a thousand times the others')
 DRIVE_NOISE_RTOL = 1e-3
-#: the parts of a solve's cost recorded per step (table columns PART_s), from the solve's timings
-COST_PARTS = {"mesh": ("mesh",), "assembly": ("assemble",), "linear": ("factorize", "solve", "recover"),
-              "crack": ("schur", "qp"), "post": ("tips", "estimate")}
-@dataclass
-class Solver:
-    """The loop's solves: one Pipeline for the whole path and the solve options, checked once.
-
-    Every step (and every PLS trial) is a new geometry, so the pipeline meshes and
-    assembles it afresh; what it keeps is the contact set handed on as a warm start.
-    """
-
-    options: SolveOptions
-    pipeline: Pipeline = field(default_factory=Pipeline)
-    #: seconds spent so far in each part of the solves (COST_PARTS), summed over every solve
-    spent: dict = field(default_factory=lambda: dict.fromkeys(COST_PARTS, 0.0))
-
-    def since(self, before: dict) -> dict:
-        """The seconds of each part spent since the snapshot `before` (a copy of `spent`)."""
-        return {k: self.spent[k] - before[k] for k in COST_PARTS}
-
-
-def solve_step(scene, previous, solver: Solver):
-    """One solve of the loop, warm-started from the previous one: the only place the loop solves."""
-    sol = solver.pipeline.run(scene, solver.options, warm_start=previous)
-    for part, keys in COST_PARTS.items():
-        solver.spent[part] += sum(float(sol.timings.get(k, 0.0)) for k in keys)
-    return sol
 
 
 def _closed_at(sol, tip) -> bool:
@@ -177,7 +150,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     within this fraction of the step's smallest grow together. frames: keep the deformed
     body of every step for `GrowthResult.animate`. progress: called as progress(step,
     result_so_far) after every step. The other keywords go to every solve
-    (element, order, maxh, tip_h, crack_h, grading, qp_solver, crack_model, friction_method, ...).
+    (element, order, maxh, tip_h, crack_h, grading, qp_solver, crack_model, friction_method, ...);
+    path_grading and, with friction, friction_method: growth's own defaults unless given (solves.py).
     paris: (C, m) for fatigue (fatigue.py): the load is the scene's (the cycle's maximum, load
     factor 1), R the load ratio; every step advances the leading tip by da and every other tip
     by its share of the same cycles, da (Delta K_i / Delta K_max)^m (paris=(C, m, dK_th): none
@@ -198,7 +172,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
                                                     paris, R, at_hole, solve_options)
     da, steps = float(da), int(steps)
-    options = Solver(SolveOptions.of(**solve_options))
+    options = Solver.of(scene, solve_options)
     result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
                           K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c, estimates=bool(estimate))
     t0 = time.perf_counter()

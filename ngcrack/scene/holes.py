@@ -219,7 +219,9 @@ def check_holes(raw: Any, outer: Walls, diam: float, tol: float) -> tuple[Hole, 
                      else f"vertex {int(np.argmin(inside))} {fmt_pt(loop[int(np.argmin(inside))])}")
             raise SceneError(f"{fld}: the hole ({where}) is not strictly inside domain.polygon; a "
                              f"hole must lie inside the body without touching its boundary")
-        import shapely  # (a scene with holes only)
+        if len(holes) == 1:
+            break
+        import shapely  # (a scene with two holes or more)
 
         shape = shapely.Polygon(loop)
         for j, other in enumerate(shapes):

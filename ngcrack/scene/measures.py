@@ -90,10 +90,17 @@ def mid(p: Point, q: Point) -> Point:
 
 def point_segment_distance(x: Point, p: Point, q: Point) -> float:
     """Distance from the point x to the closed segment p-q (points as pairs or numpy arrays)."""
-    x, p, q = ((float(v[0]), float(v[1])) for v in (x, p, q))
-    if p == q:
-        return dist(x, p)
-    return float(point_segment_distances(np.array(x), np.array(p), np.array(q)))
+    (px, py), (ax, ay), (bx, by) = ((float(v[0]), float(v[1])) for v in (x, p, q))
+    if (ax, ay) == (bx, by):
+        return dist((px, py), (ax, ay))
+    dx, dy = bx - ax, by - ay
+    len2 = dx * dx + dy * dy  # GEOS's pointToSegment, as point_segment_distances (one pair, in floats)
+    r = ((px - ax) * dx + (py - ay) * dy) / len2
+    if r <= 0.0:
+        return math.sqrt((px - ax) * (px - ax) + (py - ay) * (py - ay))
+    if r >= 1.0:
+        return math.sqrt((px - bx) * (px - bx) + (py - by) * (py - by))
+    return abs(((ay - py) * dx - (ax - px) * dy) / len2) * math.sqrt(len2)
 
 
 def point_segment_distances(X, A, B) -> np.ndarray:

@@ -23,7 +23,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .fields import SceneError, fmt, fmt_pt
-from .measures import Point, dist, in_region, point_segment_distances, segment_distances
+from .measures import Point, dist, in_region, point_segment_distance, point_segment_distances, segment_distances
 
 #: Narrowest gap of the body, relative to its diameter, that is accepted: two boundary
 #: or crack pieces closer than ``MIN_GAP_RTOL * diameter`` (a needle spike, a crack
@@ -38,7 +38,7 @@ MIN_GAP_RTOL = 1e-3
 GAP_PATH_FACTOR = 10.0
 #: up to this many pairs (of segments, or of points and segments) a search compares every
 #: pair on numpy; above, it goes through shapely's STRtree
-BRUTE_FORCE_PAIRS = 200_000
+BRUTE_FORCE_PAIRS = 20_000
 #: rows of a pairwise comparison at a time
 _ROWS = 256
 
@@ -107,8 +107,8 @@ def check_polyline_simple(pts: Sequence[Point], fld: str, tol: float, closed: bo
             # shared point: p2 == q1 (or q2 == p1 when closing the loop); the two
             # segments may only meet there, so neither far end may touch the other
             far_a, far_b = (A[i], B[j]) if j == i + 1 else (B[i], A[j])
-            bad = (point_segment_distances(far_a, A[j], B[j]) <= tol
-                   or point_segment_distances(far_b, A[i], B[i]) <= tol)
+            bad = (point_segment_distance(far_a, A[j], B[j]) <= tol
+                   or point_segment_distance(far_b, A[i], B[i]) <= tol)
         else:
             bad = True
         if bad:
@@ -224,8 +224,8 @@ def check_crack_in_domain(walls: Walls, pts: Sequence[Point], fld: str, tol: flo
         for e in pairs[pairs[:, 0] == s, 1]:
             c, dd = walls.A[e], walls.B[e]
             edge = walls.edge_name(e)
-            contacts = [x for x in (a, b) if point_segment_distances(x, c, dd) <= tol]
-            contacts += [x for x in (c, dd) if point_segment_distances(x, a, b) <= tol]
+            contacts = [x for x in (a, b) if point_segment_distance(x, c, dd) <= tol]
+            contacts += [x for x in (c, dd) if point_segment_distance(x, a, b) <= tol]
             if not contacts:
                 raise SceneError(f"{where} crosses {edge}; {rule}")
             if max(dist(x, y) for x in contacts for y in contacts) > tol:

@@ -16,17 +16,24 @@ from importlib import resources
 from pathlib import Path
 
 from ngcrack.scene import Scene, SceneError
-from ngcrack.scenes import handbook  # noqa: F401  finite cracked strips with handbook K (Tada-Paris-Irwin)
-from ngcrack.scenes.parametric import (
-    SCENE_FUNCTIONS,
-    Parameter,
-    SceneFunction,
-    cracked_beam,
-    griffith_plate,
-    inclined_closed_form,
-    inclined_crack,
-    scene_function,
-)
+
+#: the names of parametric.py, imported on first use (PEP 562): loading a built-in scene
+#: needs neither the scene functions nor the handbook strips (handbook.py)
+_PARAMETRIC = ("SCENE_FUNCTIONS", "Parameter", "SceneFunction", "cracked_beam", "griffith_plate",
+               "inclined_closed_form", "inclined_crack", "scene_function")
+
+
+def __getattr__(name: str):
+    if name in _PARAMETRIC:
+        from ngcrack.scenes import parametric
+
+        return getattr(parametric, name)
+    if name in ("parametric", "handbook"):  # (finite cracked strips with handbook K, Tada-Paris-Irwin)
+        import importlib
+
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = ["names", "load", "describe", "paper_example", "resolve", "inclined_crack", "inclined_closed_form",
            "griffith_plate", "cracked_beam", "SCENE_FUNCTIONS", "SceneFunction", "Parameter", "scene_function"]

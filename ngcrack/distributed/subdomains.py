@@ -1,0 +1,202 @@
+"""BDDC with one subdomain per rank: local factorizations and a coarse space of face rigid motions.
+
+NGSolve's "bddc" (bddc.py) takes every element as a subdomain. For TDNNS its coarse space
+must hold the higher-order normal-facet unknowns (their lowest-order unknowns alone make
+the coarse matrix singular, bddc.py), about three quarters of the condensed system at
+order 1. This preconditioner takes each rank's part of the mesh as one subdomain
+instead (the balancing domain decomposition by constraints of Dohrmann, on the whole
+condensed system):
+
+- the local matrix: the rank's unassembled part of the condensed matrix (NGSolve's
+  ParallelMatrix.local_mat, the subdomain's Neumann matrix), times the sign that makes it
+  positive semidefinite, on the free unknowns;
+- interface: the unknowns a rank shares with others (in 2D every facet unknown is shared
+  by at most two subdomains: the subdomains' corners carry none); a face is the set of
+  interface unknowns shared with one neighbour;
+- primal constraints (the coarse space): per face, the face's values of the three rigid
+  motions (u and u_hat_n interpolated; the crack jumps zero), i.e. three weighted averages
+  of the face's unknowns. They fix each subdomain's rigid motions, so every local problem
+  is nonsingular; the coarse problem has at most three unknowns per face, assembled on
+  every rank and factorized there (dense: small);
+- the application, for a residual r: the interior correction (each rank's interior
+  solve), the interface residual averaged by multiplicity, the coarse solve plus each
+  rank's constrained Neumann solve, the weighted sum of the interface values over the
+  ranks and the harmonic extension into each interior. Symmetric positive definite, so it
+  preconditions CG (krylov.py); the condition number of BDDC grows like
+  (1 + log(H/h))^2 in the subdomain size H/h.
+
+Each rank factorizes two sparse matrices (its interior and its constrained Neumann
+problem; SuperLU through scipy) and per CG step exchanges interface values twice with its
+neighbours (NGSolve's Cumulate) and reduces the coarse right-hand side once.
+"""
+
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+#: how the coarse space is described in the results and BENCHMARKS
+COARSE_SPACE = "per rank subdomain: the 3 rigid motions' averages over each face shared with a neighbour"
+#: a face's rigid mode is dropped where it is this close to the span of the modes before it (Gram determinant)
+MODE_RTOL = 1e-10
+
+
+class SubdomainError(RuntimeError):
+    """A subdomain's constrained local problem is singular (its rigid motions not fixed by its faces)."""
+
+
+def rigid_modes(fes: ngs.FESpace, K: sp.csr_matrix) -> np.ndarray:
+    """(ndof, 3): the values of the plane rigid motions (1, 0), (0, 1), (-y, x) in the unknowns of `fes`: its first
+    HCurl component (u) interpolated, its first normal-facet component (u_hat_n) from the rows of the local matrix
+    `K` (all of the space's unknowns) that it tests (K r = 0 for a rigid motion r: u_hat_n = -K_nn^-1 K_nu u),
+    every other component zero. Collective: NGSolve's interpolation exchanges the shared unknowns, so every rank
+    calls it, also one without elements. (NGSolve's dual interpolation into the normal-facet space corrupted
+    memory on a distributed mesh at 3 subdomains.)"""
+    comps = list(fes.components)
+    k_u = next(k for k, c in enumerate(comps) if isinstance(c, ngs.HCurl))
+    k_n = next(k for k, c in enumerate(comps) if isinstance(c, ngs.NormalFacetFESpace))
+    out = np.zeros((fes.ndof, 3))
+    ru, rn = fes.Range(k_u), fes.Range(k_n)
+    u_dofs, n_dofs = np.arange(ru.start, ru.stop), np.arange(rn.start, rn.stop)
+    for j, cf in enumerate((ngs.CF((1, 0)), ngs.CF((0, 1)), ngs.CF((-ngs.y, ngs.x)))):
+        gf = ngs.GridFunction(fes)
+        gf.vec[:] = 0.0
+        gf.components[k_u].Set(cf)
+        out[u_dofs, j] = gf.vec.FV().NumPy()[u_dofs]
+    if not len(n_dofs):
+        return out
+    K_nn = K[n_dofs][:, n_dofs].tocsc()
+    out[n_dofs] = -spla.splu(K_nn).solve(np.asarray(K[n_dofs][:, u_dofs] @ out[u_dofs]))
+    return out
+
+
+def _face_modes(R: np.ndarray) -> list[int]:
+    """The modes kept on a face with mode values R (rows: the face's unknowns): each in turn unless it is (nearly)
+    in the span of those kept; from the Gram matrix, so that both sides of the face keep the same ones."""
+    gram = R.T @ R
+    keep: list[int] = []
+    scale = max(float(np.max(np.diag(gram))), 1e-300)
+    for j in range(R.shape[1]):
+        trial = keep + [j]
+        sub = gram[np.ix_(trial, trial)] / scale
+        if np.linalg.det(sub) > MODE_RTOL * max(np.linalg.det(gram[np.ix_(keep, keep)] / scale), 1e-300 if keep else 1.0):
+            keep = trial
+    return keep
+
+
+class SubdomainBDDC:
+    """The preconditioner of the module docstring on `fes`'s free unknowns `free` (a boolean mask per local dof)
+    for K = sign * A (A a ParallelMatrix, assembled): apply(r, out) sets out = C r, C an approximate inverse of K."""
+
+    def __init__(self, comm, A, fes: ngs.FESpace, free: np.ndarray, sign: float):
+        self.comm, self.A = comm, A
+        n = fes.ndof
+        self.idx = np.flatnonzero(free[:n]) if n else np.zeros(0, dtype=int)
+        pd = fes.ParallelDofs()
+        neighbours = [tuple(sorted(int(p) for p in pd.Dof2Proc(int(d)))) for d in self.idx]
+        shared = np.array([len(p) > 0 for p in neighbours], dtype=bool)
+        self.gamma, self.inner = np.flatnonzero(shared), np.flatnonzero(~shared)
+        self.weight = 1.0 / (1.0 + np.array([len(neighbours[i]) for i in self.gamma], dtype=float))
+        if n:
+            rows, cols, vals = A.local_mat.COO()
+            K_all = sp.csr_matrix((sign * np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
+        else:
+            K_all = sp.csr_matrix((0, 0))
+        K = K_all[self.idx][:, self.idx].tocsr()
+        self.K = K
+        # faces: the interface unknowns shared with one set of ranks, keyed by all of them (this one included)
+        faces: dict[tuple, list[int]] = {}
+        for i in self.gamma:
+            faces.setdefault(tuple(sorted((comm.rank,) + neighbours[i])), []).append(int(i))
+        keys = sorted({k for part in comm.allgather(sorted(faces)) for k in part})
+        self.faces = len(keys)
+        modes = rigid_modes(fes, K_all)[self.idx]
+        # primal constraints: rows of C (one per kept mode of each face), their global numbers
+        crow, ccol, cval, self.primal = [], [], [], []
+        for key, dofs in faces.items():
+            R = modes[dofs]
+            for j in _face_modes(R):
+                crow += [len(self.primal)] * len(dofs)
+                ccol += dofs
+                cval += list(R[:, j])
+                self.primal.append(3 * keys.index(key) + j)
+        nc = len(self.primal)
+        C = sp.csr_matrix((cval, (crow, ccol)), shape=(nc, len(self.idx)))
+        self._factorize(K, C)
+        self._coarse(3 * len(keys))
+
+    def _factorize(self, K, C) -> None:
+        I, nc = self.inner, len(self.primal)
+        self.K_II = spla.splu(K[I][:, I].tocsc()) if len(I) else None
+        self.K_IG = K[I][:, self.gamma].tocsr()
+        self.K_GI = K[self.gamma][:, I].tocsr()
+        if not len(self.idx):
+            self.saddle, self.phi = None, np.zeros((0, 0))
+            return
+        saddle = sp.bmat([[K, C.T], [C, None]], format="csc")
+        try:
+            self.saddle = spla.splu(saddle)
+        except RuntimeError as exc:  # SuperLU: exactly singular
+            raise SubdomainError(f"rank {self.comm.rank}: the constrained local problem is singular ({exc})") from exc
+        rhs = np.zeros((len(self.idx) + nc, nc))
+        rhs[len(self.idx):] = np.eye(nc)
+        sol = self.saddle.solve(rhs) if nc else rhs
+        self.phi = sol[:len(self.idx)]
+        if not np.all(np.isfinite(self.phi)):
+            raise SubdomainError(f"rank {self.comm.rank}: the constrained local problem is singular")
+        self.n_local = len(self.idx)
+
+    def _coarse(self, n0: int) -> None:
+        """The coarse matrix sum_s Phi_s^T K_s Phi_s, reduced on every rank and factorized there."""
+        A0 = np.zeros((n0, n0))
+        if len(self.primal):
+            p = np.asarray(self.primal)
+            A0[np.ix_(p, p)] = self.phi.T @ (self.K @ self.phi)
+        A0 = self.comm.allreduce(A0)
+        used = np.flatnonzero(np.diag(A0) != 0.0)  # modes dropped on every face: no row
+        self.used = used
+        self.coarse_size = len(used)
+        self.A0 = sla.cho_factor(A0[np.ix_(used, used)]) if len(used) else None
+        self.n0 = n0
+
+    def _sum_over_ranks(self, values: np.ndarray, positions: np.ndarray, work: ngs.BaseVector) -> np.ndarray:
+        """The sum over the ranks sharing them of every rank's `values` at the free unknowns `positions`."""
+        work.SetParallelStatus(ngs.PARALLEL_STATUS.DISTRIBUTED)
+        arr = work.FV().NumPy()
+        arr[:] = 0.0
+        arr[self.idx[positions]] = values
+        work.Cumulate()
+        return work.FV().NumPy()[self.idx[positions]].copy()
+
+    def apply(self, r: ngs.BaseVector, out: ngs.BaseVector) -> None:
+        work = r.CreateVector()
+        work.data = r
+        work.Cumulate()
+        rv = work.FV().NumPy()[self.idx].copy()
+        I, G = self.inner, self.gamma
+        w_I = self.K_II.solve(rv[I]) if self.K_II is not None else np.zeros(0)
+        r_G = rv[G] - self._sum_over_ranks(self.K_GI @ w_I, G, work)
+        b = np.zeros(len(self.idx))
+        b[G] = self.weight * r_G
+        g = np.zeros(self.n0)
+        if len(self.primal):
+            np.add.at(g, np.asarray(self.primal), self.phi.T @ b)
+        g = self.comm.allreduce(g)
+        u0 = np.zeros(self.n0)
+        if self.A0 is not None:
+            u0[self.used] = sla.cho_solve(self.A0, g[self.used])
+        u = np.zeros(len(self.idx))
+        if len(self.idx):
+            u = self.phi @ u0[np.asarray(self.primal, dtype=int)] if len(self.primal) else u
+            rhs = np.concatenate([b, np.zeros(len(self.primal))])
+            u = u + self.saddle.solve(rhs)[:len(self.idx)]
+        u_G = self._sum_over_ranks(self.weight * u[G], G, work)
+        u_I = w_I - (self.K_II.solve(self.K_IG @ u_G) if self.K_II is not None else 0.0)
+        out.SetParallelStatus(ngs.PARALLEL_STATUS.CUMULATED)
+        vals = out.FV().NumPy()
+        vals[:] = 0.0
+        vals[self.idx[I]] = u_I
+        vals[self.idx[G]] = u_G
