@@ -4,13 +4,13 @@ Under `mpiexec -n N` (N > 1) `ngcrack solve` and `nc.solve` run `distributed.sol
 
 - mesh: made on rank 0 by the serial pipeline, distributed by netgen (`Distribute` /
   `Receive`). NGSolve's distributed meshes leave rank 0 without elements: the N - 1
-  other ranks hold one subdomain each, rank 0 takes part in every reduction and holds
-  BDDC's coarse problem;
+  other ranks hold one subdomain each, rank 0 takes part in every reduction;
 - system: every rank builds the element's spaces and forms on its subdomain (the crack
   edges found again on each rank) and assembles the statically condensed facet system
   in parallel (NGSolve ParallelMatrix);
-- linear solves: preconditioned conjugate gradients with NGSolve's BDDC (coarse space:
-  `bddc.py`);
+- linear solves: conjugate gradients preconditioned by BDDC with one subdomain per rank
+  (`subdomains.py`; the choices and why: `bddc.py`), the crack problem's held values
+  constraints of its local solves;
 - crack problem: a primal-dual active-set iteration on the distributed crack unknowns,
   each step one constrained linear solve (active constraint values held at zero by a
   projection), the multipliers from the residual, the KKT residuals and the change of

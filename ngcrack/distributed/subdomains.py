@@ -48,7 +48,7 @@ class SubdomainError(RuntimeError):
     """A subdomain's constrained local problem is singular (its rigid motions not fixed by its faces)."""
 
 
-def rigid_modes(fes: ngs.FESpace, K: sp.csr_matrix) -> np.ndarray:
+def rigid_modes(fes: ngs.FESpace, K: sp.csr_matrix, normal_facet: bool = True) -> np.ndarray:
     """(ndof, 3): the values of the plane rigid motions (1, 0), (0, 1), (-y, x) in the unknowns of `fes`: its first
     HCurl component (u) interpolated, its first normal-facet component (u_hat_n) from the rows of the local matrix
     `K` (all of the space's unknowns) that it tests (K r = 0 for a rigid motion r: u_hat_n = -K_nn^-1 K_nu u),
@@ -66,7 +66,7 @@ def rigid_modes(fes: ngs.FESpace, K: sp.csr_matrix) -> np.ndarray:
         gf.vec[:] = 0.0
         gf.components[k_u].Set(cf)
         out[u_dofs, j] = gf.vec.FV().NumPy()[u_dofs]
-    if not len(n_dofs):
+    if not len(n_dofs) or not normal_facet:  # (a rank without faces needs none)
         return out
     K_nn = K[n_dofs][:, n_dofs].tocsc()
     out[n_dofs] = -spla.splu(K_nn).solve(np.asarray(K[n_dofs][:, u_dofs] @ out[u_dofs]))
@@ -113,7 +113,7 @@ class SubdomainBDDC:
             faces.setdefault(tuple(sorted((comm.rank,) + neighbours[i])), []).append(int(i))
         keys = sorted({k for part in comm.allgather(sorted(faces)) for k in part})
         self.faces = len(keys)
-        modes = rigid_modes(fes, K_all)[self.idx]
+        modes = rigid_modes(fes, K_all, normal_facet=bool(faces))[self.idx]
         # primal constraints: rows of C (one per kept mode of each face), their global numbers
         crow, ccol, cval, self.primal = [], [], [], []
         for key, dofs in faces.items():
@@ -159,8 +159,8 @@ class SubdomainBDDC:
         self.K_II = spla.splu(sp.bmat([[K[I][:, I], B_I.T], [B_I, None]], format="csc")) if len(I) else None
         self.K_IG = K[I][:, G].tocsr()
         self.K_GI = K[G][:, I].tocsr()
-        if not n:
-            self.saddle, self.phi, self.n_rows = None, np.zeros((0, 0)), 0
+        if not n or not len(G):  # no interface: the interior solve is the whole local solve
+            self.saddle, self.phi, self.n_rows = None, np.zeros((n, 0)), 0
             return
         D = sp.vstack([self.C, B]).tocsr()
         self.n_rows = D.shape[0]
@@ -220,7 +220,7 @@ class SubdomainBDDC:
         if self.A0 is not None:
             u0[self.used] = sla.cho_solve(self.A0, g[self.used])
         u = np.zeros(len(self.idx))
-        if len(self.idx):
+        if self.saddle is not None:
             u = self.phi @ u0[np.asarray(self.primal, dtype=int)] if len(self.primal) else u
             rhs = np.concatenate([b, np.zeros(self.n_rows)])
             u = u + self.saddle.solve(rhs)[:len(self.idx)]
