@@ -48,6 +48,7 @@ def main(argv=None) -> int:
         "path_grading": None if args.path_grading.lower() == "none" else float(args.path_grading)}
 
     import ngcrack as nc
+    from ngcrack.growth.solves import growth_solve_options
     from ngcrack.solve import solve
 
     print(f"load average before: {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
@@ -66,7 +67,7 @@ def main(argv=None) -> int:
         fresh = ""
         if n % args.every == 0 or n == df.index[-1]:
             t1 = time.perf_counter()
-            solve(res.scenes[n])
+            solve(res.scenes[n], **growth_solve_options(scene, grading))  # growth's own options
             f = time.perf_counter() - t1
             ratios.append(row.time_s / row.solves / f)
             fresh = f"{f:8.2f} {ratios[-1]:15.2f}"
