@@ -124,17 +124,18 @@ def same_scenes(nc, uniform, every: int) -> None:
     from ngcrack.growth.checks import GROWTH_PATH_GRADING
 
     print(f"\nthe same grown scenes (every {every}-th step of the run with the path at crack_h), graded "
-          f"(path_grading {GROWTH_PATH_GRADING:g}): |dK_I| / K_I, |dK_II| / K_I (largest over the tips)")
-    print("| step | unknowns at crack_h | graded | dK_I / K_I | dK_II / K_I |\n|---|---|---|---|---|")
+          f"(path_grading {GROWTH_PATH_GRADING:g}): |dK_I| / K, |dK_II| / K, K = max(|K_I|, |K_II|) (largest over the tips)")
+    print("| step | unknowns at crack_h | graded | dK_I / K | dK_II / K |\n|---|---|---|---|---|")
     worst = [0.0, 0.0]
     for n in range(0, len(uniform.scenes), every):
         fine = nc.solve(uniform.scenes[n])
         coarse = nc.solve(uniform.scenes[n], path_grading=GROWTH_PATH_GRADING)
-        d1 = max(abs(t.K_I - s.K_I) / s.K_I for s, t in zip(fine.tips, coarse.tips))
-        d2 = max(abs(t.K_II - s.K_II) / s.K_I for s, t in zip(fine.tips, coarse.tips))
+        scale = [max(abs(s.K_I), abs(s.K_II)) for s in fine.tips]  # K_I, or K_II where the tip is closed
+        d1 = max(abs(t.K_I - s.K_I) / k for s, t, k in zip(fine.tips, coarse.tips, scale))
+        d2 = max(abs(t.K_II - s.K_II) / k for s, t, k in zip(fine.tips, coarse.tips, scale))
         worst = [max(worst[0], d1), max(worst[1], d2)]
         print(f"| {n} | {fine.ndof['total']} | {coarse.ndof['total']} | {d1:.1e} | {d2:.1e} |")
-    print(f"largest: dK_I / K_I {worst[0]:.1e}, dK_II / K_I {worst[1]:.1e}")
+    print(f"largest: dK_I / K {worst[0]:.1e}, dK_II / K {worst[1]:.1e}")
 
 
 if __name__ == "__main__":
