@@ -103,3 +103,36 @@ def test_3d_displacement_element_is_one_line():
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "element = 'h1p1': a distributed 3D solve takes element = 'tdnns'" in lines[0], \
         proc.stderr
+
+
+@pytest.mark.slow
+def test_three_ranks_two_subdomains_equal_serial(tmp_path):
+    """mpiexec -n 3: two subdomains (rank 0 holds none), the same answer."""
+    (tmp_path / "compare.py").write_text(COMPARE)
+    (tmp_path / "scene.json").write_text(json.dumps(BEAM))
+    proc = _run([str(tmp_path / "compare.py"), str(tmp_path / "out.json"), str(tmp_path / "scene.json")], n=3)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    r = json.loads((tmp_path / "out.json").read_text())
+    assert r["info"]["subdomains"] == 2
+    test_distributed_3d_penny_equals_serial(r)
+
+
+@pytest.mark.slow
+def test_cli_writes_the_3d_json_once(tmp_path):
+    """`mpiexec -n 2 ngcrack solve scene.toml --json out.json`: rank 0 alone writes and prints; the serial K."""
+    from ngcrack.solid.scene import SolidScene
+    from ngcrack.solid.solve import solve_solid
+
+    scene = SolidScene.from_dict(BEAM)
+    path, out = tmp_path / "bent.toml", tmp_path / "bent.json"
+    path.write_text(scene.to_toml_string())
+    proc = _run(["-m", "ngcrack.cli", "solve", str(path), "--json", str(out)])
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.count("wrote ") == 1 and proc.stdout.count("(3D)") == 1
+    record = json.loads(out.read_text())
+    assert record["distributed"]["ranks"] == 2
+    front = record["fronts"][0]
+    serial = solve_solid(scene).fronts[0]
+    K = np.array([front["K_I"], front["K_II"], front["K_III"]])
+    Ks = np.array([serial.K_I, serial.K_II, serial.K_III])
+    assert np.max(np.abs(K - Ks)) <= 1e-8 * np.max(np.abs(Ks))

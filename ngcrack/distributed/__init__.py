@@ -21,6 +21,10 @@ Under `mpiexec -n N` (N > 1) `ngcrack solve` and `nc.solve` run `distributed.sol
   definitions of `constraints.py`, the tips' K_I, K_II, G): one Solution on rank 0,
   written once.
 
+A 3D scene (ngcrack.solid, tdnns) goes the same way through `distributed.solid`: the mesh
+curved on every rank with the scene's geometry, the crack faces' active set by projected
+CG with a 3D BDDC coarse space, the fronts' K on rank 0 from the gathered answer.
+
 N = 1 (no mpiexec) is the serial direct path, unchanged. mpi4py and an MPI library are
 the `[mpi]` extra.
 """

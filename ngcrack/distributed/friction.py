@@ -25,7 +25,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from .krylov import pcg
+from .krylov import held_rows, hold, pcg
 
 #: the fixed point on tau = mu lam_n stops when tau changes by less than this fraction of max lam_n
 COULOMB_RTOL = 1e-12
@@ -68,6 +68,10 @@ class FrictionSets:
         if len(self.jn):
             vals[self.jn] = self.Pn @ vals[self.jn]
             vals[self.jt] = self.Pt @ vals[self.jt]
+
+    def held(self):
+        """The held values' rows over this rank's dofs: G's contact rows on jn, Gt's sticking rows on jt."""
+        return held_rows([(self.G[self.contact], self.jn), (self.Gt[self.stick], self.jt)], len(self.free))
 
     def slip_forces(self) -> np.ndarray:
         """-Gt^T lam_t of the slipping points (lam_t = tau s): the tangential rows' right-hand side."""
@@ -120,3 +124,4 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
             raise RuntimeError(f"crack problem with friction: no convergence in {steps} steps "
                                f"({changed} set changes, threshold change {moved:.1e} of {lam_max:.1e})")
         sets.set(contact, stick, sign, tau)
+        hold(op, sets)

@@ -16,6 +16,8 @@ import time
 from dataclasses import dataclass
 
 import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
 
 _DEBUG = bool(os.environ.get("NGCRACK_MPI_DEBUG"))
 
@@ -109,3 +111,19 @@ def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: flo
         p.data += z
         rz = rz_new
     raise KrylovError(f"CG: no convergence to {tol:g} in {max_steps} steps (residual ratio {abs(rz) / rz0:.1e})")
+
+
+def held_rows(blocks, ndof: int):
+    """Sparse rows over `ndof` dofs stacked from (rows, their columns' dofs) blocks."""
+    parts = []
+    for rows, dofs in blocks:
+        M = sp.coo_matrix(rows)
+        parts.append(sp.csr_matrix((M.data, (M.row, np.asarray(dofs, dtype=int)[M.col])), shape=(rows.shape[0], ndof)))
+    return sp.vstack(parts).tocsr() if parts else sp.csr_matrix((0, ndof))
+
+
+def hold(op: Operator, sets) -> None:
+    """Tell the preconditioner the held values' rows (`sets.held()`) where it takes them into its local solves
+    (collective)."""
+    if hasattr(op.C, "hold") and hasattr(sets, "held"):
+        op.C.hold(sets.held())

@@ -48,6 +48,10 @@ def default_preconditioner(size: int) -> str:
     return "bddc" if size <= BDDC_MAX_RANKS else "direct"
 
 
+class SplitCrackFace(ValueError):
+    """A crack face's two tetrahedra sit on two ranks (not handled yet; found alike on every rank)."""
+
+
 def check_supported(scene, opts: dict) -> None:
     """What the distributed 3D solve does not do, refused on every rank before any work."""
     if opts["element"] != "tdnns":
@@ -139,7 +143,7 @@ def solve(scene, opts: dict, preconditioner_kind: str | None = None):
         raise SystemExit(2) from None
     try:
         return _solve(comm, scene, opts, kind)
-    except TooFewTetrahedra:  # found alike on every rank: rank 0 reports, no abort needed
+    except (TooFewTetrahedra, SplitCrackFace):  # found alike on every rank: rank 0 reports, no abort needed
         if comm.rank == 0:
             raise
         raise SystemExit(2) from None
@@ -169,6 +173,12 @@ def _solve(comm, scene, opts: dict, kind: str):
     t0 = time.perf_counter()
     mesh = distribute(smesh, scene, comm, sizes, CURVE_ORDER)
     lsm, placed = local_solid_mesh(mesh, scene, layout, sizes)
+    # crack faces whose two tetrahedra sit on two ranks: netgen's partition kept every crack face's two
+    # tetrahedra together at 2-6 ranks on every mesh measured; the other case is not verified, so refused
+    shared = int(comm.allreduce(sum(len(f) for f, _ in placed)) - sum(len(c.centroids) for c in layout))
+    if shared:
+        raise SplitCrackFace(f"mpiexec -n {comm.size}: {shared} crack faces have their two tetrahedra on two ranks, "
+                             "which the distributed 3D solve does not handle yet; use another number of ranks")
     timings["distribute"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -212,8 +222,6 @@ def _solve(comm, scene, opts: dict, kind: str):
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
             "preconditioner": described, "krylov": "cg",
             "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
-            # crack faces whose two tetrahedra sit on two ranks (their unknowns shared)
-            "shared_crack_faces": int(comm.allreduce(sum(len(f) for f, _ in placed)) - sum(len(c.centroids) for c in layout)),
             "memory_mb": _memory_per_rank(comm)}
     t0 = time.perf_counter()
     flags = np.zeros(fes.ndof, dtype=bool)

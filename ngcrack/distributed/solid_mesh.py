@@ -9,11 +9,11 @@ found again, the constraint map's blocks placed, the solution gathered back.
   geometry on its subdomain and curves it (`Mesh.Curve`) as the serial mesh is curved (a
   received subdomain has no geometry: uncurved, the crack's area is 0.7% short);
 - `local_solid_mesh`: the subdomain's crack faces, their tetrahedra on each side, and the
-  interior crack edges, matched by coordinates. A crack face whose two tetrahedra sit on
-  two ranks is on both subdomains; its unknowns are shared (NGSolve's parallel dofs) and
-  both ranks place the same block of G on them. Netgen keeps the vertices' order on every
-  rank, so a face's unknowns come in the same order as on the serial mesh; checked per
-  crack face (its vertices in order), refused otherwise;
+  interior crack edges, matched by coordinates. Netgen's partition kept each crack face's
+  two tetrahedra on one rank on every mesh measured (2-6 ranks); a face split over two
+  ranks is counted and refused by `distributed.solid`. Netgen keeps the vertices' order on
+  every rank, so a face's unknowns come in the same order as on the serial mesh; checked
+  per crack face (its vertices in order), refused otherwise;
 - `gather_to_rank0` / `scatter_into`: the condensed unknowns, per mesh edge and face, sent
   with the node's position and matched to the serial mesh with a k-d tree on rank 0.
 """

@@ -28,7 +28,7 @@ from . import MPIUnavailable, require_mpi
 from .bddc import default_for, owned, preconditioner
 from .friction import FrictionSets, friction_loop
 from .gather import gather_to_rank0
-from .krylov import Operator, pcg
+from .krylov import Operator, held_rows, hold, pcg
 from .mesh import MATCH_RTOL, TooFewElements, distribute
 
 #: active-set steps before the iteration is declared cycling
@@ -105,6 +105,10 @@ class ActiveSet:
         vals[~self.free] = 0.0
         if len(self.jn):
             vals[self.jn] = self.P @ vals[self.jn]
+
+    def held(self):
+        """The held values' rows over this rank's dofs (G's active rows on the crack unknowns), sparse."""
+        return held_rows([(self.G[self.active], self.jn)], len(self.free))
 
 
 def _fail(comm, rank: int, exc: BaseException) -> None:
@@ -206,6 +210,7 @@ def _solve(comm, scene, o: SolveOptions):
         aset = ActiveSet(G, jn_dofs, free)
         if has_crack and o.crack_model == "bonded":
             aset.set(np.ones(len(G), dtype=bool))
+            hold(op, aset)
         steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and o.crack_model == "contact")
         active = aset.active
     x.Cumulate()
@@ -254,6 +259,7 @@ def normal_loop(comm, op, rhs, x, aset: ActiveSet, iterate: bool) -> tuple[int, 
         if steps >= MAX_ACTIVE_SET_STEPS:
             raise RuntimeError(f"crack problem: the active set still changed after {steps} steps")
         aset.set(active)
+        hold(op, aset)
 
 
 def tangential_component(disc) -> int:

@@ -124,33 +124,65 @@ class SubdomainBDDC:
                 cval += list(R[:, j])
                 self.primal.append(3 * keys.index(key) + j)
         nc = len(self.primal)
-        C = sp.csr_matrix((cval, (crow, ccol)), shape=(nc, len(self.idx)))
-        self._factorize(K, C)
-        self._coarse(3 * len(keys))
+        self.C = sp.csr_matrix((cval, (crow, ccol)), shape=(nc, len(self.idx)))
+        self.n0 = 3 * len(keys)
+        self._held = None
+        self._factorize(sp.csr_matrix((0, len(self.idx))))
+        self._coarse()
 
-    def _factorize(self, K, C) -> None:
-        I, nc = self.inner, len(self.primal)
-        self.K_II = spla.splu(K[I][:, I].tocsc()) if len(I) else None
-        self.K_IG = K[I][:, self.gamma].tocsr()
-        self.K_GI = K[self.gamma][:, I].tocsr()
-        if not len(self.idx):
-            self.saddle, self.phi = None, np.zeros((0, 0))
+    def hold(self, rows: sp.spmatrix) -> None:
+        """Keep the values `rows` @ y (rows over this rank's dofs; a crack edge's constraint rows, the same on every
+        rank that shares the edge) at zero in every local solve: the preconditioner of the constrained problem,
+        whose answers satisfy the constraints. Refactorizes where the rows changed on some rank (collective)."""
+        B = sp.csr_matrix(rows)[:, self.idx] if len(self.idx) else sp.csr_matrix((0, 0))
+        B = B[np.flatnonzero(np.diff(B.indptr))] if B.shape[0] else B  # rows on held dofs only: none
+        key = (B.shape, B.indptr.tobytes(), B.indices.tobytes(), B.data.tobytes())
+        if not self.comm.allreduce(int(key != self._held)):
             return
-        saddle = sp.bmat([[K, C.T], [C, None]], format="csc")
+        self._held = key
+        self._factorize(B.tocsr())
+        self._coarse()
+
+    def _factorize(self, B: sp.csr_matrix) -> None:
+        """The interior and constrained Neumann problems, with the held rows B (free-dof columns) as constraints;
+        the coarse basis Phi (the constrained Neumann problem's answers to a unit primal value each)."""
+        K, I, G, nc = self.K, self.inner, self.gamma, len(self.primal)
+        n = len(self.idx)
+        inner_row = np.zeros(B.shape[0], dtype=bool)
+        if B.shape[0]:
+            on_gamma = np.zeros(n, dtype=bool)
+            on_gamma[G] = True
+            inner_row = np.array([not np.any(on_gamma[B.indices[B.indptr[k]:B.indptr[k + 1]]])
+                                  for k in range(B.shape[0])], dtype=bool)
+        B_I = B[np.flatnonzero(inner_row)][:, I]
+        self.n_held_inner = B_I.shape[0]
+        self.K_II = spla.splu(sp.bmat([[K[I][:, I], B_I.T], [B_I, None]], format="csc")) if len(I) else None
+        self.K_IG = K[I][:, G].tocsr()
+        self.K_GI = K[G][:, I].tocsr()
+        if not n:
+            self.saddle, self.phi, self.n_rows = None, np.zeros((0, 0)), 0
+            return
+        D = sp.vstack([self.C, B]).tocsr()
+        self.n_rows = D.shape[0]
         try:
-            self.saddle = spla.splu(saddle)
+            self.saddle = spla.splu(sp.bmat([[K, D.T], [D, None]], format="csc"))
         except RuntimeError as exc:  # SuperLU: exactly singular
             raise SubdomainError(f"rank {self.comm.rank}: the constrained local problem is singular ({exc})") from exc
-        rhs = np.zeros((len(self.idx) + nc, nc))
-        rhs[len(self.idx):] = np.eye(nc)
-        sol = self.saddle.solve(rhs) if nc else rhs
-        self.phi = sol[:len(self.idx)]
+        rhs = np.zeros((n + self.n_rows, nc))
+        rhs[n:n + nc] = np.eye(nc)
+        self.phi = self.saddle.solve(rhs)[:n] if nc else np.zeros((n, 0))
         if not np.all(np.isfinite(self.phi)):
             raise SubdomainError(f"rank {self.comm.rank}: the constrained local problem is singular")
-        self.n_local = len(self.idx)
 
-    def _coarse(self, n0: int) -> None:
+    def _solve_inner(self, rhs: np.ndarray) -> np.ndarray:
+        """K_II^-1 rhs on the interior unknowns (the held interior rows kept at zero)."""
+        if self.K_II is None:
+            return np.zeros(0)
+        return self.K_II.solve(np.concatenate([rhs, np.zeros(self.n_held_inner)]))[:len(self.inner)]
+
+    def _coarse(self) -> None:
         """The coarse matrix sum_s Phi_s^T K_s Phi_s, reduced on every rank and factorized there."""
+        n0 = self.n0
         A0 = np.zeros((n0, n0))
         if len(self.primal):
             p = np.asarray(self.primal)
@@ -160,7 +192,6 @@ class SubdomainBDDC:
         self.used = used
         self.coarse_size = len(used)
         self.A0 = sla.cho_factor(A0[np.ix_(used, used)]) if len(used) else None
-        self.n0 = n0
 
     def _sum_over_ranks(self, values: np.ndarray, positions: np.ndarray, work: ngs.BaseVector) -> np.ndarray:
         """The sum over the ranks sharing them of every rank's `values` at the free unknowns `positions`."""
@@ -177,7 +208,7 @@ class SubdomainBDDC:
         work.Cumulate()
         rv = work.FV().NumPy()[self.idx].copy()
         I, G = self.inner, self.gamma
-        w_I = self.K_II.solve(rv[I]) if self.K_II is not None else np.zeros(0)
+        w_I = self._solve_inner(rv[I])
         r_G = rv[G] - self._sum_over_ranks(self.K_GI @ w_I, G, work)
         b = np.zeros(len(self.idx))
         b[G] = self.weight * r_G
@@ -191,10 +222,10 @@ class SubdomainBDDC:
         u = np.zeros(len(self.idx))
         if len(self.idx):
             u = self.phi @ u0[np.asarray(self.primal, dtype=int)] if len(self.primal) else u
-            rhs = np.concatenate([b, np.zeros(len(self.primal))])
+            rhs = np.concatenate([b, np.zeros(self.n_rows)])
             u = u + self.saddle.solve(rhs)[:len(self.idx)]
         u_G = self._sum_over_ranks(self.weight * u[G], G, work)
-        u_I = w_I - (self.K_II.solve(self.K_IG @ u_G) if self.K_II is not None else 0.0)
+        u_I = w_I - self._solve_inner(self.K_IG @ u_G)
         out.SetParallelStatus(ngs.PARALLEL_STATUS.CUMULATED)
         vals = out.FV().NumPy()
         vals[:] = 0.0

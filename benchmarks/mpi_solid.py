@@ -1,0 +1,141 @@
+"""The distributed 3D solve against the serial one: agreement, CG steps, time per stage, memory per rank.
+
+    python benchmarks/mpi_solid.py [--cases bent,penny,penny-closed] [--ranks 2,3]
+
+Cases (order 1 TDNNS, coarse meshes): `bent`, the penny across a clamped beam bent by a
+shear load (tests/test_mpi_solid.py: half the crack closes); `penny` and `penny-closed`,
+the coarse penny of tests/test_solid.py under tension (every face open) and compression
+(every face closed). Every run is its own process: N = 1 is the serial 3D solve
+(`solid.solve.solve_solid`, sparse direct active set), N > 1 runs under `mpiexec -n N`
+(condense: there the serial condensation rank 0 does for the post-processing).
+Printed per run: global unknowns, active-set steps, CG steps per step (to 1e-12), the
+preconditioner, seconds per stage, peak memory per rank, and against the serial run: the
+largest difference of K_I, K_II, K_III over the front (relative to the largest |K|), of
+the normal jumps at the constraint points (relative to the largest), whether the active
+sets are equal, and the KKT residuals.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+PENNY = {
+    "name": "penny-coarse",
+    "domain": {"box": [[-10.0, -10.0, -10.0], [10.0, 10.0, 10.0]]},
+    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}],
+    "material": {"E": 1000.0, "nu": 0.3},
+    "boundary": {"xmin": {"type": "roller"}, "ymin": {"type": "roller"}, "zmin": {"type": "roller"},
+                 "zmax": {"type": "traction", "value": [0.0, 0.0, 1.0]}},
+    "mesh": {"maxh": 5.0, "crack_h": 0.4, "front_h": 0.2},
+}
+BENT = {
+    "name": "bent-penny",
+    "domain": {"box": [[-4.0, -2.0, -2.0], [4.0, 2.0, 2.0]]},
+    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [1, 0, 0], "radius": 1.0}],
+    "material": {"E": 1000.0, "nu": 0.3},
+    "boundary": {"xmin": {"type": "clamped"}, "xmax": {"type": "traction", "value": [0.0, 0.0, -1.0]}},
+    "mesh": {"maxh": 4.0, "crack_h": 0.6, "front_h": 0.4},
+}
+
+
+def case(name: str) -> dict:
+    if name == "bent":
+        return BENT
+    d = json.loads(json.dumps(PENNY))
+    if name == "penny-closed":
+        d["name"] = "penny-closed"
+        d["boundary"]["zmax"]["value"] = [0.0, 0.0, -1.0]
+    return d
+
+
+def worker(scene_path: str, out: str) -> None:
+    """One run (serial without mpiexec, distributed under it); rank 0 writes its record to `out`."""
+    import numpy as np
+
+    import ngcrack as nc
+    from ngcrack.solid.scene import SolidScene
+
+    scene = SolidScene.from_dict(json.load(open(scene_path)))
+    t0 = time.perf_counter()
+    sol = nc.solve(scene)
+    if sol is None:
+        return
+    wall = time.perf_counter() - t0
+    info = sol.distributed or {}
+    record = dict(
+        K=[np.column_stack([f.K_I, f.K_II, f.K_III]).tolist() for f in sol.fronts],
+        jumps=sol.normal_jumps().tolist(), active=sol.contact.active.tolist(), kkt=sol.kkt,
+        timings=sol.timings, wall=wall, info=info, ndof=sol.ndof,
+        memory=info.get("memory_mb") or [round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1)])
+    json.dump(record, open(out, "w"))
+
+
+def run(scene: dict, n: int, tmp: str) -> dict:
+    path, out = os.path.join(tmp, "scene.json"), os.path.join(tmp, f"out{n}.json")
+    json.dump(scene, open(path, "w"))
+    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    cmd = [sys.executable, os.path.abspath(__file__), "--worker", path, out]
+    if n > 1:
+        cmd = ["mpiexec", "-n", str(n)] + cmd
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError(proc.stderr[-2000:])
+    return json.load(open(out))
+
+
+def compare(r: dict, s: dict) -> dict:
+    import numpy as np
+
+    K, Ks = np.array(r["K"]), np.array(s["K"])
+    w, ws = np.array(r["jumps"]), np.array(s["jumps"])
+    return dict(K=float(np.max(np.abs(K - Ks)) / np.max(np.abs(Ks))),
+                profile=float(np.max(np.abs(w - ws)) / max(np.max(np.abs(ws)), 1e-300)),
+                same_active=r["active"] == s["active"], active=int(sum(r["active"])), points=len(r["active"]),
+                kkt=max(r["kkt"].values()))
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--cases", default="bent,penny,penny-closed")
+    p.add_argument("--ranks", default="2,3")
+    p.add_argument("--worker", nargs=2, help=argparse.SUPPRESS)
+    a = p.parse_args()
+    if a.worker:
+        worker(*a.worker)
+        return
+    print("uptime:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
+    print("| case | N | global dofs | AS: CG per step | preconditioner | K diff | profile diff | active (same) | KKT "
+          "| mesh | distribute | assemble | condense | solve | gather | fronts | total | MB per rank |")
+    print("|---|---:|---:|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+    for name in a.cases.split(","):
+        scene = case(name)
+        with tempfile.TemporaryDirectory() as tmp:
+            serial = run(scene, 1, tmp)
+            for n in [1] + [int(x) for x in a.ranks.split(",")]:
+                r = serial if n == 1 else run(scene, n, tmp)
+                c = compare(r, serial)
+                t = r["timings"]
+                info = r["info"]
+                steps = f"{info['active_set_steps']}: {', '.join(map(str, info['cg_steps']))}" if info else "sparse LU"
+                pre = info.get("preconditioner", "direct (serial)").split(",")[0]
+                stages = ["mesh", "distribute", "assemble", "condense", "solve", "gather", "fronts", "total"]
+                if n == 1:
+                    t = dict(t, solve=t.get("contact", 0.0) + t.get("linear", 0.0))
+                cells = [f"{t[k]:.2f}" if k in t else "-" for k in stages]
+                print(f"| {name} | {n} | {r['ndof']['global']} | {steps} | {pre} | {c['K']:.1e} | {c['profile']:.1e} | "
+                      f"{c['active']}/{c['points']} ({'same' if c['same_active'] else 'DIFFERENT'}) | {c['kkt']:.1e} | "
+                      + " | ".join(cells) + f" | {', '.join(f'{m:.0f}' for m in r['memory'])} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
