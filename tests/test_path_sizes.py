@@ -49,6 +49,14 @@ def test_bad_path_grading_refused_naming_the_field(value):
         nc.SolveOptions(path_grading=value)
 
 
+def test_grow_refuses_a_bad_path_grading_before_any_solve(monkeypatch):
+    from ngcrack.growth import loop
+
+    monkeypatch.setattr(loop, "solve_step", lambda *a: pytest.fail("solved"))
+    with pytest.raises(InputError, match="path_grading"):
+        nc.grow("inclined-compression", da=0.1, steps=1, path_grading=5.0)
+
+
 def test_plain_mesh_unchanged_and_graded_crack_coarser_away_from_the_tips():
     """path_grading None is the mesh as before (the same points, bitwise); graded, a long crack
     has fewer triangles, and its edges next to the tips are as fine as before."""
