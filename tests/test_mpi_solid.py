@@ -35,9 +35,10 @@ COMPARE = textwrap.dedent('''
     from ngcrack.solid.scene import SolidScene
     from ngcrack.solid.solve import solve_solid
     scene = SolidScene.from_dict(json.loads(open(sys.argv[2]).read()))
-    sol = nc.solve(scene)  # under mpiexec: the distributed 3D solve (None on ranks > 0)
+    order = int(sys.argv[3]) if len(sys.argv) > 3 else 1
+    sol = nc.solve(scene, order=order)  # under mpiexec: the distributed 3D solve (None on ranks > 0)
     if sol is not None:
-        ser = solve_solid(scene)  # the serial solve on the same mesh
+        ser = solve_solid(scene, order=order)  # the serial solve on the same mesh
         K = lambda s: np.array([[f.K_I, f.K_II, f.K_III] for f in s.fronts]).tolist()
         out = dict(K=K(sol), K_serial=K(ser), jumps=sol.normal_jumps().tolist(), jumps_serial=ser.normal_jumps().tolist(),
                    active=sol.contact.active.tolist(), active_serial=ser.contact.active.tolist(), kkt=sol.kkt,
@@ -136,3 +137,17 @@ def test_cli_writes_the_3d_json_once(tmp_path):
     K = np.array([front["K_I"], front["K_II"], front["K_III"]])
     Ks = np.array([serial.K_I, serial.K_II, serial.K_III])
     assert np.max(np.abs(K - Ks)) <= 1e-8 * np.max(np.abs(Ks))
+
+
+@pytest.mark.slow
+def test_order_2_with_a_crack_face_pressure_equals_serial(tmp_path):
+    """Order 2 (6 Bernstein constraints per face) and a uniform pressure on the crack's faces, mpiexec -n 2."""
+    beam = json.loads(json.dumps(BEAM))
+    beam["crack"][0]["pressure"] = 0.5
+    (tmp_path / "compare.py").write_text(COMPARE)
+    (tmp_path / "scene.json").write_text(json.dumps(beam))
+    proc = _run([str(tmp_path / "compare.py"), str(tmp_path / "out.json"), str(tmp_path / "scene.json"), "2"])
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    r = json.loads((tmp_path / "out.json").read_text())
+    assert len(r["active"]) % 6 == 0  # six constraint points per crack face
+    test_distributed_3d_penny_equals_serial(r)

@@ -5,6 +5,8 @@ the path meshed at crack_h (kinks, load factors, tips), friction KKT residuals, 
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -45,6 +47,14 @@ def test_bad_path_grading_refused_naming_the_field(value):
         check_path_grading(value)
     with pytest.raises(InputError, match="path_grading"):
         nc.SolveOptions(path_grading=value)
+
+
+def test_grow_refuses_a_bad_path_grading_before_any_solve(monkeypatch):
+    from ngcrack.growth import loop
+
+    monkeypatch.setattr(loop, "solve_step", lambda *a: pytest.fail("solved"))
+    with pytest.raises(InputError, match="path_grading"):
+        nc.grow("inclined-compression", da=0.1, steps=1, path_grading=5.0)
 
 
 def test_plain_mesh_unchanged_and_graded_crack_coarser_away_from_the_tips():
@@ -132,3 +142,19 @@ def test_graded_mesh_of_a_grown_scene_gives_the_same_K(both_runs):
     assert coarse.ndof["total"] < fine.ndof["total"]
     for s, t in zip(fine.tips, coarse.tips):
         assert abs(t.K_I - s.K_I) < 5e-3 * s.K_I and abs(t.K_II - s.K_II) < 1e-2 * s.K_I
+
+
+def test_grow_command_path_grading(tmp_path, capsys):
+    """`ngcrack grow --path-grading`: a bad rate refused before any work (exit 2, naming the field);
+    none meshes the path at crack_h: step 0 is the plain solve's mesh."""
+    from ngcrack.cli import main
+
+    out = tmp_path / "bad.json"
+    code = main(["grow", "griffith", "--da", "0.05", "--steps", "1", "--path-grading", "2", "--json", str(out)])
+    assert code == 2 and "path_grading" in capsys.readouterr().err and not out.exists()
+    out = tmp_path / "g.json"
+    code = main(["grow", "griffith", "--da", "0.05", "--steps", "1", "--K-Ic", "2", "--criterion", "mts", "--maxh", "0.5",
+                 "--path-grading", "none", "--json", str(out)])
+    assert code == 0
+    ndof = json.loads(out.read_text())["steps"][0]["ndof"]
+    assert ndof == nc.solve("griffith", maxh=0.5).ndof["total"]

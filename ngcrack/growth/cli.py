@@ -19,6 +19,16 @@ def _at_hole(text: str):
         return text  # grow refuses it, naming at_hole and the allowed values
 
 
+def _path_grading(text: str):
+    """--path-grading: "none" (the path at crack_h) or a rate, a number; grow checks its range."""
+    if text.lower() == "none":
+        return "none"
+    try:
+        return float(text)
+    except ValueError:
+        return text  # refused before any work, naming path_grading and the allowed values
+
+
 def add_parser(subparsers, positive, count):
     """Register `grow` on the ngcrack command's subparsers (`positive`, `count`: its number parsers)."""
     from .criteria import CRITERIA  # (a light module: the parser is built on every command, --help too)
@@ -36,6 +46,9 @@ def add_parser(subparsers, positive, count):
                    help="a tip that reaches a hole: stop there (default), or a new crack of LENGTH leaves the hole "
                         "where its hoop stress is largest")
     add_mesh_options(p, positive)
+    p.add_argument("--path-grading", dest="path_grading", type=_path_grading, metavar="RATE|none",
+                   help="the crack's mesh size grows from crack_h by RATE per unit distance from the crack ends "
+                        "(default 0.1); none: crack_h all along the path")
     p.add_argument("--nu", type=positive, help="Poisson ratio (overrides the scene)")
     p.add_argument("--E", type=positive, help="Young's modulus (overrides the scene)")
     p.add_argument("--friction", type=positive, metavar="MU", help="Coulomb coefficient of every crack")
@@ -79,6 +92,10 @@ def run(args) -> int:
     if changes:
         scene = scene.with_(**changes)
     options = solve_options(args, "element", "order", "maxh", "tip_h", "crack_h", "qp_solver", "crack_model", "max_dof")
+    if args.path_grading is not None:
+        from ngcrack.path_sizes import check_path_grading
+
+        options["path_grading"] = None if args.path_grading == "none" else check_path_grading(args.path_grading)
     check_growth_options(scene, args.da, args.steps, args.K_Ic, args.criterion, options)  # before any work
     check_r_c(args.r_c, args.criterion)
 
