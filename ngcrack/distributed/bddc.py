@@ -108,7 +108,7 @@ def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
         import numpy as np
 
         from .subdomains import COARSE_SPACE as SUBDOMAIN_SPACE
-        from .subdomains import SubdomainBDDC
+        from .subdomains import SubdomainBDDC, dof_pieces
 
         if comm is None:
             from mpi4py import MPI
@@ -116,7 +116,9 @@ def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
             comm = MPI.COMM_WORLD
         fes = disc.fes
         mask = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
-        pre = SubdomainBDDC(comm, disc.a.mat, fes, mask, disc.sign)
+        crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
+        pieces = dof_pieces(fes, fes.mesh, crack_edges)
+        pre = SubdomainBDDC(comm, disc.a.mat, fes, mask, disc.sign, pieces)
         return pre, f"bddc {SUBDOMAIN_SPACE} ({pre.coarse_size} coarse unknowns)"
     if kind == "bddc":
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}

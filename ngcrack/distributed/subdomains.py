@@ -12,7 +12,8 @@ condensed system):
   positive semidefinite, on the free unknowns;
 - interface: the unknowns a rank shares with others (in 2D every facet unknown is shared
   by at most two subdomains: the subdomains' corners carry none); a face is the set of
-  interface unknowns shared with one neighbour;
+  interface unknowns shared with one neighbour, split by the pieces of both sides where the
+  crack cuts a rank's part in two (each piece has its own rigid motions);
 - primal constraints (the coarse space): per face, the face's values of the three rigid
   motions (u and u_hat_n interpolated; the crack jumps zero), i.e. three weighted averages
   of the face's unknowns. They fix each subdomain's rigid motions, so every local problem
@@ -39,9 +40,12 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 #: how the coarse space is described in the results and BENCHMARKS
-COARSE_SPACE = "per rank subdomain: the 3 rigid motions' averages over each face shared with a neighbour"
+COARSE_SPACE = ("per rank subdomain: the 3 rigid motions' averages over each face shared with a neighbour (per pair "
+                "of pieces where the crack cuts a subdomain)")
+#: pieces per rank are numbered below this (the code of a pair of pieces: lower + PIECE_BASE * higher)
+PIECE_BASE = 1 << 16
 #: a face's rigid mode is dropped where it is this close to the span of the modes before it (Gram determinant)
-MODE_RTOL = 1e-10
+MODE_RTOL = 1e-6
 
 
 class SubdomainError(RuntimeError):
@@ -73,6 +77,31 @@ def rigid_modes(fes: ngs.FESpace, K: sp.csr_matrix, normal_facet: bool = True) -
     return out
 
 
+def dof_pieces(fes: ngs.FESpace, mesh: ngs.Mesh, crack_edges: set[int]) -> np.ndarray:
+    """Per dof of `fes`, the connected piece of this rank's elements its edge belongs to (elements joined across
+    edges that are not crack edges: a crack can cut a subdomain in two, each with its own rigid motions); 0 for
+    dofs on no edge."""
+    from scipy.sparse.csgraph import connected_components
+
+    rows, cols = [], []
+    for e in mesh.edges:
+        els = [el.nr for el in e.elements]
+        if e.nr not in crack_edges and len(els) == 2:
+            rows.append(els[0])
+            cols.append(els[1])
+    out = np.zeros(fes.ndof, dtype=int)
+    if not mesh.ne:
+        return out
+    _, label = connected_components(sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(mesh.ne, mesh.ne)),
+                                    directed=False)
+    for e in mesh.edges:
+        els = [el.nr for el in e.elements]
+        if els:
+            dofs = [d for d in fes.GetDofNrs(ngs.NodeId(ngs.EDGE, e.nr)) if d >= 0]
+            out[dofs] = label[els[0]]
+    return out
+
+
 def _face_modes(R: np.ndarray) -> list[int]:
     """The modes kept on a face with mode values R (rows: the face's unknowns): each in turn unless it is (nearly)
     in the span of those kept; from the Gram matrix, so that both sides of the face keep the same ones."""
@@ -91,7 +120,7 @@ class SubdomainBDDC:
     """The preconditioner of the module docstring on `fes`'s free unknowns `free` (a boolean mask per local dof)
     for K = sign * A (A a ParallelMatrix, assembled): apply(r, out) sets out = C r, C an approximate inverse of K."""
 
-    def __init__(self, comm, A, fes: ngs.FESpace, free: np.ndarray, sign: float):
+    def __init__(self, comm, A, fes: ngs.FESpace, free: np.ndarray, sign: float, pieces: np.ndarray | None = None):
         self.comm, self.A = comm, A
         n = fes.ndof
         self.idx = np.flatnonzero(free[:n]) if n else np.zeros(0, dtype=int)
@@ -108,9 +137,11 @@ class SubdomainBDDC:
         K = K_all[self.idx][:, self.idx].tocsr()
         self.K = K
         # faces: the interface unknowns shared with one set of ranks, keyed by all of them (this one included)
+        # and by the pieces (`dof_pieces`) on both sides, so that every piece's rigid motions are fixed
+        code = self._piece_codes(A, pieces if pieces is not None else np.zeros(n, dtype=int), neighbours)
         faces: dict[tuple, list[int]] = {}
         for i in self.gamma:
-            faces.setdefault(tuple(sorted((comm.rank,) + neighbours[i])), []).append(int(i))
+            faces.setdefault((tuple(sorted((comm.rank,) + neighbours[i])), int(code[i])), []).append(int(i))
         keys = sorted({k for part in comm.allgather(sorted(faces)) for k in part})
         self.faces = len(keys)
         modes = rigid_modes(fes, K_all, normal_facet=bool(faces))[self.idx]
@@ -121,7 +152,7 @@ class SubdomainBDDC:
             for j in _face_modes(R):
                 crow += [len(self.primal)] * len(dofs)
                 ccol += dofs
-                cval += list(R[:, j])
+                cval += list(R[:, j] / np.linalg.norm(R[:, j]))  # the same scale on every face
                 self.primal.append(3 * keys.index(key) + j)
         nc = len(self.primal)
         self.C = sp.csr_matrix((cval, (crow, ccol)), shape=(nc, len(self.idx)))
@@ -129,6 +160,19 @@ class SubdomainBDDC:
         self._held = None
         self._factorize(sp.csr_matrix((0, len(self.idx))))
         self._coarse()
+
+    def _piece_codes(self, A, pieces: np.ndarray, neighbours: list) -> np.ndarray:
+        """Per free dof, one number for the pair (piece on the lower rank, piece on the higher rank) of an interface
+        dof, the same on both ranks (NGSolve's sum over the ranks sharing a dof)."""
+        work = A.CreateColVector()
+        work.SetParallelStatus(ngs.PARALLEL_STATUS.DISTRIBUTED)
+        vals = work.FV().NumPy()
+        vals[:] = 0.0
+        lower = np.array([all(self.comm.rank < p for p in nb) for nb in neighbours], dtype=bool)
+        p = pieces[self.idx].astype(float) + 1.0
+        vals[self.idx] = np.where(lower, p, p * PIECE_BASE)
+        work.Cumulate()
+        return np.rint(work.FV().NumPy()[self.idx]).astype(np.int64)
 
     def hold(self, rows: sp.spmatrix) -> None:
         """Keep the values `rows` @ y (rows over this rank's dofs; a crack edge's constraint rows, the same on every
