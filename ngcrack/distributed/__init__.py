@@ -93,7 +93,7 @@ def active() -> bool:
 
 
 def solve(scene, options=None):
-    """The distributed solve (ngcrack.distributed.solve.solve); the Solution on rank 0, None elsewhere."""
-    from .solve import solve as _solve
+    """The distributed solve (ngcrack.distributed.planar.solve); the Solution on rank 0, None elsewhere."""
+    from .planar import solve as _solve
 
     return _solve(scene, options)

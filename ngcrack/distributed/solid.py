@@ -1,6 +1,6 @@
 """A 3D scene (ngcrack.solid) solved over the ranks of MPI_COMM_WORLD.
 
-The 2D distributed solve's stages (`distributed.solve`) on the 3D element:
+The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
 
 - mesh: rank 0 meshes the scene serially (the mesh a serial solve gets) and keeps it;
   netgen distributes a copy; every rank curves its subdomain with the scene's geometry
@@ -129,7 +129,7 @@ def solve(scene, opts: dict, preconditioner_kind: str | None = None):
     """The distributed 3D solve (module docstring): the SolidSolution on rank 0, None on the others.
     `opts`: the checked options of `solid.solve.check_options` with the mesh sizes."""
     from . import require_mpi
-    from .solve import _fail
+    from .planar import _fail
 
     comm = require_mpi()
     kind = preconditioner_kind or default_preconditioner(comm.size)
@@ -157,7 +157,7 @@ def _solve(comm, scene, opts: dict, kind: str):
     from ..solid.element import build
     from ..solid.geometry import CURVE_ORDER
     from ..solid.solve import scene_loads
-    from .solve import _memory_per_rank, _owned, normal_loop
+    from .planar import _memory_per_rank, _owned, normal_loop
 
     rank = comm.rank
     timings: dict[str, float] = {}

@@ -172,7 +172,7 @@ def _solve(comm, scene, o: SolveOptions):
     free = free_mask(disc, loads)
     timings["assemble"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    pre, coarse = preconditioner(disc, default_for(disc), free, comm)
+    pre, coarse = preconditioner(disc, default_for(disc, comm.size), free, comm)
     timings["preconditioner"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     fes, a, f = disc.fes, disc.a, disc.f
