@@ -27,7 +27,7 @@ condensed system):
   (1 + log(H/h))^2 in the subdomain size H/h.
 
 Each rank factorizes two sparse matrices (its interior and its constrained Neumann
-problem; SuperLU through scipy) and per CG step exchanges interface values twice with its
+problem; MKL PARDISO's pivoting LU where MKL loads, else SuperLU) and per CG step exchanges interface values twice with its
 neighbours (NGSolve's Cumulate) and reduces the coarse right-hand side once.
 """
 
@@ -46,6 +46,14 @@ COARSE_SPACE = ("per rank subdomain: the 3 rigid motions' averages over each fac
 PIECE_BASE = 1 << 16
 #: a face's rigid mode is dropped where it is this close to the span of the modes before it (Gram determinant)
 MODE_RTOL = 1e-6
+
+
+def _lu(M: sp.csc_matrix):
+    """A pivoting factorization of the symmetric saddle-point matrix M (ngcrack.schur.Factorization with
+    definite=False: MKL PARDISO's LU with matching where MKL loads, else SuperLU); `.solve(b)`."""
+    from ..schur import Factorization
+
+    return Factorization(M, "auto", definite=False)
 
 
 class SubdomainError(RuntimeError):
@@ -200,7 +208,7 @@ class SubdomainBDDC:
                                   for k in range(B.shape[0])], dtype=bool)
         B_I = B[np.flatnonzero(inner_row)][:, I]
         self.n_held_inner = B_I.shape[0]
-        self.K_II = spla.splu(sp.bmat([[K[I][:, I], B_I.T], [B_I, None]], format="csc")) if len(I) else None
+        self.K_II = _lu(sp.bmat([[K[I][:, I], B_I.T], [B_I, None]], format="csc")) if len(I) else None
         self.K_IG = K[I][:, G].tocsr()
         self.K_GI = K[G][:, I].tocsr()
         if not n or not len(G):  # no interface: the interior solve is the whole local solve
@@ -209,8 +217,8 @@ class SubdomainBDDC:
         D = sp.vstack([self.C, B]).tocsr()
         self.n_rows = D.shape[0]
         try:
-            self.saddle = spla.splu(sp.bmat([[K, D.T], [D, None]], format="csc"))
-        except RuntimeError as exc:  # SuperLU: exactly singular
+            self.saddle = _lu(sp.bmat([[K, D.T], [D, None]], format="csc"))
+        except RuntimeError as exc:  # the factorization found it exactly singular
             raise SubdomainError(f"rank {self.comm.rank}: the constrained local problem is singular ({exc})") from exc
         rhs = np.zeros((n + self.n_rows, nc))
         rhs[n:n + nc] = np.eye(nc)
