@@ -402,7 +402,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse with its errors on one line (the usage is one `--help` away)."""
 
     def error(self, message: str):
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {one_line(message)} (see {self.prog} --help)\n")
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {one_line(message)} (see {self.prog} --help)\n" if _first_rank() else None)
 
 
 MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
@@ -554,10 +554,18 @@ def main(argv=None) -> int:
             code, message = classify(exc, args.command)
             if debug:
                 traceback.print_exc()
-            print(f"ngcrack: error: {message}", file=sys.stderr)
+            if code != EXIT_INPUT or _first_rank():  # bad input: every rank of mpiexec finds it alike, one line
+                print(f"ngcrack: error: {message}", file=sys.stderr)
             return code
         finally:
             warnings.showwarning = shown
+
+
+def _first_rank() -> bool:
+    """Whether this process prints what every rank would (rank 0 of mpiexec, or no mpiexec)."""
+    from .distributed import world_rank
+
+    return world_rank() == 0
 
 
 def _interrupted(args, interrupts, signum: int, exc: BaseException) -> int:

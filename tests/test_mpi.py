@@ -268,3 +268,15 @@ def test_unsupported_element_is_one_line():
     assert proc.returncode != 0
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "'h1p1' is not distributed" in lines[0], proc.stderr
+
+
+@pytest.mark.parametrize("args", [["griffith", "--maxh", "-1"], ["penny", "--maxh", "-1"],
+                                  ["griffith", "--order", "abc"]])
+def test_bad_option_is_one_line(args, tmp_path):
+    """An option every rank refuses alike (the checks, the parser): one line from rank 0, exit 2, nothing written."""
+    out = tmp_path / "out.json"
+    proc = _run(["-m", "ngcrack.cli", "solve", *args, "--json", str(out)])
+    assert proc.returncode == 2
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and ("maxh" in lines[0] or "--order" in lines[0]), proc.stderr
+    assert not out.exists()
