@@ -35,11 +35,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
     if o.crack_model == "free":
         system = system.without_contact()
     full, flags = scatter_into(gathered, cmesh.mesh, disc.fes, MATCH_RTOL * scene.diameter)
-    T = system._T
-    norm = np.asarray(T.multiply(T).sum(axis=0)).ravel()
-    y = (T.T @ full[system._free]) / np.where(norm > 0, norm, 1.0)
-    if not np.all(np.isfinite(y)):
-        raise SolveError("distributed solve: non-finite values in the gathered solution")
+    y = reduced_unknowns(system, full)
     timings["rank0_system"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -125,3 +121,14 @@ def friction_result(system, disc, cmesh, y: np.ndarray, G: np.ndarray, active: n
         crack=positions[0], s=positions[1], z=np.concatenate([jn, jt]), jt=jt, wt=wt, lam_t=lam_t,
         slip=slip[rows].astype(int), t_point=rows, mu=mu_pt, coulomb_iterations=steps, steps=steps,
         method="distributed fixed point")
+
+
+def reduced_unknowns(system, full):
+    """The condensed system's unknowns y of the gathered values `full` of the whole space (T y = full on the free
+    unknowns, T's columns orthogonal: each unknown read from its own rows); refused if not finite."""
+    T = system._T
+    norm = np.asarray(T.multiply(T).sum(axis=0)).ravel()
+    y = (T.T @ full[system._free]) / np.where(norm > 0, norm, 1.0)
+    if not np.all(np.isfinite(y)):
+        raise SolveError("distributed solve: non-finite values in the gathered solution")
+    return y

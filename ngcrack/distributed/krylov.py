@@ -127,3 +127,25 @@ def hold(op: Operator, sets) -> None:
     (collective)."""
     if hasattr(op.C, "hold") and hasattr(sets, "held"):
         op.C.hold(sets.held())
+
+
+def condensed_rhs(disc, loads, free):
+    """(rhs, x): the sign-flipped right-hand side of the condensed system, with the prescribed values moved to it,
+    and those values (zero on the unknowns `free`; collective: NGSolve's distributed vectors)."""
+    import ngsolve as ngs
+
+    fes, a, f = disc.fes, disc.a, disc.f
+    fmod = f.vec.CreateVector()
+    fmod.data = f.vec
+    fmod.data += a.harmonic_extension_trans * fmod
+    x = f.vec.CreateVector()
+    x[:] = 0.0
+    if loads.displacement:  # prescribed values: moved to the right-hand side
+        gD = ngs.GridFunction(fes)
+        disc.boundary_values(gD, loads)
+        x.data = gD.vec
+        x.FV().NumPy()[free] = 0.0
+    rhs = fmod.CreateVector()
+    rhs.data = fmod - a.mat * x
+    rhs.data *= disc.sign
+    return rhs, x

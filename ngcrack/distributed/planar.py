@@ -28,7 +28,7 @@ from . import MPIUnavailable, require_mpi
 from .bddc import default_for, owned, preconditioner
 from .friction import FrictionSets, friction_loop
 from .gather import gather_to_rank0
-from .krylov import Operator, held_rows, hold, pcg
+from .krylov import Operator, condensed_rhs, held_rows, hold, pcg
 from .mesh import MATCH_RTOL, TooFewElements, distribute
 
 #: active-set steps before the iteration is declared cycling
@@ -175,20 +175,8 @@ def _solve(comm, scene, o: SolveOptions):
     pre, coarse = preconditioner(disc, default_for(disc, comm.size), free, comm)
     timings["preconditioner"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    fes, a, f = disc.fes, disc.a, disc.f
-    fmod = f.vec.CreateVector()
-    fmod.data = f.vec
-    fmod.data += a.harmonic_extension_trans * fmod
-    x = f.vec.CreateVector()
-    x[:] = 0.0
-    if loads.displacement:  # prescribed values: moved to the right-hand side
-        gD = ngs.GridFunction(fes)
-        disc.boundary_values(gD, loads)
-        x.data = gD.vec
-        x.FV().NumPy()[free] = 0.0
-    rhs = fmod.CreateVector()
-    rhs.data = fmod - a.mat * x
-    rhs.data *= disc.sign
+    fes, a = disc.fes, disc.a
+    rhs, x = condensed_rhs(disc, loads, free)
     x_fixed = x.CreateVector()
     x_fixed.data = x
     x[:] = 0.0

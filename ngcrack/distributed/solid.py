@@ -31,7 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
-from .krylov import Operator
+from .krylov import Operator, condensed_rhs
 from .solid_mesh import TooFewTetrahedra, check_ranks, crack_layout, distribute, gather_to_rank0, local_solid_mesh, scatter_into
 
 #: the 3D preconditioners of the distributed CG: NGSolve's BDDC with `coarse_space`, or the condensed
@@ -186,22 +186,10 @@ def _solve(comm, scene, opts: dict, kind: str):
     pressure = [c.pressure for c in scene.cracks]
     disc = build(lsm, scene.material.E, scene.material.nu, loads, opts["order"],
                  pressure if any(pressure) else None, constraints=False)
-    fes, a, f = disc.fes, disc.a, disc.f
+    fes, a = disc.fes, disc.a
     free = np.array(list(fes.FreeDofs(True)), dtype=bool)
     pre, described = _preconditioner(disc, lsm, kind)
-    fmod = f.vec.CreateVector()
-    fmod.data = f.vec
-    fmod.data += a.harmonic_extension_trans * fmod
-    x = f.vec.CreateVector()
-    x[:] = 0.0
-    if loads.displacement:  # prescribed values: moved to the right-hand side
-        gD = ngs.GridFunction(fes)
-        disc.boundary_values(gD, loads)
-        x.data = gD.vec
-        x.FV().NumPy()[free] = 0.0
-    rhs = fmod.CreateVector()
-    rhs.data = fmod - a.mat * x
-    rhs.data *= disc.sign
+    rhs, x = condensed_rhs(disc, loads, free)
     x[:] = 0.0
     timings["assemble"] = time.perf_counter() - t0
 

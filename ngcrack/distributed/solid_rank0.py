@@ -20,6 +20,7 @@ from ..constraints import discrete_contact_forces, kkt_at_constraints
 from ..solid.contact import ContactResult
 from ..solid.output import SolidSolution
 from ..stages import SolveError
+from .assemble0 import reduced_unknowns
 from .mesh import MATCH_RTOL
 from .solid_mesh import scatter_into
 
@@ -50,11 +51,7 @@ def solution_on_rank0(pipe, scene, opts: dict, smesh, gathered, timings: dict, i
     disc, loads = pipe.discretization(scene, smesh, opts)
     system = pipe.system(disc, loads, False)
     full, flags = scatter_into(gathered, smesh.mesh, disc.fes, MATCH_RTOL * scene.size)
-    T = system._T
-    norm = np.asarray(T.multiply(T).sum(axis=0)).ravel()
-    y = (T.T @ full[system._free]) / np.where(norm > 0, norm, 1.0)
-    if not np.all(np.isfinite(y)):
-        raise SolveError("distributed solve: non-finite values in the gathered solution")
+    y = reduced_unknowns(system, full)
     timings["rank0_system"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
