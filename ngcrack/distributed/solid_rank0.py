@@ -45,7 +45,7 @@ def _rows_of_dofs(smesh, disc) -> np.ndarray:
 def solution_on_rank0(pipe, scene, opts: dict, smesh, gathered, timings: dict, info: dict,
                       t_start: float) -> SolidSolution:
     """The SolidSolution from the gathered unknowns (module docstring)."""
-    from ..solid.stages import SIZES
+    from ..solid.stages import SIZES, post_process
 
     t0 = time.perf_counter()
     disc, loads = pipe.discretization(scene, smesh, opts)
@@ -80,17 +80,6 @@ def solution_on_rank0(pipe, scene, opts: dict, smesh, gathered, timings: dict, i
     public["distributed"] = info
     sol = SolidSolution(scene=scene, smesh=smesh, disc=disc, system=system, y=y, gf=gf, contact=contact, G=G,
                         options=public, timings=timings, distributed=info)
-    if opts["fronts"] and smesh.cracks:
-        from ..solid.front import front_parameters
-
-        t4 = time.perf_counter()
-        sol.fronts = front_parameters(sol, points=opts["front_points"])
-        timings["fronts"] = time.perf_counter() - t4
-    if opts.get("estimate"):
-        from ..solid.estimate import prager_synge
-
-        t5 = time.perf_counter()
-        sol.error_estimate = prager_synge(sol, loads)
-        timings["estimate"] = time.perf_counter() - t5
+    post_process(sol, opts, loads)
     timings["total"] = time.perf_counter() - t_start
     return sol

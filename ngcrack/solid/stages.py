@@ -123,17 +123,22 @@ def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | Non
     public = {k: v for k, v in options.items() if k not in SIZES}
     sol = SolidSolution(scene=scene, smesh=smesh, disc=disc, system=system, y=answer.y, gf=gf,
                         contact=answer.result, G=answer.G, options=public, timings=timings)
-    if options["fronts"] and smesh.cracks:
+    post_process(sol, options, loads)
+    timings["total"] = time.perf_counter() - t0
+    return sol
+
+
+def post_process(sol: SolidSolution, options: dict, loads: Loads) -> None:
+    """The fronts' K (and, asked for, the error estimate) of a solved 3D scene, timed into `sol.timings`."""
+    if options["fronts"] and sol.smesh.cracks:
         from .front import front_parameters
 
-        t4 = time.perf_counter()
+        t0 = time.perf_counter()
         sol.fronts = front_parameters(sol, points=options["front_points"])
-        timings["fronts"] = time.perf_counter() - t4
+        sol.timings["fronts"] = time.perf_counter() - t0
     if options.get("estimate"):
         from .estimate import prager_synge
 
-        t5 = time.perf_counter()
+        t0 = time.perf_counter()
         sol.error_estimate = prager_synge(sol, loads)
-        timings["estimate"] = time.perf_counter() - t5
-    timings["total"] = time.perf_counter() - t0
-    return sol
+        sol.timings["estimate"] = time.perf_counter() - t0
