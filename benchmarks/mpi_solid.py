@@ -29,33 +29,15 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-PENNY = {
-    "name": "penny-coarse",
-    "domain": {"box": [[-10.0, -10.0, -10.0], [10.0, 10.0, 10.0]]},
-    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}],
-    "material": {"E": 1000.0, "nu": 0.3},
-    "boundary": {"xmin": {"type": "roller"}, "ymin": {"type": "roller"}, "zmin": {"type": "roller"},
-                 "zmax": {"type": "traction", "value": [0.0, 0.0, 1.0]}},
-    "mesh": {"maxh": 5.0, "crack_h": 0.4, "front_h": 0.2},
-}
-BENT = {
-    "name": "bent-penny",
-    "domain": {"box": [[-4.0, -2.0, -2.0], [4.0, 2.0, 2.0]]},
-    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [1, 0, 0], "radius": 1.0}],
-    "material": {"E": 1000.0, "nu": 0.3},
-    "boundary": {"xmin": {"type": "clamped"}, "xmax": {"type": "traction", "value": [0.0, 0.0, -1.0]}},
-    "mesh": {"maxh": 4.0, "crack_h": 0.6, "front_h": 0.4},
-}
-
-
 def case(name: str) -> dict:
+    """The scene of a case name: ngcrack.scenes.coarse3d's (the 3D tests' scenes)."""
+    from ngcrack.scenes.coarse3d import bent_penny, coarse_penny
+
     if name == "bent":
-        return BENT
-    d = json.loads(json.dumps(PENNY))
+        return bent_penny()
     if name == "penny-closed":
-        d["name"] = "penny-closed"
-        d["boundary"]["zmax"]["value"] = [0.0, 0.0, -1.0]
-    return d
+        return dict(coarse_penny(load=-1.0), name="penny-closed")
+    return coarse_penny()
 
 
 def worker(scene_path: str, out: str) -> None:
