@@ -28,6 +28,7 @@ displacement baselines h1p1 / h1p2 (their constraints sit at vertices).
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
@@ -162,16 +163,29 @@ def solve(scene, opts: dict, preconditioner_kind: str | None = None):
         raise
 
 
-def _solve(comm, scene, opts: dict, kind: str):
+@dataclass
+class LocalSystem:
+    """This rank's part of a distributed 3D solve before its crack problem (`local_system`)."""
+
+    pipe: object  # rank 0's Pipeline (None elsewhere)
+    smesh: object  # rank 0's serial SolidMesh (None elsewhere)
+    mesh: ngs.Mesh  # this rank's subdomain
+    lsm: object  # its SolidMesh
+    placed: list  # per crack: (local crack faces, their blocks of G)
+    loads: object
+    disc: object  # the TDNNS discretization on the subdomain, assembled
+
+
+def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
+    """Mesh on rank 0, distribute, find the cracks again and assemble on every rank (module docstring), the stages'
+    seconds into `timings` (collective)."""
     from ..pipeline import Pipeline
     from ..solid.element import build
     from ..solid.geometry import CURVE_ORDER
     from ..solid.solve import scene_loads
-    from .planar import _memory_per_rank, _owned, normal_loop
 
     rank = comm.rank
-    timings: dict[str, float] = {}
-    t_start = t0 = time.perf_counter()
+    t0 = time.perf_counter()
     sizes = scene.mesh_sizes(*(opts.get(k) for k in ("maxh", "crack_h", "front_h", "grading")))
     pipe = Pipeline() if rank == 0 else None
     smesh = pipe.mesh(scene, opts) if rank == 0 else None
@@ -196,11 +210,23 @@ def _solve(comm, scene, opts: dict, kind: str):
     pressure = [c.pressure for c in scene.cracks]
     disc = build(lsm, scene.material.E, scene.material.nu, loads, opts["order"],
                  pressure if any(pressure) else None, constraints=False)
+    timings["assemble"] = time.perf_counter() - t0
+    return LocalSystem(pipe, smesh, mesh, lsm, placed, loads, disc)
+
+
+def _solve(comm, scene, opts: dict, kind: str):
+    from .planar import _memory_per_rank, _owned, normal_loop
+
+    rank = comm.rank
+    timings: dict[str, float] = {}
+    t_start = time.perf_counter()
+    loc = local_system(comm, scene, opts, timings)
+    pipe, smesh, mesh, lsm, placed, loads, disc = (loc.pipe, loc.smesh, loc.mesh, loc.lsm, loc.placed, loc.loads,
+                                                   loc.disc)
     fes, a = disc.fes, disc.a
     free = np.array(list(fes.FreeDofs(True)), dtype=bool)
-    timings["assemble"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    pre, described = _preconditioner(disc, lsm, kind, comm)
+    pre, described = make_preconditioner(disc, lsm, kind, comm)
     timings["preconditioner"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     rhs, x = condensed_rhs(disc, loads, free)
@@ -223,7 +249,7 @@ def _solve(comm, scene, opts: dict, kind: str):
     timings["solve"] = time.perf_counter() - t0
     timings["cg"] = op.seconds  # the rest of "solve": the active-set updates and their reductions
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
-            "preconditioner": described, "krylov": "cg",
+            "preconditioner": described, "krylov": "cg", "coarse_unknowns": getattr(pre, "coarse_size", None),
             "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
             "memory_mb": _memory_per_rank(comm)}
     t0 = time.perf_counter()
@@ -269,7 +295,7 @@ def coarse_space(fes: ngs.FESpace, mesh: ngs.Mesh, crack_faces: set[int], crack_
     return marked
 
 
-def _preconditioner(disc, lsm, kind: str, comm):
+def make_preconditioner(disc, lsm, kind: str, comm):
     if kind == "subdomains":
         from .bddc import subdomain_preconditioner
 

@@ -33,9 +33,10 @@ constraints of Dohrmann, on the whole condensed system), in 2D and 3D alike:
   preconditions CG (krylov.py); the condition number of BDDC grows like
   (1 + log(H/h))^2 in the subdomain size H/h.
 
-Each rank factorizes two sparse matrices (its interior and its constrained Neumann
-problem; MKL PARDISO's pivoting LU where MKL loads, else SuperLU) and per CG step exchanges interface values twice with its
-neighbours (NGSolve's Cumulate) and reduces the coarse right-hand side once.
+Each rank factorizes two sparse matrices (its interior problem: Cholesky, or with held
+values a saddle point; its constrained Neumann problem, a saddle point: MKL PARDISO's
+pivoting LU where MKL loads, else SuperLU) and per CG step exchanges interface values
+twice with its neighbours (NGSolve's Cumulate) and reduces the coarse right-hand side once.
 """
 
 from __future__ import annotations
@@ -58,12 +59,13 @@ PIECE_BASE = 1 << 16
 MODE_RTOL = 1e-6
 
 
-def _lu(M: sp.csc_matrix):
-    """A pivoting factorization of the symmetric saddle-point matrix M (ngcrack.schur.Factorization with
-    definite=False: MKL PARDISO's LU with matching where MKL loads, else SuperLU); `.solve(b)`."""
+def _lu(M: sp.csc_matrix, definite: bool = False):
+    """A factorization of the symmetric matrix M (ngcrack.schur.Factorization): a saddle point (definite False) by
+    pivoting LU (MKL PARDISO's LU with matching where MKL loads, else SuperLU), a positive definite one by Cholesky
+    (half the memory); `.solve(b)`."""
     from ..schur import Factorization
 
-    return Factorization(M, "auto", definite=False)
+    return Factorization(M, "auto", definite=definite)
 
 
 class SubdomainError(RuntimeError):
@@ -263,7 +265,12 @@ class SubdomainBDDC:
                                   for k in range(B.shape[0])], dtype=bool)
         B_I = B[np.flatnonzero(inner_row)][:, I]
         self.n_held_inner = B_I.shape[0]
-        self.K_II = _lu(sp.bmat([[K[I][:, I], B_I.T], [B_I, None]], format="csc")) if len(I) else None
+        if not len(I):
+            self.K_II = None
+        elif B_I.shape[0]:
+            self.K_II = _lu(sp.bmat([[K[I][:, I], B_I.T], [B_I, None]], format="csc"))
+        else:  # nothing held: the interior matrix is positive definite
+            self.K_II = _lu(K[I][:, I].tocsc(), definite=True)
         self.K_IG = K[I][:, G].tocsr()
         self.K_GI = K[G][:, I].tocsr()
         if not n or not len(G):  # no interface: the interior solve is the whole local solve
