@@ -113,21 +113,7 @@ def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
     if free is not None:
         _hold(disc.fes, free)
     if kind == "subdomains":
-        import numpy as np
-
-        from .subdomains import COARSE_SPACE as SUBDOMAIN_SPACE
-        from .subdomains import SubdomainBDDC, dof_pieces
-
-        if comm is None:
-            from mpi4py import MPI
-
-            comm = MPI.COMM_WORLD
-        fes = disc.fes
-        mask = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
-        crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
-        pieces = dof_pieces(fes, fes.mesh, crack_edges)
-        pre = SubdomainBDDC(comm, disc.a.mat, fes, mask, disc.sign, pieces)
-        return pre, f"bddc {SUBDOMAIN_SPACE} ({pre.coarse_size} coarse unknowns)"
+        return subdomain_preconditioner(disc, comm)
     if kind == "bddc":
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
         mark_coarse_space(disc.fes, disc.fes.mesh, crack_edges)
@@ -135,6 +121,31 @@ def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
         disc.a.Assemble()  # BDDC collects the element matrices during assembly
         return pre.mat, f"bddc element-wise, coarse space: {COARSE_SPACE}"
     return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
+
+
+def crack_facets(disc) -> set[int]:
+    """The crack's facets of this rank's mesh: its edges in 2D, its faces in 3D."""
+    if disc.fes.mesh.dim == 3:
+        return {int(f) for c in disc.crack_mesh.cracks for f in c.faces}
+    return {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
+
+
+def subdomain_preconditioner(disc, comm=None, corners: str = "primal"):
+    """(SubdomainBDDC, description) on the space's coupling free dofs of `disc` (2D or 3D; subdomains.py)."""
+    import numpy as np
+
+    from .subdomains import COARSE_SPACE as SUBDOMAIN_SPACE
+    from .subdomains import SubdomainBDDC, dof_pieces
+
+    if comm is None:
+        from mpi4py import MPI
+
+        comm = MPI.COMM_WORLD
+    fes = disc.fes
+    mask = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
+    pieces = dof_pieces(fes, fes.mesh, crack_facets(disc))
+    pre = SubdomainBDDC(comm, disc.a.mat, fes, mask, disc.sign, pieces, corners)
+    return pre, f"bddc {SUBDOMAIN_SPACE} ({pre.coarse_size} coarse unknowns)"
 
 
 def _hold(fes: ngs.FESpace, free) -> None:

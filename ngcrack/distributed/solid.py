@@ -10,9 +10,12 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
   map G is made on rank 0's serial mesh and its per-face blocks placed on each rank;
 - crack problem: the active-set steps of the 2D solve (`solve.normal_loop`), each step a
   projected CG with the active constraint values of a crack face held at zero by a
-  projection on that face's unknowns (`FaceActiveSet`); preconditioner: NGSolve's BDDC
-  with the coarse space of `coarse_space` (up to 3 ranks, `BDDC_MAX_RANKS`) or the
-  condensed matrix factorized on rank 0 ("direct": above 3 ranks, or asked for);
+  projection on that face's unknowns (`FaceActiveSet`); preconditioner (up to 3 ranks,
+  `BDDC_MAX_RANKS`): BDDC with one subdomain per rank ("subdomains", subdomains.py: the 6
+  rigid motions' averages per shared face as coarse space, the held constraint values
+  kept in the local solves), or NGSolve's element-wise BDDC with the coarse space of
+  `coarse_space` ("bddc", 59% of the system); the condensed matrix factorized on rank 0
+  ("direct": above 3 ranks, or asked for);
 - gather: the condensed unknowns go to rank 0 by node coordinates; rank 0 assembles the
   serial system (no factorization), recovers the element-local unknowns and runs the
   serial post-processing (KKT residuals from the serial system's residual, the fronts'
@@ -31,12 +34,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
-from .krylov import Operator, condensed_rhs
+from .krylov import Operator, condensed_rhs, held_rows
 from .solid_mesh import TooFewTetrahedra, check_ranks, crack_layout, distribute, gather_to_rank0, local_solid_mesh, scatter_into
 
-#: the 3D preconditioners of the distributed CG: NGSolve's BDDC with `coarse_space`, or the condensed
-#: matrix gathered and factorized on rank 0 ("direct": NGSolve's masterinverse)
-PRECONDITIONERS = ("bddc", "direct")
+#: the 3D preconditioners of the distributed CG: BDDC per rank subdomain (subdomains.py), NGSolve's
+#: element-wise BDDC with `coarse_space`, or the condensed matrix gathered and factorized on rank 0
+#: ("direct": NGSolve's masterinverse)
+PRECONDITIONERS = ("subdomains", "bddc", "direct")
 #: BDDC is the default up to this many ranks (3 subdomains and more: NGSolve's BDDC crashed in its
 #: apply on the 3D system, a segmentation fault at mpiexec -n 4 with or without the crack's unknowns);
 #: above it the direct preconditioner
@@ -44,8 +48,9 @@ BDDC_MAX_RANKS = 3
 
 
 def default_preconditioner(size: int) -> str:
-    """The preconditioner a distributed 3D solve over `size` ranks uses unless told."""
-    return "bddc" if size <= BDDC_MAX_RANKS else "direct"
+    """The preconditioner a distributed 3D solve over `size` ranks uses unless told: BDDC per rank subdomain up to
+    BDDC_MAX_RANKS, "direct" above."""
+    return "subdomains" if size <= BDDC_MAX_RANKS else "direct"
 
 
 class SplitCrackFace(ValueError):
@@ -106,6 +111,11 @@ class FaceActiveSet:
         vals[~self.free] = 0.0
         if len(self.jn):
             vals[self.jn] = self.P @ vals[self.jn]
+
+    def held(self) -> sp.csr_matrix:
+        """The held values' rows over this rank's dofs (each face's active rows of its block), sparse."""
+        return held_rows([(b[self.active[d]], self.jn[d]) for d, b in zip(self.faces, self.blocks)
+                          if self.active[d].any()], len(self.free))
 
 
 def solve_scene(scene, *, preconditioner: str | None = None, **options):
@@ -188,10 +198,14 @@ def _solve(comm, scene, opts: dict, kind: str):
                  pressure if any(pressure) else None, constraints=False)
     fes, a = disc.fes, disc.a
     free = np.array(list(fes.FreeDofs(True)), dtype=bool)
-    pre, described = _preconditioner(disc, lsm, kind)
+    timings["assemble"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    pre, described = _preconditioner(disc, lsm, kind, comm)
+    timings["preconditioner"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
     rhs, x = condensed_rhs(disc, loads, free)
     x[:] = 0.0
-    timings["assemble"] = time.perf_counter() - t0
+    timings["assemble"] += time.perf_counter() - t0
 
     t0 = time.perf_counter()
     has_crack = disc.jn is not None
@@ -207,6 +221,7 @@ def _solve(comm, scene, opts: dict, kind: str):
     steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
     x.Cumulate()
     timings["solve"] = time.perf_counter() - t0
+    timings["cg"] = op.seconds  # the rest of "solve": the active-set updates and their reductions
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
             "preconditioner": described, "krylov": "cg",
             "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
@@ -254,7 +269,11 @@ def coarse_space(fes: ngs.FESpace, mesh: ngs.Mesh, crack_faces: set[int], crack_
     return marked
 
 
-def _preconditioner(disc, lsm, kind: str):
+def _preconditioner(disc, lsm, kind: str, comm):
+    if kind == "subdomains":
+        from .bddc import subdomain_preconditioner
+
+        return subdomain_preconditioner(disc, comm)
     if kind == "direct":
         return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
     faces = {int(f) for c in lsm.cracks for f in c.faces}
