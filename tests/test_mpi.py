@@ -221,8 +221,14 @@ def test_cli_writes_json_once(tmp_path):
     proc = _run(["-m", "ngcrack.cli", "solve", "griffith", "--json", str(out)])
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert proc.stdout.count("wrote ") == 1  # rank 0 alone prints and writes
-    tip = json.loads(out.read_text())["tips"][0]
-    assert tip["K_I"] == pytest.approx(1.7893434723332, rel=1e-8)  # the serial solve's value
+    result = json.loads(out.read_text())
+    assert result["tips"][0]["K_I"] == pytest.approx(1.7893434723332, rel=1e-8)  # the serial solve's value
+    # the JSON and the printed summary say how the solve ran: 2 ranks, 1 subdomain, the CG steps
+    dist = result["distributed"]
+    assert (dist["ranks"], dist["subdomains"], dist["active_set_steps"]) == (2, 1, 1)
+    assert len(dist["cg_steps"]) == 1 and 1 <= dist["cg_steps"][0] <= 3  # one subdomain: its local solve is exact
+    assert f"distributed over 2 ranks (1 subdomains), preconditioner bddc per rank subdomain: 1 active-set steps, " \
+           f"{dist['cg_steps'][0]} CG steps" in proc.stdout
 
 
 FAIL = textwrap.dedent('''

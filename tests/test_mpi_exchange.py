@@ -14,7 +14,6 @@ import json
 import textwrap
 
 import pytest
-
 from test_mpi import _run, pytestmark  # noqa: F401  (the mpi4py skip)
 
 SCRIPT = textwrap.dedent('''
