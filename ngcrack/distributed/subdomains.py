@@ -62,12 +62,17 @@ MODE_RTOL = 1e-6
 
 
 def _lu(M: sp.csc_matrix, definite: bool = False):
-    """A factorization of the symmetric matrix M (ngcrack.schur.Factorization): a saddle point (definite False) by
-    pivoting LU (MKL PARDISO's LU with matching where MKL loads, else SuperLU), a positive definite one by Cholesky
-    (half the memory); `.solve(b)`."""
+    """A factorization of the symmetric saddle-point matrix M (ngcrack.schur.Factorization with definite=False:
+    MKL PARDISO's symmetric indefinite factorization with matching where MKL loads, else SuperLU's pivoting LU);
+    `.solve(b)`. With `definite` (M positive definite: an interior block without held rows) PARDISO's Cholesky.
+    Either stores one triangle: about half the memory of PARDISO's LU."""
     from ..schur import Factorization
 
-    return Factorization(M, "auto", definite=definite)
+    if not definite:  # PARDISO's symmetric factorization wants every diagonal entry stored, zeros included
+        C, d = M.tocoo(), np.arange(M.shape[0])
+        M = sp.csr_matrix((np.concatenate([C.data, np.zeros(len(d))]), (np.concatenate([C.row, d]),
+                                                                         np.concatenate([C.col, d]))), shape=M.shape)
+    return Factorization(M, "auto", definite=definite, symmetric=True)
 
 
 class SubdomainError(RuntimeError):
@@ -189,6 +194,7 @@ class SubdomainBDDC:
         if n:
             rows, cols, vals = A.local_mat.COO()
             K_all = sp.csr_matrix((sign * np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
+            del rows, cols, vals  # (the triplets' copies: not kept while the local problems are factorized)
         else:
             K_all = sp.csr_matrix((0, 0))
         K = K_all[self.idx][:, self.idx].tocsr()
@@ -204,6 +210,7 @@ class SubdomainBDDC:
         keys = sorted({k for part in comm.allgather(sorted(faces)) for k in part})
         self.faces = len(keys)
         modes = rigid_modes(fes, K_all, normal_facet=bool(faces))[self.idx]
+        del K_all
         m = modes.shape[1]
         # primal constraints: rows of C (one per kept mode of each face, one per corner unknown), their global numbers
         crow, ccol, cval, self.primal = [], [], [], []
