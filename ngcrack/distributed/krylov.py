@@ -46,10 +46,25 @@ class Operator:
     marks: tuple = (1e-8,)
     #: per `pcg` call: {mark: the first step at or below it} (BENCHMARKS: steps to 1e-8 and to 1e-12 in one solve)
     reached: list = field(default_factory=list)
+    #: the exchange of shared unknowns among the ranks (exchange.py), made at the first `cumulate`
+    exchange: object = None
 
     def apply(self, x: ngs.BaseVector, out: ngs.BaseVector) -> None:
+        """out = K x; x cumulated (a ParallelMatrix would cumulate a distributed x through NGSolve's exchange)."""
+        self.cumulate(x)
         out.data = self.A * x
         out.data *= self.sign
+
+    def cumulate(self, vec: ngs.BaseVector) -> None:
+        """`vec.Cumulate()` for a vector of K's unknowns, by mpi4py (exchange.py: NGSolve's own is not reliable on a
+        rank with two or more neighbours); collective."""
+        if vec.GetParallelStatus() != ngs.PARALLEL_STATUS.DISTRIBUTED:
+            return
+        if self.exchange is None:
+            from .exchange import Exchange
+
+            self.exchange = Exchange(getattr(self.A, "row_pardofs", None))
+        self.exchange.cumulate(vec)
 
     def precondition(self, r: ngs.BaseVector, out: ngs.BaseVector) -> None:
         if hasattr(self.C, "apply"):
@@ -80,13 +95,14 @@ def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: flo
     reached: dict = {}
     op.reached.append(reached)
     r, z, p, q = (x.CreateVector() for _ in range(4))
-    r.data = rhs
+    _distributed(r, rhs)
     project(r)
     op.precondition(r, z)
     project(z)
     rz_rhs = abs(ngs.InnerProduct(r, z))
     op.apply(x, q)
-    r.data = rhs - q
+    _distributed(r, rhs)
+    r.data -= q
     project(r)
     op.precondition(r, z)
     project(z)
@@ -121,6 +137,14 @@ def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: flo
         p.data += z
         rz = rz_new
     raise KrylovError(f"CG: no convergence to {tol:g} in {max_steps} steps (residual ratio {abs(rz) / rz0:.1e})")
+
+
+def _distributed(r: ngs.BaseVector, rhs: ngs.BaseVector) -> None:
+    """r = rhs, distributed: the residual stays distributed like K's products, so that no sum of a cumulated and a
+    distributed vector makes NGSolve cumulate one through its own exchange (exchange.py; Distribute is local)."""
+    r.data = rhs
+    if r.GetParallelStatus() == ngs.PARALLEL_STATUS.CUMULATED:
+        r.Distribute()
 
 
 def held_rows(blocks, ndof: int):

@@ -203,7 +203,7 @@ def _solve(comm, scene, o: SolveOptions):
             hold(op, aset)
         steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and o.crack_model == "contact")
         active = aset.active
-    x.Cumulate()
+    op.cumulate(x)
     timings["solve"] = time.perf_counter() - t0
     timings["cg"] = op.seconds  # the rest of "solve": the active-set (and friction) updates and their reductions
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
@@ -234,10 +234,10 @@ def normal_loop(comm, op, rhs, x, aset: ActiveSet, iterate: bool) -> tuple[int, 
         cg_steps.append(pcg(op, rhs, x, aset.project))
         if not iterate:
             return steps, cg_steps
-        x.Cumulate()
+        op.cumulate(x)
         op.apply(x, residual)
         residual.data -= rhs  # K y - F: the crack faces' forces on the crack rows
-        residual.Cumulate()
+        op.cumulate(residual)
         w = G @ x.FV().NumPy()[jn_dofs]
         lam = aset.Ginv.T @ residual.FV().NumPy()[jn_dofs]
         w_max = comm.allreduce(float(np.max(np.abs(w), initial=0.0)), op=_max())

@@ -245,7 +245,7 @@ def _solve(comm, scene, opts: dict, kind: str):
     aset = FaceActiveSet(faces, blocks, len(jn_dofs), jn_dofs, free)
     op = Operator(A=a.mat, C=pre, sign=disc.sign)
     steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
-    x.Cumulate()
+    op.cumulate(x)
     timings["solve"] = time.perf_counter() - t0
     timings["cg"] = op.seconds  # the rest of "solve": the active-set updates and their reductions
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
