@@ -92,6 +92,22 @@ class ElementwiseBDDCUnsafe(RuntimeError):
     """NGSolve's element-wise BDDC asked for where NGSolve's own exchanges are not reliable (exchange.py)."""
 
 
+def require_ngsolve_exchange(fes: ngs.FESpace, comm=None) -> None:
+    """Raise ElementwiseBDDCUnsafe where NGSolve's own exchange is not reliable for `fes` (exchange.py): NGSolve's
+    element-wise BDDC cumulates through it in every application (collective)."""
+    from .exchange import ngsolve_exchange_safe
+
+    if comm is None:
+        from mpi4py import MPI
+
+        comm = MPI.COMM_WORLD
+    if not ngsolve_exchange_safe(fes, comm):
+        raise ElementwiseBDDCUnsafe(
+            "preconditioner = 'bddc': NGSolve's element-wise BDDC sums over the ranks through NGSolve's own exchange, "
+            "which MPICH's 4-byte request handles break on a rank with two or more neighbours (from mpiexec -n 4); "
+            "use 'subdomains' or 'direct', or run mpi4py on Open MPI")
+
+
 def default_for(disc, size: int = 1) -> str:
     """The preconditioner the distributed solve over `size` ranks uses for `disc`: DEFAULT where `bddc_applies`,
     else "direct". (The subdomain BDDC exchanges by mpi4py, exchange.py, so it holds at any number of ranks.)"""
@@ -112,17 +128,7 @@ def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
     if kind == "subdomains":
         return subdomain_preconditioner(disc, comm)
     if kind == "bddc":
-        from .exchange import ngsolve_exchange_safe
-
-        if comm is None:
-            from mpi4py import MPI
-
-            comm = MPI.COMM_WORLD
-        if not ngsolve_exchange_safe(disc.fes, comm):
-            raise ElementwiseBDDCUnsafe(
-                "preconditioner = 'bddc': NGSolve's element-wise BDDC cumulates through NGSolve's exchange, which "
-                "MPICH's 4-byte request handles break on a rank with two or more neighbours (from mpiexec -n 4); "
-                "use 'subdomains' or 'direct', or an Open MPI build of mpi4py")
+        require_ngsolve_exchange(disc.fes, comm)
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
         mark_coarse_space(disc.fes, disc.fes.mesh, crack_edges)
         pre = ngs.Preconditioner(disc.a, "bddc")
