@@ -22,14 +22,9 @@ import numpy as np
 import pytest
 from test_mpi import _run, pytestmark  # noqa: F401  (the mpi4py skip)
 
-BEAM = {
-    "name": "bent-penny",
-    "domain": {"box": [[-4.0, -2.0, -2.0], [4.0, 2.0, 2.0]]},
-    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [1, 0, 0], "radius": 1.0}],
-    "material": {"E": 1000.0, "nu": 0.3},
-    "boundary": {"xmin": {"type": "clamped"}, "xmax": {"type": "traction", "value": [0.0, 0.0, -1.0]}},
-    "mesh": {"maxh": 4.0, "crack_h": 0.6, "front_h": 0.4},
-}
+from ngcrack.scenes.coarse3d import bent_penny
+
+BEAM = bent_penny()
 
 COMPARE = textwrap.dedent('''
     import json, sys

@@ -88,17 +88,30 @@ def bddc_applies(fes: ngs.FESpace) -> bool:
             and any(isinstance(c, ngs.NormalFacetFESpace) for c in comps))
 
 
-#: BDDC (either variant) is the default up to this many ranks. At mpiexec -n 4 and more the 2D solve's
-#: BDDC applies abort with a corrupted heap ("malloc(): unaligned tcache chunk detected") inside NGSolve's
-#: parallel interpolation and preconditioner (measured on griffith; the cause is not found), while the
-#: direct preconditioner gives the serial answer there; the 3D solve (solid.py) keeps the same bound
-MAX_BDDC_RANKS = 3
+class ElementwiseBDDCUnsafe(RuntimeError):
+    """NGSolve's element-wise BDDC asked for where NGSolve's own exchanges are not reliable (exchange.py)."""
+
+
+def require_ngsolve_exchange(fes: ngs.FESpace, comm=None) -> None:
+    """Raise ElementwiseBDDCUnsafe where NGSolve's own exchange is not reliable for `fes` (exchange.py): NGSolve's
+    element-wise BDDC cumulates through it in every application (collective)."""
+    from .exchange import ngsolve_exchange_safe
+
+    if comm is None:
+        from mpi4py import MPI
+
+        comm = MPI.COMM_WORLD
+    if not ngsolve_exchange_safe(fes, comm):
+        raise ElementwiseBDDCUnsafe(
+            "preconditioner = 'bddc': NGSolve's element-wise BDDC sums over the ranks through NGSolve's own exchange, "
+            "which MPICH's 4-byte request handles break on a rank with two or more neighbours (from mpiexec -n 4); "
+            "use 'subdomains' or 'direct', or run mpi4py on Open MPI")
 
 
 def default_for(disc, size: int = 1) -> str:
-    """The preconditioner the distributed solve over `size` ranks uses for `disc`: DEFAULT where `bddc_applies`
-    and `size` is at most MAX_BDDC_RANKS, else "direct"."""
-    return DEFAULT if bddc_applies(disc.fes) and size <= MAX_BDDC_RANKS else "direct"
+    """The preconditioner the distributed solve over `size` ranks uses for `disc`: DEFAULT where `bddc_applies`,
+    else "direct". (The subdomain BDDC exchanges by mpi4py, exchange.py, so it holds at any number of ranks.)"""
+    return DEFAULT if bddc_applies(disc.fes) else "direct"
 
 
 def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
@@ -115,6 +128,7 @@ def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
     if kind == "subdomains":
         return subdomain_preconditioner(disc, comm)
     if kind == "bddc":
+        require_ngsolve_exchange(disc.fes, comm)
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
         mark_coarse_space(disc.fes, disc.fes.mesh, crack_edges)
         pre = ngs.Preconditioner(disc.a, "bddc")
@@ -201,8 +215,8 @@ def unconstrained_steps(disc, kind: str, tols=(1e-6, 1e-8), comm=None, made=None
         return dict(out, difference=None)
     exact = f.CreateVector()
     exact.data = disc.sign * (disc.a.mat.Inverse(fes.FreeDofs(True), inverse="masterinverse") * f)
-    x.Cumulate()
-    exact.Cumulate()
+    op.cumulate(x)
+    op.cumulate(exact)
     diff = x.CreateVector()
     diff.data = x - exact
     return dict(out, difference=ngs.Norm(diff) / max(ngs.Norm(exact), 1e-300))

@@ -86,7 +86,7 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
 
     rhs_c = rhs.CreateVector()
     rhs_c.data = rhs
-    rhs_c.Cumulate()  # consistent values: the slip forces are added on every copy of a shared crack unknown
+    op.cumulate(rhs_c)  # consistent values: the slip forces are added on every copy of a shared crack unknown
     load, residual = rhs_c.CreateVector(), rhs_c.CreateVector()
     steps, cg_steps = 0, []
     while True:
@@ -95,10 +95,10 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
         if len(sets.jt):
             load.FV().NumPy()[sets.jt] += sets.slip_forces()
         cg_steps.append(pcg(op, load, x, sets.project))
-        x.Cumulate()
+        op.cumulate(x)
         op.apply(x, residual)
-        residual.data -= rhs_c  # K y - F: the crack faces' forces on the crack rows
-        residual.Cumulate()
+        op.cumulate(residual)
+        residual.data -= rhs_c  # K y - F (both cumulated): the crack faces' forces on the crack rows
         xv, rv = x.FV().NumPy(), residual.FV().NumPy()
         wn, wt = sets.G @ xv[sets.jn], sets.Gt @ xv[sets.jt]
         lam_n = sets.Ginv.T @ rv[sets.jn]

@@ -10,12 +10,11 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
   map G is made on rank 0's serial mesh and its per-face blocks placed on each rank;
 - crack problem: the active-set steps of the 2D solve (`solve.normal_loop`), each step a
   projected CG with the active constraint values of a crack face held at zero by a
-  projection on that face's unknowns (`FaceActiveSet`); preconditioner (up to 3 ranks,
-  `BDDC_MAX_RANKS`): BDDC with one subdomain per rank ("subdomains", subdomains.py: the 6
-  rigid motions' averages per shared face as coarse space, the held constraint values
-  kept in the local solves), or NGSolve's element-wise BDDC with the coarse space of
-  `coarse_space` ("bddc", 59% of the system); the condensed matrix factorized on rank 0
-  ("direct": above 3 ranks, or asked for);
+  projection on that face's unknowns (`FaceActiveSet`); preconditioner: BDDC with one
+  subdomain per rank ("subdomains", subdomains.py: the 6 rigid motions' averages per
+  shared face as coarse space, the held constraint values kept in the local solves), or
+  NGSolve's element-wise BDDC with the coarse space of `coarse_space` ("bddc", 64-84% of
+  the system); the condensed matrix factorized on rank 0 ("direct": asked for);
 - gather: the condensed unknowns go to rank 0 by node coordinates; rank 0 assembles the
   serial system (no factorization), recovers the element-local unknowns and runs the
   serial post-processing (KKT residuals from the serial system's residual, the fronts'
@@ -42,16 +41,10 @@ from .solid_mesh import TooFewTetrahedra, check_ranks, crack_layout, distribute,
 #: element-wise BDDC with `coarse_space`, or the condensed matrix gathered and factorized on rank 0
 #: ("direct": NGSolve's masterinverse)
 PRECONDITIONERS = ("subdomains", "bddc", "direct")
-#: BDDC is the default up to this many ranks (3 subdomains and more: NGSolve's BDDC crashed in its
-#: apply on the 3D system, a segmentation fault at mpiexec -n 4 with or without the crack's unknowns);
-#: above it the direct preconditioner
-BDDC_MAX_RANKS = 3
-
-
 def default_preconditioner(size: int) -> str:
-    """The preconditioner a distributed 3D solve over `size` ranks uses unless told: BDDC per rank subdomain up to
-    BDDC_MAX_RANKS, "direct" above."""
-    return "subdomains" if size <= BDDC_MAX_RANKS else "direct"
+    """The preconditioner a distributed 3D solve over `size` ranks uses unless told: BDDC per rank subdomain at any
+    number of ranks (its exchanges go through mpi4py, exchange.py)."""
+    return "subdomains"
 
 
 class SplitCrackFace(ValueError):
@@ -245,7 +238,7 @@ def _solve(comm, scene, opts: dict, kind: str):
     aset = FaceActiveSet(faces, blocks, len(jn_dofs), jn_dofs, free)
     op = Operator(A=a.mat, C=pre, sign=disc.sign)
     steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
-    x.Cumulate()
+    op.cumulate(x)
     timings["solve"] = time.perf_counter() - t0
     timings["cg"] = op.seconds  # the rest of "solve": the active-set updates and their reductions
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
@@ -302,6 +295,9 @@ def make_preconditioner(disc, lsm, kind: str, comm):
         return subdomain_preconditioner(disc, comm)
     if kind == "direct":
         return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
+    from .bddc import require_ngsolve_exchange
+
+    require_ngsolve_exchange(disc.fes, comm)  # NGSolve's BDDC cumulates through NGSolve's own exchange
     faces = {int(f) for c in lsm.cracks for f in c.faces}
     edges = {int(e.nr) for c in lsm.cracks for f in c.faces for e in lsm.mesh[ngs.NodeId(ngs.FACE, int(f))].edges}
     edges |= {int(e) for c in lsm.cracks for e in c.interior_edges}

@@ -3,7 +3,7 @@
 NGSolve's "bddc" (bddc.py) takes every element as a subdomain. For TDNNS its coarse space
 must hold the higher-order normal-facet unknowns (their lowest-order unknowns alone make
 the coarse matrix singular, bddc.py), about three quarters of the condensed system at
-order 1 in 2D and 59% in 3D (with all edge unknowns). This preconditioner takes each
+order 1 in 2D and 64-84% in 3D (with all edge unknowns). This preconditioner takes each
 rank's part of the mesh as one subdomain instead (the balancing domain decomposition by
 constraints of Dohrmann, on the whole condensed system), in 2D and 3D alike:
 
@@ -35,8 +35,8 @@ constraints of Dohrmann, on the whole condensed system), in 2D and 3D alike:
 
 Each rank factorizes two sparse matrices (its interior problem: Cholesky, or with held
 values a saddle point; its constrained Neumann problem, a saddle point: MKL PARDISO's
-pivoting LU where MKL loads, else SuperLU) and per CG step exchanges interface values
-twice with its neighbours (NGSolve's Cumulate) and reduces the coarse right-hand side once.
+symmetric indefinite factorization where MKL loads, else SuperLU's pivoting LU) and per CG step exchanges interface values
+twice with its neighbours (by mpi4py: exchange.py) and reduces the coarse right-hand side once.
 """
 
 from __future__ import annotations
@@ -46,6 +46,8 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+from .exchange import Exchange
 
 #: how the coarse space is described in the results and BENCHMARKS
 COARSE_SPACE = ("per rank subdomain: the rigid motions' averages (3 in 2D, 6 in 3D) over each face shared with a "
@@ -60,12 +62,17 @@ MODE_RTOL = 1e-6
 
 
 def _lu(M: sp.csc_matrix, definite: bool = False):
-    """A factorization of the symmetric matrix M (ngcrack.schur.Factorization): a saddle point (definite False) by
-    pivoting LU (MKL PARDISO's LU with matching where MKL loads, else SuperLU), a positive definite one by Cholesky
-    (half the memory); `.solve(b)`."""
+    """A factorization of the symmetric saddle-point matrix M (ngcrack.schur.Factorization with definite=False:
+    MKL PARDISO's symmetric indefinite factorization with matching where MKL loads, else SuperLU's pivoting LU);
+    `.solve(b)`. With `definite` (M positive definite: an interior block without held rows) PARDISO's Cholesky.
+    Either stores one triangle: about half the memory of PARDISO's LU."""
     from ..schur import Factorization
 
-    return Factorization(M, "auto", definite=definite)
+    if not definite:  # PARDISO's symmetric factorization wants every diagonal entry stored, zeros included
+        C, d = M.tocoo(), np.arange(M.shape[0])
+        M = sp.csr_matrix((np.concatenate([C.data, np.zeros(len(d))]), (np.concatenate([C.row, d]),
+                                                                         np.concatenate([C.col, d]))), shape=M.shape)
+    return Factorization(M, "auto", definite=definite, symmetric=True)
 
 
 class SubdomainError(RuntimeError):
@@ -86,9 +93,10 @@ def rigid_modes(fes: ngs.FESpace, K: sp.csr_matrix, normal_facet: bool = True) -
     """(ndof, modes): the values of the rigid motions (`rigid_motions`: 3 in 2D, 6 in 3D) in the unknowns of `fes`:
     its first HCurl component (u) interpolated, its first normal-facet component (u_hat_n) from the rows of the
     local matrix `K` (all of the space's unknowns) that it tests (K r = 0 for a rigid motion r: u_hat_n =
-    -K_nn^-1 K_nu u), every other component zero. Collective: NGSolve's interpolation exchanges the shared
-    unknowns, so every rank calls it, also one without elements. (NGSolve's dual interpolation into the
-    normal-facet space corrupted memory on a distributed mesh at 3 subdomains.)"""
+    -K_nn^-1 K_nu u), every other component zero. Local: u's unknowns are the L2 projection onto this rank's
+    elements, exact (the space holds the rigid motions), so the ranks sharing an unknown find the same value.
+    NGSolve's interpolation (GridFunction.Set) would sum over the ranks through NGSolve's own exchange, not
+    reliable on a rank with two or more neighbours (exchange.py)."""
     comps = list(fes.components)
     k_u = next(k for k, c in enumerate(comps) if isinstance(c, ngs.HCurl))
     k_n = next(k for k, c in enumerate(comps) if isinstance(c, ngs.NormalFacetFESpace))
@@ -96,16 +104,31 @@ def rigid_modes(fes: ngs.FESpace, K: sp.csr_matrix, normal_facet: bool = True) -
     out = np.zeros((fes.ndof, len(motions)))
     ru, rn = fes.Range(k_u), fes.Range(k_n)
     u_dofs, n_dofs = np.arange(ru.start, ru.stop), np.arange(rn.start, rn.stop)
-    for j, cf in enumerate(motions):
-        gf = ngs.GridFunction(fes)
-        gf.vec[:] = 0.0
-        gf.components[k_u].Set(cf)
-        out[u_dofs, j] = gf.vec.FV().NumPy()[u_dofs]
+    if len(u_dofs):
+        out[u_dofs] = _local_projection(comps[k_u], motions)
     if not len(n_dofs) or not normal_facet:  # (a rank without faces needs none)
         return out
     K_nn = K[n_dofs][:, n_dofs].tocsc()
     out[n_dofs] = -spla.splu(K_nn).solve(np.asarray(K[n_dofs][:, u_dofs] @ out[u_dofs]))
     return out
+
+
+def _local_projection(space: ngs.FESpace, fields) -> np.ndarray:
+    """(ndof, len(fields)): the L2 projections of `fields` onto `space` over this rank's elements alone (the local
+    mass matrix and right-hand sides, no exchange with other ranks)."""
+    u, v = space.TnT()
+    m = ngs.BilinearForm(space)
+    m += u * v * ngs.dx
+    m.Assemble()
+    rows, cols, vals = getattr(m.mat, "local_mat", m.mat).COO()
+    M = sp.csc_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(space.ndof, space.ndof))
+    b = np.zeros((space.ndof, len(fields)))
+    for j, cf in enumerate(fields):
+        f = ngs.LinearForm(space)
+        f += cf * v * ngs.dx
+        f.Assemble()
+        b[:, j] = f.vec.FV().NumPy()  # this rank's elements' integrals (the distributed vector's local part)
+    return spla.splu(M).solve(b)
 
 
 def dof_pieces(fes: ngs.FESpace, mesh: ngs.Mesh, crack_facets: set[int]) -> np.ndarray:
@@ -160,7 +183,8 @@ class SubdomainBDDC:
         if corners not in CORNERS:
             raise ValueError(f"corners = {corners!r}: allowed values are {', '.join(CORNERS)}")
         self.comm, self.A = comm, A
-        n = fes.ndof
+        n = self.n = fes.ndof
+        self.exchange = Exchange.of_space(fes, comm)
         self.idx = np.flatnonzero(free[:n]) if n else np.zeros(0, dtype=int)
         pd = fes.ParallelDofs()
         neighbours = [tuple(sorted(int(p) for p in pd.Dof2Proc(int(d)))) for d in self.idx]
@@ -170,6 +194,7 @@ class SubdomainBDDC:
         if n:
             rows, cols, vals = A.local_mat.COO()
             K_all = sp.csr_matrix((sign * np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
+            del rows, cols, vals  # (the triplets' copies: not kept while the local problems are factorized)
         else:
             K_all = sp.csr_matrix((0, 0))
         K = K_all[self.idx][:, self.idx].tocsr()
@@ -185,6 +210,7 @@ class SubdomainBDDC:
         keys = sorted({k for part in comm.allgather(sorted(faces)) for k in part})
         self.faces = len(keys)
         modes = rigid_modes(fes, K_all, normal_facet=bool(faces))[self.idx]
+        del K_all
         m = modes.shape[1]
         # primal constraints: rows of C (one per kept mode of each face, one per corner unknown), their global numbers
         crow, ccol, cval, self.primal = [], [], [], []
@@ -211,33 +237,27 @@ class SubdomainBDDC:
 
     def _corner_numbers(self, A, positions: np.ndarray, neighbours: list) -> tuple[np.ndarray, int]:
         """(global numbers of the free unknowns `positions`, their count over all ranks): the lowest rank sharing an
-        unknown numbers it, NGSolve's sum over the sharing ranks tells the others (collective)."""
+        unknown numbers it, the sum over the sharing ranks tells the others (collective)."""
         mine = np.array([all(self.comm.rank < p for p in neighbours[i]) for i in positions], dtype=bool)
         count = int(np.count_nonzero(mine))
         start = int(self.comm.exscan(count) or 0)
         total = int(self.comm.allreduce(count))
         if not total:
             return np.zeros(0, dtype=int), 0
-        work = A.CreateColVector()
-        work.SetParallelStatus(ngs.PARALLEL_STATUS.DISTRIBUTED)
-        vals = work.FV().NumPy()
-        vals[:] = 0.0
+        vals = np.zeros(self.n)
         vals[self.idx[positions[mine]]] = 1.0 + start + np.arange(count)
-        work.Cumulate()
-        return np.rint(work.FV().NumPy()[self.idx[positions]]).astype(int) - 1, total
+        self.exchange.add_shared(vals)
+        return np.rint(vals[self.idx[positions]]).astype(int) - 1, total
 
     def _piece_codes(self, A, pieces: np.ndarray, neighbours: list) -> np.ndarray:
         """Per free dof, one number for the pair (piece on the lower rank, piece on the higher rank) of an interface
-        dof, the same on both ranks (NGSolve's sum over the ranks sharing a dof)."""
-        work = A.CreateColVector()
-        work.SetParallelStatus(ngs.PARALLEL_STATUS.DISTRIBUTED)
-        vals = work.FV().NumPy()
-        vals[:] = 0.0
+        dof, the same on both ranks (the sum over the ranks sharing a dof)."""
+        vals = np.zeros(self.n)
         lower = np.array([all(self.comm.rank < p for p in nb) for nb in neighbours], dtype=bool)
         p = pieces[self.idx].astype(float) + 1.0
         vals[self.idx] = np.where(lower, p, p * PIECE_BASE)
-        work.Cumulate()
-        return np.rint(work.FV().NumPy()[self.idx]).astype(np.int64)
+        self.exchange.add_shared(vals)
+        return np.rint(vals[self.idx]).astype(np.int64)
 
     def hold(self, rows: sp.spmatrix) -> None:
         """Keep the values `rows` @ y (rows over this rank's dofs; a crack edge's constraint rows, the same on every
@@ -307,23 +327,21 @@ class SubdomainBDDC:
         self.coarse_size = len(used)
         self.A0 = sla.cho_factor(A0[np.ix_(used, used)]) if len(used) else None
 
-    def _sum_over_ranks(self, values: np.ndarray, positions: np.ndarray, work: ngs.BaseVector) -> np.ndarray:
+    def _sum_over_ranks(self, values: np.ndarray, positions: np.ndarray, work=None) -> np.ndarray:
         """The sum over the ranks sharing them of every rank's `values` at the free unknowns `positions`."""
-        work.SetParallelStatus(ngs.PARALLEL_STATUS.DISTRIBUTED)
-        arr = work.FV().NumPy()
-        arr[:] = 0.0
+        arr = np.zeros(self.n)
         arr[self.idx[positions]] = values
-        work.Cumulate()
-        return work.FV().NumPy()[self.idx[positions]].copy()
+        self.exchange.add_shared(arr)
+        return arr[self.idx[positions]]
 
     def apply(self, r: ngs.BaseVector, out: ngs.BaseVector) -> None:
-        work = r.CreateVector()
-        work.data = r
-        work.Cumulate()
-        rv = work.FV().NumPy()[self.idx].copy()
+        rv = np.array(r.FV().NumPy(), dtype=float)
+        if r.GetParallelStatus() == ngs.PARALLEL_STATUS.DISTRIBUTED:
+            self.exchange.add_shared(rv)  # the residual's consistent values
+        rv = rv[self.idx]
         I, G = self.inner, self.gamma
         w_I = self._solve_inner(rv[I])
-        r_G = rv[G] - self._sum_over_ranks(self.K_GI @ w_I, G, work)
+        r_G = rv[G] - self._sum_over_ranks(self.K_GI @ w_I, G)
         b = np.zeros(len(self.idx))
         b[G] = self.weight * r_G
         g = np.zeros(self.n0)
@@ -338,7 +356,7 @@ class SubdomainBDDC:
             u = self.phi @ u0[np.asarray(self.primal, dtype=int)] if len(self.primal) else u
             rhs = np.concatenate([b, np.zeros(self.n_rows)])
             u = u + self.saddle.solve(rhs)[:len(self.idx)]
-        u_G = self._sum_over_ranks(self.weight * u[G], G, work)
+        u_G = self._sum_over_ranks(self.weight * u[G], G)
         u_I = w_I - self._solve_inner(self.K_IG @ u_G)
         out.SetParallelStatus(ngs.PARALLEL_STATUS.CUMULATED)
         vals = out.FV().NumPy()
