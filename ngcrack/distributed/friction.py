@@ -79,6 +79,13 @@ class FrictionSets:
         return -(self.Gt.T @ lam_t)
 
 
+def force_residual(op, x: ngs.BaseVector, rhs: ngs.BaseVector, out: ngs.BaseVector) -> None:
+    """out = K x - F (cumulated): the crack faces' forces on the crack rows, zero to the solve's tolerance elsewhere."""
+    op.apply(x, out)
+    out.data -= rhs
+    out.Cumulate()
+
+
 def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: FrictionSets, sign_rtol: float):
     """The steps of the module docstring; returns (steps, CG steps per step). `rhs` is F (distributed), `x` the
     answer (cumulated on return)."""
@@ -96,9 +103,7 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
             load.FV().NumPy()[sets.jt] += sets.slip_forces()
         cg_steps.append(pcg(op, load, x, sets.project))
         x.Cumulate()
-        op.apply(x, residual)
-        residual.data -= rhs_c  # K y - F: the crack faces' forces on the crack rows
-        residual.Cumulate()
+        force_residual(op, x, rhs_c, residual)
         xv, rv = x.FV().NumPy(), residual.FV().NumPy()
         wn, wt = sets.G @ xv[sets.jn], sets.Gt @ xv[sets.jt]
         lam_n = sets.Ginv.T @ rv[sets.jn]

@@ -18,8 +18,10 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
   serial post-processing (KKT residuals from the serial system's residual, the fronts'
   K_I, K_II, K_III, G, the error estimate): one SolidSolution on rank 0, written once.
 
-Not distributed yet (refused by name before any work): Coulomb friction in 3D, the
-displacement baselines h1p1 / h1p2 (their constraints sit at vertices).
+With Coulomb friction the crack problem's steps are those of `solid_friction` (the serial
+law at the friction points, Newton steps by the same projected CG). Not distributed yet
+(refused by name before any work): the displacement baselines h1p1 / h1p2 (their
+constraints sit at vertices).
 """
 
 from __future__ import annotations
@@ -57,10 +59,6 @@ def check_supported(scene, opts: dict) -> None:
     if opts["element"] != "tdnns":
         raise InputError(f"element = {opts['element']!r}: a distributed 3D solve takes element = 'tdnns' (the "
                          "displacement baselines' crack constraints sit at vertices); run it without mpiexec")
-    if opts["crack_model"] == "contact" and any(float(c.friction) > 0 for c in scene.cracks):
-        i = next(i for i, c in enumerate(scene.cracks) if float(c.friction) > 0)
-        raise InputError(f"crack[{i}].friction = {float(scene.cracks[i].friction):g}: Coulomb friction in 3D is not "
-                         "distributed yet; run it without mpiexec or set friction = 0")
 
 
 class FaceActiveSet:
@@ -157,7 +155,9 @@ def _solve(comm, scene, opts: dict, kind: str):
     from ..solid.element import build
     from ..solid.geometry import CURVE_ORDER
     from ..solid.solve import scene_loads
-    from .planar import _memory_per_rank, _owned, normal_loop
+    from .mesh import MATCH_RTOL
+    from .planar import SIGN_RTOL, _memory_per_rank, _owned, normal_loop
+    from .solid_friction import CrackUnknowns, face_numbers, friction_layout, friction_loop
 
     rank = comm.rank
     timings: dict[str, float] = {}
@@ -168,6 +168,9 @@ def _solve(comm, scene, opts: dict, kind: str):
     ne = comm.bcast(smesh.mesh.ne if rank == 0 else None, root=0)
     check_ranks(ne, comm.size)
     layout = comm.bcast(crack_layout(smesh, opts["order"]) if rank == 0 else None, root=0)
+    frictional = opts["crack_model"] == "contact" and any(float(c.friction) > 0 for c in scene.cracks)
+    friction, points = friction_layout(pipe, scene, opts, smesh) if frictional and rank == 0 else (None, None)
+    friction = comm.bcast(friction, root=0)
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -204,7 +207,14 @@ def _solve(comm, scene, opts: dict, kind: str):
             blocks.append(b)
     aset = FaceActiveSet(faces, blocks, len(jn_dofs), jn_dofs, free)
     op = Operator(A=a.mat, C=pre, sign=disc.sign)
-    steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
+    state = None
+    if frictional and has_crack:
+        local_faces = [int(f) for fs, _ in placed for f in fs]
+        crack = CrackUnknowns(comm, fes, disc.tangential, lsm.mesh, local_faces, friction, MATCH_RTOL * scene.size)
+        gid = face_numbers(lsm.mesh, local_faces, np.concatenate([c.centroids for c in layout]), MATCH_RTOL * scene.size)
+        steps, cg_steps, state = friction_loop(comm, op, rhs, x, aset, crack, friction, gid, SIGN_RTOL)
+    else:
+        steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
     x.Cumulate()
     timings["solve"] = time.perf_counter() - t0
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
@@ -220,7 +230,8 @@ def _solve(comm, scene, opts: dict, kind: str):
         return None
     from .solid_rank0 import solution_on_rank0
 
-    return solution_on_rank0(pipe, scene, opts, smesh, gathered, timings, info, t_start)
+    return solution_on_rank0(pipe, scene, opts, smesh, gathered, timings, info, t_start,
+                             (points, state) if state is not None else None)
 
 
 #: the coarse space of the 3D BDDC, as stated in the results
