@@ -1,6 +1,6 @@
 """The distributed 3D solve against the serial one: agreement, CG steps, time per stage, memory per rank.
 
-    python benchmarks/mpi_solid.py [--cases bent,penny,penny-closed] [--ranks 2,3]
+    python benchmarks/mpi_solid.py [--cases bent,penny,penny-closed] [--ranks 2,3] [--scale 1]
 
 Cases (order 1 TDNNS, coarse meshes): `bent`, the penny across a clamped beam bent by a
 shear load (tests/test_mpi_solid.py: half the crack closes); `penny` and `penny-closed`,
@@ -12,7 +12,10 @@ Printed per run: global unknowns, active-set steps, CG steps per step (to 1e-12)
 preconditioner, seconds per stage, peak memory per rank, and against the serial run: the
 largest difference of K_I, K_II, K_III over the front (relative to the largest |K|), of
 the normal jumps at the constraint points (relative to the largest), whether the active
-sets are equal, and the KKT residuals.
+sets are equal, and the KKT residuals. `--scale` multiplies the mesh sizes (maxh, crack_h,
+front_h) of every case. The memory: every rank's peak over the whole solve (rank 0's
+post-processing included) and the largest sum over the run's processes at one time
+(sampled every 0.2 s); `uptime` before the table and after every row.
 """
 
 from __future__ import annotations
@@ -29,32 +32,17 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-PENNY = {
-    "name": "penny-coarse",
-    "domain": {"box": [[-10.0, -10.0, -10.0], [10.0, 10.0, 10.0]]},
-    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}],
-    "material": {"E": 1000.0, "nu": 0.3},
-    "boundary": {"xmin": {"type": "roller"}, "ymin": {"type": "roller"}, "zmin": {"type": "roller"},
-                 "zmax": {"type": "traction", "value": [0.0, 0.0, 1.0]}},
-    "mesh": {"maxh": 5.0, "crack_h": 0.4, "front_h": 0.2},
-}
-BENT = {
-    "name": "bent-penny",
-    "domain": {"box": [[-4.0, -2.0, -2.0], [4.0, 2.0, 2.0]]},
-    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [1, 0, 0], "radius": 1.0}],
-    "material": {"E": 1000.0, "nu": 0.3},
-    "boundary": {"xmin": {"type": "clamped"}, "xmax": {"type": "traction", "value": [0.0, 0.0, -1.0]}},
-    "mesh": {"maxh": 4.0, "crack_h": 0.6, "front_h": 0.4},
-}
+def case(name: str, scale: float = 1.0) -> dict:
+    """The scene of a case name: ngcrack.scenes.coarse3d's (the 3D tests' scenes), its mesh sizes times `scale`."""
+    from ngcrack.scenes.coarse3d import bent_penny, coarse_penny
 
-
-def case(name: str) -> dict:
     if name == "bent":
-        return BENT
-    d = json.loads(json.dumps(PENNY))
-    if name == "penny-closed":
-        d["name"] = "penny-closed"
-        d["boundary"]["zmax"]["value"] = [0.0, 0.0, -1.0]
+        d = bent_penny()
+    elif name == "penny-closed":
+        d = dict(coarse_penny(load=-1.0), name="penny-closed")
+    else:
+        d = coarse_penny()
+    d["mesh"] = {k: v * scale for k, v in d["mesh"].items()}
     return d
 
 
@@ -68,6 +56,12 @@ def worker(scene_path: str, out: str) -> None:
     scene = SolidScene.from_dict(json.load(open(scene_path)))
     t0 = time.perf_counter()
     sol = nc.solve(scene)
+    peak = round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1)  # over the whole solve
+    memory = [peak]
+    if "OMPI_COMM_WORLD_SIZE" in os.environ or "PMI_SIZE" in os.environ:
+        from mpi4py import MPI
+
+        memory = MPI.COMM_WORLD.gather(peak, root=0)
     if sol is None:
         return
     wall = time.perf_counter() - t0
@@ -75,8 +69,7 @@ def worker(scene_path: str, out: str) -> None:
     record = dict(
         K=[np.column_stack([f.K_I, f.K_II, f.K_III]).tolist() for f in sol.fronts],
         jumps=sol.normal_jumps().tolist(), active=sol.contact.active.tolist(), kkt=sol.kkt,
-        timings=sol.timings, wall=wall, info=info, ndof=sol.ndof,
-        memory=info.get("memory_mb") or [round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1)])
+        timings=sol.timings, wall=wall, info=info, ndof=sol.ndof, memory=memory)
     json.dump(record, open(out, "w"))
 
 
@@ -87,10 +80,12 @@ def run(scene: dict, n: int, tmp: str) -> dict:
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", path, out]
     if n > 1:
         cmd = ["mpiexec", "-n", str(n)] + cmd
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    from mpi_scaling import run as run_sampled
+
+    proc, sampled = run_sampled(cmd, env)
     if proc.returncode != 0:
         raise RuntimeError(proc.stderr[-2000:])
-    return json.load(open(out))
+    return dict(json.load(open(out)), sampled=sampled)
 
 
 def compare(r: dict, s: dict) -> dict:
@@ -108,6 +103,7 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--cases", default="bent,penny,penny-closed")
     p.add_argument("--ranks", default="2,3")
+    p.add_argument("--scale", type=float, default=1.0, help="the cases' mesh sizes times this")
     p.add_argument("--worker", nargs=2, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.worker:
@@ -115,10 +111,10 @@ def main() -> None:
         return
     print("uptime:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
     print("| case | N | global dofs | AS: CG per step | preconditioner | K diff | profile diff | active (same) | KKT "
-          "| mesh | distribute | assemble | condense | solve | gather | fronts | total | MB per rank |")
-    print("|---|---:|---:|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+          "| mesh | distribute | assemble | condense | solve | gather | fronts | total | MB per rank | MB sum |")
+    print("|---|---:|---:|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     for name in a.cases.split(","):
-        scene = case(name)
+        scene = case(name, a.scale)
         with tempfile.TemporaryDirectory() as tmp:
             serial = run(scene, 1, tmp)
             for n in [1] + [int(x) for x in a.ranks.split(",")]:
@@ -127,6 +123,8 @@ def main() -> None:
                 t = r["timings"]
                 info = r["info"]
                 steps = f"{info['active_set_steps']}: {', '.join(map(str, info['cg_steps']))}" if info else "sparse LU"
+                if info.get("cg_steps_1e-8"):  # to 1e-8 on the way to 1e-12
+                    steps += f" (to 1e-8: {', '.join(map(str, info['cg_steps_1e-8']))})"
                 pre = info.get("preconditioner", "direct (serial)").split(",")[0]
                 stages = ["mesh", "distribute", "assemble", "condense", "solve", "gather", "fronts", "total"]
                 if n == 1:
@@ -134,7 +132,9 @@ def main() -> None:
                 cells = [f"{t[k]:.2f}" if k in t else "-" for k in stages]
                 print(f"| {name} | {n} | {r['ndof']['global']} | {steps} | {pre} | {c['K']:.1e} | {c['profile']:.1e} | "
                       f"{c['active']}/{c['points']} ({'same' if c['same_active'] else 'DIFFERENT'}) | {c['kkt']:.1e} | "
-                      + " | ".join(cells) + f" | {', '.join(f'{m:.0f}' for m in r['memory'])} |", flush=True)
+                      + " | ".join(cells) + f" | {', '.join(f'{m:.0f}' for m in r['memory'])} | {r['sampled']:.0f} |",
+                      flush=True)
+                print("  uptime:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip(), flush=True)
 
 
 if __name__ == "__main__":

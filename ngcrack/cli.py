@@ -190,6 +190,10 @@ def cmd_solve(args) -> int:
         print(format_table(sol.tips))
     if sol.error_estimate is not None:
         print(sol.error_estimate.line())
+    if "distributed" in result:
+        from .distributed import summary_line
+
+        print(summary_line(result["distributed"]))
     if sol.adapt_history is not None:
         steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
         reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"
@@ -437,8 +441,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--adapt", type=_positive, metavar="TOL",
                    help="refine adaptively until the relative error estimate is <= TOL, in (0, 1)")
     p.add_argument("--json", help="write the result to this JSON file: scene, element, maxh, nu, E, ndof, time_s, "
-                                  "kkt, kkt_sampled, tips, error_estimate, adapt (with --adapt) and one crack "
-                                  "profile per crack (README: \"Command line\")")
+                                  "kkt, kkt_sampled, tips, error_estimate, adapt (with --adapt), distributed "
+                                  "(under mpiexec) and one crack profile per crack (README: \"Command line\")")
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
     p.add_argument("--vtk", metavar="OUT", help="write ParaView files: OUT.vtu (mesh and fields), OUT_cracks.vtu (crack faces)")
     p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP)

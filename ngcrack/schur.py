@@ -144,8 +144,8 @@ _PARDISO_ERRORS = {
     -11: "read/write error with out-of-core files",
     -12: "wrong pardiso_64 / pardiso call",
 }
-#: PARDISO matrix types: real symmetric positive definite, real nonsymmetric
-_SPD, _NONSYM = 2, 11
+#: PARDISO matrix types: real symmetric positive definite, real nonsymmetric, real symmetric indefinite
+_SPD, _NONSYM, _SYMIND = 2, 11, -2
 
 
 class _Pardiso:
@@ -161,7 +161,7 @@ class _Pardiso:
             raise LinearSolverError("linear_solver = 'pardiso' needs MKL (pip install mkl)")
         self._fn = lib.pardiso_64
         K = as_csr(K).canonical()  # K (a CSR or scipy matrix): columns increasing in each row, no duplicates
-        A = K.triu() if mtype == _SPD else K
+        A = K if mtype == _NONSYM else K.triu()
         self.n = A.shape[0]
         self.mtype = mtype
         self.a = np.ascontiguousarray(A.data, dtype=np.float64)
@@ -174,8 +174,8 @@ class _Pardiso:
         ip[1] = 2  # METIS nested dissection
         ip[7] = 2  # at most two steps of iterative refinement in phase 33
         ip[9] = 13 if mtype == _NONSYM else 8  # pivot perturbation 1e-13 / 1e-8
-        ip[10] = 1 if mtype == _NONSYM else 0  # scaling (nonsymmetric only)
-        ip[12] = 1 if mtype == _NONSYM else 0  # weighted matching (nonsymmetric only)
+        ip[10] = 0 if mtype == _SPD else 1  # scaling (not for the definite matrix)
+        ip[12] = 0 if mtype == _SPD else 1  # weighted matching (likewise)
         ip[17] = -1  # report the nonzeros of the factor
         ip[34] = 1  # zero-based indexing
         self.perm = np.zeros(self.n, dtype=np.int64)  # PARDISO may overwrite it
@@ -242,11 +242,14 @@ class Factorization:
     `definite=False` (a symmetric saddle point, e.g. the element pressures of the
     incompressible split) switches to pivoting LU: SuperLU with partial pivoting,
     PARDISO's nonsymmetric LU with matching, or UMFPACK through NGSolve; cholespy refuses.
+    With `symmetric` too, PARDISO factorizes the symmetric indefinite matrix (Bunch-Kaufman
+    pivoting, scaling and matching) from one triangle, about half the LU's memory; every
+    diagonal entry must then be stored, zeros included (the other backends: as without).
     """
 
     BACKENDS = LINEAR_SOLVERS
 
-    def __init__(self, K, backend: str = "auto", definite: bool = True):
+    def __init__(self, K, backend: str = "auto", definite: bool = True, symmetric: bool = False):
         if backend not in self.BACKENDS:
             raise InputError(f"linear_solver = {backend!r}: allowed values are {', '.join(self.BACKENDS)}")
         if backend == "auto":
@@ -272,7 +275,7 @@ class Factorization:
             self.lu = lu
             self._solve = lu.solve
         elif backend == "pardiso":
-            self._solve = _Pardiso(K, _SPD if definite else _NONSYM).solve
+            self._solve = _Pardiso(K, _SPD if definite else _SYMIND if symmetric else _NONSYM).solve
         elif backend == "cholespy":
             if not definite:
                 raise InputError("linear_solver = 'cholespy' needs a positive definite matrix; use 'superlu' or 'pardiso'")

@@ -236,4 +236,6 @@ class Solution:
                            "time_s": float(r.time_solve + r.time_estimate + r.time_refine)}
                           for r in self.adapt_history.itertuples()]}
                if self.adapt_history is not None else {}),
+            # under mpiexec: ranks, subdomains, preconditioner, active-set and CG steps, memory per rank
+            **({"distributed": self.options["distributed"]} if "distributed" in self.options else {}),
         }

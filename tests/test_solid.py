@@ -17,18 +17,11 @@ import pytest
 import scipy.sparse as sp
 
 import ngcrack as nc
+from ngcrack.scenes.coarse3d import coarse_penny
 from ngcrack.solid.contact import solve_contact
 from ngcrack.solid.scene import SolidScene
 
-PENNY = {
-    "name": "penny-coarse",
-    "domain": {"box": [[-10.0, -10.0, -10.0], [10.0, 10.0, 10.0]]},
-    "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}],
-    "material": {"E": 1000.0, "nu": 0.3},
-    "boundary": {"xmin": {"type": "roller"}, "ymin": {"type": "roller"}, "zmin": {"type": "roller"},
-                 "zmax": {"type": "traction", "value": [0.0, 0.0, 1.0]}},
-    "mesh": {"maxh": 5.0, "crack_h": 0.4, "front_h": 0.2},
-}
+PENNY = coarse_penny()
 
 
 def penny(**changes) -> dict:

@@ -92,6 +92,14 @@ def active() -> bool:
     return world_size() > 1
 
 
+def summary_line(info: dict) -> str:
+    """The one line `ngcrack solve` prints after a distributed solve: ranks, subdomains, preconditioner, steps."""
+    steps = info["cg_steps"]
+    cg = f"{sum(steps)} CG steps ({', '.join(map(str, steps))} per active-set step)"
+    return (f"distributed over {info['ranks']} ranks ({info['subdomains']} subdomains), preconditioner "
+            f"{info['preconditioner'].split(':')[0]}: {info['active_set_steps']} active-set steps, {cg}")
+
+
 def solve(scene, options=None):
     """The distributed solve (ngcrack.distributed.planar.solve); the Solution on rank 0, None elsewhere."""
     from .planar import solve as _solve

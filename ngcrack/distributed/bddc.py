@@ -88,17 +88,30 @@ def bddc_applies(fes: ngs.FESpace) -> bool:
             and any(isinstance(c, ngs.NormalFacetFESpace) for c in comps))
 
 
-#: BDDC (either variant) is the default up to this many ranks. At mpiexec -n 4 and more the 2D solve's
-#: BDDC applies abort with a corrupted heap ("malloc(): unaligned tcache chunk detected") inside NGSolve's
-#: parallel interpolation and preconditioner (measured on griffith; the cause is not found), while the
-#: direct preconditioner gives the serial answer there; the 3D solve (solid.py) keeps the same bound
-MAX_BDDC_RANKS = 3
+class ElementwiseBDDCUnsafe(RuntimeError):
+    """NGSolve's element-wise BDDC asked for where NGSolve's own exchanges are not reliable (exchange.py)."""
+
+
+def require_ngsolve_exchange(fes: ngs.FESpace, comm=None) -> None:
+    """Raise ElementwiseBDDCUnsafe where NGSolve's own exchange is not reliable for `fes` (exchange.py): NGSolve's
+    element-wise BDDC cumulates through it in every application (collective)."""
+    from .exchange import ngsolve_exchange_safe
+
+    if comm is None:
+        from mpi4py import MPI
+
+        comm = MPI.COMM_WORLD
+    if not ngsolve_exchange_safe(fes, comm):
+        raise ElementwiseBDDCUnsafe(
+            "preconditioner = 'bddc': NGSolve's element-wise BDDC sums over the ranks through NGSolve's own exchange, "
+            "which MPICH's 4-byte request handles break on a rank with two or more neighbours (from mpiexec -n 4); "
+            "use 'subdomains' or 'direct', or run mpi4py on Open MPI")
 
 
 def default_for(disc, size: int = 1) -> str:
-    """The preconditioner the distributed solve over `size` ranks uses for `disc`: DEFAULT where `bddc_applies`
-    and `size` is at most MAX_BDDC_RANKS, else "direct"."""
-    return DEFAULT if bddc_applies(disc.fes) and size <= MAX_BDDC_RANKS else "direct"
+    """The preconditioner the distributed solve over `size` ranks uses for `disc`: DEFAULT where `bddc_applies`,
+    else "direct". (The subdomain BDDC exchanges by mpi4py, exchange.py, so it holds at any number of ranks.)"""
+    return DEFAULT if bddc_applies(disc.fes) else "direct"
 
 
 def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
@@ -113,28 +126,40 @@ def preconditioner(disc, kind: str = DEFAULT, free=None, comm=None):
     if free is not None:
         _hold(disc.fes, free)
     if kind == "subdomains":
-        import numpy as np
-
-        from .subdomains import COARSE_SPACE as SUBDOMAIN_SPACE
-        from .subdomains import SubdomainBDDC, dof_pieces
-
-        if comm is None:
-            from mpi4py import MPI
-
-            comm = MPI.COMM_WORLD
-        fes = disc.fes
-        mask = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
-        crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
-        pieces = dof_pieces(fes, fes.mesh, crack_edges)
-        pre = SubdomainBDDC(comm, disc.a.mat, fes, mask, disc.sign, pieces)
-        return pre, f"bddc {SUBDOMAIN_SPACE} ({pre.coarse_size} coarse unknowns)"
+        return subdomain_preconditioner(disc, comm)
     if kind == "bddc":
+        require_ngsolve_exchange(disc.fes, comm)
         crack_edges = {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
         mark_coarse_space(disc.fes, disc.fes.mesh, crack_edges)
         pre = ngs.Preconditioner(disc.a, "bddc")
         disc.a.Assemble()  # BDDC collects the element matrices during assembly
         return pre.mat, f"bddc element-wise, coarse space: {COARSE_SPACE}"
     return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
+
+
+def crack_facets(disc) -> set[int]:
+    """The crack's facets of this rank's mesh: its edges in 2D, its faces in 3D."""
+    if disc.fes.mesh.dim == 3:
+        return {int(f) for c in disc.crack_mesh.cracks for f in c.faces}
+    return {int(e) for c in disc.crack_mesh.cracks for e in c.edge}
+
+
+def subdomain_preconditioner(disc, comm=None, corners: str = "primal"):
+    """(SubdomainBDDC, description) on the space's coupling free dofs of `disc` (2D or 3D; subdomains.py)."""
+    import numpy as np
+
+    from .subdomains import COARSE_SPACE as SUBDOMAIN_SPACE
+    from .subdomains import SubdomainBDDC, dof_pieces
+
+    if comm is None:
+        from mpi4py import MPI
+
+        comm = MPI.COMM_WORLD
+    fes = disc.fes
+    mask = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
+    pieces = dof_pieces(fes, fes.mesh, crack_facets(disc))
+    pre = SubdomainBDDC(comm, disc.a.mat, fes, mask, disc.sign, pieces, corners)
+    return pre, f"bddc {SUBDOMAIN_SPACE} ({pre.coarse_size} coarse unknowns)"
 
 
 def _hold(fes: ngs.FESpace, free) -> None:
@@ -145,11 +170,13 @@ def _hold(fes: ngs.FESpace, free) -> None:
                 bits[d] = False
 
 
-def unconstrained_steps(disc, kind: str, tols=(1e-6, 1e-8), comm=None) -> dict:
+def unconstrained_steps(disc, kind: str, tols=(1e-6, 1e-8), comm=None, made=None, exact: bool = True) -> dict:
     """CG steps with the preconditioner `kind` on the sign-flipped condensed system of `disc` without crack
-    constraints (the space's free dofs), to each preconditioned relative residual of `tols`; the coarse problem's
-    global size; the last answer's largest relative difference to the direct solve (collective; for
-    BENCHMARKS 18 and the tests); the global unknowns."""
+    constraints (the space's free dofs), to each preconditioned relative residual of `tols`, and their seconds;
+    the coarse problem's global size; the last answer's largest relative difference to the direct solve (with
+    `exact`; None without: the direct solve is the expensive part at large sizes) (collective; for
+    BENCHMARKS 18 and the tests); the global unknowns. `made`: the preconditioner already made for `disc`
+    (as `preconditioner` returns it; the 3D element-wise one is made by distributed.solid)."""
     import numpy as np
 
     from .krylov import Operator, pcg
@@ -159,7 +186,7 @@ def unconstrained_steps(disc, kind: str, tols=(1e-6, 1e-8), comm=None) -> dict:
 
         comm = MPI.COMM_WORLD
     fes = disc.fes
-    pre, _ = preconditioner(disc, kind, comm=comm)
+    pre, _ = made if made is not None else preconditioner(disc, kind, comm=comm)
     free = np.array([bool(fes.FreeDofs(True)[d]) for d in range(fes.ndof)], dtype=bool)
     if kind == "subdomains":
         coarse = pre.coarse_size
@@ -176,19 +203,23 @@ def unconstrained_steps(disc, kind: str, tols=(1e-6, 1e-8), comm=None) -> dict:
 
     project(f)
     op = Operator(A=disc.a.mat, C=pre, sign=disc.sign)
-    steps, x = [], f.CreateVector()
+    steps, seconds, x = [], [], f.CreateVector()
     for tol in tols:
         x[:] = 0.0
+        before = op.seconds
         steps.append(pcg(op, f, x, project, tol=tol))
+        seconds.append(op.seconds - before)
+    unknowns = int(comm.allreduce(int(np.count_nonzero(free & owned(fes)))))
+    out = {"steps": steps, "coarse": coarse, "unknowns": unknowns, "seconds": op.seconds, "seconds_each": seconds}
+    if not exact:
+        return dict(out, difference=None)
     exact = f.CreateVector()
     exact.data = disc.sign * (disc.a.mat.Inverse(fes.FreeDofs(True), inverse="masterinverse") * f)
-    x.Cumulate()
-    exact.Cumulate()
+    op.cumulate(x)
+    op.cumulate(exact)
     diff = x.CreateVector()
     diff.data = x - exact
-    unknowns = int(comm.allreduce(int(np.count_nonzero(free & owned(fes)))))
-    return {"steps": steps, "coarse": coarse, "unknowns": unknowns, "seconds": op.seconds,
-            "difference": ngs.Norm(diff) / max(ngs.Norm(exact), 1e-300)}
+    return dict(out, difference=ngs.Norm(diff) / max(ngs.Norm(exact), 1e-300))
 
 
 def owned(fes: ngs.FESpace):

@@ -80,10 +80,12 @@ class FrictionSets:
 
 
 def force_residual(op, x: ngs.BaseVector, rhs: ngs.BaseVector, out: ngs.BaseVector) -> None:
-    """out = K x - F (cumulated): the crack faces' forces on the crack rows, zero to the solve's tolerance elsewhere."""
+    """out = K x - F with `rhs` = F cumulated; `x` and `out` cumulated on return (by `op.cumulate`): the crack
+    faces' forces on the crack rows, zero to the solve's tolerance elsewhere."""
+    op.cumulate(x)
     op.apply(x, out)
-    out.data -= rhs
-    out.Cumulate()
+    op.cumulate(out)
+    out.data -= rhs  # both cumulated
 
 
 def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: FrictionSets, sign_rtol: float):
@@ -93,7 +95,7 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
 
     rhs_c = rhs.CreateVector()
     rhs_c.data = rhs
-    rhs_c.Cumulate()  # consistent values: the slip forces are added on every copy of a shared crack unknown
+    op.cumulate(rhs_c)  # consistent values: the slip forces are added on every copy of a shared crack unknown
     load, residual = rhs_c.CreateVector(), rhs_c.CreateVector()
     steps, cg_steps = 0, []
     while True:
@@ -102,7 +104,6 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
         if len(sets.jt):
             load.FV().NumPy()[sets.jt] += sets.slip_forces()
         cg_steps.append(pcg(op, load, x, sets.project))
-        x.Cumulate()
         force_residual(op, x, rhs_c, residual)
         xv, rv = x.FV().NumPy(), residual.FV().NumPy()
         wn, wt = sets.G @ xv[sets.jn], sets.Gt @ xv[sets.jt]

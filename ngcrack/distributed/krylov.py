@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
@@ -42,10 +42,29 @@ class Operator:
     sign: float
     #: seconds spent in `pcg` with this operator
     seconds: float = 0.0
+    #: relative residuals whose first CG step each `pcg` records on its way to its tolerance
+    marks: tuple = (1e-8,)
+    #: per `pcg` call: {mark: the first step at or below it} (BENCHMARKS: steps to 1e-8 and to 1e-12 in one solve)
+    reached: list = field(default_factory=list)
+    #: the exchange of shared unknowns among the ranks (exchange.py), made at the first `cumulate`
+    exchange: object = None
 
     def apply(self, x: ngs.BaseVector, out: ngs.BaseVector) -> None:
+        """out = K x; x cumulated (a ParallelMatrix would cumulate a distributed x through NGSolve's exchange)."""
+        self.cumulate(x)
         out.data = self.A * x
         out.data *= self.sign
+
+    def cumulate(self, vec: ngs.BaseVector) -> None:
+        """`vec.Cumulate()` for a vector of K's unknowns, by mpi4py (exchange.py: NGSolve's own is not reliable on a
+        rank with two or more neighbours); collective."""
+        if vec.GetParallelStatus() != ngs.PARALLEL_STATUS.DISTRIBUTED:
+            return
+        if self.exchange is None:
+            from .exchange import Exchange
+
+            self.exchange = Exchange(getattr(self.A, "row_pardofs", None))
+        self.exchange.cumulate(vec)
 
     def precondition(self, r: ngs.BaseVector, out: ngs.BaseVector) -> None:
         if hasattr(self.C, "apply"):
@@ -73,14 +92,17 @@ def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: flo
     times the larger of its first value and the right-hand side's.
     """
     project(x)
+    reached: dict = {}
+    op.reached.append(reached)
     r, z, p, q = (x.CreateVector() for _ in range(4))
-    r.data = rhs
+    _distributed(r, rhs)
     project(r)
     op.precondition(r, z)
     project(z)
     rz_rhs = abs(ngs.InnerProduct(r, z))
     op.apply(x, q)
-    r.data = rhs - q
+    _distributed(r, rhs)
+    r.data -= q
     project(r)
     op.precondition(r, z)
     project(z)
@@ -90,6 +112,7 @@ def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: flo
     # the answer is not asked for a further reduction below round-off
     rz0 = max(abs(rz), rz_rhs)
     if abs(rz) <= tol * tol * rz0:
+        reached.update((m, 0) for m in op.marks if abs(rz) <= m * m * rz0)
         return 0
     for step in range(1, max_steps + 1):
         op.apply(p, q)
@@ -103,6 +126,9 @@ def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: flo
         op.precondition(r, z)
         project(z)
         rz_new = ngs.InnerProduct(r, z)
+        for m in op.marks:
+            if m not in reached and abs(rz_new) <= m * m * rz0:
+                reached[m] = step
         if _DEBUG and step % 20 == 0:
             print(f"cg step {step}: {abs(rz_new) / rz0:.3e}", flush=True)
         if abs(rz_new) <= tol * tol * rz0:
@@ -111,6 +137,14 @@ def _pcg(op: Operator, rhs: ngs.BaseVector, x: ngs.BaseVector, project, tol: flo
         p.data += z
         rz = rz_new
     raise KrylovError(f"CG: no convergence to {tol:g} in {max_steps} steps (residual ratio {abs(rz) / rz0:.1e})")
+
+
+def _distributed(r: ngs.BaseVector, rhs: ngs.BaseVector) -> None:
+    """r = rhs, distributed: the residual stays distributed like K's products, so that no sum of a cumulated and a
+    distributed vector makes NGSolve cumulate one through its own exchange (exchange.py; Distribute is local)."""
+    r.data = rhs
+    if r.GetParallelStatus() == ngs.PARALLEL_STATUS.CUMULATED:
+        r.Distribute()
 
 
 def held_rows(blocks, ndof: int):

@@ -10,9 +10,11 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
   map G is made on rank 0's serial mesh and its per-face blocks placed on each rank;
 - crack problem: the active-set steps of the 2D solve (`solve.normal_loop`), each step a
   projected CG with the active constraint values of a crack face held at zero by a
-  projection on that face's unknowns (`FaceActiveSet`); preconditioner: NGSolve's BDDC
-  with the coarse space of `coarse_space` (up to 3 ranks, `BDDC_MAX_RANKS`) or the
-  condensed matrix factorized on rank 0 ("direct": above 3 ranks, or asked for);
+  projection on that face's unknowns (`FaceActiveSet`); preconditioner: BDDC with one subdomain per rank ("subdomains", subdomains.py: the 6
+  rigid motions' averages per shared face as coarse space, the held constraint values
+  kept in the local solves), or NGSolve's element-wise BDDC with the coarse space of
+  `coarse_space` ("bddc", 59% of the system); the condensed matrix factorized on rank 0
+  ("direct": asked for);
 - gather: the condensed unknowns go to rank 0 by node coordinates; rank 0 assembles the
   serial system (no factorization), recovers the element-local unknowns and runs the
   serial post-processing (KKT residuals from the serial system's residual, the fronts'
@@ -27,27 +29,24 @@ constraints sit at vertices).
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
-from .krylov import Operator, condensed_rhs
+from .krylov import Operator, condensed_rhs, held_rows
 from .solid_mesh import TooFewTetrahedra, check_ranks, crack_layout, distribute, gather_to_rank0, local_solid_mesh, scatter_into
 
-#: the 3D preconditioners of the distributed CG: NGSolve's BDDC with `coarse_space`, or the condensed
-#: matrix gathered and factorized on rank 0 ("direct": NGSolve's masterinverse)
-PRECONDITIONERS = ("bddc", "direct")
-#: BDDC is the default up to this many ranks (3 subdomains and more: NGSolve's BDDC crashed in its
-#: apply on the 3D system, a segmentation fault at mpiexec -n 4 with or without the crack's unknowns);
-#: above it the direct preconditioner
-BDDC_MAX_RANKS = 3
-
-
+#: the 3D preconditioners of the distributed CG: BDDC per rank subdomain (subdomains.py), NGSolve's
+#: element-wise BDDC with `coarse_space`, or the condensed matrix gathered and factorized on rank 0
+#: ("direct": NGSolve's masterinverse)
+PRECONDITIONERS = ("subdomains", "bddc", "direct")
 def default_preconditioner(size: int) -> str:
-    """The preconditioner a distributed 3D solve over `size` ranks uses unless told."""
-    return "bddc" if size <= BDDC_MAX_RANKS else "direct"
+    """The preconditioner a distributed 3D solve over `size` ranks uses unless told: BDDC per rank subdomain at any
+    number of ranks (its exchanges go through mpi4py, exchange.py)."""
+    return "subdomains"
 
 
 class SplitCrackFace(ValueError):
@@ -105,6 +104,11 @@ class FaceActiveSet:
         if len(self.jn):
             vals[self.jn] = self.P @ vals[self.jn]
 
+    def held(self) -> sp.csr_matrix:
+        """The held values' rows over this rank's dofs (each face's active rows of its block), sparse."""
+        return held_rows([(b[self.active[d]], self.jn[d]) for d, b in zip(self.faces, self.blocks)
+                          if self.active[d].any()], len(self.free))
+
 
 def solve_scene(scene, *, preconditioner: str | None = None, **options):
     """`nc.solve` / `ngcrack solve` of a 3D scene under mpiexec: the options of a serial 3D solve
@@ -150,18 +154,33 @@ def solve(scene, opts: dict, preconditioner_kind: str | None = None):
         raise
 
 
-def _solve(comm, scene, opts: dict, kind: str):
+@dataclass
+class LocalSystem:
+    """This rank's part of a distributed 3D solve before its crack problem (`local_system`)."""
+
+    pipe: object  # rank 0's Pipeline (None elsewhere)
+    smesh: object  # rank 0's serial SolidMesh (None elsewhere)
+    mesh: ngs.Mesh  # this rank's subdomain
+    lsm: object  # its SolidMesh
+    placed: list  # per crack: (local crack faces, their blocks of G)
+    loads: object
+    disc: object  # the TDNNS discretization on the subdomain, assembled
+    layout: list = None  # per crack: solid_mesh.CrackLayout (every rank)
+    friction: object = None  # with Coulomb friction: solid_friction.FrictionLayout (every rank)
+    points: object = None  # and rank 0's serial FrictionPoints (None elsewhere)
+
+
+def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
+    """Mesh on rank 0, distribute, find the cracks again and assemble on every rank (module docstring), the stages'
+    seconds into `timings` (collective)."""
     from ..pipeline import Pipeline
     from ..solid.element import build
     from ..solid.geometry import CURVE_ORDER
     from ..solid.solve import scene_loads
-    from .mesh import MATCH_RTOL
-    from .planar import SIGN_RTOL, _memory_per_rank, _owned, normal_loop
-    from .solid_friction import CrackUnknowns, face_numbers, friction_layout, friction_loop
+    from .solid_friction import friction_layout
 
     rank = comm.rank
-    timings: dict[str, float] = {}
-    t_start = t0 = time.perf_counter()
+    t0 = time.perf_counter()
     sizes = scene.mesh_sizes(*(opts.get(k) for k in ("maxh", "crack_h", "front_h", "grading")))
     pipe = Pipeline() if rank == 0 else None
     smesh = pipe.mesh(scene, opts) if rank == 0 else None
@@ -189,12 +208,30 @@ def _solve(comm, scene, opts: dict, kind: str):
     pressure = [c.pressure for c in scene.cracks]
     disc = build(lsm, scene.material.E, scene.material.nu, loads, opts["order"],
                  pressure if any(pressure) else None, constraints=False)
+    timings["assemble"] = time.perf_counter() - t0
+    return LocalSystem(pipe, smesh, mesh, lsm, placed, loads, disc, layout, friction, points)
+
+
+def _solve(comm, scene, opts: dict, kind: str):
+    from .mesh import MATCH_RTOL
+    from .planar import SIGN_RTOL, _memory_per_rank, _owned, normal_loop
+    from .solid_friction import CrackUnknowns, face_numbers, friction_loop
+
+    rank = comm.rank
+    timings: dict[str, float] = {}
+    t_start = time.perf_counter()
+    loc = local_system(comm, scene, opts, timings)
+    pipe, smesh, mesh, lsm, placed, loads, disc = (loc.pipe, loc.smesh, loc.mesh, loc.lsm, loc.placed, loc.loads,
+                                                   loc.disc)
     fes, a = disc.fes, disc.a
     free = np.array(list(fes.FreeDofs(True)), dtype=bool)
-    pre, described = _preconditioner(disc, lsm, kind)
+    t0 = time.perf_counter()
+    pre, described = make_preconditioner(disc, lsm, kind, comm)
+    timings["preconditioner"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
     rhs, x = condensed_rhs(disc, loads, free)
     x[:] = 0.0
-    timings["assemble"] = time.perf_counter() - t0
+    timings["assemble"] += time.perf_counter() - t0
 
     t0 = time.perf_counter()
     has_crack = disc.jn is not None
@@ -208,17 +245,19 @@ def _solve(comm, scene, opts: dict, kind: str):
     aset = FaceActiveSet(faces, blocks, len(jn_dofs), jn_dofs, free)
     op = Operator(A=a.mat, C=pre, sign=disc.sign)
     state = None
-    if frictional and has_crack:
+    if loc.friction is not None and has_crack:
         local_faces = [int(f) for fs, _ in placed for f in fs]
-        crack = CrackUnknowns(comm, fes, disc.tangential, lsm.mesh, local_faces, friction, MATCH_RTOL * scene.size)
-        gid = face_numbers(lsm.mesh, local_faces, np.concatenate([c.centroids for c in layout]), MATCH_RTOL * scene.size)
-        steps, cg_steps, state = friction_loop(comm, op, rhs, x, aset, crack, friction, gid, SIGN_RTOL)
+        tol = MATCH_RTOL * scene.size
+        crack = CrackUnknowns(comm, fes, disc.tangential, lsm.mesh, local_faces, loc.friction, tol)
+        gid = face_numbers(lsm.mesh, local_faces, np.concatenate([c.centroids for c in loc.layout]), tol)
+        steps, cg_steps, state = friction_loop(comm, op, rhs, x, aset, crack, loc.friction, gid, SIGN_RTOL)
     else:
         steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
-    x.Cumulate()
+    op.cumulate(x)
     timings["solve"] = time.perf_counter() - t0
+    timings["cg"] = op.seconds  # the rest of "solve": the active-set updates and their reductions
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
-            "preconditioner": described, "krylov": "cg",
+            "preconditioner": described, "krylov": "cg", "coarse_unknowns": getattr(pre, "coarse_size", None),
             "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
             "memory_mb": _memory_per_rank(comm)}
     t0 = time.perf_counter()
@@ -231,7 +270,7 @@ def _solve(comm, scene, opts: dict, kind: str):
     from .solid_rank0 import solution_on_rank0
 
     return solution_on_rank0(pipe, scene, opts, smesh, gathered, timings, info, t_start,
-                             (points, state) if state is not None else None)
+                             (loc.points, state) if state is not None else None)
 
 
 #: the coarse space of the 3D BDDC, as stated in the results
@@ -265,9 +304,16 @@ def coarse_space(fes: ngs.FESpace, mesh: ngs.Mesh, crack_faces: set[int], crack_
     return marked
 
 
-def _preconditioner(disc, lsm, kind: str):
+def make_preconditioner(disc, lsm, kind: str, comm):
+    if kind == "subdomains":
+        from .bddc import subdomain_preconditioner
+
+        return subdomain_preconditioner(disc, comm)
     if kind == "direct":
         return disc.a.mat.Inverse(disc.fes.FreeDofs(True), inverse="masterinverse"), "direct (masterinverse on rank 0)"
+    from .bddc import require_ngsolve_exchange
+
+    require_ngsolve_exchange(disc.fes, comm)  # NGSolve's BDDC cumulates through NGSolve's own exchange
     faces = {int(f) for c in lsm.cracks for f in c.faces}
     edges = {int(e.nr) for c in lsm.cracks for f in c.faces for e in lsm.mesh[ngs.NodeId(ngs.FACE, int(f))].edges}
     edges |= {int(e) for c in lsm.cracks for e in c.interior_edges}

@@ -34,7 +34,7 @@ on the bent beam at mu = 1 slipping points reversed from step to step.)
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import ngsolve as ngs
 import numpy as np
@@ -252,12 +252,13 @@ def friction_loop(comm, op: Operator, rhs, x, aset, crack: CrackUnknowns, layout
 
     q = len(layout.face)
     B = layout.B
-    slip_op = SlipOperator(A=op.A, C=op.C, sign=op.sign, crack=crack, B=B)
     state = PointState(np.zeros(q, bool), np.zeros((q, 2)), np.zeros(q), np.zeros(q), np.zeros((q, 2)),
                        np.zeros((0, crack.nt)))
     rhs_c = rhs.CreateVector()
     rhs_c.data = rhs
-    rhs_c.Cumulate()
+    op.cumulate(rhs_c)
+    # the same operator, its exchange, CG records and clock shared, with the slipping points' blocks added
+    slip_op = SlipOperator(**{f.name: getattr(op, f.name) for f in fields(op)}, crack=crack, B=B)
     load, residual = rhs_c.CreateVector(), rhs_c.CreateVector()
 
     def project(vec):
@@ -275,7 +276,7 @@ def friction_loop(comm, op: Operator, rhs, x, aset, crack: CrackUnknowns, layout
         crack.add(load, -(B.T @ (state.g[:, None] * state.d * state.slip[:, None]).ravel()))
         slip_op.N = state.N()
         cg_steps.append(pcg(slip_op, load, x, project))
-        x.Cumulate()
+        op.seconds = slip_op.seconds
         force_residual(op, x, rhs_c, residual)
         xv, rv = x.FV().NumPy(), residual.FV().NumPy()
         w = aset.G @ xv[aset.jn]

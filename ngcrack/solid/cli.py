@@ -72,6 +72,10 @@ def solve_command(scene, args, json_path) -> int:
         print(f"front {front['crack']} ({len(front['points'])} points): K_I {np.min(front['K_I']):.4g}..{np.max(front['K_I']):.4g}, "
               f"K_II {np.min(front['K_II']):.4g}..{np.max(front['K_II']):.4g}, "
               f"K_III {np.min(front['K_III']):.4g}..{np.max(front['K_III']):.4g}")
+    if "distributed" in result:
+        from ..distributed import summary_line
+
+        print(summary_line(result["distributed"]))
     for path in paths:
         print(f"wrote {path}")
     return 0
