@@ -15,8 +15,8 @@ element-wise BDDC with the coarse space of `distributed.solid.coarse_space`), it
 problem's size (global unknowns, and as a share of the system), the CG steps to each
 tolerance, the preconditioner's setup seconds, the seconds of the CG run to 1e-12, and
 the peak memory of every rank (MB, rank 0 first: it meshes and holds no elements).
-`--ranks 4` overrides the 3-rank cap of the solve's default (distributed.solid
-BDDC_MAX_RANKS) for a measurement only.
+`--corners averages`: the unknowns shared by three or more subdomains (from 4 ranks on)
+as rigid-motion averages per subdomain edge instead of primal (`subdomains.CORNERS`).
 """
 
 from __future__ import annotations

@@ -10,11 +10,11 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
   map G is made on rank 0's serial mesh and its per-face blocks placed on each rank;
 - crack problem: the active-set steps of the 2D solve (`solve.normal_loop`), each step a
   projected CG with the active constraint values of a crack face held at zero by a
-  projection on that face's unknowns (`FaceActiveSet`); preconditioner: BDDC with one subdomain per rank ("subdomains", subdomains.py: the 6
-  rigid motions' averages per shared face as coarse space, the held constraint values
-  kept in the local solves), or NGSolve's element-wise BDDC with the coarse space of
-  `coarse_space` ("bddc", 59% of the system); the condensed matrix factorized on rank 0
-  ("direct": asked for);
+  projection on that face's unknowns (`FaceActiveSet`); preconditioner: BDDC with one
+  subdomain per rank ("subdomains", subdomains.py: the 6 rigid motions' averages per
+  shared face as coarse space, the held constraint values kept in the local solves), or
+  NGSolve's element-wise BDDC with the coarse space of `coarse_space` ("bddc", 64-84% of
+  the system); the condensed matrix factorized on rank 0 ("direct": asked for);
 - gather: the condensed unknowns go to rank 0 by node coordinates; rank 0 assembles the
   serial system (no factorization), recovers the element-local unknowns and runs the
   serial post-processing (KKT residuals from the serial system's residual, the fronts'

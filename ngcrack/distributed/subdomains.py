@@ -3,7 +3,7 @@
 NGSolve's "bddc" (bddc.py) takes every element as a subdomain. For TDNNS its coarse space
 must hold the higher-order normal-facet unknowns (their lowest-order unknowns alone make
 the coarse matrix singular, bddc.py), about three quarters of the condensed system at
-order 1 in 2D and 59% in 3D (with all edge unknowns). This preconditioner takes each
+order 1 in 2D and 64-84% in 3D (with all edge unknowns). This preconditioner takes each
 rank's part of the mesh as one subdomain instead (the balancing domain decomposition by
 constraints of Dohrmann, on the whole condensed system), in 2D and 3D alike:
 
@@ -35,7 +35,7 @@ constraints of Dohrmann, on the whole condensed system), in 2D and 3D alike:
 
 Each rank factorizes two sparse matrices (its interior problem: Cholesky, or with held
 values a saddle point; its constrained Neumann problem, a saddle point: MKL PARDISO's
-pivoting LU where MKL loads, else SuperLU) and per CG step exchanges interface values
+symmetric indefinite factorization where MKL loads, else SuperLU's pivoting LU) and per CG step exchanges interface values
 twice with its neighbours (by mpi4py: exchange.py) and reduces the coarse right-hand side once.
 """
 
