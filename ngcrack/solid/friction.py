@@ -269,7 +269,8 @@ def certificate(K: sp.spmatrix, F: np.ndarray, y: np.ndarray, w: np.ndarray, con
     B = sp.csr_matrix(points.B)
     nq, m = len(points.face), len(contact)
     lam, lam_bound = discrete_contact_forces(K, F, y, contact, G)
-    bound = coulomb_bound(points, lam)
+    # the bound from the closed constraints' forces (an open one's is round-off: as in the iteration)
+    bound = coulomb_bound(points, np.where(active, lam, 0.0))
     s = (B @ y).reshape(nq, 2)
     norm_s = np.linalg.norm(s, axis=1)
     # the certificate's friction forces: on the cone's edge along the slip where the points slip, and where
