@@ -8,8 +8,9 @@ the coarse penny of tests/test_solid.py under tension (every face open) and comp
 (every face closed). Every run is its own process: N = 1 is the serial 3D solve
 (`solid.solve.solve_solid`, sparse direct active set), N > 1 runs under `mpiexec -n N`
 (condense: there the serial condensation rank 0 does for the post-processing).
-Printed per run: global unknowns, active-set steps, CG steps per step (to 1e-12), the
-preconditioner, seconds per stage, peak memory per rank, and against the serial run: the
+Printed per run: global unknowns, active-set steps, CG steps per step (to 1e-12; in
+brackets to 1e-8 on the way), the preconditioner, seconds per stage (setup: the
+preconditioner's; CG: within solve), peak memory per rank, and against the serial run: the
 largest difference of K_I, K_II, K_III over the front (relative to the largest |K|), of
 the normal jumps at the constraint points (relative to the largest), whether the active
 sets are equal, and the KKT residuals. `--scale` multiplies the mesh sizes (maxh, crack_h,
@@ -111,8 +112,8 @@ def main() -> None:
         return
     print("uptime:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
     print("| case | N | global dofs | AS: CG per step | preconditioner | K diff | profile diff | active (same) | KKT "
-          "| mesh | distribute | assemble | condense | solve | gather | fronts | total | MB per rank | MB sum |")
-    print("|---|---:|---:|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
+          "| mesh | distribute | assemble | setup | CG | solve | gather | condense | fronts | total | MB per rank | MB sum |")
+    print("|---|---:|---:|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     for name in a.cases.split(","):
         scene = case(name, a.scale)
         with tempfile.TemporaryDirectory() as tmp:
@@ -126,7 +127,8 @@ def main() -> None:
                 if info.get("cg_steps_1e-8"):  # to 1e-8 on the way to 1e-12
                     steps += f" (to 1e-8: {', '.join(map(str, info['cg_steps_1e-8']))})"
                 pre = info.get("preconditioner", "direct (serial)").split(",")[0]
-                stages = ["mesh", "distribute", "assemble", "condense", "solve", "gather", "fronts", "total"]
+                stages = ["mesh", "distribute", "assemble", "preconditioner", "cg", "solve", "gather", "condense", "fronts",
+                          "total"]
                 if n == 1:
                     t = dict(t, solve=t.get("contact", 0.0) + t.get("linear", 0.0))
                 cells = [f"{t[k]:.2f}" if k in t else "-" for k in stages]

@@ -214,7 +214,10 @@ def unconstrained_steps(disc, kind: str, tols=(1e-6, 1e-8), comm=None, made=None
     if not exact:
         return dict(out, difference=None)
     exact = f.CreateVector()
-    exact.data = disc.sign * (disc.a.mat.Inverse(fes.FreeDofs(True), inverse="masterinverse") * f)
+    # cumulated before: the inverse cumulates its output first, by NGSolve's exchange (exchange.py)
+    exact.SetParallelStatus(ngs.PARALLEL_STATUS.CUMULATED)
+    disc.a.mat.Inverse(fes.FreeDofs(True), inverse="masterinverse").Mult(f, exact)
+    exact.data *= disc.sign
     op.cumulate(x)
     op.cumulate(exact)
     diff = x.CreateVector()

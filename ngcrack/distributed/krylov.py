@@ -70,6 +70,7 @@ class Operator:
         if hasattr(self.C, "apply"):
             self.C.apply(r, out)
             return
+        out.SetParallelStatus(ngs.PARALLEL_STATUS.CUMULATED)  # NGSolve's inverses cumulate their output first
         out.data = self.C * r
         out.data *= self.sign
 

@@ -242,6 +242,7 @@ def _solve(comm, scene, opts: dict, kind: str):
     timings["solve"] = time.perf_counter() - t0
     timings["cg"] = op.seconds  # the rest of "solve": the active-set updates and their reductions
     info = {"ranks": comm.size, "subdomains": comm.size - 1, "active_set_steps": steps, "cg_steps": cg_steps,
+            "cg_steps_1e-8": [r.get(1e-8) for r in op.reached],
             "preconditioner": described, "krylov": "cg", "coarse_unknowns": getattr(pre, "coarse_size", None),
             "global_dofs": int(comm.allreduce(int(np.count_nonzero(free & _owned(fes))))),
             "memory_mb": _memory_per_rank(comm)}

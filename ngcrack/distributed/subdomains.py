@@ -128,7 +128,11 @@ def _local_projection(space: ngs.FESpace, fields) -> np.ndarray:
         f += cf * v * ngs.dx
         f.Assemble()
         b[:, j] = f.vec.FV().NumPy()  # this rank's elements' integrals (the distributed vector's local part)
-    return _lu(M, definite=True).solve(b)  # Cholesky: SuperLU took 18 of the 28 s of a 3D setup (14k unknowns)
+    from ..schur import Factorization
+
+    # a mass matrix: positive definite (PARDISO's Cholesky; SuperLU's LU took minutes and gigabytes on a
+    # subdomain of millions of unknowns)
+    return Factorization(M, "auto", definite=True).solve(b)
 
 
 def dof_pieces(fes: ngs.FESpace, mesh: ngs.Mesh, crack_facets: set[int]) -> np.ndarray:
