@@ -23,34 +23,37 @@ from test_mpi import _run, pytestmark  # noqa: F401  (the mpi4py skip)
 
 from ngcrack.scenes.coarse3d import bent_penny, inclined_penny
 
-COMPARE = textwrap.dedent('''
+RECORD = textwrap.dedent('''
     import json, sys
-    import numpy as np
     import ngcrack as nc
     from ngcrack.solid.scene import SolidScene
-    from ngcrack.solid.solve import solve_solid
     scene = SolidScene.from_dict(json.loads(open(sys.argv[2]).read()))
-    sol = nc.solve(scene)  # under mpiexec: the distributed 3D solve (None on ranks > 0)
+    sol = nc.solve(scene)  # under mpiexec -n 2, 3: the distributed 3D solve (None on ranks > 0); -n 1: the serial one
     if sol is not None:
-        ser = solve_solid(scene) if sys.argv[3] == "serial" else sol  # the serial solve on the same mesh
-        K = lambda s: np.array([[f.K_I, f.K_II, f.K_III] for f in s.fronts]).tolist()
-        c, cs = sol.contact, ser.contact
-        out = dict(K=K(sol), K_serial=K(ser), jumps=sol.normal_jumps().tolist(), jumps_serial=ser.normal_jumps().tolist(),
-                   slip=c.slip.tolist(), slip_serial=cs.slip.tolist(), active=c.active.tolist(),
-                   active_serial=cs.active.tolist(), stick=c.stick.tolist(), stick_serial=cs.stick.tolist(),
-                   on=(c.bound > 0).tolist(), on_serial=(cs.bound > 0).tolist(), kkt=sol.kkt,
-                   residuals=c.residuals, info=sol.distributed)
+        c = sol.contact
+        out = dict(K=[[f.K_I.tolist(), f.K_II.tolist(), f.K_III.tolist()] for f in sol.fronts],
+                   jumps=sol.normal_jumps().tolist(), slip=c.slip.tolist(), active=c.active.tolist(),
+                   stick=c.stick.tolist(), on=(c.bound > 0).tolist(), kkt=sol.kkt, residuals=c.residuals,
+                   info=sol.distributed)
         json.dump(out, open(sys.argv[1], "w"))
 ''')
 
 
-def _compare(tmp_path, scene: dict, n: int = 2, serial: bool = True) -> dict:
-    (tmp_path / "compare.py").write_text(COMPARE)
+def _record(tmp_path, scene: dict, n: int) -> dict:
+    (tmp_path / "record.py").write_text(RECORD)
     (tmp_path / "scene.json").write_text(json.dumps(scene))
-    proc = _run([str(tmp_path / "compare.py"), str(tmp_path / "out.json"), str(tmp_path / "scene.json"),
-                 "serial" if serial else "alone"], n=n)
+    out = tmp_path / f"out{n}.json"
+    proc = _run([str(tmp_path / "record.py"), str(out), str(tmp_path / "scene.json")], n=n)
     assert proc.returncode == 0, proc.stderr[-2000:]
-    return json.loads((tmp_path / "out.json").read_text())
+    return json.loads(out.read_text())
+
+
+def _compare(tmp_path, scene: dict, n: int = 2, serial: bool = True) -> dict:
+    """The distributed record over n ranks and, with `serial`, the serial one (-n 1, its own process) as *_serial."""
+    r = _record(tmp_path, scene, n)
+    if serial:
+        r.update({f"{k}_serial": v for k, v in _record(tmp_path, scene, 1).items()})
+    return r
 
 
 def _bent(mu: float) -> dict:
