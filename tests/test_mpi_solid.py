@@ -168,3 +168,24 @@ def test_four_ranks_three_subdomains_with_primal_edges_equal_serial(tmp_path):
     assert info["subdomains"] == 3 and info["preconditioner"].startswith("bddc per rank")
     assert 6 < info["coarse_unknowns"] <= 0.02 * info["global_dofs"] and max(info["cg_steps"]) <= 60
     test_distributed_3d_penny_equals_serial(r)
+
+
+def test_3d_prescribed_displacement_above_three_ranks_is_refused():
+    """NGSolve's interpolation of a prescribed displacement sums through its own exchange, wrong from 3 subdomains
+    on with MPICH: refused by name above 3 ranks, before any mesh; clamped faces and 2-3 ranks pass."""
+    from ngcrack.distributed.solid import check_supported
+    from ngcrack.errors import InputError
+    from ngcrack.solid.scene import SolidScene
+
+    opts = {"element": "tdnns"}
+    clamped = SolidScene.from_dict(bent_penny())
+    moved = bent_penny()
+    moved["boundary"]["xmin"] = {"type": "displacement", "value": [0.0, 0.0, 0.01]}
+    moved = SolidScene.from_dict(moved)
+    for size in (2, 3, 4, 6):
+        check_supported(clamped, opts, size)
+    for size in (2, 3):
+        check_supported(moved, opts, size)
+    for size in (4, 6):
+        with pytest.raises(InputError, match=r"boundary\['xmin'\]\.type = 'displacement'.* at most 3 ranks"):
+            check_supported(moved, opts, size)

@@ -53,11 +53,22 @@ class SplitCrackFace(ValueError):
     """A crack face's two tetrahedra sit on two ranks (not handled yet; found alike on every rank)."""
 
 
-def check_supported(scene, opts: dict) -> None:
-    """What the distributed 3D solve does not do, refused on every rank before any work."""
+#: the most ranks at which a prescribed displacement is interpolated on the distributed mesh: NGSolve's
+#: GridFunction.Set sums through NGSolve's own exchange, which is wrong from 3 subdomains on with MPICH
+#: (exchange.py); at 2 and 3 ranks each subdomain has at most one neighbour
+MAX_RANKS_DISPLACEMENT = 3
+
+
+def check_supported(scene, opts: dict, size: int = 2) -> None:
+    """What the distributed 3D solve over `size` ranks does not do, refused on every rank before any work."""
     if opts["element"] != "tdnns":
         raise InputError(f"element = {opts['element']!r}: a distributed 3D solve takes element = 'tdnns' (the "
                          "displacement baselines' crack constraints sit at vertices); run it without mpiexec")
+    shifted = [label for label, bc in scene.boundary.items() if bc.type == "displacement"]
+    if shifted and size > MAX_RANKS_DISPLACEMENT:
+        raise InputError(f"boundary[{shifted[0]!r}].type = 'displacement': a prescribed displacement in 3D is "
+                         f"distributed on at most {MAX_RANKS_DISPLACEMENT} ranks (mpiexec -n {size} asked); run it "
+                         f"with -n 2 or 3 or without mpiexec, or clamp the face")
 
 
 class FaceActiveSet:
@@ -136,7 +147,7 @@ def solve(scene, opts: dict, preconditioner_kind: str | None = None):
     comm = require_mpi()
     kind = preconditioner_kind or default_preconditioner(comm.size)
     try:  # alike on every rank, before any communication: rank 0 reports, the others leave quietly
-        check_supported(scene, opts)
+        check_supported(scene, opts, comm.size)
         if kind not in PRECONDITIONERS:
             raise InputError(f"preconditioner = {kind!r}: allowed values are {', '.join(PRECONDITIONERS)}")
     except ValueError:
