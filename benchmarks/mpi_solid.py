@@ -74,11 +74,12 @@ def worker(scene_path: str, out: str) -> None:
     json.dump(record, open(out, "w"))
 
 
-def run(scene: dict, n: int, tmp: str) -> dict:
+def run(scene: dict, n: int, tmp: str, script: str = __file__) -> dict:
+    """`script --worker` on `scene` (serial for n = 1, under mpiexec -n n otherwise), its record."""
     path, out = os.path.join(tmp, "scene.json"), os.path.join(tmp, f"out{n}.json")
     json.dump(scene, open(path, "w"))
     env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    cmd = [sys.executable, os.path.abspath(__file__), "--worker", path, out]
+    cmd = [sys.executable, os.path.abspath(script), "--worker", path, out]
     if n > 1:
         cmd = ["mpiexec", "-n", str(n)] + cmd
     from mpi_scaling import run as run_sampled

@@ -57,6 +57,11 @@ COMPARE = textwrap.dedent('''
     cases.update({f"friction-{mu}": nc.scenes.load("inclined-compression").with_(friction=mu) for mu in (0.3, 0.7)})
     options = {"peers": nc.SolveOptions(element="peers")}  # rollers on facet unknowns, the direct preconditioner
     cases["peers"] = cases["inclined-compression"]
+    # a prescribed displacement (interpolated on rank 0's serial mesh and sent to the ranks)
+    from ngcrack.scene.types import BoundaryCondition
+    g = cases["griffith"]
+    cases["displacement"] = g.with_(boundary=dict(g.boundary, top=BoundaryCondition(type="displacement",
+                                                                                     value=(0.002, 0.01))))
     for name in sys.argv[2:]:
         scene, o = cases[name], options.get(name, nc.SolveOptions())
         sol = nc.solve(scene, options=o)  # the user's path, several solves in one process
@@ -86,10 +91,11 @@ def _compare(d, names: list[str]) -> dict:
 
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory):
-    return _compare(tmp_path_factory.mktemp("mpi"), ["griffith", "inclined-compression", "friction-0.3", "peers"])
+    return _compare(tmp_path_factory.mktemp("mpi"), ["griffith", "inclined-compression", "friction-0.3", "peers",
+                                                      "displacement"])
 
 
-@pytest.mark.parametrize("name", ["griffith", "inclined-compression", "friction-0.3", "peers"])
+@pytest.mark.parametrize("name", ["griffith", "inclined-compression", "friction-0.3", "peers", "displacement"])
 def test_distributed_equals_serial(compared, name):
     _equals_serial(compared, name)
 
@@ -106,14 +112,15 @@ def test_friction_sticks(tmp_path, compared):
 @pytest.mark.slow
 def test_four_ranks_with_bddc(tmp_path):
     """mpiexec -n 4 (three subdomains: a rank with two neighbours, where NGSolve's own exchange fails with MPICH,
-    distributed/exchange.py): BDDC per rank subdomain gives the serial answer, open and closed crack and Coulomb
-    friction, each CG solve under 40 steps to 1e-12."""
+    distributed/exchange.py): BDDC per rank subdomain gives the serial answer, open and closed crack, Coulomb
+    friction and a prescribed displacement, each CG solve under 40 steps to 1e-12."""
     script, out = tmp_path / "compare.py", tmp_path / "out.json"
     script.write_text(COMPARE)
-    proc = _run([str(script), str(out), "griffith", "inclined-compression", "friction-0.3"], n=4)
+    names = ["griffith", "inclined-compression", "friction-0.3", "displacement"]
+    proc = _run([str(script), str(out), *names], n=4)
     assert proc.returncode == 0, proc.stderr[-2000:]
     r = json.loads(out.read_text())
-    for name in ("griffith", "inclined-compression", "friction-0.3"):
+    for name in names:
         _equals_serial(r, name, ranks=4)
         assert "coarse unknowns" in r[name]["info"]["preconditioner"]
         assert max(r[name]["info"]["cg_steps"]) <= 40

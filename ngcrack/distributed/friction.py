@@ -79,6 +79,15 @@ class FrictionSets:
         return -(self.Gt.T @ lam_t)
 
 
+def force_residual(op, x: ngs.BaseVector, rhs: ngs.BaseVector, out: ngs.BaseVector) -> None:
+    """out = K x - F with `rhs` = F cumulated; `x` and `out` cumulated on return (by `op.cumulate`): the crack
+    faces' forces on the crack rows, zero to the solve's tolerance elsewhere."""
+    op.cumulate(x)
+    op.apply(x, out)
+    op.cumulate(out)
+    out.data -= rhs  # both cumulated
+
+
 def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: FrictionSets, sign_rtol: float):
     """The steps of the module docstring; returns (steps, CG steps per step). `rhs` is F (distributed), `x` the
     answer (cumulated on return)."""
@@ -95,10 +104,7 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
         if len(sets.jt):
             load.FV().NumPy()[sets.jt] += sets.slip_forces()
         cg_steps.append(pcg(op, load, x, sets.project))
-        op.cumulate(x)
-        op.apply(x, residual)
-        op.cumulate(residual)
-        residual.data -= rhs_c  # K y - F (both cumulated): the crack faces' forces on the crack rows
+        force_residual(op, x, rhs_c, residual)
         xv, rv = x.FV().NumPy(), residual.FV().NumPy()
         wn, wt = sets.G @ xv[sets.jn], sets.Gt @ xv[sets.jt]
         lam_n = sets.Ginv.T @ rv[sets.jn]

@@ -88,3 +88,32 @@ def scatter_into(gathered: Gathered, mesh: ngs.Mesh, fes: ngs.FESpace, tol: floa
             full[dofs] = vals[starts[k]:starts[k + 1]]
             flags[dofs] |= act[starts[k]:starts[k + 1]]
     return full, flags
+
+
+def serial_node_values(mesh: ngs.Mesh, fes: ngs.FESpace, values: np.ndarray) -> Gathered:
+    """Rank 0: the serial vector `values` per node (positions, dof counts, values), to be sent to every rank and read
+    with `local_values`."""
+    return Gathered(nodes=_local(mesh, fes, values, np.zeros(fes.ndof, dtype=bool)))
+
+
+def local_values(serial: Gathered, mesh: ngs.Mesh, fes: ngs.FESpace, tol: float) -> np.ndarray:
+    """This rank's vector of the serial values `serial` (`serial_node_values`), matched by node positions."""
+    from scipy.spatial import cKDTree
+
+    out = np.zeros(fes.ndof)
+    for kind, (pos, counts, vals, _) in serial.nodes.items():
+        mine = _local(mesh, fes, np.zeros(fes.ndof), np.zeros(fes.ndof, dtype=bool))[kind][0]
+        if not len(pos) or not len(mine):
+            continue
+        items, ntype = (mesh.edges, ngs.EDGE) if kind == "edge" else (mesh.vertices, ngs.VERTEX)
+        node_dofs = [d for d in ([d for d in fes.GetDofNrs(ngs.NodeId(ntype, item.nr)) if d >= 0] for item in items)
+                     if d]
+        dist, idx = cKDTree(pos).query(mine)
+        if np.any(dist > tol):
+            raise RuntimeError(f"scatter: {int(np.sum(dist > tol))} {kind}s of this subdomain match no {kind} of the mesh")
+        starts = np.concatenate([[0], np.cumsum(counts)])
+        for dofs, i in zip(node_dofs, idx):
+            if len(dofs) != counts[i]:
+                raise RuntimeError(f"scatter: a {kind} has {len(dofs)} unknowns on its subdomain, {counts[i]} in the mesh")
+            out[dofs] = vals[starts[i]:starts[i + 1]]
+    return out

@@ -164,9 +164,11 @@ def hold(op: Operator, sets) -> None:
         op.C.hold(sets.held())
 
 
-def condensed_rhs(disc, loads, free):
+def condensed_rhs(disc, loads, free, prescribed=None):
     """(rhs, x): the sign-flipped right-hand side of the condensed system, with the prescribed values moved to it,
-    and those values (zero on the unknowns `free`; collective: NGSolve's distributed vectors)."""
+    and those values (zero on the unknowns `free`; collective: NGSolve's distributed vectors). `prescribed`: the
+    prescribed values per local dof, made on rank 0's serial mesh (planar.py); None: interpolated here by NGSolve
+    (GridFunction.Set, which sums through NGSolve's own exchange: exchange.py)."""
     import ngsolve as ngs
 
     fes, a, f = disc.fes, disc.a, disc.f
@@ -176,9 +178,12 @@ def condensed_rhs(disc, loads, free):
     x = f.vec.CreateVector()
     x[:] = 0.0
     if loads.displacement:  # prescribed values: moved to the right-hand side
-        gD = ngs.GridFunction(fes)
-        disc.boundary_values(gD, loads)
-        x.data = gD.vec
+        if prescribed is not None:
+            x.FV().NumPy()[:] = prescribed
+        else:
+            gD = ngs.GridFunction(fes)
+            disc.boundary_values(gD, loads)
+            x.data = gD.vec
         x.FV().NumPy()[free] = 0.0
     rhs = fmod.CreateVector()
     rhs.data = fmod - a.mat * x

@@ -178,7 +178,7 @@ def _solve(comm, scene, o: SolveOptions):
     timings["preconditioner"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     fes, a = disc.fes, disc.a
-    rhs, x = condensed_rhs(disc, loads, free)
+    rhs, x = condensed_rhs(disc, loads, free, prescribed_values(comm, pipe, scene, o, serial_mesh, cmesh, disc, loads))
     x_fixed = x.CreateVector()
     x_fixed.data = x
     x[:] = 0.0
@@ -262,6 +262,24 @@ def _dofs(fes, component: int | None) -> np.ndarray:
         return np.zeros(0, dtype=int)
     rng = fes.Range(component)
     return np.arange(rng.start, rng.stop)
+
+
+def prescribed_values(comm, pipe, scene, o: SolveOptions, serial_mesh, cmesh, disc, loads) -> np.ndarray | None:
+    """The prescribed displacements' values per local dof (None without any): interpolated on rank 0's serial
+    discretization and matched to this rank's nodes by position (collective). NGSolve's interpolation on the
+    distributed mesh would sum through NGSolve's own exchange, which fails from 4 ranks with MPICH (exchange.py)."""
+    from .gather import local_values, serial_node_values
+
+    if not loads.displacement:
+        return None
+    serial = None
+    if comm.rank == 0:
+        sdisc, sloads = pipe.discretization(scene, serial_mesh, o)
+        gD = ngs.GridFunction(sdisc.fes)
+        sdisc.boundary_values(gD, sloads)
+        serial = serial_node_values(serial_mesh.mesh, sdisc.fes, gD.vec.FV().NumPy())
+    serial = comm.bcast(serial, root=0)
+    return local_values(serial, cmesh.mesh, disc.fes, MATCH_RTOL * scene.diameter)
 
 
 def constraint_blocks(pipe, scene, o: SolveOptions, serial_mesh) -> list | str:

@@ -20,8 +20,10 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
   serial post-processing (KKT residuals from the serial system's residual, the fronts'
   K_I, K_II, K_III, G, the error estimate): one SolidSolution on rank 0, written once.
 
-Not distributed yet (refused by name before any work): Coulomb friction in 3D, the
-displacement baselines h1p1 / h1p2 (their constraints sit at vertices).
+With Coulomb friction the crack problem's steps are those of `solid_friction` (the serial
+law at the friction points, Newton steps by the same projected CG). Not distributed yet
+(refused by name before any work): the displacement baselines h1p1 / h1p2 (their
+constraints sit at vertices).
 """
 
 from __future__ import annotations
@@ -51,15 +53,22 @@ class SplitCrackFace(ValueError):
     """A crack face's two tetrahedra sit on two ranks (not handled yet; found alike on every rank)."""
 
 
-def check_supported(scene, opts: dict) -> None:
-    """What the distributed 3D solve does not do, refused on every rank before any work."""
+#: the most ranks at which a prescribed displacement is interpolated on the distributed mesh: NGSolve's
+#: GridFunction.Set sums through NGSolve's own exchange, which is wrong from 3 subdomains on with MPICH
+#: (exchange.py); at 2 and 3 ranks each subdomain has at most one neighbour
+MAX_RANKS_DISPLACEMENT = 3
+
+
+def check_supported(scene, opts: dict, size: int = 2) -> None:
+    """What the distributed 3D solve over `size` ranks does not do, refused on every rank before any work."""
     if opts["element"] != "tdnns":
         raise InputError(f"element = {opts['element']!r}: a distributed 3D solve takes element = 'tdnns' (the "
                          "displacement baselines' crack constraints sit at vertices); run it without mpiexec")
-    if opts["crack_model"] == "contact" and any(float(c.friction) > 0 for c in scene.cracks):
-        i = next(i for i, c in enumerate(scene.cracks) if float(c.friction) > 0)
-        raise InputError(f"crack[{i}].friction = {float(scene.cracks[i].friction):g}: Coulomb friction in 3D is not "
-                         "distributed yet; run it without mpiexec or set friction = 0")
+    shifted = [label for label, bc in scene.boundary.items() if bc.type == "displacement"]
+    if shifted and size > MAX_RANKS_DISPLACEMENT:
+        raise InputError(f"boundary[{shifted[0]!r}].type = 'displacement': a prescribed displacement in 3D is "
+                         f"distributed on at most {MAX_RANKS_DISPLACEMENT} ranks (mpiexec -n {size} asked); run it "
+                         f"with -n 2 or 3 or without mpiexec, or clamp the face")
 
 
 class FaceActiveSet:
@@ -138,7 +147,7 @@ def solve(scene, opts: dict, preconditioner_kind: str | None = None):
     comm = require_mpi()
     kind = preconditioner_kind or default_preconditioner(comm.size)
     try:  # alike on every rank, before any communication: rank 0 reports, the others leave quietly
-        check_supported(scene, opts)
+        check_supported(scene, opts, comm.size)
         if kind not in PRECONDITIONERS:
             raise InputError(f"preconditioner = {kind!r}: allowed values are {', '.join(PRECONDITIONERS)}")
     except ValueError:
@@ -167,6 +176,9 @@ class LocalSystem:
     placed: list  # per crack: (local crack faces, their blocks of G)
     loads: object
     disc: object  # the TDNNS discretization on the subdomain, assembled
+    layout: list = None  # per crack: solid_mesh.CrackLayout (every rank)
+    friction: object = None  # with Coulomb friction: solid_friction.FrictionLayout (every rank)
+    points: object = None  # and rank 0's serial FrictionPoints (None elsewhere)
 
 
 def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
@@ -176,6 +188,7 @@ def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
     from ..solid.element import build
     from ..solid.geometry import CURVE_ORDER
     from ..solid.solve import scene_loads
+    from .solid_friction import friction_layout
 
     rank = comm.rank
     t0 = time.perf_counter()
@@ -185,6 +198,9 @@ def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
     ne = comm.bcast(smesh.mesh.ne if rank == 0 else None, root=0)
     check_ranks(ne, comm.size)
     layout = comm.bcast(crack_layout(smesh, opts["order"]) if rank == 0 else None, root=0)
+    frictional = opts["crack_model"] == "contact" and any(float(c.friction) > 0 for c in scene.cracks)
+    friction, points = friction_layout(pipe, scene, opts, smesh) if frictional and rank == 0 else (None, None)
+    friction = comm.bcast(friction, root=0)
     timings["mesh"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -204,11 +220,13 @@ def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
     disc = build(lsm, scene.material.E, scene.material.nu, loads, opts["order"],
                  pressure if any(pressure) else None, constraints=False)
     timings["assemble"] = time.perf_counter() - t0
-    return LocalSystem(pipe, smesh, mesh, lsm, placed, loads, disc)
+    return LocalSystem(pipe, smesh, mesh, lsm, placed, loads, disc, layout, friction, points)
 
 
 def _solve(comm, scene, opts: dict, kind: str):
-    from .planar import _memory_per_rank, _owned, normal_loop
+    from .mesh import MATCH_RTOL
+    from .planar import SIGN_RTOL, _memory_per_rank, _owned, normal_loop
+    from .solid_friction import CrackUnknowns, face_numbers, friction_loop
 
     rank = comm.rank
     timings: dict[str, float] = {}
@@ -237,7 +255,15 @@ def _solve(comm, scene, opts: dict, kind: str):
             blocks.append(b)
     aset = FaceActiveSet(faces, blocks, len(jn_dofs), jn_dofs, free)
     op = Operator(A=a.mat, C=pre, sign=disc.sign)
-    steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
+    state = None
+    if loc.friction is not None and has_crack:
+        local_faces = [int(f) for fs, _ in placed for f in fs]
+        tol = MATCH_RTOL * scene.size
+        crack = CrackUnknowns(comm, fes, disc.tangential, lsm.mesh, local_faces, loc.friction, tol)
+        gid = face_numbers(lsm.mesh, local_faces, np.concatenate([c.centroids for c in loc.layout]), tol)
+        steps, cg_steps, state = friction_loop(comm, op, rhs, x, aset, crack, loc.friction, gid, SIGN_RTOL)
+    else:
+        steps, cg_steps = normal_loop(comm, op, rhs, x, aset, iterate=has_crack and opts["crack_model"] == "contact")
     op.cumulate(x)
     timings["solve"] = time.perf_counter() - t0
     timings["cg"] = op.seconds  # the rest of "solve": the active-set updates and their reductions
@@ -255,7 +281,8 @@ def _solve(comm, scene, opts: dict, kind: str):
         return None
     from .solid_rank0 import solution_on_rank0
 
-    return solution_on_rank0(pipe, scene, opts, smesh, gathered, timings, info, t_start)
+    return solution_on_rank0(pipe, scene, opts, smesh, gathered, timings, info, t_start,
+                             (loc.points, state) if state is not None else None)
 
 
 #: the coarse space of the 3D BDDC, as stated in the results

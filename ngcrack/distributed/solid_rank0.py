@@ -18,6 +18,7 @@ import scipy.sparse.linalg as spla
 
 from ..constraints import discrete_contact_forces, kkt_at_constraints
 from ..solid.contact import ContactResult
+from ..solid.friction import certificate
 from ..solid.output import SolidSolution
 from ..stages import SolveError
 from .assemble0 import reduced_unknowns
@@ -43,8 +44,10 @@ def _rows_of_dofs(smesh, disc) -> np.ndarray:
 
 
 def solution_on_rank0(pipe, scene, opts: dict, smesh, gathered, timings: dict, info: dict,
-                      t_start: float) -> SolidSolution:
-    """The SolidSolution from the gathered unknowns (module docstring)."""
+                      t_start: float, friction=None) -> SolidSolution:
+    """The SolidSolution from the gathered unknowns (module docstring); `friction`: (the serial FrictionPoints,
+    the last `solid_friction.PointState`) of a frictional solve, certified as the serial one
+    (`solid.friction.certificate`)."""
     from ..solid.stages import SIZES, post_process
 
     t0 = time.perf_counter()
@@ -71,6 +74,13 @@ def solution_on_rank0(pipe, scene, opts: dict, smesh, gathered, timings: dict, i
         kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if m else 0.0, jump_scale=float(np.max(np.abs(y))),
                                  force_scale=float(np.max(np.abs(system.F))), lam_bound=bound)
         contact = ContactResult(y, w, lam * disc.force_unit, active, info["active_set_steps"], kkt)
+        if friction is not None:
+            points, state = friction
+            contact = certificate(system.K, system.F, y, w, system.contact, G, points, active, state.stick, state.g,
+                                  info["active_set_steps"])
+            for name in ("lam", "lam_t", "bound"):  # the system is in units of E (solid.stages.friction_stage)
+                setattr(contact, name, getattr(contact, name) * disc.force_unit)
+            contact.points = points
     gf = system.expand(y)
     if not np.all(np.isfinite(gf.vec.FV().NumPy())):
         raise SolveError(f"scene {scene.name!r}: the local recovery gave non-finite values")

@@ -61,6 +61,8 @@ NEWTON_RTOL = 1e-13
 BOUND_RTOL = 1e-11
 #: the sticking points' constraint block: -delta, delta = this / c (iterated: module docstring)
 STICK_REGULARIZATION = 1e-8
+#: singular values of the sticking points' rows below this fraction of the largest are their redundancy
+STICK_RCOND = 1e-10
 #: the most solves of the iterated regularisation per Newton step
 MAX_REFINEMENTS = 30
 #: c in xi = lam_t + c s, relative to the slip's stiffness scale (K's diagonal over B's rows)
@@ -147,7 +149,6 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
     g = np.zeros(nq)
     x = np.zeros(n)
     t_fact = 0.0
-    force_scale = float(np.max(np.abs(Fw))) or 1.0
     history = []
     iterations = 0
     for it in range(1, max_iterations + 1):
@@ -216,7 +217,9 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
         # normal forces at the constraints (the friction terms do not touch their rows)
         lam = np.asarray(Kw[contact] @ x - Fw[contact])
         new_A = lam - diag * x[contact] > 0
-        new_g = coulomb_bound(points, lam)
+        # the bound from the closed constraints' forces: an open one's force is zero but for the
+        # residual's round-off, which would switch its face's bound on and off from step to step
+        new_g = coulomb_bound(points, np.where(new_A, lam, 0.0))
         xi = lam_t + c * s
         nxi = np.linalg.norm(xi, axis=1)
         new_stick = nxi <= new_g
@@ -237,27 +240,57 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
     else:
         raise ContactSolverError(f"the frictional contact did not settle in {max_iterations} Newton steps "
                                  f"(last: {history[-1]})")
-    y = T @ x
-    w = x[contact]
+    result = certificate(K, F, T @ x, x[contact], contact, G, points, A, stick & (g > 0), g, iterations)
+    result.timings = {"factorizations": t_fact, "total": time.perf_counter() - t0}
+    return result
+
+
+def sticking_forces(B: sp.csr_matrix, r: np.ndarray, stick: np.ndarray) -> np.ndarray:
+    """The sticking points' friction forces (|stick|, 2) that balance the residual `r` (the other forces in it):
+    B_S' lam = -r on B_S's columns, the minimum-norm solution. B_S's rows are redundant (module docstring of
+    `solid.friction_points`), so the forces are not unique; the minimum-norm ones are defined by y alone (B_S's
+    singular values: a clear gap between round-off and the smallest genuine one, 7e-3 of the largest on the
+    inclined penny), the same from any method that finds y."""
+    rows = np.flatnonzero(np.repeat(stick, 2))
+    if not len(rows):
+        return np.zeros((0, 2))
+    BS = B[rows]
+    cols = np.unique(BS.indices)
+    return np.linalg.lstsq(BS[:, cols].toarray().T, -r[cols], rcond=STICK_RCOND)[0].reshape(-1, 2)
+
+
+def certificate(K: sp.spmatrix, F: np.ndarray, y: np.ndarray, w: np.ndarray, contact: np.ndarray, G,
+                points: FrictionPoints, active: np.ndarray, stick: np.ndarray, g: np.ndarray,
+                iterations: int) -> FrictionResult:
+    """The certificate of an answer y (module docstring): `w` its constraint values, `active`, `stick` and `g`
+    the sets and Coulomb bound of the method's last step; the normal forces are read from the residual, the
+    sticking points' friction forces too (`sticking_forces`)."""
+    K = sp.csr_matrix(K)
+    B = sp.csr_matrix(points.B)
+    nq, m = len(points.face), len(contact)
     lam, lam_bound = discrete_contact_forces(K, F, y, contact, G)
-    bound = coulomb_bound(points, lam)
+    # the bound from the closed constraints' forces (an open one's is round-off: as in the iteration)
+    bound = coulomb_bound(points, np.where(active, lam, 0.0))
     s = (B @ y).reshape(nq, 2)
     norm_s = np.linalg.norm(s, axis=1)
-    # the certificate's friction forces: on the cone's edge along the slip where the points slip
-    cert_t = lam_t.copy()
+    # the certificate's friction forces: on the cone's edge along the slip where the points slip, and where
+    # they stick the minimum-norm forces that balance the residual (`sticking_forces`)
+    cert_t = np.zeros((nq, 2))
     slipping = (g > 0) & ~stick & (norm_s > 0)
+    held = (g > 0) & ~slipping  # sticking, or slipping without a slip
     cert_t[slipping] = bound[slipping, None] * s[slipping] / norm_s[slipping, None]
-    cert_t[g <= 0] = 0.0
     r = K @ y - F + B.T @ cert_t.ravel()
+    cert_t[held] = sticking_forces(B, r, held)
+    r += B.T @ np.where(held[:, None], cert_t, 0.0).ravel()
     r[contact] = 0.0
     # less its rounding-error bound (as the normal forces': constraints.discrete_contact_forces)
     nnz = np.diff(K.indptr) + np.diff(sp.csc_matrix(B).indptr) + 2
     u = np.finfo(float).eps / 2
     rounding = nnz * u / (1 - nnz * u) * (abs(K) @ np.abs(y) + np.abs(F) + abs(B).T @ np.abs(cert_t.ravel()))
     stationarity = float(np.max(np.maximum(np.abs(r) - rounding, 0.0)))
+    force_scale = float(np.max(np.abs(F))) or 1.0
     residuals = coulomb_residuals(lam, w, s, cert_t, bound, stationarity, float(np.max(np.abs(y))), force_scale)
     kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if m else 0.0, jump_scale=float(np.max(np.abs(y))),
                              force_scale=float(np.max(np.abs(F))), friction=max(residuals.values()), lam_bound=lam_bound)
-    timings = {"factorizations": t_fact, "total": time.perf_counter() - t0}
-    return FrictionResult(y, w, lam, A, s, cert_t, bound, stick & (g > 0), iterations, kkt, residuals, timings,
+    return FrictionResult(y, w, lam, active, s, cert_t, bound, stick & (g > 0), iterations, kkt, residuals,
                           factorizations=iterations)
