@@ -23,7 +23,8 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
 With Coulomb friction the crack problem's steps are those of `solid_friction` (the serial
 law at the friction points, Newton steps by the same projected CG). Not distributed yet
 (refused by name before any work): the displacement baselines h1p1 / h1p2 (their
-constraints sit at vertices).
+constraints sit at vertices), and above 3 ranks a prescribed displacement (NGSolve interpolates
+it through its own exchange, exchange.py).
 """
 
 from __future__ import annotations
