@@ -86,6 +86,11 @@ UZAWA_TOL = 1e-10
 UZAWA_CHECK_EVERY = 25
 #: scaled KKT residual below which an answer counts as exact
 KKT_TOL = 1e-9
+#: a value of the scaled problem (|b| = 1) at most this, relative to the largest, whose multiplier is
+#: at least as large, is a contact value: it is set to exactly zero and the constraint is active. An
+#: interior-point or ADMM solver stops a contact value at 1e-21..1e-12 instead of 0 (osqp 1.1 does); the
+#: KKT check bounds v.mu, so such a value moves the answer by less than this times |S|
+ACTIVE_RTOL = 1e-10
 #: BLAS threads for the dense QP work. The matrices are m x m with m in the hundreds:
 #: a second thread gains little, and on a busy machine the threads' synchronisation
 #: made a 320-unknown pdas solve take up to 2 s instead of 0.02 s (measured)
@@ -403,6 +408,9 @@ def _solve_qp(S, b, G, solver, solver_options, polish, kkt_tol, initial_active, 
     if _kkt_size(kkt) > kkt_tol:
         raise ContactSolverError(f"qp_solver = {solver!r}: the answer violates the KKT conditions (scaled residuals {kkt})")
     v = np.maximum(v, 0.0)  # remove round-off below zero on the active set
+    mu = S_s @ v - b_s
+    v[(v <= ACTIVE_RTOL * max(float(v.max()), 1.0)) & (mu >= v)] = 0.0  # a solver's stop short of zero
+    kkt = _scaled_kkt(S_s, b_s, v)
     w = beta * D * v
     mult = beta * (S_s @ v - b_s) / D  # multipliers of w >= 0 in the unscaled problem
     mult[v > 0] = 0.0

@@ -107,6 +107,19 @@ def test_known_solution(name, solver, options, cond, use_g):
     assert strict <= set(r.active) <= set(np.flatnonzero(w_ref == 0))
 
 
+def test_contact_values_a_solver_stops_short_of_zero_are_active(monkeypatch):
+    # an interior-point or ADMM solver may stop a contact value at 1e-21 instead of 0 (osqp 1.1.3
+    # did at 6 of 12): without the polish the active set still holds every strictly active index
+    S, b, v_ref, mu_ref = known_instance(40, 1e4, 12, 4, seed=7, multipliers=True)
+    short = v_ref.copy()
+    short[mu_ref > 0] = 1e-21 * np.abs(v_ref).max()
+    D = 1.0 / np.sqrt(np.diag(S))  # the solver sees the Jacobi-scaled problem with |b| = 1: v = w / (beta D)
+    monkeypatch.setattr(contact, "_cvxpy_solve", lambda *a, **k: short / (np.abs(D * b).max() * D))
+    r = solve_qp(S, b, solver="clarabel", polish=False)
+    assert set(r.active) == set(np.flatnonzero(v_ref == 0))
+    assert np.all(r.w[r.active] == 0.0) and max(r.kkt.values()) <= contact.KKT_TOL
+
+
 @functools.cache
 def scene_qp(scene: str, element: str):
     sysm = system(scene, element)
