@@ -101,7 +101,15 @@ def summary_line(info: dict) -> str:
 
 
 def solve(scene, options=None):
-    """The distributed solve (ngcrack.distributed.planar.solve); the Solution on rank 0, None elsewhere."""
+    """The distributed solve of a scene of either dimension (ngcrack.distributed.planar.solve,
+    ngcrack.distributed.solid.solve_scene); the Solution on rank 0, None elsewhere."""
+    if scene.dimension == 3:
+        from .solid import solve_scene
+
+        return solve_scene(scene, options)
     from .planar import solve as _solve
 
+    if options is not None and options.preconditioner is not None:
+        refuse(f"preconditioner = {options.preconditioner!r}: a 2D distributed solve preconditions with BDDC per rank "
+               "subdomain (the 3D one takes a choice)")
     return _solve(scene, options)

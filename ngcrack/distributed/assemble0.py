@@ -16,8 +16,9 @@ import numpy as np
 
 from ..core.contact import QPResult
 from ..core.friction import FrictionResult, coulomb_residual
-from ..core.solution import Backend, Solution
+from ..core.solution import Backend
 from ..core.stages import CrackAnswer, Recovered, SolveError, faces_stage
+from ..planar.solution import PlanarSolution as Solution
 from .gather import scatter_into
 from .mesh import MATCH_RTOL
 

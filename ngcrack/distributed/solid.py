@@ -122,21 +122,14 @@ class FaceActiveSet:
                           if self.active[d].any()], len(self.free))
 
 
-def solve_scene(scene, *, preconditioner: str | None = None, **options):
-    """`nc.solve` / `ngcrack solve` of a 3D scene under mpiexec: the options of a serial 3D solve
-    (`solid.solve.OPTIONS`, checked by name before any work), the SolidSolution on rank 0, None elsewhere."""
-    from ..solid.solve import check_options
+def solve_scene(scene, options=None):
+    """`nc.solve` / `ngcrack solve` of a 3D scene under mpiexec: `options` a SolveOptions, checked for the 3D
+    body by `nc.solve` before any work; the SolidSolution on rank 0, None elsewhere."""
+    from ..core.options import SolveOptions
+    from ..solid.solve import solid_options
 
-    try:
-        opts = check_options(options)
-    except ValueError:
-        from . import world_rank
-
-        if world_rank() == 0:
-            raise
-        raise SystemExit(2) from None
-    sizes = {k: options.get(k) for k in ("maxh", "crack_h", "front_h", "grading")}
-    return solve(scene, {**opts, **sizes}, preconditioner)
+    options = options if options is not None else SolveOptions()
+    return solve(scene, solid_options(options), options.preconditioner)
 
 
 def solve(scene, opts: dict, preconditioner_kind: str | None = None):

@@ -23,10 +23,13 @@ import ngsolve as ngs
 import numpy as np
 
 from ..core.constraints import KKT_KEYS
+from ..core.solution import Solution
 
 
 @dataclass
-class SolidSolution:
+class SolidSolution(Solution):
+    """The answer of one solve of a 3D scene (a kind of `ngcrack.core.solution.Solution`; module docstring)."""
+
     scene: object
     smesh: object
     disc: object
@@ -38,10 +41,19 @@ class SolidSolution:
     options: dict
     timings: dict = field(default_factory=dict)
     fronts: list = field(default_factory=list)
-    error_estimate: dict | None = None  # ngcrack.solid.estimate.prager_synge, with estimate=True
     #: a distributed solve's ranks, CG steps, preconditioner and memory per rank (ngcrack.distributed.solid)
     distributed: dict | None = None
+    #: the error estimate (ngcrack.solid.estimate.prager_synge: a dict) once computed, why there is none, and
+    #: the computation a solve leaves pending (`Solution.error_estimate`)
+    _estimate: object = field(default=None, repr=False)
+    _no_estimate: str = field(default="", repr=False)
+    _pending_estimate: object = field(default=None, repr=False, compare=False)
     dimension = 3
+
+    @property
+    def crack_mesh(self):
+        """The mesh with its cracks (a SolidMesh; also `smesh`), as a 2D solution's `crack_mesh`."""
+        return self.smesh
 
     @property
     def element(self) -> str:
@@ -139,6 +151,8 @@ class SolidSolution:
 
     # ------------------------------------------------------------------------ outputs
     def to_json_dict(self) -> dict:
+        """The `solve --json` record of a 3D scene (module docstring); a pending error estimate is computed first."""
+        estimate = self.error_estimate
         sizes = self.smesh.sizes
         t = self.timings
         return {
@@ -147,13 +161,12 @@ class SolidSolution:
             "E": self.scene.material.E, "nu": self.scene.material.nu,
             "ndof": self.ndof,
             "time_s": {k: float(t.get(k, 0.0)) for k in ("total", "mesh", "assemble", "condense", "linear", "contact",
-                                                        "fronts")},
+                                                        "fronts", "estimate")},
             "kkt": self.kkt,
             "contact_iterations": 0 if self.contact is None else int(self.contact.iterations),
             "fronts": [f.to_json_dict() for f in self.fronts],
             "cracks": self.crack_summaries(),
-            **({} if self.error_estimate is None else {"error_estimate": {
-                k: self.error_estimate[k] for k in ("total", "stress", "contact")}}),
+            **({} if estimate is None else {"error_estimate": {k: estimate[k] for k in ("total", "stress", "contact")}}),
             **({} if self.distributed is None else {"distributed": self.distributed}),
         }
 

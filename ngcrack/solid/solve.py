@@ -68,9 +68,11 @@ def check_options(options: dict) -> dict:
         v = options.get(key)
         if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
             raise InputError(f"{key} = {v!r}: must be a finite number > 0")
-    estimate = options.get("estimate", False)
-    if not isinstance(estimate, bool):
-        raise InputError(f"estimate = {estimate!r}: must be True or False")
+    if options.get("grading") is not None and options["grading"] > 1:
+        raise InputError(f"grading = {options['grading']!r}: must lie in (0, 1] (netgen's default is 0.3)")
+    estimate = options.get("estimate")
+    if estimate is not None and not isinstance(estimate, bool):
+        raise InputError(f"estimate = {estimate!r}: must be None (when asked for), True or False")
     if estimate and element not in ESTIMATES:
         raise InputError(f"estimate = True: 3D error estimates are for {', '.join(ESTIMATES)} only (element = "
                          f"{element!r}: its stress C eps(u) is not equilibrated)")
@@ -79,20 +81,49 @@ def check_options(options: dict) -> dict:
             "fronts": options.get("fronts", True), "front_points": options.get("front_points")}
 
 
-def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, pipeline=None, **options) -> SolidSolution:
-    """Solve the unilateral crack problem of a 3D scene (options: OPTIONS) through the
-    stages of `pipeline` (an `ngcrack.core.pipeline.Pipeline` whose cached stages the solve may
-    reuse; None: a fresh one), `ngcrack.solid.stages.run_solid`."""
-    opts = check_options(options)
+#: the options of a planar body only (ngcrack.core.options.SolveOptions), with what a 3D scene takes instead
+PLANAR_ONLY = {"tip_h": "front_h (the mesh size at the crack fronts)", "hp": "", "hp_sigma": "", "path_grading": "",
+               "adapt": "", "schur": "", "friction_method": "", "tangential": "", "condition": "", "qp_options": "",
+               "max_dof": ""}
+
+
+def check_solid(scene: SolidScene, options) -> None:
+    """Every option of `options` (a SolveOptions) that a 3D scene cannot take, refused by name before
+    any meshing: the planar body's own options, the element and its order, the crack model, the QP
+    solver, an estimate or friction with an element that has none."""
+    for name in options.given():
+        if name in PLANAR_ONLY:
+            instead = f": use {PLANAR_ONLY[name]}" if PLANAR_ONLY[name] else ""
+            raise InputError(f"{name}: an option of 2D scenes only; scene {scene.name!r} is 3D{instead}")
+    opts = check_options({"element": options.element, "order": options.order, "crack_model": options.crack_model,
+                          "qp_solver": options.qp_solver, "estimate": options.estimate})
     mu = [float(c.friction) for c in scene.cracks]
-    frictional = any(m > 0 for m in mu) and opts["crack_model"] == "contact"
-    if frictional and opts["element"] != "tdnns":
+    if any(m > 0 for m in mu) and opts["crack_model"] == "contact" and opts["element"] != "tdnns":
         i = next(i for i, m in enumerate(mu) if m > 0)
         raise InputError(f"crack[{i}].friction = {mu[i]:g}: Coulomb friction in 3D is solved with element = 'tdnns' "
                          f"(not {opts['element']!r}); set friction = 0 or element = 'tdnns'")
     SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
+
+
+def solid_options(options) -> dict:
+    """The stages' options of a SolveOptions checked for the 3D body (`check_solid`), with the mesh sizes."""
+    opts = check_options({"element": options.element, "order": options.order, "crack_model": options.crack_model,
+                          "estimate": options.estimate, "linear_solver": options.linear_solver,
+                          "fronts": options.fronts, "front_points": options.front_points})
+    return {**opts, "maxh": options.maxh, "crack_h": options.crack_h, "front_h": options.front_h,
+            "grading": options.grading}
+
+
+def solve_solid(scene: SolidScene, options=None, *, smesh: SolidMesh | None = None, pipeline=None,
+                **changes) -> SolidSolution:
+    """Solve the unilateral crack problem of a 3D scene through the stages of `pipeline` (an
+    `ngcrack.core.pipeline.Pipeline` whose cached stages the solve may reuse; None: a fresh one),
+    `ngcrack.solid.stages.run_solid`. `options`: a SolveOptions (keywords change it), checked for
+    the 3D body before any meshing."""
+    from ..core.options import SolveOptions
     from ..core.pipeline import Pipeline
     from .stages import run_solid
 
-    sizes = {k: options.get(k) for k in ("maxh", "crack_h", "front_h", "grading")}
-    return run_solid(pipeline if pipeline is not None else Pipeline(), scene, {**opts, **sizes}, smesh)
+    opts = SolveOptions.of(options, **changes)
+    opts.check_for(scene)
+    return run_solid(pipeline if pipeline is not None else Pipeline(), scene, solid_options(opts), smesh)
