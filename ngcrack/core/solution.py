@@ -20,7 +20,7 @@ import numpy as np
 
 from .options import SolveOptions
 
-__all__ = ["Backend", "Front", "Solution"]
+__all__ = ["Backend", "Front", "Solution", "summary_line"]
 
 
 @dataclass
@@ -129,3 +129,11 @@ class Backend:
                 "largest_dense": self.largest_dense, "tip_h": options.tip_h, "crack_model": options.crack_model,
                 "order": options.order, "friction": list(self.friction), "friction_method": options.friction_method,
                 "tangential": self.tangential, "hp": options.hp or 0}
+
+
+def summary_line(info: dict) -> str:
+    """The one line `ngcrack solve` prints after a distributed solve: ranks, subdomains, preconditioner, steps."""
+    steps = info["cg_steps"]
+    cg = f"{sum(steps)} CG steps ({', '.join(map(str, steps))} per active-set step)"
+    return (f"distributed over {info['ranks']} ranks ({info['subdomains']} subdomains), preconditioner "
+            f"{info['preconditioner'].split(':')[0]}: {info['active_set_steps']} active-set steps, {cg}")

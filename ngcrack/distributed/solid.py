@@ -135,8 +135,8 @@ def solve_scene(scene, options=None):
 def solve(scene, opts: dict, preconditioner_kind: str | None = None):
     """The distributed 3D solve (module docstring): the SolidSolution on rank 0, None on the others.
     `opts`: the checked options of `solid.solve.check_options` with the mesh sizes."""
-    from . import require_mpi
     from .planar import _fail
+    from .world import require_mpi
 
     comm = require_mpi()
     kind = preconditioner_kind or default_preconditioner(comm.size)

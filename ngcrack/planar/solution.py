@@ -18,7 +18,7 @@ from ..core.constraints import KKT_KEYS
 from ..core.contact import QPResult
 from ..core.discretization import Discretization, PostProcessing
 from ..core.options import SolveOptions
-from ..core.solution import Backend, Front, Solution
+from ..core.solution import Backend, Front, Solution, summary_line
 
 if TYPE_CHECKING:
     from .geometry import CrackMesh
@@ -169,6 +169,40 @@ class PlanarSolution(Solution):
     def save_vtk(self, path, **kwargs):
         """Write the fields and the crack faces for ParaView (the post-processor's writer: ngcrack.planar.vtk.save_vtk in 2D)."""
         return self.post.save_vtk(self, path, **kwargs)
+
+    def report_lines(self) -> list[str]:
+        """What `ngcrack solve` prints of a 2D solve: sizes and seconds, the mesh sizes, the KKT residuals,
+        friction, the tips' K, the error estimate, a distributed or adaptive run's record."""
+        result = self.to_json_dict()
+        scene, o = self.scene, self.solve_options
+        k, t, n, ks = result["kkt"], result["time_s"], result["ndof"], result["kkt_sampled"]
+        lines = [f"{scene.name}: element {self.element}, maxh {self.maxh:g}, nu {scene.material.nu:g}, "
+                 f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s"]
+        if o is not None and not o.hp:
+            from .sizing import describe_mesh_sizes
+
+            lines.append(describe_mesh_sizes(scene, o.maxh, o.tip_h, o.crack_h))
+        lines += [f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
+                  f"complementarity {k['complementarity']:.1e}, friction {k['friction']:.1e}",
+                  f"    at the edge mid points:   penetration {ks['max_penetration']:.1e}, tension "
+                  f"{ks['max_tension']:.1e}, complementarity {ks['complementarity']:.1e} (a diagnostic)"]
+        if self.options.get("tangential"):
+            states = [st for c in result["cracks"] for st in c["state"]]
+            lines.append(f"friction: {self.qp.coulomb_iterations} Coulomb iterations; crack samples "
+                         + ", ".join(f"{st} {states.count(st)}" for st in ("open", "stick", "slip")))
+        if self.tips:
+            from .tips import format_table
+
+            lines.append(format_table(self.tips))
+        if self.error_estimate is not None:
+            lines.append(self.error_estimate.line())
+        if "distributed" in result:
+            lines.append(summary_line(result["distributed"]))
+        if self.adapt_history is not None:
+            steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in self.adapt_history.itertuples())
+            reached = "reached" if self.options["adapt"]["reached"] else "NOT reached (dof budget)"
+            lines.append(f"adapt to {o.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
+        return lines
 
     def to_json_dict(self) -> dict:
         """The result as the `solve --json` dictionary (README, "Command line")."""

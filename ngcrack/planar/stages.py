@@ -48,6 +48,8 @@ class PlanarBody:
     post = PLANE
     #: what a solve of the body returns
     solution_type = PlanarSolution
+    #: the files `ngcrack solve` can write of its solutions besides the JSON record
+    outputs = ("plot", "vtk")
 
     @staticmethod
     def solve(pipeline, scene: Scene, options: SolveOptions, *, loads: Loads | None = None, warm_start=None,

@@ -474,6 +474,12 @@ class SolidScene(Scene, dimension=3):
     # ------------------------------------------------------------------ sizes and changes
     @property
     def size(self) -> float:
+        """The body's diameter (the largest distance between two of its points)."""
+        return self.domain.size
+
+    @property
+    def diameter(self) -> float:
+        """The body's diameter, as a planar scene's `diameter` (`size`)."""
         return self.domain.size
 
     def mesh_sizes(self, maxh=None, crack_h=None, front_h=None, grading=None) -> dict[str, float]:

@@ -44,18 +44,20 @@ class SolidBody:
     """What the stages ask of a 3D body (module docstring)."""
 
     dimension = 3
+    #: the files `ngcrack solve` can write of its solutions besides the JSON record
+    outputs = ("vtk",)
 
     @staticmethod
     def solve(pipeline, scene: SolidScene, options, *, loads=None, warm_start=None, crack_mesh=None) -> SolidSolution:
         """One solve of a checked request (a SolveOptions) through `pipeline`'s stages (`run_solid`)."""
-        from .solve import solid_options
+        from .options import solid_options
 
         return run_solid(pipeline, scene, solid_options(options), crack_mesh)
 
     @staticmethod
     def check_options(scene: SolidScene, options) -> None:
         """What a 3D scene cannot take of a SolveOptions, refused by name before any meshing (`solve.check_solid`)."""
-        from .solve import check_solid
+        from .options import check_solid
 
         check_solid(scene, options)
 
@@ -152,7 +154,7 @@ def post_process(sol: SolidSolution, options: dict, loads: Loads) -> None:
         t0 = time.perf_counter()
         sol.fronts = front_parameters(sol, points=options["front_points"])
         sol.timings["fronts"] = time.perf_counter() - t0
-    from .solve import ESTIMATES
+    from .options import ESTIMATES
 
     if options.get("estimate") is False or options["element"] not in ESTIMATES:
         sol.no_estimate = ("not asked for (estimate = False)" if options.get("estimate") is False else
