@@ -44,7 +44,7 @@ class Front:
     label: str = ""
 
     def to_json_dict(self) -> dict:
-        """The front as the JSON record's `fronts[i]` (DESIGN.md's contract: crack, points, K_I, K_II, K_III, G)."""
+        """The front as the JSON record's `fronts[i]` (crack, points, K_I, K_II, K_III, G)."""
         return {"crack": self.crack, "points": np.asarray(self.points).tolist(), "K_I": np.asarray(self.K_I).tolist(),
                 "K_II": np.asarray(self.K_II).tolist(), "K_III": np.asarray(self.K_III).tolist(),
                 "G": np.asarray(self.G).tolist()}
@@ -103,7 +103,7 @@ class Solution:
         return self._pending_estimate is not None
 
     def to_json_dict(self) -> dict:
-        """The `solve --json` record (DESIGN.md's JSON contract of the body's dimension)."""
+        """The `solve --json` record (the JSON record of the body's dimension: docs, "The command line")."""
         raise NotImplementedError
 
 

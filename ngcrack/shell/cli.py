@@ -35,6 +35,7 @@ import argparse
 import json
 import math
 import os
+import re
 import signal
 import sys
 import traceback
@@ -118,7 +119,8 @@ def cmd_solve(args) -> int:
 
     outputs = _solve_outputs(args)
     scene = _solve_scene(args)
-    sol = solve(scene, options=_solve_options(args))  # every option checked by the scene's body before meshing
+    with _as_flags(SOLVE_FLAGS):
+        sol = solve(scene, options=_solve_options(args))  # every option checked by the scene's body before meshing
     if sol is None:  # a rank > 0 of a distributed solve (mpiexec): rank 0 writes and prints
         return 0
     written = _write_outputs(sol, *outputs)
@@ -156,13 +158,29 @@ def _solve_scene(args):
     return scene
 
 
+#: the options of `ngcrack solve` that are flags of the same name (`front_h` is --front-h)
+SOLVE_FLAGS = ("element", "order", "maxh", "tip_h", "crack_h", "front_h", "qp_solver", "adapt", "hp", "max_dof",
+               "crack_model")
+
+
 def _solve_options(args):
     """The SolveOptions of the flags given (the body of the scene refuses those it cannot take)."""
     from ..core.options import SolveOptions
 
-    given = {k: getattr(args, k) for k in ("element", "order", "maxh", "tip_h", "crack_h", "front_h", "qp_solver",
-                                           "adapt", "hp", "max_dof") if getattr(args, k) is not None}
-    return SolveOptions.of(crack_model=args.crack_model, **given)
+    given = {k: getattr(args, k) for k in SOLVE_FLAGS if getattr(args, k) is not None}
+    return SolveOptions.of(**given)
+
+
+@contextmanager
+def _as_flags(names):
+    """A refusal of an option that came from a flag names the flag (`element = 'x'` -> `--element = 'x'`)."""
+    try:
+        yield
+    except InputError as exc:
+        m = re.match(r"(\w+)( =|:)", str(exc))
+        if m is None or m.group(1) not in names:
+            raise
+        raise UsageError("--" + m.group(1).replace("_", "-") + str(exc)[len(m.group(1)):]) from None
 
 
 def _write_outputs(sol, json_path, plot_path, vtk, given_vtk) -> list:
@@ -246,10 +264,12 @@ def cmd_sweep(args) -> int:
     if args.grading is not None and not 0 < args.grading <= 1:
         raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
     _check_sizes(scene, {"--maxh": args.maxh, "--reference-maxh": args.reference_maxh, "--tip-h": args.tip_h,
-                         "--crack-h": args.crack_h})
+                         "--crack-h": args.crack_h, "--front-h": args.front_h})
     _check_friction(scene, args)
     from ..studies.sweeps import QUANTITIES, fitted_rates, sweep
 
+    if args.front_h is not None or scene.dimension == 3:  # a 3D scene sweeps its front size
+        return _sweep_fronts(args, scene, out, solve_options)
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
     adaptive = {}
     if args.adapt is not None:  # tolerances instead of mesh sizes; --maxh (one value) is the first mesh
@@ -281,6 +301,28 @@ def cmd_sweep(args) -> int:
                         + ["quantity", "rate_h", "rate_dof", "points"]].to_string(
                 index=False, float_format=lambda v: f"{v:.3g}"))
     print(f"wrote {out} ({after - before} new rows, {after} in the file)")
+    return 0
+
+
+def _sweep_fronts(args, scene, out, solve_options: dict) -> int:
+    """`ngcrack sweep` of a 3D scene: its front sizes (`nc.sweep(scene, front_h=[...])`), the table printed."""
+    from ..core.options import DEFAULT_ELEMENT
+    from ..studies.sweeps import sweep
+
+    given = {"maxh": args.maxh, "adapt": args.adapt, "reference_maxh": args.reference_maxh,
+             "reference_element": args.reference_element, "vtk": args.vtk, "dask": args.dask, "max_dof": args.max_dof}
+    given = {k: v for k, v in given.items() if v is not None}
+    if args.front_h is None and scene.dimension == 3:
+        raise UsageError(f"--front-h: scene {scene.name!r} is 3D: give the front mesh sizes to sweep")
+    solve_options = {k: v for k, v in solve_options.items() if k != "crack_model" or v != "contact"}
+    df = sweep(scene, elements=args.element or [DEFAULT_ELEMENT], nu=args.nu, friction=args.friction, out=out,
+               solve_options=solve_options, front_h=args.front_h, jobs=args.jobs, progress=not args.no_progress, **given)
+    cols = ["element", "order", "front_h", "nu", "ndof_total", "K_I_min", "K_I_max", "err_K_I", "err_K", "time_total",
+            "memory_peak_mb"]
+    with _pandas_display():
+        print(df[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    print(f"err_K_I, err_K: against the finest front_h of each element and nu (its own row: NaN); wrote {out} "
+          f"({len(df)} rows)")
     return 0
 
 
@@ -452,6 +494,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="measure every element against this element's reference (default: each its own)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
+    p.add_argument("--front-h", dest="front_h", nargs="+", type=_positive,
+                   help="a 3D scene's front mesh sizes to sweep (instead of --maxh)")
     p.add_argument("--grading", type=_positive, help="mesh grading in (0, 1]")
     p.add_argument("--qp-solver", dest="qp_solver", help="the crack QP's solver (default: solve's default)")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")
