@@ -64,7 +64,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
         raise SolveError(f"{case}: the local recovery gave non-finite values")
     rec = Recovered(y=y, gf=gf, fields=disc.fields(gf), time=0.0)
     answer = CrackAnswer(qp=qp, G=G, jn=jn, time=0.0)
-    faces = faces_stage(system, disc, pipe.post, rec, answer, normal_contact, mu if tangential else None,
+    faces = faces_stage(system, disc, scene.body.post, rec, answer, normal_contact, mu if tangential else None,
                         [c.pressure for c in scene.cracks], case)
     if qp is not None and faces.forces is not None:
         qp.multiplier = np.asarray(faces.forces)
@@ -89,7 +89,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
                                   f"preconditioner {info['preconditioner']}, {info['active_set_steps']} active-set "
                                   f"steps, CG steps {info['cg_steps']}"],
         options=report, solve_options=o, backend=backend, conditioning={}, kkt_sampled=faces.kkt_sampled,
-        forces=faces.forces, post=pipe.post,
+        forces=faces.forces, post=scene.body.post,
     )
     pipe.post_process(sol, loads)
     pipe._pending = [weakref.ref(sol)]

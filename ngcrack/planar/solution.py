@@ -201,7 +201,7 @@ class PlanarSolution(Solution):
         if self.adapt_history is not None:
             steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in self.adapt_history.itertuples())
             reached = "reached" if self.options["adapt"]["reached"] else "NOT reached (dof budget)"
-            lines.append(f"adapt to {o.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
+            lines.append(f"adapt to {self.options['adapt']['tol']:g}: {reached}; dofs and relative estimate per step: {steps}")
         return lines
 
     def to_json_dict(self) -> dict:
