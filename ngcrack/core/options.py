@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -24,6 +23,7 @@ from ..planar.path_sizes import PathGrading, check_path_grading
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS
 from .element_names import check_element
 from .errors import InputError
+from .fields import is_number
 from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_solver
 from .hybrid import Factorization
 from .schur import SCHUR_METHODS
@@ -53,11 +53,6 @@ def qp_solvers() -> tuple[str, ...]:
     import cvxpy as cp
 
     return NATIVE_SOLVERS + tuple(s.lower() for s in cp.installed_solvers() if s in CVXPY_QP_SOLVERS)
-
-
-def is_number(value) -> bool:
-    """A real number (Python or numpy), not a boolean."""
-    return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
 def positive_size(name: str, value) -> float | None:

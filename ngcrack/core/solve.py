@@ -56,7 +56,7 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
 
     adapt: a relative error tolerance in (0, 1): solve, estimate, mark and refine until
     the relative estimate is <= adapt or the next mesh would exceed max_dof unknowns
-    (adapt.py, default budget adapt.DEFAULT_MAX_DOF; the mesh options give the first
+    (adapt.py, default budget adapt.DEFAULT_BUDGET; the mesh options give the first
     mesh, which the size guard checks); `time_s["total"]` is then the whole run.
     crack_mesh: solve on this mesh (a CrackMesh of the scene) instead of meshing. Every
     solve carries `sol.error_estimate` (estimate.py), None for an element or crack model

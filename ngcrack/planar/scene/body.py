@@ -1,6 +1,6 @@
 """The Scene: one cracked 2D elastic body as plain, immutable, validated data.
 
-A :class:`Scene` holds the polygon and its edge labels, the cracks, the material, the
+A :class:`PlanarScene` holds the polygon and its edge labels, the cracks, the material, the
 loads, the supports and the optional mesh sizes. It is validated completely when it is
 built (``__post_init__``): the fields one by one (``fields``, ``types``), the polylines
 against each other (``planar``), then the supports against rigid motion (``topology``),
