@@ -79,3 +79,4 @@ def noise_reasons(sol, scene, values: list[dict]) -> dict:
                                f"computed K ({rtol:.2g} of the load's scale sigma_rms sqrt(pi L) = {K_load:.4g}); "
                                f"the load neither opens nor shears the crack there")
     return out
+

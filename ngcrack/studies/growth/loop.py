@@ -81,7 +81,7 @@ from .drive import noise_reasons
 from .fatigue import Cycles
 from .holes import HOLE_REASON, leave_holes
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
-from .solves import COST_PARTS, Solver, solve_step
+from .solves import COST_PARTS, Solver, on_rank_zero, solve_step
 
 #: tips whose load factor lies within this fraction of the smallest grow together
 GROW_TOGETHER_RTOL = 0.02
@@ -168,6 +168,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     `steps` steps, when no tip is left inside the body, or when none can grow.
     estimate: also compute every step's error estimate (the table's `error_estimate` column,
     empty otherwise; it costs about 5% of a step).
+    Under `mpiexec -n N` (N > 1) growth is not distributed: rank 0 grows and returns the result, the other
+    ranks return None after the same input checks (as `nc.solve` returns None there).
     """
     from .result import GrowthResult
 
@@ -175,6 +177,8 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
                                                     paris, R, at_hole, solve_options)
     da, steps = float(da), int(steps)
     options = Solver.of(scene, solve_options)
+    if not on_rank_zero():  # not distributed: under mpiexec rank 0 grows, the others return None at once
+        return None
     result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
                           K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c, estimates=bool(estimate))
     t0 = time.perf_counter()
