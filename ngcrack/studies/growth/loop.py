@@ -174,7 +174,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     from .result import GrowthResult
 
     scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
-                                                    paris, R, at_hole, solve_options)
+                                                    paris, R, at_hole, solve_options, estimate, frames)
     da, steps = float(da), int(steps)
     options = Solver.of(scene, solve_options)
     if not on_rank_zero():  # not distributed: under mpiexec rank 0 grows, the others return None at once
