@@ -77,3 +77,28 @@ def test_nc_grow_runs_on_rank_zero(tmp_path):
     assert proc.returncode == 0, proc.stderr[-2000:]
     got = json.loads(out.read_text())
     assert got[1] is None and len(got[0]) == 2 and got[0][0] == pytest.approx(2.0 / 1.7893434723, rel=1e-3)
+
+
+def test_an_interrupted_grow_writes_and_prints_once(tmp_path):
+    """SIGINT to mpiexec after step 1: rank 0 writes the finished steps once and prints one interrupt line (every
+    rank printed its own before); exit 128 + 2."""
+    import signal
+    import subprocess
+    import sys
+
+    from test_mpi import LIMIT_S, _env, _mpiexec
+
+    out = tmp_path / "g.json"
+    proc = subprocess.Popen([_mpiexec(), "-n", "2", sys.executable, "-m", "ngcrack.shell.cli", "grow", "griffith", "--da",
+                             "0.05", "--steps", "40", "--maxh", "0.5", "--criterion", "mts", "--json", str(out)],
+                            env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    for line in proc.stdout:
+        if line.startswith("step 1:"):
+            proc.send_signal(signal.SIGINT)
+            break
+    _, err = proc.communicate(timeout=LIMIT_S)
+    assert proc.returncode == 128 + signal.SIGINT, err
+    lines = [ln for ln in err.splitlines() if ln.startswith("ngcrack: interrupted")]
+    assert len(lines) == 1 and str(out) in lines[0], err
+    data = json.loads(out.read_text())
+    assert data["stopped"].startswith("interrupted: SIGINT after step") and len(data["steps"]) >= 2
