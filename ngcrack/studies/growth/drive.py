@@ -46,37 +46,30 @@ def stress_rms(sol) -> float:
 
 
 def _estimate(sol) -> float | None:
-    """The solve's relative error estimate where it has one (computed now if pending), else None."""
-    try:
-        est = sol.error_estimate
-    except Exception:  # noqa: BLE001 -- an element or model without an estimate: the floor alone decides
-        return None
-    rel = None if est is None else float(getattr(est, "relative", math.nan))
+    """The solve's relative error estimate (computed now if pending), None where it has none."""
+    est = sol.error_estimate
+    rel = None if est is None else float(est.relative)
     return rel if rel is not None and math.isfinite(rel) else None
 
 
 def noise_reasons(sol, scene, values: list[dict]) -> dict:
     """tip label -> why the tip has no driving force, for the tips of `values` (tip_values) whose K_eq is
-    at the noise level of the computed K (module docstring); the others are driven."""
+    at the noise level of the computed K (module docstring); the others are driven. The error estimate is
+    computed only where a tip lies between the floor and DRIVE_NOISE_PER_ESTIMATE of its load scale."""
     out: dict = {}
-    rms = None
-    est = ...
+    rms = stress_rms(sol) if values else 0.0
+    estimate: list = []  # the estimate once computed (at most once per step)
     for v in values:
-        if rms is None:
-            rms = stress_rms(sol)
         K_load = rms * math.sqrt(math.pi * float(scene.cracks[v["crack"]].length))
         K_eq = float(v["K_eq"])
-        if K_eq > DRIVE_NOISE_PER_ESTIMATE * K_load:
-            continue
         rtol = DRIVE_NOISE_FLOOR
-        if K_eq > rtol * K_load:
-            if est is ...:
-                est = _estimate(sol)
-            if est is not None:
-                rtol = max(rtol, DRIVE_NOISE_PER_ESTIMATE * min(est, 1.0))
+        if DRIVE_NOISE_FLOOR * K_load < K_eq <= DRIVE_NOISE_PER_ESTIMATE * K_load:
+            if not estimate:
+                estimate.append(_estimate(sol))
+            if estimate[0] is not None:
+                rtol = max(rtol, DRIVE_NOISE_PER_ESTIMATE * min(estimate[0], 1.0))
         if K_eq <= rtol * K_load:
             out[v["label"]] = (f"tip {v['label']}: no driving force: K_eq = {K_eq:.3g} is within the noise of the "
                                f"computed K ({rtol:.2g} of the load's scale sigma_rms sqrt(pi L) = {K_load:.4g}); "
                                f"the load neither opens nor shears the crack there")
     return out
-
