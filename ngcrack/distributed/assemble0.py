@@ -111,6 +111,11 @@ def friction_result(system, disc, cmesh, y: np.ndarray, G: np.ndarray, active: n
     lam_n = np.linalg.solve(G.T, r[system.contact[:nn]])
     lam_t = -np.linalg.solve(Gt.T, r[system.contact[nn:]])
     w, wt = G @ jn, Gt @ jt
+    # as the serial answer (friction._result): no contact force off the contact set (there the residual holds the
+    # Krylov solve's round-off only, and its largest value would set the force scale of the residuals)
+    held = np.zeros(len(lam_n), dtype=bool)
+    held[active] = True
+    lam_n = np.where(held, lam_n, 0.0)
     # the values the last step held at zero are zero (their round-off would read as open or moving faces)
     w[active] = 0.0
     wt[(slip[rows] == 0) & np.isin(rows, active)] = 0.0
