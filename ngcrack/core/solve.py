@@ -44,7 +44,7 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     Schur complement S (a few extra solves), in `sol.conditioning`. max_dof: the largest
     number of unknowns a solve may have; a request estimated above it (before meshing,
     ngcrack.planar.sizing) is refused with a ValueError. None: the default ceiling
-    (sizing.DEFAULT_MAX_DOF) and the machine's available memory. A mesh too coarse across a
+    (ngcrack.core.memory.DEFAULT_MAX_DOF) and the machine's available memory. A mesh too coarse across a
     thin part of the body for the element is refused, or warned about (sizing.check_thin_parts).
 
     Friction (a crack with `friction` > 0, e.g. `scene.with_(friction=0.3)`): the

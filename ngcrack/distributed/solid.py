@@ -127,9 +127,16 @@ def solve_scene(scene, options=None):
     body by `nc.solve` before any work; the SolidSolution on rank 0, None elsewhere."""
     from ..core.options import SolveOptions
     from ..solid.solve import solid_options
+    from ..solid.stages import check_request
+    from .world import refuse
 
     options = options if options is not None else SolveOptions()
-    return solve(scene, solid_options(options), options.preconditioner)
+    opts = solid_options(options)
+    try:  # alike on every rank, before any work: rank 0 reports, the others leave quietly
+        check_request(scene, opts, options.max_dof)
+    except ValueError as exc:
+        refuse(str(exc))
+    return solve(scene, opts, options.preconditioner)
 
 
 def solve(scene, opts: dict, preconditioner_kind: str | None = None):

@@ -35,20 +35,20 @@ import argparse
 import json
 import math
 import os
-import re
 import signal
 import sys
 import traceback
 import warnings
 from contextlib import contextmanager
 
-from ..core.errors import InputError
 from .cli_errors import (
     EXIT_INPUT,
     EXIT_SOLVE,
     NotSolvedError,
     Terminated,
+    UsageError,
     _causes,
+    as_flags,
     check_finite,
     classify,
     one_line,
@@ -70,10 +70,6 @@ MIN_ADDRESS_SPACE = 2**30
 SOLVING = ("solve", "sweep", "paper", "grow", "stability", "hydrofrac")
 #: the files of `solve --vtk OUT`: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
 VTK_PARTS = (".vtu", "_cracks.vtu")
-
-
-class UsageError(InputError):
-    """Bad command-line input (exit code 2)."""
 
 
 def _check_sizes(scene, sizes: dict) -> None:
@@ -119,7 +115,7 @@ def cmd_solve(args) -> int:
 
     outputs = _solve_outputs(args)
     scene = _solve_scene(args)
-    with _as_flags(SOLVE_FLAGS):
+    with as_flags(SOLVE_FLAGS):
         sol = solve(scene, options=_solve_options(args))  # every option checked by the scene's body before meshing
     if sol is None:  # a rank > 0 of a distributed solve (mpiexec): rank 0 writes and prints
         return 0
@@ -169,18 +165,6 @@ def _solve_options(args):
 
     given = {k: getattr(args, k) for k in SOLVE_FLAGS if getattr(args, k) is not None}
     return SolveOptions.of(**given)
-
-
-@contextmanager
-def _as_flags(names):
-    """A refusal of an option that came from a flag names the flag (`element = 'x'` -> `--element = 'x'`)."""
-    try:
-        yield
-    except InputError as exc:
-        m = re.match(r"(\w+)( =|:)", str(exc))
-        if m is None or m.group(1) not in names:
-            raise
-        raise UsageError("--" + m.group(1).replace("_", "-") + str(exc)[len(m.group(1)):]) from None
 
 
 def _write_outputs(sol, json_path, plot_path, vtk, given_vtk) -> list:

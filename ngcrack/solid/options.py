@@ -67,8 +67,7 @@ def check_options(options: dict) -> dict:
 
 #: the options of a planar body only (ngcrack.core.options.SolveOptions), with what a 3D scene takes instead
 PLANAR_ONLY = {"tip_h": "front_h (the mesh size at the crack fronts)", "hp": "", "hp_sigma": "", "path_grading": "",
-               "adapt": "", "schur": "", "friction_method": "", "tangential": "", "condition": "", "qp_options": "",
-               "max_dof": ""}
+               "adapt": "", "schur": "", "friction_method": "", "tangential": "", "condition": "", "qp_options": ""}
 
 
 def check_solid(scene: SolidScene, options) -> None:

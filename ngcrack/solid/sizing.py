@@ -40,8 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.memory import available_memory, memory_limits
-from ..planar.sizing import DEFAULT_MAX_DOF, MEMORY_FRACTION, _bytes, check_max_dof
+from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, check_max_dof, memory_limits
+from ..core.memory import format_bytes as _bytes
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
 TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 11.31, 5.30

@@ -52,7 +52,10 @@ class SolidBody:
         """One solve of a checked request (a SolveOptions) through `pipeline`'s stages (`run_solid`)."""
         from .options import solid_options
 
-        return run_solid(pipeline, scene, solid_options(options), crack_mesh)
+        opts = solid_options(options)
+        if crack_mesh is None:
+            check_request(scene, opts, options.max_dof)
+        return run_solid(pipeline, scene, opts, crack_mesh)
 
     @staticmethod
     def check_options(scene: SolidScene, options) -> None:
@@ -91,6 +94,14 @@ class SolidBody:
     def held_mean(self, scene: SolidScene) -> dict:
         """A 3D scene has no pin or roller points."""
         return {}
+
+
+def check_request(scene: SolidScene, opts: dict, max_dof: int | None) -> None:
+    """The 3D size guard before any meshing (`solid.sizing.check_size`): the mesh sizes netgen can mesh, the
+    estimated unknowns under max_dof (default: the ceiling and the memory this process may still allocate)."""
+    from .sizing import check_size
+
+    check_size(scene, opts["element"], opts["order"], max_dof=max_dof, **{k: opts[k] for k in SIZES})
 
 
 #: the one 3D body
