@@ -107,6 +107,37 @@ def test_bad_arguments_refused_by_name(kwargs, words):
         nc.hydrofrac(kgd_body(20.0), **args)
 
 
+@pytest.mark.parametrize("scene, change, words", [
+    ("kgd", ["--da", "1e-9"], "da"),  # below a quarter of the tip mesh size (time would run backwards)
+    ("kgd", ["--crack-model", "bonded"], "crack_model"),
+    ("kgd", ["--K-Ic", "1e300"], "K_Ic"),  # a pressure of 1e289 E'
+    ("penny", [], "3D"),
+])
+def test_hostile_cli_values_refused_before_work(tmp_path, capsys, scene, change, words):
+    """One line naming the field, exit 2, an existing output left as it was."""
+    out = tmp_path / "h.json"
+    out.write_text("old")
+    args = {"--rate": ["1e-4"], "--K-Ic": ["1e6"], "--da": ["0.1"], "--steps": ["1"]}
+    if change:
+        args[change[0]] = change[1:]
+    argv = ["hydrofrac", scene, "--json", str(out)] + [x for k, v in args.items() for x in [k] + v]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1
+    assert out.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["h.json"]
+
+
+def test_progress_checked_before_the_first_step():
+    with pytest.raises(nc.InputError, match="progress"):
+        nc.hydrofrac(kgd_body(20.0), rate=Q0, K_Ic=K_IC, da=0.1, steps=1, progress="x", **MESH)
+
+
+def test_small_da_refused_with_its_bound():
+    """da below MIN_DA_TIP_FRACTION of tip_h = 0.05: the bound 0.0125 is named."""
+    with pytest.raises(nc.InputError, match=r"da = 0.01: must be a number in \[0.0125, "):
+        nc.hydrofrac(kgd_body(20.0), rate=Q0, K_Ic=K_IC, da=0.01, steps=1, **MESH)
+
+
 @pytest.mark.slow
 def test_kgd_geos_values_at_ten_seconds():
     """The built-in kgd scene grown to l = 4.5 m: at t = 10 s GEOS's closed-form values

@@ -52,7 +52,7 @@ def run(args) -> int:
         finished.keep(result.to_json_dict(), lambda tmp: table.to_csv(tmp, index=False))
         s = result.steps[-1]
         print(f"step {n}: t {s['time']:.4g}, half-length {s['half_length']:.4g}, pressure {s['pressure']:.4g}, "
-              f"{s['ndof']} dofs, {s['time_s']:.2f} s", flush=True)
+              f"{s['ndof']} dofs, {s['time_s']:.2f} s CPU", flush=True)
         check_interrupt()  # a signal a library swallowed during the step
 
     def work():

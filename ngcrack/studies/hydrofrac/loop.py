@@ -39,6 +39,7 @@ from ...core.errors import InputError
 from ...core.options import SolveOptions
 from ...core.pipeline import Pipeline, SolveError
 from ...planar.scene import SceneError
+from ...planar.tips import effective_modulus
 from ..growth.criteria import effective_K_I, mts_angle, mts_keq
 from ..growth.loop import KINK_NOISE_RTOL, MAX_DA_FRACTION, MAX_STEPS, tip_values
 from ..growth.paths import body_region, extend_tip, extended_cracks, tip_direction
@@ -53,25 +54,35 @@ MAX_SEARCH = 40
 STRAIGHT_RTOL = 1e-9
 #: solve options hydrofrac sets itself
 _RESERVED = ("warm_start", "crack_mesh", "loads")
+#: the crack models a fluid can drive (a bonded crack does not open)
+CRACK_MODELS = ("contact", "free")
+#: da at least this fraction of the tip mesh size: a smaller step moves the tip within its
+#: own element, and remeshing changes the crack's volume by about as much as the growth
+#: (measured on KGD at tip_h = l/20: the time of a step off by 25% at da = tip_h / 10, and
+#: running backwards at tip_h / 50)
+MIN_DA_TIP_FRACTION = 0.25
+#: the largest strain scale the pressure at propagation may have, K_Ic / (E' sqrt(pi a)),
+#: a the crack's half-length: beyond it small-strain elasticity does not describe the body
+MAX_STRAIN = 0.1
 
 
 def _number(v) -> bool:
     return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
 
 
-def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options) -> None:
+def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress=None) -> None:
     """Refuse bad input before any work, naming the field and what is allowed."""
+    from ...planar.sizing import mesh_sizes
     from ...planar.tips import tip_labels
 
+    if getattr(scene, "dimension", 2) != 2:
+        raise InputError(f"scene {scene.name!r}: a 3D scene; hydrofrac grows plane (2D) cracks only "
+                         "(radial fractures in 3D are not implemented yet)")
     if not (_number(rate) and math.isfinite(rate) and rate > 0):
         raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, an area per unit "
                          "time per unit thickness)")
     if not (_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
         raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness)")
-    limit = MAX_DA_FRACTION * scene.diameter
-    if not (_number(da) and math.isfinite(da) and 0 < da <= limit):
-        raise InputError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_FRACTION:g} of the "
-                         f"body's diameter {scene.diameter:.4g})")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
         raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
     n = len(scene.cracks)
@@ -81,6 +92,19 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
         raise InputError(f"crack = {crack!r}: must be a crack index 0..{n - 1} (the fluid-driven crack)")
     if not any(lab.startswith(f"{crack},") for lab in tip_labels(scene)):
         raise InputError(f"crack = {crack}: has no tip inside the body, so it cannot grow")
+    mat = scene.material
+    strain = K_Ic / (effective_modulus(mat.E, mat.nu, mat.plane) * math.sqrt(0.5 * math.pi * scene.cracks[crack].length))
+    if strain > MAX_STRAIN:
+        raise InputError(f"K_Ic = {K_Ic!r}: the pressure at propagation would be {strain:.3g} E' (K_Ic / (E' sqrt(pi a)), "
+                         f"a the half-length); at most {MAX_STRAIN:g} E' keeps the strains small")
+    opts = {k: solve_options.get(k) for k in ("maxh", "tip_h", "crack_h")}
+    tip_h = mesh_sizes(scene, **opts)[1] if all(v is None or (_number(v) and v > 0) for v in opts.values()) else None
+    limit = MAX_DA_FRACTION * scene.diameter
+    low = MIN_DA_TIP_FRACTION * tip_h if tip_h else 0.0
+    if not (_number(da) and math.isfinite(da) and low <= da <= limit and da > 0):
+        raise InputError(f"da = {da!r}: must be a number in [{low:.4g}, {limit:.4g}] (at least {MIN_DA_TIP_FRACTION:g} "
+                         f"of the tip mesh size {tip_h or 0:.4g}, at most {MAX_DA_FRACTION:g} of the body's diameter "
+                         f"{scene.diameter:.4g})")
     if injection is not None:
         try:
             x, y = (float(v) for v in injection)
@@ -92,6 +116,12 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
     bad = [k for k in _RESERVED if k in solve_options]
     if bad:
         raise InputError(f"{bad[0]}: hydrofrac sets it for every step itself; give the scene and the mesh options only")
+    model = solve_options.get("crack_model", "contact")
+    if model not in CRACK_MODELS:
+        raise InputError(f"crack_model = {model!r}: allowed values are {', '.join(CRACK_MODELS)} (a fluid cannot open "
+                         "a bonded crack)")
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress = {progress!r}: must be None or a callable progress(step, result)")
 
 
 def has_other_loads(scene, crack: int) -> bool:
@@ -227,7 +257,7 @@ def hydrofrac(scene, rate: float, K_Ic: float, da: float, steps: int, *, crack: 
     from .result import HydrofracResult
 
     scene = as_scene(scene)
-    check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options)
+    check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress)
     options = SolveOptions.of(**solve_options)
     options.check_for(scene)
     rate, K_Ic, da, steps, crack = float(rate), float(K_Ic), float(da), int(steps), int(crack)
@@ -237,14 +267,18 @@ def hydrofrac(scene, rate: float, K_Ic: float, da: float, steps: int, *, crack: 
     current = with_pressure(scene, [crack], 0.0)
     stopped = ""
     for n in range(steps + 1):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         pipe = Pipeline()  # a new geometry every step: nothing to keep but the code path
         try:
             sol, p, factor, solves = propagation(current, crack, K_Ic, pipe, options, in_situ)
         except SolveError as exc:
             stopped = f"solve: step {n}: {exc}"
             break
-        row, frame = step_record(n, current, sol, crack, p, factor, rate, injection, solves, time.perf_counter() - t0)
+        row, frame = step_record(n, current, sol, crack, p, factor, rate, injection, solves, time.process_time() - t0)
+        if result.steps and row["time"] <= result.steps[-1]["time"]:
+            stopped = (f"time: step {n} holds no more fluid than step {n - 1} (t = {row['time']:.6g} <= "
+                       f"{result.steps[-1]['time']:.6g}); the growth da is below what the mesh resolves")
+            break
         result.add(row, frame, current)
         if progress is not None:
             progress(n, result)
