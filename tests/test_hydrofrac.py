@@ -170,3 +170,38 @@ def test_interrupted_run_keeps_the_finished_steps(tmp_path):
     assert proc.returncode == 128 + signal.SIGTERM, err
     data = json.loads(out.read_text())
     assert data["stopped"].startswith("interrupted: SIGTERM") and len(data["steps"]) >= 2
+
+
+def barrier_slab(crack) -> Scene:
+    """A slab [-10, 10] x [-2, 2], clamped at its ends, compressed across the crack by
+    S1 = 1 MPa on its top and bottom faces except over 2.5 < x < 4.5, where S2 = 5 MPa (a band
+    of higher in-situ stress on the right of the crack only)."""
+    s1, s2 = 1e6, 5e6
+    top = [[10, 2], [4.5, 2], [2.5, 2], [-10, 2]]
+    bottom = [[-10, -2], [2.5, -2], [4.5, -2], [10, -2]]
+    labels = ["bot-l", "blayer", "bot-r", "right", "top-r", "layer", "top-l", "left"]
+    load = {lab: {"type": "traction", "value": [0.0, (s2 if "layer" in lab else s1) * (-1 if lab.startswith(("top", "layer")) else 1)]}
+            for lab in labels if lab not in ("left", "right")}
+    return Scene(name="barrier", polygon=bottom + top, labels=labels, cracks=[] if crack is None else [{"points": crack}],
+                 material={"E": E, "nu": NU}, boundary={"left": {"type": "clamped"}, "right": {"type": "clamped"}, **load})
+
+
+def test_stress_barrier_arrests_the_tip_facing_it():
+    """The right tip faces the band: it stays (K_I 0.81-0.85 K_Ic, measured), the left one runs at K_Ic;
+    the fluid pressure is above the in-situ compression across the crack wherever it is open."""
+    mesh = dict(maxh=1.0, tip_h=0.04, crack_h=0.08)
+    run = nc.hydrofrac(barrier_slab([[-1, 0], [1, 0]]), rate=Q0, K_Ic=K_IC, da=0.3, steps=3, **mesh)
+    uncracked = nc.solve(barrier_slab(None), **mesh)
+    m = uncracked.crack_mesh.mesh
+    for n, step in enumerate(run.steps):
+        first, last = step["tips"]
+        assert first["advanced"] and not last["advanced"]
+        assert abs(math.hypot(first["K_I"], first["K_II"]) / K_IC - 1) < 1e-2
+        assert 0.75 < last["K_I"] / K_IC < 0.9
+        assert last["x"] == 1.0 and abs(first["x"] + 1.0 + 0.3 * n) < 1e-2
+        prof = run.frames[n]
+        opening = np.asarray(prof["opening"])
+        open_ = opening > 1e-9 * opening.max()
+        in_situ = np.array([-uncracked.sigma(m(x, y))[3] for x, y in zip(prof["x"], prof["y"])])
+        assert open_.mean() > 0.9 and np.all(step["pressure"] > in_situ[open_])
+    assert run.final.cracks[0].points[-1] == (1.0, 0.0)

@@ -10,7 +10,7 @@ import numpy as np
 #: the step keys of the JSON contract, in order (each step also has "tips")
 STEP_KEYS = ("step", "time", "half_length", "pressure", "opening_at_injection", "volume", "ndof", "time_s", "kkt")
 #: the tip keys of the JSON contract
-TIP_KEYS = ("crack", "end", "x", "y", "K_I", "K_II", "kink_deg")
+TIP_KEYS = ("crack", "end", "x", "y", "K_I", "K_II", "kink_deg", "advanced")
 #: the largest opening drawn in the animation, as a fraction of the crack's length
 FACE_FRACTION = 0.08
 
