@@ -20,7 +20,7 @@ import pytest
 import ngcrack as nc
 from ngcrack.planar.scene import Scene
 from ngcrack.shell.cli import main
-from ngcrack.studies.hydrofrac.result import STEP_KEYS, TIP_KEYS
+from ngcrack.studies.hydrofrac.result import FLUID_KEYS, STEP_KEYS, TIP_KEYS
 
 E, NU, Q0, K_IC = 30e9, 0.25, 1e-4, 1e6
 E_PRIME = E / (1 - NU**2)
@@ -87,8 +87,11 @@ def test_json_contract_and_bad_options(tmp_path):
     table = pd.read_csv(tmp_path / "h.csv")
     assert len(table) == 4 and set(table["end"]) == {"first", "last"}
     data = json.loads(out.read_text())
-    assert list(data) == ["scene", "element", "rate", "K_Ic", "stopped", "steps", "cracks"]
-    assert [list(s) for s in data["steps"]] == [list(STEP_KEYS) + ["tips"]] * 2
+    assert list(data) == ["scene", "element", "rate", "K_Ic", "stopped", "steps", "cracks", "model", "viscosity",
+                          "leakoff", "K_m"]
+    assert data["model"] == "toughness" and data["K_m"] is None and data["viscosity"] is None
+    assert [list(s) for s in data["steps"]] == [list(STEP_KEYS) + list(FLUID_KEYS) + ["tips"]] * 2
+    assert all(s["efficiency"] == 1.0 and list(s["profile"]) == ["s", "opening", "pressure"] for s in data["steps"])
     assert all(list(t) == list(TIP_KEYS) for s in data["steps"] for t in s["tips"])
     assert len(data["cracks"]) == 1
     assert np.allclose(data["cracks"][0]["points"], [[-1.1, 0.0], [1.1, 0.0]], rtol=0, atol=1e-12)

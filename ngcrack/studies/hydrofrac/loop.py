@@ -225,8 +225,9 @@ def injection_arclength(crack_points, injection) -> float:
     return float(line.project(shapely.Point(*injection)))
 
 
-def step_record(n, scene, sol, crack, pressure, factor, rate, injection, solves, elapsed, K_Ic) -> tuple[dict, dict]:
-    """The step's JSON row and its frame (points, opening profile) from the state factor * sol."""
+def step_record(n, scene, sol, crack, pressure, factor, schedule, injection, solves, elapsed, K_Ic, K_m) -> tuple[dict, dict]:
+    """The step's JSON row and its frame (points, opening profile) from the state factor * sol
+    (the row's time None where the schedule never injects the crack's volume)."""
     prof = sol.profiles[crack]
     volume = factor * crack_volume(sol, [crack])
     s_inj = injection_arclength(scene.cracks[crack].points, injection)
@@ -241,37 +242,44 @@ def step_record(n, scene, sol, crack, pressure, factor, rate, injection, solves,
         tips.append({"crack": crack, "end": v["end"], "x": v["x"], "y": v["y"], "K_I": K_I, "K_II": K_II,
                      "kink_deg": math.degrees(mts_angle(k1, kink_II)) + 0.0,
                      "advanced": bool(mts_keq(k1, K_II) >= (1.0 - ADVANCE_RTOL) * K_Ic)})
-    row = {"step": n, "time": volume / rate, "half_length": 0.5 * scene.cracks[crack].length,
+    row = {"step": n, "time": schedule.time_of(volume), "half_length": 0.5 * scene.cracks[crack].length,
            "pressure": float(pressure), "opening_at_injection": w0, "volume": volume,
            "ndof": int(sol.ndof["total"]), "time_s": float(elapsed), "kkt": float(max(sol.kkt.values(), default=0.0)),
-           "solves": solves, "tips": tips}
+           "solves": solves, "K_m": K_m, "efficiency": 1.0,
+           "profile": {"s": prof.s.tolist(), "opening": (factor * prof.normal_jump).tolist(),
+                       "pressure": [float(pressure)] * len(prof.s)},
+           "tips": tips}
     frame = {"points": [list(p) for p in scene.cracks[crack].points], "x": prof.x.tolist(), "y": prof.y.tolist(),
              "normal": sol.crack_mesh.cracks[crack].normal.tolist(), "opening": (factor * prof.normal_jump).tolist()}
     return row, frame
 
 
-def hydrofrac(scene, rate: float, K_Ic: float, da: float, steps: int, *, crack: int = 0, injection=None,
-              progress=None, **solve_options):
-    """Grow a fluid-driven crack of `scene` under the injection rate `rate` (module docstring).
+def grow_tips(current, region, crack: int, tips: list, da: float):
+    """(the grown scene, "") with every tip of `tips` marked "advanced" extended by da along its
+    kink, or (the scene unchanged, why not) where a tip would leave the body or meet a crack."""
+    extensions, new_segments = [], []
+    for tip in tips:
+        if not tip["advanced"]:
+            continue
+        phi = tip_direction(current.cracks[crack], tip["end"]) + math.radians(tip["kink_deg"])
+        ext = extend_tip(current, region, crack, tip["end"], phi, da, new_segments)
+        if ext.outcome != "grew":
+            return current, f"{ext.outcome}: {ext.reason}"
+        new_segments.append((f"{crack},{tip['end']}", shapely.LineString([(tip["x"], tip["y"]), ext.point])))
+        extensions.append(ext)
+    grown = [dataclasses.replace(c, points=straightened(c.points), pressure=old.pressure)
+             for c, old in zip(extended_cracks(current, extensions), current.cracks)]
+    try:
+        return current.with_(cracks=grown), ""
+    except SceneError as exc:
+        return current, f"scene: the grown crack makes an invalid scene ({exc})"
 
-    rate: Q0, the injected area per unit time (per unit thickness); K_Ic: the toughness;
-    da: the growth of each tip per step; steps: at most MAX_STEPS. crack: the index of the
-    fluid-driven crack; injection: the injection point [x, y] on it (its centre by
-    default), where `opening_at_injection` is read. progress: called as progress(step,
-    result_so_far) after every step. The other keywords go to every solve (element,
-    order, maxh, tip_h, crack_h, grading, crack_model, ...). Returns a HydrofracResult.
-    """
-    from ...core.solve import as_scene
-    from .result import HydrofracResult
 
-    scene = as_scene(scene)
-    check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress)
-    options = SolveOptions.of(**solve_options)
-    options.check_for(scene)
-    rate, K_Ic, da, steps, crack = float(rate), float(K_Ic), float(da), int(steps), int(crack)
+def toughness_run(scene, schedule, K_Ic: float, da: float, steps: int, t_end, crack: int, injection, progress,
+                  options: SolveOptions, result, K_m):
+    """The toughness-dominated loop (module docstring) into `result`; returns it."""
     region = body_region(scene)
     in_situ = has_other_loads(scene, crack)
-    result = HydrofracResult(scene=scene, element=options.element, rate=rate, K_Ic=K_Ic, da=da)
     current = with_pressure(scene, [crack], 0.0)
     stopped = ""
     for n in range(steps + 1):
@@ -282,7 +290,11 @@ def hydrofrac(scene, rate: float, K_Ic: float, da: float, steps: int, *, crack: 
         except SolveError as exc:
             stopped = f"solve: step {n}: {exc}"
             break
-        row, frame = step_record(n, current, sol, crack, p, factor, rate, injection, solves, time.process_time() - t0, K_Ic)
+        row, frame = step_record(n, current, sol, crack, p, factor, schedule, injection, solves,
+                                 time.process_time() - t0, K_Ic, K_m)
+        if row["time"] is None:
+            stopped = f"shut-in: step {n} holds more fluid ({row['volume']:.6g}) than the schedule ever injects"
+            break
         if result.steps and row["time"] <= result.steps[-1]["time"]:
             stopped = (f"time: step {n} holds no more fluid than step {n - 1} (t = {row['time']:.6g} <= "
                        f"{result.steps[-1]['time']:.6g}); the growth da is below what the mesh resolves")
@@ -290,29 +302,14 @@ def hydrofrac(scene, rate: float, K_Ic: float, da: float, steps: int, *, crack: 
         result.add(row, frame, current)
         if progress is not None:
             progress(n, result)
+        if t_end is not None and row["time"] >= t_end:
+            stopped = f"time: t = {row['time']:.6g} reached the end time {t_end:.6g} at step {n}"
+            break
         if n == steps:
             stopped = f"steps: {steps} of {steps} steps done"
             break
-        extensions, new_segments, reason = [], [], ""
-        for tip in row["tips"]:
-            if not tip["advanced"]:
-                continue
-            phi = tip_direction(current.cracks[crack], tip["end"]) + math.radians(tip["kink_deg"])
-            ext = extend_tip(current, region, crack, tip["end"], phi, da, new_segments)
-            if ext.outcome != "grew":
-                reason = f"{ext.outcome}: {ext.reason}"
-                break
-            new_segments.append((f"{crack},{tip['end']}", shapely.LineString([(tip["x"], tip["y"]), ext.point])))
-            extensions.append(ext)
-        if reason:
-            stopped = reason
-            break
-        grown = [dataclasses.replace(c, points=straightened(c.points), pressure=old.pressure)
-                 for c, old in zip(extended_cracks(current, extensions), current.cracks)]
-        try:
-            current = current.with_(cracks=grown)
-        except SceneError as exc:
-            stopped = f"scene: the grown crack makes an invalid scene ({exc})"
+        current, stopped = grow_tips(current, region, crack, row["tips"], da)
+        if stopped:
             break
     result.stopped = stopped
     result.final = current
