@@ -42,6 +42,8 @@ import numpy as np
 
 #: beta_m of the viscosity tip asymptote w = beta_m (mu' V / E')^(1/3) x^(2/3) (2^(1/3) 3^(5/6))
 BETA_M = 2.0 ** (1.0 / 3.0) * 3.0 ** (5.0 / 6.0)
+#: beta of the leak-off (M-tilde) tip asymptote w = beta (4 C'^2 mu'^2 V / E'^2)^(1/8) x^(5/8), C' = 2 C_L
+BETA_MT = 4.0 / (15.0 ** 0.25 * (math.sqrt(2.0) - 1.0) ** 0.25)
 #: K' / K_Ic = 4 (2 / pi)^(1/2)
 K_PRIME = 4.0 * math.sqrt(2.0 / math.pi)
 #: K_m above this: toughness-dominated (K-vertex); below K_M_VISCOUS: viscosity-dominated
@@ -93,21 +95,24 @@ def k_vertex(t, E_prime: float, K_Ic: float, Q0: float):
     return l, p, 4.0 * p * l / E_prime
 
 
-def tip_opening(x, V: float, K_Ic: float, E_prime: float, mu: float):
+def tip_opening(x, V: float, K_Ic: float, E_prime: float, mu: float, C_L: float = 0.0):
     """The tip asymptote at distance x behind a tip moving at V (module docstring)."""
     x = np.asarray(x, dtype=float)
+    V = max(V, 0.0)
+    mu_p = 12.0 * mu
     wk = k_prime(K_Ic) * np.sqrt(x) / E_prime
-    wm = BETA_M * (12.0 * mu * max(V, 0.0) / E_prime) ** (1 / 3) * x ** (2 / 3)
-    return np.cbrt(wk ** 3 + wm ** 3)
+    wm = BETA_M * (mu_p * V / E_prime) ** (1 / 3) * x ** (2 / 3)
+    wc = BETA_MT * (4.0 * (2.0 * C_L) ** 2 * mu_p ** 2 * V / E_prime ** 2) ** (1 / 8) * x ** (5 / 8)
+    return np.cbrt(wk ** 3 + wm ** 3 + wc ** 3)
 
 
-def tip_cell_mean(h: float, V: float, K_Ic: float, E_prime: float, mu: float, x0: float = 0.0) -> float:
+def tip_cell_mean(h: float, V: float, K_Ic: float, E_prime: float, mu: float, x0: float = 0.0, C_L: float = 0.0) -> float:
     """The tip asymptote's mean over a cell of length h from x0 to x0 + h behind the tip."""
     u, wts = _GAUSS
     u = 0.5 * (u + 1.0)
     if x0 == 0.0:  # x = h u^2: the square root at the tip integrated exactly
-        return float(np.sum(0.5 * wts * tip_opening(h * u * u, V, K_Ic, E_prime, mu) * 2.0 * u))
-    return float(np.sum(0.5 * wts * tip_opening(x0 + h * u, V, K_Ic, E_prime, mu)))
+        return float(np.sum(0.5 * wts * tip_opening(h * u * u, V, K_Ic, E_prime, mu, C_L) * 2.0 * u))
+    return float(np.sum(0.5 * wts * tip_opening(x0 + h * u, V, K_Ic, E_prime, mu, C_L)))
 
 
 @dataclass
@@ -237,27 +242,35 @@ def tip_calibration(C: np.ndarray, h: np.ndarray, tip: int, K_unit: float, E_pri
     return j, factor
 
 
-def uniform_guess(cells: Cells, t_old, schedule: Schedule, K_Ic, E_prime, mu) -> tuple[np.ndarray, float]:
-    """A first (p, dt) for a step: the uniform pressure that holds the injected volume and puts the
-    first moving tip's cell on its asymptote (leak-off and the old opening's shape ignored)."""
+def scaled_guess(cells: Cells, t_old, t0_old, new_frac, schedule: Schedule, K_Ic, E_prime, mu, C_L,
+                 shape=None) -> tuple[np.ndarray, float]:
+    """A first (p, dt) for a step: the pressure of the given shape (uniform by default), scaled
+    to hold the injected volume less the leaked one, and the dt that puts the first moving tip's
+    cell on its asymptote."""
     from scipy.optimize import brentq
 
-    unit = cells.C @ np.ones(len(cells.h))
+    shape = np.ones(len(cells.h)) if shape is None else shape
+    unit = cells.C @ shape
     i, a = next((i, a) for i, a in cells.tips if a > 0)
     j, x0 = asymptote_cell(i, len(cells.h), cells.h)
     held = float(np.sum(cells.h * unit))
+    new = np.isnan(t0_old)
+
+    def pressure(dt):
+        t0 = np.where(new, t_old + new_frac * dt, t0_old)
+        volume = schedule.volume(t_old + dt) - leaked(t_old + dt, t0, cells.h, C_L)
+        return (volume - np.sum(cells.h * cells.w_is)) / held
 
     def gap(log_dt):
         dt = math.exp(log_dt)
-        p = (schedule.volume(t_old + dt) - np.sum(cells.h * (cells.w_is))) / held
-        return (unit[j] * p + cells.w_is[j]) / cells.scale.get(j, 1.0) - tip_cell_mean(cells.h[j], a / dt, K_Ic, E_prime, mu, x0)
+        w = unit[j] * pressure(dt) + cells.w_is[j]
+        return w / cells.scale.get(j, 1.0) - tip_cell_mean(cells.h[j], a / dt, K_Ic, E_prime, mu, x0, C_L)
 
     lo, hi = -60.0, 60.0
     if gap(lo) * gap(hi) > 0:
         raise StepError("no time step puts the tip on its asymptote (the injection does not open the crack)")
     dt = math.exp(brentq(gap, lo, hi, xtol=1e-10))
-    p = (schedule.volume(t_old + dt) - np.sum(cells.h * cells.w_is)) / held
-    return np.full(len(cells.h), p), dt
+    return shape * pressure(dt), dt
 
 
 def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarray, new_frac: np.ndarray,
@@ -289,8 +302,7 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
             moving.append((i, a, face, tip_face_factor(h[i], h[nxt], abs(s[nxt] - s[i])), prev, j, x0))
     if not moving:
         raise StepError("no tip advances in the step")
-    if p_guess is None or dt_guess is None:
-        p_guess, dt_guess = uniform_guess(cells, t_old, schedule, K_Ic, E_prime, mu)
+    p_guess, dt_guess = scaled_guess(cells, t_old, t0_old, new_frac, schedule, K_Ic, E_prime, mu, C_L, p_guess)
     new = np.isnan(t0_old)
     inj = np.zeros(n)
     inj[cells.inj] = 1.0
@@ -320,7 +332,7 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
         t0 = np.where(new, t_old + new_frac * dt, t0_old)
         wf = np.clip(0.5 * (w[1:] + w[:-1]), 0.0, None)
         for i, a, face, phi, prev, _, _ in moving:  # the face into a moving tip's cell: the asymptote's flux
-            wf[face] = phi ** (1 / 3) * float(tip_opening(h[i], tip_speed(a, dt, prev), K_Ic, E_prime, mu))
+            wf[face] = phi ** (1 / 3) * float(tip_opening(h[i], tip_speed(a, dt, prev), K_Ic, E_prime, mu, C_L))
         dp = np.diff(p) / ds
         flux = -(wf ** 3 / mu_p) * dp  # from cell i to i + 1
         out = np.zeros(n)
@@ -330,7 +342,7 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
         dv = schedule.volume(t) - schedule.volume(t_old)
         r = (h * (w - w_old) + dt * (theta * out + (1 - theta) * out_old) + lk - dv * inj) / (h * w_scale)
         for _, a, _, _, prev, j, x0 in moving:
-            r[j] = (w[j] / cells.scale.get(j, 1.0) - tip_cell_mean(h[j], tip_speed(a, dt, prev), K_Ic, E_prime, mu, x0)) / w_scale
+            r[j] = (w[j] / cells.scale.get(j, 1.0) - tip_cell_mean(h[j], tip_speed(a, dt, prev), K_Ic, E_prime, mu, x0, C_L)) / w_scale
         total = (np.sum(h * w) - schedule.volume(t) + leaked(t, t0, h, C_L)) / (length * w_scale)
         r = np.append(r, total)
         if not jacobian:
@@ -382,10 +394,16 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
         else:
             if norm <= STALL_RTOL:  # round-off: the equations are met as well as they can be
                 break
-            raise StepError(f"the implicit step stalled (largest scaled residual {norm:.2e})")
+            x = _levenberg_marquardt(residual, x)  # a local minimum of the 2-norm: a trust region instead
+            r, J = residual(x, True)
+            norm = float(np.max(np.abs(r)))
+            break
         x = x_try
         r, J = residual(x, True)
         norm = float(np.max(np.abs(r)))
+    if not norm <= STALL_RTOL:
+        x = _levenberg_marquardt(residual, x)
+        norm = float(np.max(np.abs(residual(x))))
     if not norm <= STALL_RTOL:
         raise StepError(f"the implicit step did not converge in {MAX_NEWTON} Newton steps (largest scaled residual {norm:.2e})")
     p, dt = unpack(x)
@@ -395,21 +413,34 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
                       leaked=leaked(t, t0, h, C_L), dt=dt, calls=calls)
 
 
+def _levenberg_marquardt(residual, x):
+    """The least-squares minimum of the residual from x (MINPACK's Levenberg-Marquardt with the
+    analytic Jacobian), where Newton's line search stalls."""
+    from scipy.optimize import least_squares
+
+    fit = least_squares(lambda z: residual(z), x, jac=lambda z: residual(z, True)[1], method="lm",
+                        xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=100 * len(x))
+    return fit.x
+
+
 def solve_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarray, new_frac: np.ndarray,
                schedule: Schedule, K_Ic: float, E_prime: float, mu: float, C_L: float,
                p_guess: np.ndarray | None = None, dt_guess: float | None = None, previous=None,
                p_old: np.ndarray | None = None) -> FluidState:
-    """One implicit step (`_newton_step`); where Newton fails from the guess (a first step far from
-    the uniform pressure), a continuation in the viscosity: from CONTINUATION_DECADES decades below
+    """One implicit step (`_newton_step`) from the pressure of the last step's shape, else from a
+    uniform one; where Newton fails from both (a first step far from the uniform pressure), a
+    continuation in the viscosity: from CONTINUATION_DECADES decades below
     `mu`, where the pressure is nearly uniform, up to `mu`, each solve starting from the last."""
     args = (cells, w_old, t_old, t0_old, new_frac, schedule, K_Ic, E_prime)
-    try:
-        return _newton_step(*args, mu, C_L, p_guess, dt_guess, previous, p_old)
-    except StepError:
-        if mu <= 0:
-            raise
+    for start in ([p_guess] if p_guess is not None else []) + [None]:  # the last step's shape, then uniform
+        try:
+            return _newton_step(*args, mu, C_L, start, dt_guess, previous, p_old)
+        except StepError as exc:
+            error = exc
+    if mu <= 0:
+        raise error
     state = None
     for k in range(CONTINUATION_DECADES, -1, -1):
         m = mu * 10.0 ** (-k)
-        state = _newton_step(*args, m, C_L, None if state is None else state.p, None if state is None else state.dt, previous, p_old)
+        state = _newton_step(*args, m, C_L, None if state is None else state.p, None, previous, p_old)
     return state
