@@ -103,6 +103,7 @@ def test_schedule_volume_and_inverse():
     (dict(time=-1.0), "time = -1.0"),
     (dict(viscosity=MU, element="h1p1"), "element = 'h1p1': the viscous fluid needs"),
     (dict(inviscid=1), "inviscid = 1"),
+    (dict(da=None), "da: required"),
 ])
 def test_bad_fluid_options_refused_by_name(kwargs, words):
     args = dict(rate=Q0, K_Ic=1e6, da=0.1, steps=1)
@@ -133,3 +134,25 @@ def test_vertices_over_thirty_steps(mu, K_Ic, which, tol):
         errors = vertex_errors(step, mu, K_Ic)
         picked = errors[:2] if which == "M" else errors[2:]
         assert max(abs(e) for e in picked) < tol, (step["step"], errors)
+
+
+@pytest.mark.slow
+def test_cli_viscous_json_and_regime_warning(tmp_path, capsys):
+    """`--viscosity`: the model, K_m and the fluid's profile in the JSON; `--inviscid` with water
+    prints the one-line warning and records K_m."""
+    import json
+
+    out = tmp_path / "v.json"
+    base = ["hydrofrac", "kgd", "--rate", "1e-4", "--da", "0.1", "--steps", "1", "--viscosity", "1e-3"]
+    assert main(base + ["--K-Ic", "7.8e4", "--json", str(out)]) == 0
+    data = json.loads(out.read_text())
+    assert data["model"] == "viscous" and abs(data["K_m"] - 0.0994) < 1e-3 and data["viscosity"] == 1e-3
+    for step in data["steps"]:
+        prof = step["profile"]
+        assert len(prof["s"]) == len(prof["opening"]) == len(prof["pressure"]) > 10
+        assert step["efficiency"] == 1.0 and all(t["advanced"] for t in step["tips"]) and step["time_s"] > 0
+    capsys.readouterr()
+    assert main(base + ["--K-Ic", "1e6", "--inviscid", "--json", str(out)]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("warning:")]
+    assert len(lines) == 1 and "K_m = 0.403 < 4" in lines[0]
+    assert json.loads(out.read_text())["model"] == "toughness"

@@ -1,4 +1,4 @@
-"""`ngcrack hydrofrac SCENE (--rate Q0 | --schedule FILE) --K-Ic K --da D (--steps N | --time T)
+"""`ngcrack hydrofrac SCENE (--rate Q0 | --schedule FILE) --K-Ic K (--da D --steps N | [--da D] --time T)
 [--viscosity MU [--leakoff C_L] [--inviscid]] --json OUT [--csv OUT] [--gif OUT] [--crack I]
 [--injection X Y] [solve options]`: grow a fluid-driven crack and write the result."""
 
@@ -17,7 +17,8 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--schedule", metavar="FILE", help="injection rates against time instead of --rate: lines 't rate' "
                                                       "from t = 0 (a rate holds until the next line; 0 is a shut-in)")
     p.add_argument("--K-Ic", dest="K_Ic", required=True, type=positive, help="fracture toughness")
-    p.add_argument("--da", required=True, type=positive, help="growth of each tip per step")
+    p.add_argument("--da", type=positive, help="growth of each tip per step (default with --time: a tenth of the "
+                                               "crack's initial half-length)")
     p.add_argument("--steps", type=int, help="number of growth steps (or --time)")
     p.add_argument("--time", dest="end_time", type=positive, metavar="T", help="end the run at the first step at or "
                                                                               "past time T")
@@ -42,6 +43,7 @@ def run(args) -> int:
     import warnings
 
     from ngcrack import scenes
+    from ngcrack.core.errors import InputError
     from ngcrack.core.options import SolveOptions
     from ngcrack.shell.cli_errors import check_finite
     from ngcrack.shell.cli_runs import Finished, output_paths, run_until_signal, solve_options, write_all
@@ -49,7 +51,7 @@ def run(args) -> int:
     from ngcrack.shell.interrupts import check as check_interrupt
 
     from .loop import MAX_STEPS, check_hydrofrac_options
-    from .run import RegimeWarning, check_fluid_options, hydrofrac, read_schedule
+    from .run import DEFAULT_DA_FRACTION, RegimeWarning, check_fluid_options, hydrofrac, read_schedule
 
     paths = output_paths(args, "json", "csv", "gif")
     json_path, csv_path, gif_path = paths.values()
@@ -58,6 +60,11 @@ def run(args) -> int:
     scene = scenes.resolve(args.scene)
     options = solve_options(args, "element", "order", "maxh", "tip_h", "crack_h", "crack_model", "max_dof")
     # before any work: the run's own options, then the solve options
+    if args.da is None:
+        if args.end_time is None:
+            raise InputError("--da: required (the growth of each tip per step), unless --time is given")
+        if getattr(scene, "dimension", 2) == 2 and 0 <= args.crack < len(scene.cracks):
+            args.da = DEFAULT_DA_FRACTION * 0.5 * scene.cracks[args.crack].length
     opts = SolveOptions.of(**options)
     sched, steps = check_fluid_options(scene, args.rate, args.steps, args.end_time, args.viscosity, args.leakoff,
                                        schedule, args.inviscid, opts)

@@ -20,6 +20,8 @@ from ...planar.tips import effective_modulus
 from .flow import K_M_TOUGHNESS, Schedule, k_m
 from .loop import MAX_STEPS, _number, check_hydrofrac_options
 
+#: da, where only the end time is given: this fraction of the crack's initial half-length
+DEFAULT_DA_FRACTION = 0.1
 #: the most rows of an injection schedule
 MAX_SCHEDULE_ROWS = 10000
 
@@ -109,7 +111,8 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
 
     rate: Q0, the injected area per unit time (per unit thickness), or `schedule`: rows
     [t, rate] (from t = 0; a rate holds until the next row, 0 is a shut-in); K_Ic: the
-    toughness; da: the growth of each tip per step; steps (at most MAX_STEPS) and/or time:
+    toughness; da: the growth of each tip per step (with `time` alone: DEFAULT_DA_FRACTION of
+    the crack's initial half-length); steps (at most MAX_STEPS) and/or time:
     the run ends after `steps` steps or at the first step at or past `time`. viscosity: mu
     (Pa s) of a Newtonian fluid (None: inviscid, uniform pressure); leakoff: Carter's C_L
     (viscous fluid only); inviscid: the uniform-pressure model even where a viscosity is given
@@ -125,6 +128,11 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     from .viscous import viscous_run
 
     scene = as_scene(scene)
+    if da is None:
+        if time is None:
+            raise InputError("da: required (the growth of each tip per step), unless the end time (time) is given")
+        if getattr(scene, "dimension", 2) == 2 and isinstance(crack, int) and 0 <= crack < len(scene.cracks):
+            da = DEFAULT_DA_FRACTION * 0.5 * scene.cracks[crack].length
     options = SolveOptions.of(**{k: v for k, v in solve_options.items() if k not in ("warm_start", "crack_mesh", "loads")})
     sched, n_steps = check_fluid_options(scene, rate, steps, time, viscosity, leakoff, schedule, inviscid, options)
     check_hydrofrac_options(scene, sched.largest_rate, K_Ic, da, n_steps, crack, injection, solve_options, progress)
