@@ -6,7 +6,7 @@ and step with a viscous fluid. Cases (K_m: Adachi-Detournay's K' / (E'^3 mu' Q0)
 
     M      mu = 1e-3 Pa s, K_Ic = 7.8e4 Pa sqrt(m)   K_m = 0.099  (viscosity-dominated)
     K      mu = 1e-7 Pa s, K_Ic = 1e6 Pa sqrt(m)     K_m = 12.7   (toughness-dominated)
-    water  mu = 1e-3 Pa s, K_Ic = 1e6 Pa sqrt(m)     K_m = 0.40   (GEOS's KGD with water: between the two)
+    water  mu = 1e-3 Pa s, K_Ic = 1e6 Pa sqrt(m)     K_m = 1.27   (GEOS's KGD with water: both matter)
 
 Printed per case: the CPU time (time.process_time, OMP_NUM_THREADS=1 recommended) and its
 share per step, and at a few steps the half-length l, the opening w0 and pressure p at the
