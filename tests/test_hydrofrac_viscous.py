@@ -127,7 +127,7 @@ def test_cli_schedule_file_refused_by_line(tmp_path, capsys):
 def test_vertices_over_thirty_steps(mu, K_Ic, which, tol):
     """l from 1 to 4 in an 80 m square: every step from the third within 1% of the M-vertex
     (K_m = 0.099) or 2% of the K-vertex (K_m = 12.7; l falls to -1.6% at l = 2.8 m, the clamped
-    square's stiffness: the 400 m `kgd` scene stays within 0.6%, BENCHMARKS 19)."""
+    square's stiffness: the 400 m `kgd` scene stays within 0.6%, BENCHMARKS 20)."""
     run = nc.hydrofrac(kgd_body(40.0), rate=Q0, K_Ic=K_Ic, da=0.1, steps=30, viscosity=mu, **MESH)
     assert run.stopped.startswith("steps")
     for step in run.steps[3:]:

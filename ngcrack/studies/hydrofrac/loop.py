@@ -40,6 +40,7 @@ import shapely
 from ...core.errors import InputError
 from ...core.options import SolveOptions
 from ...core.pipeline import Pipeline, SolveError
+from ...core.scene import planar_only
 from ...planar.scene import SceneError
 from ...planar.tips import effective_modulus
 from ..growth.criteria import effective_K_I, mts_angle, mts_keq
@@ -82,9 +83,7 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
     from ...planar.sizing import mesh_sizes
     from ...planar.tips import tip_labels
 
-    if getattr(scene, "dimension", 2) != 2:
-        raise InputError(f"scene {scene.name!r}: a 3D scene; hydrofrac grows plane (2D) cracks only "
-                         "(radial fractures in 3D are not implemented yet)")
+    planar_only(scene, "hydraulic fracture")
     if not (_number(rate) and math.isfinite(rate) and rate > 0):
         raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, an area per unit "
                          "time per unit thickness)")

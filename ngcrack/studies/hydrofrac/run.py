@@ -16,6 +16,7 @@ import numpy as np
 
 from ...core.errors import InputError
 from ...core.options import SolveOptions
+from ...core.scene import planar_only
 from ...planar.tips import effective_modulus
 from .flow import K_M_TOUGHNESS, Schedule, k_m
 from .loop import MAX_STEPS, _number, check_hydrofrac_options
@@ -128,6 +129,7 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     from .viscous import viscous_run
 
     scene = as_scene(scene)
+    planar_only(scene, "hydraulic fracture")
     if da is None:
         if time is None:
             raise InputError("da: required (the growth of each tip per step), unless the end time (time) is given")
