@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.element_names import MIXED
 from ...core.options import SolveOptions
 from ...core.pipeline import Pipeline, SolveError
 from ..growth.loop import tip_values
@@ -36,8 +37,10 @@ B_RTOL = 1e-10
 #: B's entries must be the edge lengths to this relative precision (the element's jumps are
 #: one mean unknown per crack edge)
 LENGTH_RTOL = 1e-8
-#: the elements whose crack unknowns have that structure (checked again at every step)
-ELEMENTS = ("tdnns", "bdm", "peers")
+#: the elements whose crack unknowns have that structure, the mixed ones (their normal jump is
+#: discontinuous per edge; checked again at every step): the displacement elements' jump is the
+#: duplicated faces' continuous displacement
+ELEMENTS = MIXED
 
 
 @dataclass

@@ -94,8 +94,9 @@ def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedu
     viscous = viscosity is not None and not inviscid
     if leakoff > 0 and not viscous:
         raise InputError(f"leakoff = {leakoff!r}: leak-off is modelled with the viscous fluid only; give a viscosity")
-    if viscous and options.element not in ELEMENTS:
-        raise InputError(f"element = {options.element!r}: the viscous fluid needs one of {', '.join(ELEMENTS)} "
+    element = options.element
+    if viscous and element not in ELEMENTS:
+        raise InputError(f"element = {element!r}: the viscous fluid needs one of {', '.join(ELEMENTS)} "
                          "(one mean normal jump per crack edge)")
     sched = check_schedule(schedule) if schedule is not None else None
     if sched is None:
