@@ -61,6 +61,19 @@ def test_k_vertex_with_a_nearly_inviscid_fluid():
         assert all(abs(t["K_I"] / 1e6 - 1) < 0.01 for t in step["tips"])
 
 
+def test_in_situ_compression_adds_to_the_fluid_pressure():
+    """A uniform compression sigma across the crack: the same times and openings, every cell's
+    pressure sigma more (the compliance is linear, the in-situ opening -C sigma)."""
+    sigma = 2e5
+    free = nc.hydrofrac(kgd_body(20.0), rate=Q0, K_Ic=K_VISCOUS, da=0.1, steps=1, viscosity=MU, **MESH)
+    held = nc.hydrofrac(kgd_body(20.0, sigma), rate=Q0, K_Ic=K_VISCOUS, da=0.1, steps=1, viscosity=MU, **MESH)
+    for a, b in zip(free.steps, held.steps):
+        assert abs(b["time"] / a["time"] - 1) < 1e-6
+        assert np.allclose(b["profile"]["opening"], a["profile"]["opening"], rtol=1e-6, atol=0)
+        assert np.allclose(np.asarray(b["profile"]["pressure"]) - sigma, a["profile"]["pressure"], rtol=0,
+                           atol=1e-6 * sigma)
+
+
 def test_toughness_model_warns_where_viscosity_matters():
     """inviscid=True with water: K_m = 0.099 < 4, one RegimeWarning; K_m recorded in every step."""
     with pytest.warns(RegimeWarning, match=r"K_m = 0.0994 < 4"):
