@@ -105,7 +105,7 @@ def viscous_run(scene, schedule, K_Ic: float, da: float, steps: int, t_end, crac
                             (cc.s - s_inj) / max(advance["last"], 1e-300))
             # the tip passed distance d at t (d / a)^(1 / GROWTH_EXPONENT) (KGD's vertices: l ~ t^(2/3));
             # a linear arrival would date the leak-off near the tips too late, and its rate at the
-            # first step's end would exceed the injection (measured: 1.1 Q0 at C_L = 3e-5)
+            # first step's end would exceed the injection (estimated: 1.1 Q0 at C_L = 3e-5)
             frac = np.clip(frac, 0.0, 1.0) ** (1.0 / GROWTH_EXPONENT)
             t_old, previous = 0.0, None
         else:
