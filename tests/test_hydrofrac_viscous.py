@@ -195,3 +195,23 @@ def test_cli_viscous_json_and_regime_warning(tmp_path, capsys):
     lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("warning:")]
     assert len(lines) == 1 and "K_m = 1.27 < 4" in lines[0]
     assert json.loads(out.read_text())["model"] == "toughness"
+
+
+@pytest.mark.slow
+def test_viscous_tip_arrested_by_a_stress_barrier():
+    """The barrier slab of test_hydrofrac with a nearly inviscid fluid (K_m = 12.7): the right tip,
+    driven towards the band in the first step, is arrested from the second on (measured K_I 0.67-0.89
+    K_Ic) while the left one runs at K_Ic (1%); the fluid flows towards the running tip."""
+    from test_hydrofrac import barrier_slab
+
+    run = nc.hydrofrac(barrier_slab([[-1, 0], [1, 0]]), rate=Q0, K_Ic=1e6, da=0.3, steps=4, viscosity=MU_TOUGH,
+                       maxh=1.0, tip_h=0.04, crack_h=0.08)
+    assert run.stopped.startswith("steps")
+    for n, step in enumerate(run.steps[1:], start=1):
+        first, last = step["tips"]
+        assert first["advanced"] and not last["advanced"] and last["x"] == 1.0
+        assert abs(first["x"] + 1.0 + 0.3 * n) < 1e-2 and abs(first["K_I"] / 1e6 - 1) < 0.01
+        assert 0.5 < last["K_I"] / 1e6 < 0.95
+        p = step["profile"]["pressure"]
+        assert p[2] < p[len(p) // 2]  # falling towards the running tip
+        assert abs(step["volume"] / (Q0 * step["time"]) - 1) < 1e-9
