@@ -200,8 +200,9 @@ def test_cli_viscous_json_and_regime_warning(tmp_path, capsys):
 @pytest.mark.slow
 def test_viscous_tip_arrested_by_a_stress_barrier():
     """The barrier slab of test_hydrofrac with a nearly inviscid fluid (K_m = 12.7): the right tip,
-    driven towards the band in the first step, is arrested from the second on (measured K_I 0.67-0.89
-    K_Ic) while the left one runs at K_Ic (1%); the fluid flows towards the running tip."""
+    driven towards the band in the first step, is arrested from the second on at K_I = 0.82-0.84
+    K_Ic (measured; the inviscid model's 0.81-0.85 in the same slab) while the left one runs at
+    K_Ic (1%); the pressure is uniform to 1e-3 (the fluid is nearly inviscid)."""
     from test_hydrofrac import barrier_slab
 
     run = nc.hydrofrac(barrier_slab([[-1, 0], [1, 0]]), rate=Q0, K_Ic=1e6, da=0.3, steps=4, viscosity=MU_TOUGH,
@@ -211,7 +212,7 @@ def test_viscous_tip_arrested_by_a_stress_barrier():
         first, last = step["tips"]
         assert first["advanced"] and not last["advanced"] and last["x"] == 1.0
         assert abs(first["x"] + 1.0 + 0.3 * n) < 1e-2 and abs(first["K_I"] / 1e6 - 1) < 0.01
-        assert 0.5 < last["K_I"] / 1e6 < 0.95
+        assert 0.78 < last["K_I"] / 1e6 < 0.88
         p = step["profile"]["pressure"]
-        assert p[2] < p[len(p) // 2]  # falling towards the running tip
+        assert max(p) / min(p) - 1 < 1e-3
         assert abs(step["volume"] / (Q0 * step["time"]) - 1) < 1e-9

@@ -81,7 +81,9 @@ def carried_over(old: FluidHistory | None, s: np.ndarray, advance: dict):
 
 def _flow_step(current, crack, options, ends, advance, history, guess, injection, schedule, fluid) -> dict:
     """One step on the geometry `current` whose tips advanced by `advance` (steps 1-3 of the module
-    docstring); raises SolveError or StepError."""
+    docstring); raises SolveError or StepError. Where the moving tips differ from the last step's
+    (a tip arrested or started), the step is backward Euler in time: the last step's fluxes belong
+    to another motion, and the theta rule would carry them on as an oscillation."""
     K_Ic, E_prime, mu, C_L = fluid
     pipe = Pipeline()
     cc = crack_compliance(pipe, current, crack, options)
@@ -105,6 +107,8 @@ def _flow_step(current, crack, options, ends, advance, history, guess, injection
         t_old = history.t
         previous = [history.last.get(e) for e in ends]
         start = p_old
+        if any((advance.get(e, 0.0) > 0) != (history.last.get(e, (0.0,))[0] > 0) for e in ends):
+            p_old = None  # backward Euler (flow.solve_step without the old fluxes)
     inj = int(np.clip(np.searchsorted(bounds, s_inj) - 1, 0, N - 1))
     tips = [(0 if e == "first" else N - 1, advance[e]) for e in ends]
     scale = dict(tip_calibration(cc.C, cc.h, i, cc.K_unit.get(e, 0.0), E_prime) for (i, _), e in zip(tips, ends))
