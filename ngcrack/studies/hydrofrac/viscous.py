@@ -38,6 +38,11 @@ from .elastic import crack_compliance, pressure_table
 from .flow import Cells, StepError, asymptote_cell, solve_step, tip_calibration, tip_cell_mean
 from .loop import ADVANCE_RTOL, grow_tips, injection_arclength
 
+#: a tip is fed unless the pressure rises towards it by more than this fraction of the largest
+#: pressure (a nearly inviscid fluid's pressure is uniform but for round-off and the time
+#: rule's small oscillations: an exact sign test stopped a tip of the symmetric KGD at random;
+#: a tip driven into the test's stress band sees a rise of 3-6%)
+FED_RTOL = 1e-2
 #: the first state's growth law l ~ t^GROWTH_EXPONENT, for the tip's arrival times (leak-off)
 GROWTH_EXPONENT = 2.0 / 3.0
 
@@ -119,14 +124,14 @@ def _flow_step(current, crack, options, ends, advance, history, guess, injection
 
 def fed(step: dict, end: str) -> bool:
     """Whether the fluid flows towards the tip at `end` past the cell where its asymptote is
-    imposed (the pressure falls towards the tip there). A tip driven into a band of higher
+    imposed (the pressure does not rise towards the tip there, to FED_RTOL). A tip driven into a band of higher
     in-situ stress is not: the fixed increment forces it open, the pressure rises towards it
     and the fluid would flow back from it."""
     p, n = step["state"].p, len(step["state"].p)
     if n < 6:
         return True
     j, inner = (1, 2) if end == "first" else (n - 2, n - 3)
-    return bool(p[inner] > p[j])
+    return bool(p[j] - p[inner] <= FED_RTOL * float(np.max(np.abs(p))))
 
 
 def apparent_K(step: dict, end: str, E_prime: float) -> float:
