@@ -9,15 +9,18 @@
 # callable) loads both faces; its virtual work is $\int p\,[v]\cdot\nu\,ds$, a load on the crack-jump
 # unknowns. Unilateral contact closes the faces where the net normal traction compresses them.
 # `nc.hydrofrac(scene, rate=Q0, K_Ic=..., da=..., steps=...)` grows a crack driven by an
-# **inviscid** fluid (toughness-dominated regime: uniform pressure in the crack; the viscous
-# regime is a later step), incompressible, without leak-off: each step finds the pressure at
-# which a tip reaches $K_I = K_{Ic}$, the crack's volume $V$ and the time $t = V/Q_0$, then
-# advances both tips by `da`. The scene's own loads are the in-situ stress.
+# **inviscid** fluid (toughness-dominated regime: uniform pressure in the crack),
+# incompressible, without leak-off: each step finds the pressure at which a tip reaches
+# $K_I = K_{Ic}$, the crack's volume $V$ and the time $t = V/Q_0$, then advances the tips at
+# $K_{Ic}$ by `da`. With `viscosity=mu` the fluid flows along the crack (lubrication, the tip
+# asymptotes, fixed length increments solving for the time step). The scene's own loads are
+# the in-situ stress.
 #
 # **Experiments.** (a) KGD, the plane-strain fracture of GEOS's verification suite, against its
-# closed form; (b) a crack crossing a layer where the in-situ stress exceeds the fluid pressure:
-# its faces close there, behind the open tips; (c) the same with faces allowed to pass through
-# each other (what a code without contact computes).
+# toughness-dominated closed form (the K-vertex); (b) a crack crossing a layer where the in-situ
+# stress exceeds the fluid pressure: its faces close there, behind the open tips; (c) the same
+# with faces allowed to pass through each other (what a code without contact computes);
+# (d) a viscous fluid against KGD's two vertex solutions, viscosity- and toughness-dominated.
 #
 # `NGCRACK_QUICK=1` uses coarser meshes and fewer steps.
 
@@ -34,7 +37,7 @@ from ngcrack.planar.scene import Scene
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 
 # %% [markdown]
-# ## (a) KGD against its closed form
+# ## (a) KGD against its closed form (the K-vertex)
 # With a uniform pressure, the crack of half-length $l$ is at propagation when
 # $K_I = p\sqrt{\pi l} = K_{Ic}$, and holds the volume $V = 2\pi p l^2/E' = Q_0 t$, so
 #
@@ -42,8 +45,8 @@ SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 # w_0 = \frac{4 p l}{E'},\qquad E' = \frac{E}{1-\nu^2}.$$
 #
 # The built-in scene `kgd` has GEOS's parameters ($Q_0 = 10^{-4}$ m²/s, $E = 30$ GPa,
-# $\nu = 0.25$, $K_{Ic} = 1$ MPa$\sqrt{\rm m}$): at $t = 10$ s, $l = 4.335$ m, $p = 0.2710$ MPa,
-# $w_0 = 146.8$ µm. Its body is 400 m wide, 200 initial half-lengths (measured at $l = 6$ m: doubling it
+# $\nu = 0.25$, $K_{Ic} = 1$ MPa$\sqrt{\rm m}$); the closed form gives at $t = 10$ s $l = 4.335$ m,
+# $p = 0.2710$ MPa, $w_0 = 146.8$ µm. Its body is 400 m wide, 200 initial half-lengths (measured at $l = 6$ m: doubling it
 # moves $l(t)$ by 0.002% and $p$ by 0.13%), and the tips are meshed at $l_0/20$.
 
 # %%
@@ -63,7 +66,7 @@ dev = max(np.max(np.abs(l_num / l_kgd - 1)), np.max(np.abs(p_num / p_kgd - 1)), 
 print(f"KGD, {len(t) - 1} steps: largest deviation of l, p, w0 from the closed form {100 * dev:.2f}%")
 if t[-1] >= 10.0:
     print(f"at t = 10 s: l = {np.interp(10, t, l_num):.3f} m, p = {np.interp(10, t, p_num) / 1e6:.4f} MPa, "
-          f"w0 = {np.interp(10, t, w_num) * 1e6:.1f} um (GEOS: 4.335 m, 0.2710 MPa, 146.8 um)")
+          f"w0 = {np.interp(10, t, w_num) * 1e6:.1f} um (K-vertex closed form: 4.335 m, 0.2710 MPa, 146.8 um)")
 assert dev < 0.01
 
 fig, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
@@ -73,7 +76,7 @@ for ax, num, ref, label in ((axes[0], l_num, lt, "half-length l [m]"),
                             (axes[1], p_num / 1e6, K_IC / np.sqrt(math.pi * lt) / 1e6, "pressure p [MPa]"),
                             (axes[2], w_num * 1e6, 4 * K_IC / np.sqrt(math.pi * lt) * lt / E_PRIME * 1e6,
                              "opening at injection w0 [um]")):
-    ax.plot(tt, ref, "-", color="0.6", label="KGD, closed form")
+    ax.plot(tt, ref, "-", color="0.6", label="KGD, K-vertex closed form")
     ax.plot(t, num, "o", ms=3, label="ngcrack")
     ax.set_xlabel("t [s]")
     ax.set_ylabel(label)
@@ -173,8 +176,76 @@ for s in run.steps:
 pressures = [s["pressure"] for s in run.steps]
 assert all(b > a for a, b in zip(pressures, pressures[1:]))
 
+# %% [markdown]
+# ## (d) A viscous fluid against KGD's vertex solutions
+# With `viscosity=mu` the fluid obeys the lubrication equation, $q = -(w^3/\mu')\,\partial p/\partial s$,
+# $\mu' = 12\mu$, with no lag behind the tip. The regime is set by the dimensionless toughness
+# $K_m = K'/(E'^3\mu'Q_0)^{1/4}$, $K' = 4(2/\pi)^{1/2}K_{Ic}$ (Adachi and Detournay 2002). Far below 1
+# the fracture follows the viscosity-dominated **M-vertex** (Spence and Sharp; Adachi and Detournay):
+#
+# $$l = 0.6152\,\Big(\frac{E' Q_0^3 t^4}{\mu'}\Big)^{1/6},\qquad w_0 = 1.1265\,\Big(\frac{\mu' Q_0^3 t^2}{E'}\Big)^{1/6};$$
+#
+# far above 4, the toughness-dominated **K-vertex** of (a). Two runs on a 80 m square (tips at 0.05 m):
+# water with a low toughness ($K_m = 0.099$) and a nearly inviscid fluid ($K_m = 12.7$).
+
+# %%
+from ngcrack.studies.hydrofrac.flow import k_vertex, m_vertex
+
+
+def square(width):
+    return Scene(name="kgd-square", polygon=[[-width, -width], [width, -width], [width, width], [-width, width]],
+                 labels=["bottom", "right", "top", "left"], cracks=[{"points": [[-1, 0], [1, 0]]}],
+                 material={"E": 30e9, "nu": 0.25}, boundary={k: {"type": "clamped"} for k in ("bottom", "right", "top", "left")})
+
+
+FLOW_MESH = dict(maxh=8.0, tip_h=0.05, crack_h=0.1)
+n_flow = 3 if SMOKE else 15
+viscous = nc.hydrofrac(square(40.0), rate=Q0, K_Ic=7.8e4, da=0.1, steps=n_flow, viscosity=1e-3, **FLOW_MESH)
+tough = nc.hydrofrac(square(40.0), rate=Q0, K_Ic=K_IC, da=0.1, steps=n_flow, viscosity=1e-7, **FLOW_MESH)
+rows = []
+for run, mu, K in ((viscous, 1e-3, 7.8e4), (tough, 1e-7, K_IC)):
+    s = run.steps[-1]
+    lm, wm = m_vertex(s["time"], E_PRIME, mu, Q0)
+    lk, pk, wk = k_vertex(s["time"], E_PRIME, K, Q0)
+    rows.append((run.K_m, s["half_length"] / lm - 1, s["opening_at_injection"] / wm - 1, s["half_length"] / lk - 1,
+                 s["opening_at_injection"] / wk - 1))
+    print(f"K_m = {run.K_m:.3g}: at t = {s['time']:.3g} s, l = {s['half_length']:.3f} m "
+          f"(M-vertex {100 * (s['half_length'] / lm - 1):+.2f}%, K-vertex {100 * (s['half_length'] / lk - 1):+.2f}%), "
+          f"w0 = {s['opening_at_injection'] * 1e6:.1f} um (M-vertex {100 * (s['opening_at_injection'] / wm - 1):+.2f}%, "
+          f"K-vertex {100 * (s['opening_at_injection'] / wk - 1):+.2f}%)")
+assert abs(rows[0][1]) < 0.03 and abs(rows[0][2]) < 0.03 and abs(rows[1][3]) < 0.02 and abs(rows[1][4]) < 0.02
+
+fig, axes = plt.subplots(1, 2, figsize=(13, 3.6), constrained_layout=True)
+for ax, run, mu, K in ((axes[0], viscous, 1e-3, 7.8e4), (axes[1], tough, 1e-7, K_IC)):
+    tv = np.array([s["time"] for s in run.steps])
+    tt = np.linspace(tv[0], tv[-1], 100)
+    ax.plot(tt, m_vertex(tt, E_PRIME, mu, Q0)[0], "-", color="0.6", label="M-vertex")
+    ax.plot(tt, k_vertex(tt, E_PRIME, K, Q0)[0], "--", color="0.6", label="K-vertex")
+    ax.plot(tv, [s["half_length"] for s in run.steps], "o", ms=3, label=f"ngcrack, K_m = {run.K_m:.3g}")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("half-length l [m]")
+    ax.legend()
+plt.show()
+
+# %% [markdown]
+# The fluid's pressure along the crack (the last step of the viscous run): high at the injection
+# point, falling towards the tips, where the viscosity asymptote's suction lies below the cells.
+
+# %%
+prof = viscous.steps[-1]["profile"]
+fig, ax = plt.subplots(1, 2, figsize=(13, 3.4), constrained_layout=True)
+ax[0].plot(prof["s"], np.asarray(prof["opening"]) * 1e6, "-")
+ax[0].set_xlabel("arc length s [m]")
+ax[0].set_ylabel("opening [um]")
+ax[1].plot(prof["s"], np.asarray(prof["pressure"]) / 1e6, "-")
+ax[1].set_xlabel("arc length s [m]")
+ax[1].set_ylabel("fluid pressure [MPa]")
+plt.show()
+
 # %%
 print(f"KGD: l, p and w0 within {100 * dev:.2f}% of the closed form at every step; "
       f"Layers: the faces close over {100 * closed.mean():.0f}% of the crack behind open tips, "
       f"where faces allowed to pass overlap by {-free_opening.min() * 1e6:.1f} um; "
-      f"growth towards the layers needs {pressures[-1] / 1e6:.3f} MPa after {pressures[0] / 1e6:.3f} MPa")
+      f"growth towards the layers needs {pressures[-1] / 1e6:.3f} MPa after {pressures[0] / 1e6:.3f} MPa; "
+      f"viscous fluid: K_m = {rows[0][0]:.3g} within {100 * max(abs(rows[0][1]), abs(rows[0][2])):.2f}% of the M-vertex, "
+      f"K_m = {rows[1][0]:.3g} within {100 * max(abs(rows[1][3]), abs(rows[1][4])):.2f}% of the K-vertex")

@@ -20,7 +20,7 @@ import pytest
 import ngcrack as nc
 from ngcrack.planar.scene import Scene
 from ngcrack.shell.cli import main
-from ngcrack.studies.hydrofrac.result import STEP_KEYS, TIP_KEYS
+from ngcrack.studies.hydrofrac.result import FLUID_KEYS, STEP_KEYS, TIP_KEYS
 
 E, NU, Q0, K_IC = 30e9, 0.25, 1e-4, 1e6
 E_PRIME = E / (1 - NU**2)
@@ -87,8 +87,11 @@ def test_json_contract_and_bad_options(tmp_path):
     table = pd.read_csv(tmp_path / "h.csv")
     assert len(table) == 4 and set(table["end"]) == {"first", "last"}
     data = json.loads(out.read_text())
-    assert list(data) == ["scene", "element", "rate", "K_Ic", "stopped", "steps", "cracks"]
-    assert [list(s) for s in data["steps"]] == [list(STEP_KEYS) + ["tips"]] * 2
+    assert list(data) == ["scene", "element", "rate", "K_Ic", "stopped", "steps", "cracks", "model", "viscosity",
+                          "leakoff", "K_m"]
+    assert data["model"] == "toughness" and data["K_m"] is None and data["viscosity"] is None
+    assert [list(s) for s in data["steps"]] == [list(STEP_KEYS) + list(FLUID_KEYS) + ["tips"]] * 2
+    assert all(s["efficiency"] == 1.0 and list(s["profile"]) == ["s", "opening", "pressure"] for s in data["steps"])
     assert all(list(t) == list(TIP_KEYS) for s in data["steps"] for t in s["tips"])
     assert len(data["cracks"]) == 1
     assert np.allclose(data["cracks"][0]["points"], [[-1.1, 0.0], [1.1, 0.0]], rtol=0, atol=1e-12)
@@ -105,6 +108,37 @@ def test_bad_arguments_refused_by_name(kwargs, words):
     args.update(kwargs)
     with pytest.raises(nc.InputError, match=words):
         nc.hydrofrac(kgd_body(20.0), **args)
+
+
+@pytest.mark.parametrize("scene, change, words", [
+    ("kgd", ["--da", "1e-9"], "da"),  # below a quarter of the tip mesh size (time would run backwards)
+    ("kgd", ["--crack-model", "bonded"], "crack_model"),
+    ("kgd", ["--K-Ic", "1e300"], "K_Ic"),  # a pressure of 1e289 E'
+    ("penny", [], "3D"),
+])
+def test_hostile_cli_values_refused_before_work(tmp_path, capsys, scene, change, words):
+    """One line naming the field, exit 2, an existing output left as it was."""
+    out = tmp_path / "h.json"
+    out.write_text("old")
+    args = {"--rate": ["1e-4"], "--K-Ic": ["1e6"], "--da": ["0.1"], "--steps": ["1"]}
+    if change:
+        args[change[0]] = change[1:]
+    argv = ["hydrofrac", scene, "--json", str(out)] + [x for k, v in args.items() for x in [k] + v]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1
+    assert out.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["h.json"]
+
+
+def test_progress_checked_before_the_first_step():
+    with pytest.raises(nc.InputError, match="progress"):
+        nc.hydrofrac(kgd_body(20.0), rate=Q0, K_Ic=K_IC, da=0.1, steps=1, progress="x", **MESH)
+
+
+def test_small_da_refused_with_its_bound():
+    """da below MIN_DA_TIP_FRACTION of tip_h = 0.05: the bound 0.0125 is named."""
+    with pytest.raises(nc.InputError, match=r"da = 0.01: must be a number in \[0.0125, "):
+        nc.hydrofrac(kgd_body(20.0), rate=Q0, K_Ic=K_IC, da=0.01, steps=1, **MESH)
 
 
 @pytest.mark.slow
@@ -139,3 +173,38 @@ def test_interrupted_run_keeps_the_finished_steps(tmp_path):
     assert proc.returncode == 128 + signal.SIGTERM, err
     data = json.loads(out.read_text())
     assert data["stopped"].startswith("interrupted: SIGTERM") and len(data["steps"]) >= 2
+
+
+def barrier_slab(crack) -> Scene:
+    """A slab [-10, 10] x [-2, 2], clamped at its ends, compressed across the crack by
+    S1 = 1 MPa on its top and bottom faces except over 2.5 < x < 4.5, where S2 = 5 MPa (a band
+    of higher in-situ stress on the right of the crack only)."""
+    s1, s2 = 1e6, 5e6
+    top = [[10, 2], [4.5, 2], [2.5, 2], [-10, 2]]
+    bottom = [[-10, -2], [2.5, -2], [4.5, -2], [10, -2]]
+    labels = ["bot-l", "blayer", "bot-r", "right", "top-r", "layer", "top-l", "left"]
+    load = {lab: {"type": "traction", "value": [0.0, (s2 if "layer" in lab else s1) * (-1 if lab.startswith(("top", "layer")) else 1)]}
+            for lab in labels if lab not in ("left", "right")}
+    return Scene(name="barrier", polygon=bottom + top, labels=labels, cracks=[] if crack is None else [{"points": crack}],
+                 material={"E": E, "nu": NU}, boundary={"left": {"type": "clamped"}, "right": {"type": "clamped"}, **load})
+
+
+def test_stress_barrier_arrests_the_tip_facing_it():
+    """The right tip faces the band: it stays (K_I 0.81-0.85 K_Ic, measured), the left one runs at K_Ic;
+    the fluid pressure is above the in-situ compression across the crack wherever it is open."""
+    mesh = dict(maxh=1.0, tip_h=0.04, crack_h=0.08)
+    run = nc.hydrofrac(barrier_slab([[-1, 0], [1, 0]]), rate=Q0, K_Ic=K_IC, da=0.3, steps=3, **mesh)
+    uncracked = nc.solve(barrier_slab(None), **mesh)
+    m = uncracked.crack_mesh.mesh
+    for n, step in enumerate(run.steps):
+        first, last = step["tips"]
+        assert first["advanced"] and not last["advanced"]
+        assert abs(math.hypot(first["K_I"], first["K_II"]) / K_IC - 1) < 1e-2
+        assert 0.75 < last["K_I"] / K_IC < 0.9
+        assert last["x"] == 1.0 and abs(first["x"] + 1.0 + 0.3 * n) < 1e-2
+        prof = run.frames[n]
+        opening = np.asarray(prof["opening"])
+        open_ = opening > 1e-9 * opening.max()
+        in_situ = np.array([-uncracked.sigma(m(x, y))[3] for x, y in zip(prof["x"], prof["y"])])
+        assert open_.mean() > 0.9 and np.all(step["pressure"] > in_situ[open_])
+    assert run.final.cracks[0].points[-1] == (1.0, 0.0)

@@ -95,7 +95,7 @@ def test_a_function_stays_the_function_after_its_module_is_imported():
     code = ("import ngcrack as nc, ngcrack.core.pipeline; import ngcrack.core.solve; from ngcrack import solve; "
             "import ngcrack.studies.hydrofrac.cli; "
             "print(callable(nc.solve) and nc.solve is solve and nc.solve.__module__ == 'ngcrack.core.solve' "
-            "and callable(nc.hydrofrac) and nc.hydrofrac.__module__ == 'ngcrack.studies.hydrofrac.loop')")
+            "and callable(nc.hydrofrac) and nc.hydrofrac.__module__ == 'ngcrack.studies.hydrofrac.run')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "True"
 

@@ -52,7 +52,17 @@ def test_search_under_compression():
     (dict(volume=float("inf")), "volume"),
     (dict(volume=0.01, cracks=[3]), "cracks"),
     (dict(volume=0.01, rtol=2.0), "rtol"),
+    (dict(volume=-0.01), "volume = -0.01: must be >= 0 with contact"),
+    (dict(volume=1e300), "volume = 1e.300: the strain scale"),
+    (dict(volume=0.01, crack_model="bonded"), "crack_model = 'bonded'"),
 ])
 def test_bad_volume_options_refused_by_name(kwargs, words):
     with pytest.raises(nc.InputError, match=words):
         nc.solve_volume(half_plate(10.0, None), **kwargs, **MESH)
+
+
+def test_crack_volume_names_a_bad_index():
+    sol = nc.solve(half_plate(10.0, 1.0), **MESH)
+    with pytest.raises(nc.InputError, match=r"cracks = \[7\]: must be distinct crack indices 0..0"):
+        nc.crack_volume(sol, [7])
+    assert nc.crack_volume(sol, [0]) == nc.crack_volume(sol) > 0

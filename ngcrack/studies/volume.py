@@ -36,6 +36,9 @@ MAX_SOLVES = 60
 #: MAX_WIDEN times (a compression across the crack holds it closed below its own size)
 WIDEN_FACTOR = 4.0
 MAX_WIDEN = 30
+#: the largest strain scale a prescribed volume may have, V / (2 pi a^2) (Sneddon's p / E'
+#: for a straight crack of half-length a): beyond it small-strain elasticity does not apply
+MAX_STRAIN = 0.1
 
 
 def crack_volume(sol, cracks=None) -> float:
@@ -43,7 +46,7 @@ def crack_volume(sol, cracks=None) -> float:
     by default): the sum over crack edges of the mid-point normal jump times the edge
     length (exact for jumps linear on each edge: P0 and P1 jumps, the default orders)."""
     planar_only(sol.scene, "the crack volume")
-    idx = range(len(sol.profiles)) if cracks is None else cracks
+    idx = range(len(sol.profiles)) if cracks is None else check_cracks(sol.scene, cracks)
     return float(sum(np.sum(sol.profiles[k].normal_jump * sol.crack_mesh.cracks[k].length) for k in idx))
 
 
@@ -100,6 +103,15 @@ def solve_volume(scene, volume: float, *, cracks=None, options: SolveOptions | N
     idx = check_cracks(scene, cracks)
     opts = SolveOptions.of(options, **changes)
     opts.check_for(scene)
+    if opts.crack_model == "bonded":
+        raise InputError("crack_model = 'bonded': a bonded crack holds no volume; allowed values here are contact, free")
+    if volume < 0 and opts.crack_model == "contact":
+        raise InputError(f"volume = {volume!r}: must be >= 0 with contact (the faces cannot overlap; "
+                         "crack_model='free' lets them)")
+    a = 0.5 * sum(scene.cracks[k].length for k in idx)
+    if abs(volume) > MAX_STRAIN * 2 * math.pi * a * a:
+        raise InputError(f"volume = {volume!r}: the strain scale V / (2 pi a^2) would be {abs(volume) / (2 * math.pi * a * a):.3g} "
+                         f"(a = {a:.4g}, the cracks' half-length); at most {MAX_STRAIN:g} keeps the strains small")
     pipe = pipeline if pipeline is not None else Pipeline()
     solves = 0
 

@@ -9,8 +9,10 @@ import numpy as np
 
 #: the step keys of the JSON contract, in order (each step also has "tips")
 STEP_KEYS = ("step", "time", "half_length", "pressure", "opening_at_injection", "volume", "ndof", "time_s", "kkt")
+#: the step keys the fluid model added (after STEP_KEYS; "profile" holds the fluid's s, opening, pressure)
+FLUID_KEYS = ("K_m", "efficiency", "profile")
 #: the tip keys of the JSON contract
-TIP_KEYS = ("crack", "end", "x", "y", "K_I", "K_II", "kink_deg")
+TIP_KEYS = ("crack", "end", "x", "y", "K_I", "K_II", "kink_deg", "advanced")
 #: the largest opening drawn in the animation, as a fraction of the crack's length
 FACE_FRACTION = 0.08
 
@@ -19,8 +21,8 @@ FACE_FRACTION = 0.08
 class HydrofracResult:
     """What `nc.hydrofrac` returns.
 
-    `steps`: one dict per step (STEP_KEYS, "tips" with TIP_KEYS, and "solves": the solves the
-    step's pressure took); `table`: a pandas DataFrame, one row per step and tip; `frames`:
+    `steps`: one dict per step (STEP_KEYS, FLUID_KEYS, "tips" with TIP_KEYS, and "solves": the
+    solves the step took); `table`: a pandas DataFrame, one row per step and tip; `frames`:
     per step the crack's points and its opening profile (mid points, normals, openings);
     `scenes[n]`: the scene of step n (its crack carrying the pressure field, not the value);
     `final`: the scene after the last growth; `stopped`: why the run ended.
@@ -31,6 +33,11 @@ class HydrofracResult:
     rate: float
     K_Ic: float
     da: float
+    viscosity: float | None = None
+    leakoff: float = 0.0
+    K_m: float | None = None
+    model: str = "toughness"
+    schedule: object = None
     steps: list = field(default_factory=list)
     frames: list = field(default_factory=list)
     scenes: list = field(default_factory=list)
@@ -47,9 +54,10 @@ class HydrofracResult:
         """One row per step and tip: the step's values, then the tip's."""
         import pandas as pd
 
-        rows = [{**{k: s[k] for k in STEP_KEYS}, "solves": s["solves"], **{k: t[k] for k in TIP_KEYS}}
+        extra = ["solves", "K_m", "efficiency"]
+        rows = [{**{k: s[k] for k in STEP_KEYS}, **{k: s[k] for k in extra}, **{k: t[k] for k in TIP_KEYS}}
                 for s in self.steps for t in s["tips"]]
-        return pd.DataFrame(rows, columns=list(STEP_KEYS) + ["solves"] + list(TIP_KEYS))
+        return pd.DataFrame(rows, columns=list(STEP_KEYS) + extra + list(TIP_KEYS))
 
     def to_json_dict(self) -> dict:
         """The `ngcrack hydrofrac --json` contract."""
@@ -57,9 +65,10 @@ class HydrofracResult:
         return {
             "scene": self.scene.name, "element": self.element, "rate": self.rate, "K_Ic": self.K_Ic,
             "stopped": self.stopped,
-            "steps": [{**{k: s[k] for k in STEP_KEYS}, "tips": [{k: t[k] for k in TIP_KEYS} for t in s["tips"]]}
+            "steps": [{**{k: s[k] for k in STEP_KEYS + FLUID_KEYS}, "tips": [{k: t[k] for k in TIP_KEYS} for t in s["tips"]]}
                       for s in self.steps],
             "cracks": [{"points": [list(p) for p in c.points]} for c in final.cracks],
+            "model": self.model, "viscosity": self.viscosity, "leakoff": self.leakoff, "K_m": self.K_m,
         }
 
     def animate(self, path, fps: int = 4):
