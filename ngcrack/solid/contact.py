@@ -19,7 +19,7 @@ the residual and updates A = {i : lam_i - c_i x_i > 0} (c_i the diagonal of K_w)
 repeats. Nothing of size m^2 (m the constrained unknowns) is ever formed: time and
 memory are those of the sparse factorizations.
 
-The answer is certified as in 2D (ngcrack.constraints): the contact forces are taken
+The answer is certified as in 2D (ngcrack.core.constraints): the contact forces are taken
 from the residual of K y = F at the constrained rows (`discrete_contact_forces`), not
 from the iteration, and the KKT residuals (max_penetration, max_tension,
 complementarity) are relative to the largest jump and force.
@@ -33,9 +33,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
-from ..csr import to_scipy
-from ..schur import Factorization
+from ..core.constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
+from ..core.csr import to_scipy
+from ..core.schur import Factorization
 
 #: at most this many active-set steps
 MAX_ITERATIONS = 60
@@ -60,7 +60,7 @@ def _transform(K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, G) -> tuple
     if G is None:
         T = sp.identity(n, format="csr")
         return K, F, T
-    from ..constraints import _inverse_map
+    from ..core.constraints import _inverse_map
 
     Ginv = _inverse_map(G, len(contact))
     Ginv = sp.csr_matrix(to_scipy(Ginv)) if Ginv is not None else sp.identity(len(contact), format="csr")
