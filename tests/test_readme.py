@@ -159,7 +159,8 @@ def test_every_output_goes_into_a_folder_made_before(page):
 def test_the_command_line_examples_run_as_written(tmp_path):
     """Every line of the README's command-line block, in an empty folder (mpiexec lines excepted)."""
     env = _env()
-    script = "ngcrack() { " + shlex.quote(sys.executable) + " -c 'import sys; from ngcrack.shell.cli import main; sys.exit(main())' \"$@\"; }\nset -e\n"
+    entry = "import sys; from ngcrack.shell.cli import main; sys.exit(main())"
+    script = f"ngcrack() {{ {shlex.quote(sys.executable)} -c {shlex.quote(entry)} \"$@\"; }}\nset -e\n"
     lines = [line for line in _cli_block(_text(README)) if line and not line.startswith("mpiexec")]
     proc = subprocess.run(["bash", "-c", script + "\n".join(lines)], cwd=tmp_path, env=env, capture_output=True,
                           text=True, timeout=1800, check=False)
