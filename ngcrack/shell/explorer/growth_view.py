@@ -22,6 +22,7 @@ from ...core.errors import InputError
 from ...planar.plots import tip_names
 from ...studies.growth.figures import draw_frame, draw_load_factors, frame_view
 from ...studies.growth.result import GrowthResult
+from .messages import ArgumentError, require_extras
 
 #: figure size in inches and resolution of a step's picture
 FIGURE_SIZE = (11.0, 5.0)
@@ -65,15 +66,21 @@ def explore_growth(result: GrowthResult, **kwargs: Any):
     the step's picture and its tips' numbers."""
     import html
 
-    import ipywidgets as w
-
-    if not isinstance(result, GrowthResult):
-        raise InputError(f"result = {result!r}: must be the GrowthResult of nc.grow(...)")
-    view = frame_view(result)  # refuses a result kept without frames, naming the field
+    if not isinstance(result, GrowthResult):  # named by its type: a result's repr is its arrays
+        raise ArgumentError(f"result = <{type(result).__name__}>: explore_growth takes the GrowthResult of nc.grow(...)")
+    unknown = sorted(set(kwargs) - {"step"})
+    if unknown:
+        raise ArgumentError(f"{unknown[0]}: not an argument of explore_growth; allowed: step")
+    try:
+        view = frame_view(result)  # refuses a result kept without frames, naming the field
+    except InputError as exc:
+        raise ArgumentError(str(exc).splitlines()[0]) from None
     last = len(result.frames) - 1
     start = kwargs.get("step", 0)
     if isinstance(start, bool) or not isinstance(start, int) or not 0 <= start <= last:
-        raise InputError(f"step = {start!r}: a whole number from 0 to {last}")
+        raise ArgumentError(f"step = {start!r}: a whole number from 0 to {last}")
+    require_extras("nc.explore_growth")
+    import ipywidgets as w
     slider = w.IntSlider(value=start, min=0, max=last, description="step", readout=False,
                          continuous_update=False)
     slider.add_class("ngcrack-growth-step")

@@ -33,7 +33,7 @@ from ...planar.scene import Scene
 from ...scenes import SceneFunction
 from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, LABELS, SCALES
 from .figure import FIELDS, Drawing
-from .messages import GLOSSARY
+from .messages import GLOSSARY, WEBGUI_PACKAGES, WIDGET_PACKAGES, ArgumentError, MissingExtraError, require_extras  # noqa: F401
 from .model import Explorer, _one_line
 
 #: the page's style: the busy figure greyed, the refusals red
@@ -64,21 +64,15 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     half length and position; ``nc.explore(scene)`` a fixed geometry. ``webgui`` adds a
     checkbox for NGSolve's 3D view of the stress field. Returns an `ExplorerWidget`
     (an ipywidgets VBox; `.model` is the model). Bad arguments raise one ValueError
-    naming the argument and what it allows, before any widget is made.
+    naming the argument and what it allows, before any widget is made; a missing
+    ``explorer`` extra one line naming it (`MissingExtraError`), before any solve.
     """
+    require_extras("nc.explore", WIDGET_PACKAGES + (WEBGUI_PACKAGES if webgui else ()))  # before any solve
     try:
         model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
     except InputError as exc:
         raise ArgumentError(str(exc)) from None
     return _widget_class()(model, webgui=webgui)
-
-
-class ArgumentError(InputError):
-    """A bad argument of `explore`: a ValueError that a notebook shows as its one line
-    (IPython renders `_render_traceback_` instead of the frames of the checks)."""
-
-    def _render_traceback_(self) -> list[str]:
-        return [f"ValueError: {self}"]
 
 
 @functools.lru_cache(maxsize=1)
