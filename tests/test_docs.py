@@ -418,3 +418,32 @@ def test_the_distributed_page_covers_installing_and_running():
     home = (DOCS / "index.md").read_text(encoding="utf-8")
     assert "guide/distributed" in home and "**in 2D**" in home and "**in 3D**" in home
     assert "2D linear elasticity" not in home
+
+
+#: what a default value must not show in a signature of the API pages: a module's repr carries its file's path
+MACHINE_PATH = re.compile(r"<module '[^']*' from '|/(?:home|usr|opt|tmp|work)/")
+
+
+def test_no_signature_shows_a_machine_path():
+    """The API pages print every signature: none may hold a default whose repr is a file path
+    (`m=<module 'numpy' from '/.../numpy/__init__.py'>`)."""
+    import importlib
+    import inspect
+
+    import ngcrack
+
+    found = []
+    for name in ["ngcrack"] + sorted(m.name for m in pkgutil.walk_packages(ngcrack.__path__, "ngcrack.")):
+        module = importlib.import_module(name)
+        members = [v for v in vars(module).values() if getattr(v, "__module__", None) == name]
+        members += [m for c in members if inspect.isclass(c) for m in vars(c).values() if callable(m)]
+        for obj in members:
+            if not callable(obj):
+                continue
+            try:
+                text = str(inspect.signature(obj))
+            except (TypeError, ValueError):
+                continue
+            if MACHINE_PATH.search(text):
+                found.append(f"{name}.{getattr(obj, '__qualname__', obj)}{text}")
+    assert found == []

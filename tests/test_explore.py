@@ -703,3 +703,52 @@ def test_free_faces_keep_their_negative_K_I():
     assert all("faces closed" not in t and f"K_I = {s.K_I:#.3g}".rstrip(".") in t
                for s, t in zip(study.solution.tips, d.data["tips"]))
     assert d.data["peak_clipped"] and "peak" in d.colorbar.ax.get_ylabel()
+
+
+# ----------------------------------------------------------- missing extras, one-line refusals, names
+def test_a_missing_explorer_extra_is_one_line_naming_it_before_any_solve(monkeypatch):
+    """nc.explore without ipywidgets: one line naming `pip install 'ngcrack[explorer]'` (an InputError and a
+    ModuleNotFoundError naming the package, as on the command line), raised before the model solves."""
+    from ngcrack.shell.explorer import messages
+
+    monkeypatch.setitem(__import__("sys").modules, "ipywidgets", None)  # import ipywidgets now fails
+    built = []
+    monkeypatch.setattr(ex.widget, "Explorer", lambda *a, **k: built.append(a))
+    with pytest.raises(messages.MissingExtraError) as info:
+        nc.explore("inclined-crack", maxh=MAXH)
+    exc = info.value
+    assert isinstance(exc, nc.InputError) and isinstance(exc, ModuleNotFoundError) and exc.name == "ipywidgets"
+    assert "pip install 'ngcrack[explorer]'" in str(exc) and "\n" not in str(exc)
+    assert exc._render_traceback_() == [f"InputError: {exc}"]
+    assert built == []  # refused before the model was made (no mesh, no solve)
+    from ngcrack.shell.cli_errors import EXIT_INPUT, classify  # the command line reads it as its own missing extra
+    code, line = classify(exc)
+    assert code == EXIT_INPUT and "pip install 'ngcrack[explorer]'" in line
+
+
+def test_explore_growth_refuses_in_one_short_line(monkeypatch):
+    """A wrong result is named by its type, not by its repr (a result's arrays are hundreds of kB)."""
+
+    class Big:
+        def __repr__(self):
+            return "x" * 100_000
+
+    for bad in (Big(), "not a result"):
+        with pytest.raises(ex.messages.ArgumentError) as info:
+            nc.explore_growth(bad)
+        assert len(str(info.value)) < 120 and "nc.grow" in str(info.value)
+        assert len(info.value._render_traceback_()) == 1
+
+
+def test_two_different_scenes_never_share_a_name():
+    """The explorer's inclined crack (a 10 x 10 plate) is not the built-in inclined-compression (20 x 20)."""
+    from ngcrack.scenes import inclined_crack
+
+    built_in = set(nc.scenes.names())
+    made = {name: f().name for name, f in SCENE_FUNCTIONS.items()}
+    assert made["inclined-crack"] == "inclined-crack"
+    assert not set(made.values()) & built_in
+    assert inclined_crack() == nc.scenes.load("inclined-compression")
+    assert inclined_crack(angle=45.0).name == "inclined-compression-45deg"
+    assert inclined_crack(load=1.0).name == "inclined-tension-30deg"
+    assert ex.Explorer("inclined-crack", maxh=MAXH).scene.name == "inclined-crack"
