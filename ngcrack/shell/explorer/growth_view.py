@@ -45,6 +45,18 @@ def render_step(result: GrowthResult, n: int, view=None) -> bytes:
     return buf.getvalue()
 
 
+def step_tip_names(result: GrowthResult, n: int) -> list[str]:
+    """The names of step `n`'s tips: those of the first step (by crack and end), as the figure's
+    legend names them, so that a tip keeps its name as its path turns; a tip the first step
+    does not have is named by where it is."""
+    first = result.steps[0]["tips"]
+    scene = getattr(result, "scene", None)
+    names = dict(zip([(t["crack"], t["end"]) for t in first], tip_names(first, scene)))
+    tips = result.steps[n]["tips"]
+    own = tip_names(tips, result.scenes[n] if getattr(result, "scenes", None) else scene)
+    return [names.get((t["crack"], t["end"]), mine) for t, mine in zip(tips, own)]
+
+
 def step_readout(result: GrowthResult, n: int) -> str:
     """One line per tip of step `n`: position, K_I, K_II, K_eq, kink (4 significant digits)."""
     step = result.steps[n]
@@ -52,7 +64,7 @@ def step_readout(result: GrowthResult, n: int) -> str:
     lines = [f"step {n} of {len(result.steps) - 1}: load factor " + (f"{lam:.4g}" if lam is not None else "none")]
     rows = result.table[result.table["step"] == n]
     closed = {(r.crack, r.end): bool(r.closed) for r in rows.itertuples()}
-    for t, name in zip(step["tips"], tip_names(step["tips"])):
+    for t, name in zip(step["tips"], step_tip_names(result, n)):
         kink = "" if t["kink_deg"] is None else f", kink {t['kink_deg']:+.1f}°"
         # a closed tip's K_I is 0 (the crack cannot open there): the computed value is the method's error
         k1 = "0 (faces closed)" if closed.get((t["crack"], t["end"])) else f"{t['K_I']:.4g}"

@@ -14,7 +14,7 @@ as its one line; `require_extras(what)` refuses a call whose optional packages (
 
 `GLOSSARY` is the one-line meaning of each word of the readouts (hover), and `tip_names`
 names the tips by where they are ("left tip", "right tip"; "lower" and "upper" for a
-crack closer to vertical; "crack 2, left tip" where there are several cracks).
+vertical crack; "crack 2, left tip" where there are several cracks).
 """
 
 from __future__ import annotations
@@ -75,7 +75,8 @@ GLOSSARY = {
     "time": "from the change of a control to the new figure, split by stage",
     "K": "stress intensity factors at a crack tip: K_I opens the crack, K_II slides its faces "
          "(units: stress times square root of length)",
-    "tip": "a crack tip, named by where it is: left or right (lower or upper for a steep crack)",
+    "tip": "a crack tip, named by where it is: the left or the right end of its crack (lower or upper only "
+           "for a vertical crack)",
 }
 
 
