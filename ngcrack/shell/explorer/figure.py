@@ -15,8 +15,10 @@ What a student should read off the picture is drawn, not left to the colours:
 - the scales can be held (`render(hold=True)`): colour limits, profile axes,
   magnification and load-arrow scale stay those of the first frame held, so that two
   loads or crack models are compared on one scale; units on the colour bar and axes
-  (the scene's, else "E units" for stresses and "length units");
-- the tips' K_I, K_II next to their names ("tip A (x, y): K_I = ..., K_II = ...", three
+  (the scene's, else "same unit as E" for stresses and "length unit");
+- the displacement less the rigid motion that rollers alone leave free (`fields.drawn_displacements`),
+  magnified by the factor the title gives, "auto" (fitted) or "as typed";
+- the tips' K_I, K_II next to their names ("left tip (x, y): K_I = ..., K_II = ...", three
   significant digits), the stick / slip shading only where the faces move.
 """
 
@@ -33,8 +35,10 @@ from .fields import (
     K_DIGITS,
     PROFILE_FLOOR,  # noqa: F401  (kept for older imports)
     crack_faces,
+    drawn_displacements,
     field_label,
     fit_scales,
+    rigid_motion_drawn,
     significant,
     stress_values,
     tip_closed,
@@ -159,20 +163,21 @@ class Drawing:
         drawn times this factor (0: automatic, or the held one). ``load_factor``: shown in
         the title, with its sign's meaning. ``scales``: the scales to use (`fields.fit_scales`
         of a reference solution, the explorer's "hold for load changes"), before ``hold``."""
-        from ...planar.plots import centroid_stress, element_displacements
+        from ...planar.plots import centroid_stress
 
         poly = np.asarray(sol.scene.polygon, float)
         self._start(poly)
         stress_unit, length_unit = units(sol.scene)
         model = (getattr(sol, "options", None) or {}).get("crack_model")
         sigma = centroid_stress(sol)
-        corners, disp = element_displacements(sol, sigma)
+        corners, disp = drawn_displacements(sol, sigma)  # (less the rigid motion rollers leave free)
         diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
         umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
         vals = stress_values(sol, field, sigma)
         profiles = sol.crack_profiles()
         held = self._hold_scales(fit_scales(sol, field, corners, disp, vals), field, hold, scales, umax, diam)
-        scale = float(magnification) if magnification and magnification > 0 else held["scale"]
+        auto = not (magnification and magnification > 0)
+        scale = held["scale"] if auto else float(magnification)
         clim = held["clim"] or 1.0
 
         # the body, its outline, loads and supports
@@ -187,7 +192,7 @@ class Drawing:
         gap, overlap, drawn = self._draw_faces(faces, scale, FACE_RTOL * umax)
         tip_text = self._draw_tips(sol, model, corners, disp, scale)
         self._draw_frames(sol.crack_mesh, faces, scale, diam)
-        self._label_body(sol, model, title, load_factor, scale, moved, poly, length_unit)
+        self._label_body(sol, model, title, load_factor, scale, moved, poly, length_unit, auto)
         # the zoom on the cracks: the same magnification
         self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap)
         jlim, tlim, shaded = self._draw_profiles(profiles, held, umax, model, sol.crack_mesh, stress_unit,
@@ -195,7 +200,7 @@ class Drawing:
         if tip_text:
             self._temporary.append(self.fig.text(0.01, 0.1 / self._height, ";   ".join(tip_text), ha="left",
                                                  va="bottom", fontsize=FONT_SIZE + 0.5))
-        self.data = {"magnification": scale, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
+        self.data = {"magnification": scale, "magnification_auto": auto, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
                      "peak_clipped": bool(clipped), "jump_lim": jlim, "traction_lim": tlim,
                      "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
                      "held": bool(hold) or scales is not None, "field": field, "shaded": sorted(shaded)}
@@ -304,7 +309,7 @@ class Drawing:
         tips = [t for t in (getattr(sol, "tips", None) or []) if tip_value(t, "K_I") is not None]
         tip_text = []
         cm = sol.crack_mesh
-        names = tip_names(tips)
+        names = tip_names(tips, sol.scene)
         for k, tip in enumerate(tips):
             name = names[k]
             x, y = tip_value(tip, "x"), tip_value(tip, "y")
@@ -340,7 +345,8 @@ class Drawing:
                     self._temporary.append(a.text(*(base + 1.2 * L * vec), lab, color=col, fontsize=FONT_SIZE + 2,
                                                   ha="center", va="center", zorder=6))
 
-    def _label_body(self, sol, model, title: str, load_factor, scale: float, moved, poly, length_unit: str) -> None:
+    def _label_body(self, sol, model, title: str, load_factor, scale: float, moved, poly, length_unit: str,
+                    auto: bool = True) -> None:
         """The body panel's extent, axes, title (element, crack model, load factor, magnification) and
         the legend of what is drawn."""
         ax, cm = self.ax, sol.crack_mesh
@@ -352,8 +358,10 @@ class Drawing:
         load_txt = ""
         if load_factor is not None:
             load_txt = f", load factor {load_factor:+.2f}"
+        how = "auto" if auto else "as typed"
+        rigid = "" if rigid_motion_drawn(sol.scene) else ", rigid motion removed"
         ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt}): "
-                     f"displacements × {scale:.3g}", fontsize=FONT_SIZE + 1, pad=12)
+                     f"displacements × {scale:.3g} ({how}{rigid})", fontsize=FONT_SIZE + 1, pad=12)
         kinds = {bc.type for bc in sol.scene.boundary.values()}
         legend = [("red arrows: traction", "#b91c1c")] if "traction" in kinds else []
         legend += [("purple arrows: prescribed u", "#6d28d9")] if "displacement" in kinds else []

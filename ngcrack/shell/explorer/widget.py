@@ -171,7 +171,7 @@ class _ExplorerView:
                                             value=st["field"], description="stress shown", **menu)
         self.controls["scales"] = w.Dropdown(options=[(v, k) for k, v in SCALES.items()], value=st["scales"],
                                              description="scales", tooltip=SCALES_HELP, **menu)
-        self.controls["magnification"] = w.FloatText(value=float(st["magnification"]), description="magnification",
+        self.controls["magnification"] = w.FloatText(value=float(st["magnification"]), description="magnification (0: auto)",
                                                      tooltip=HELP["magnification"], style=style,
                                                      layout=w.Layout(width="300px"))
         self.controls["magnification"].add_class("ngcrack-typed-magnification")
