@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from ...core.constraints import CLOSED_RTOL, faces_closed
+from ...core.constraints import CLOSED_RTOL
 from ...core.errors import InputError
 from ...core.options import CRACK_MODELS, SolveOptions
 from ...core.pipeline import Pipeline
@@ -85,6 +85,11 @@ def _one_line(exc: BaseException) -> str:
 
 
 
+def _planar_names() -> list[str]:
+    """The built-in scenes the explorer draws: the 2D ones."""
+    return [n for n in _scene_names() if getattr(_load_scene(n), "dimension", 2) == 2]
+
+
 class Explorer:
     """The model behind `explore`: one scene, its solve options, the pipeline's caches.
 
@@ -123,9 +128,13 @@ class Explorer:
             self.base = _load_scene(scene)
         elif isinstance(scene, Scene):
             self.base = scene
+        elif isinstance(scene, str) and scene in _scene_names():  # a built-in 3D scene
+            raise InputError(f"scene = {scene!r}: a 3D scene; the explorer draws 2D scenes (one of the scene "
+                              f"functions {', '.join(SCENE_FUNCTIONS)} or built-in scenes {', '.join(_planar_names())}); "
+                              f"solve it with nc.solve({scene!r}) and view it with ngcrack.solid.view.draw(sol)")
         else:
             raise InputError(f"scene = {scene!r}: a Scene, or one of the scene functions "
-                              f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
+                              f"({', '.join(SCENE_FUNCTIONS)}) or built-in 2D scenes ({', '.join(_planar_names())})")
         #: the scene's name as given (a scene function's or built-in scene's name), for titles
         self.name = scene.name if isinstance(scene, (Scene, SceneFunction)) else scene
         self.solve_options = dict(solve_options or {})
@@ -247,9 +256,11 @@ class Explorer:
             self.state.update(changes)
             self._friction_set = self._friction_set or "friction" in changes
             self._pressure_set = self._pressure_set or "pressure" in changes
-            if self.solution is not None and changes and all(self.level(k) == "view" for k in changes) \
-                    and self.error is None:
+            if self.solution is not None and changes and all(self.level(k) == "view" for k in changes):
+                # the controls are those of the answer shown (a refusal put them back): only a redraw
                 self.redone = ["figure"]
+                self.error = self.error_detail = None
+                self.refused = ()
                 return self.solution
             self.solution = self._solve(self.make_scene())
             self.error = self.error_detail = None
@@ -354,10 +365,18 @@ class Explorer:
 
 
 def contact_length(sol) -> float:
-    """Total length of the crack edges that are closed: faces touching at the mid point
-    (constraints.faces_closed: all of them if nothing moves); faces that pass through
-    each other (crack model free) are not."""
-    return _length_where(sol, lambda jn, W: faces_closed(jn, W) & (jn >= -CLOSED_RTOL * W))
+    """Total length of the crack edges whose faces touch: the edges whose state is not "open"
+    (stick or slip: `CrackProfile.state`, the per-edge states the figure shades, which also
+    count a pressed edge with a small positive jump as closed); faces that pass through each
+    other (crack model free) are not."""
+    profiles = sol.crack_profiles()
+    total = 0.0
+    for p, crack in zip(profiles, sol.crack_mesh.cracks):
+        jn = np.asarray(p.normal_jump, dtype=float)
+        W = float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0))
+        touching = (np.asarray(p.state) != "open") & (jn >= -CLOSED_RTOL * W)
+        total += float(np.sum(crack.length[touching]))
+    return total
 
 
 def overlap_length(sol) -> float:
