@@ -226,7 +226,14 @@ def test_tips_are_named_by_where_they_are():
     tips = [{"crack": 0, "end": "first", "x": 1.0, "y": 0.2}, {"crack": 0, "end": "last", "x": -1.0, "y": -0.2}]
     assert tip_names(tips) == ["right tip", "left tip"]
     steep = [{"crack": 0, "end": "first", "x": 0.1, "y": -1.0}, {"crack": 0, "end": "last", "x": 0.0, "y": 1.0}]
-    assert tip_names(steep) == ["lower tip", "upper tip"]
+    assert tip_names(steep) == ["right tip", "left tip"]  # the same names however far the crack turns
+    vertical = [{"crack": 0, "end": "first", "x": 0.0, "y": -1.0}, {"crack": 0, "end": "last", "x": 0.0, "y": 1.0}]
+    assert tip_names(vertical) == ["lower tip", "upper tip"]
+    # a crack's only tip inside the body (griffith: the other end on the symmetry line) by its direction
+    griffith = nc.scenes.load("griffith")
+    lone = [{"crack": 0, "end": "last", "x": 1.0, "y": 0.0}]
+    assert tip_names(lone, griffith) == ["right tip"] and tip_names(lone) == ["last tip"]
+    assert tip_names([{**lone[0], "e1": (-1.0, 0.1)}]) == ["left tip"]
     two = tips + [{"crack": 1, "end": "first", "x": 3.0, "y": 0.0}, {"crack": 1, "end": "last", "x": 4.0, "y": 0.0}]
     assert tip_names(two) == ["crack 1, right tip", "crack 1, left tip", "crack 2, left tip", "crack 2, right tip"]
 
@@ -278,8 +285,19 @@ def test_unknown_scene_lists_scene_functions_and_built_in_scenes():
         nc.explore("inclined")
     msg = str(info.value)
     assert msg.startswith("scene = 'inclined'")
-    for name in list(SCENE_FUNCTIONS) + nc.scenes.names():
+    planar = [n for n in nc.scenes.names() if getattr(nc.scenes.load(n), "dimension", 2) == 2]
+    for name in list(SCENE_FUNCTIONS) + planar:
         assert name in msg
+    assert "penny" not in msg  # (3D: not a scene the explorer draws)
+
+
+def test_a_3d_scene_is_refused_saying_why():
+    """nc.explore("penny") says that the scene is 3D and what to use instead, in one line."""
+    pytest.importorskip("ipywidgets")
+    with pytest.raises(ValueError) as info:
+        nc.explore("penny")
+    msg = str(info.value)
+    assert msg.startswith("scene = 'penny': a 3D scene") and "nc.solve('penny')" in msg and "\n" not in msg
 
 
 def test_controls_follow_the_scene_and_the_installed_ngcrack():
@@ -661,11 +679,11 @@ def test_webgui_view_draws_the_figures_deformation_faces_and_limits():
     """The 3D view's deformation is the figure's, to round-off (each triangle's affine map
     through its corners' displacements); the crack faces are lines; the colours are fixed
     at the figure's limits, not the tip's peak."""
-    from ngcrack.planar.plots import element_displacements
+    from ngcrack.shell.explorer.fields import drawn_displacements
     from ngcrack.shell.explorer.webgui import deformation_cf, webgui_scene
 
     sol = nc.Explorer("inclined-crack", maxh=MAXH, load=-1.0).solution
-    corners, disp = element_displacements(sol)
+    corners, disp = drawn_displacements(sol)
     c = corners.mean(axis=1)
     pts = (0.8 * corners + 0.2 * c[:, None, :]).reshape(-1, 2)
     vals = np.asarray(deformation_cf(sol, 2.0)(sol.mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 3)
@@ -752,3 +770,107 @@ def test_two_different_scenes_never_share_a_name():
     assert inclined_crack(angle=45.0).name == "inclined-compression-45deg"
     assert inclined_crack(load=1.0).name == "inclined-tension-30deg"
     assert ex.Explorer("inclined-crack", maxh=MAXH).scene.name == "inclined-crack"
+
+
+# ----------------------------------------------------------- the figure a student reads
+def test_the_figure_draws_griffith_without_the_rigid_motion_and_names_its_tip():
+    """griffith is held by rollers alone: its crack, 10 lengths above the bottom roller, is drawn
+    where it is, the faces symmetric about y = 0 (the plate's stretch, 95 times magnified, had put
+    it at y = +0.9), its one tip named "right tip" as the guide says; a clamped body is drawn as
+    computed."""
+    from ngcrack.planar.plots import element_displacements
+    from ngcrack.shell.explorer.fields import drawn_displacements, rigid_fit, rigid_motion_drawn
+
+    sol = ex.Explorer("griffith", maxh=MAXH).solution
+    d = ex.Drawing()
+    d.render(sol)
+    plus, minus = (np.array(d.data["faces"][0][k]) for k in ("plus", "minus"))
+    gap = d.data["magnification"] * d.data["max_gap"]  # the largest drawn opening
+    assert abs(float(np.mean(plus[:, 1] + minus[:, 1]))) / 2 < 0.05 * gap  # centred on the crack's line
+    assert np.max(plus[:, 1]) > 0.4 * gap and np.min(minus[:, 1]) < -0.4 * gap
+    corners, drawn = drawn_displacements(sol)
+    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    a, _, w = rigid_fit(corners, drawn, 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]))
+    scale = float(np.max(np.abs(drawn)))
+    assert np.hypot(*a) < 0.05 * scale and abs(w) * 10 < 0.05 * scale  # no rigid motion left to speak of
+    _, computed = element_displacements(sol)
+    assert abs(np.mean(computed[..., 1])) > 0.5 * scale  # (what the supports' position added)
+    assert d.data["tips"] == [t.replace("last tip", "right tip") for t in d.data["tips"]]
+    assert d.data["tips"][0].startswith("right tip (1.00, 0.00)")
+    beam = ex.Explorer("paper-2", maxh=0.25).solution  # clamped at both ends
+    assert rigid_motion_drawn(beam.scene) and not rigid_motion_drawn(sol.scene)
+    assert np.array_equal(drawn_displacements(beam)[1], element_displacements(beam)[1])
+
+
+def test_the_colour_bar_units_and_the_magnification_are_labelled():
+    sol = ex.Explorer("griffith", maxh=MAXH).solution
+    d = ex.Drawing()
+    d.render(sol)
+    label = d.colorbar.ax.get_ylabel()
+    assert "[same unit as E]" in label and "units of E" not in label
+    assert "(auto, rigid motion removed)" in d.ax.get_title() and d.data["magnification_auto"]
+    d.render(sol, magnification=50.0)
+    assert "× 50 (as typed" in d.ax.get_title() and not d.data["magnification_auto"]
+
+
+def test_a_view_change_after_a_refusal_does_not_solve_again():
+    """A refusal puts the controls back on the figure's values: the next view-only change only
+    redraws (no mesh, assembly or solve) and clears the refusal."""
+    model = ex.Explorer("inclined-crack", maxh=MAXH)
+    assert model.update(half_length=4.0) is None and model.error  # the crack would leave the plate
+    counts = dict(model.counts)
+    assert model.update(magnification=40.0) is model.solution
+    assert model.redone == ["figure"] and model.error is None and model.refused == ()
+    assert dict(model.counts) == counts
+
+
+def test_the_contact_length_readout_is_the_length_of_the_shaded_edges():
+    """paper-2: the readout's contact length is the length of the edges whose faces touch by the
+    per-edge states (stick or slip), which the figure shades; it had counted by the jump alone."""
+    from ngcrack.core.constraints import faces_closed
+
+    model = ex.Explorer("paper-2", maxh=0.25, load=-1.0)  # the beam pushed up: the crack partly closed
+    sol = model.solution
+    length = jump_only = 0.0
+    for p, crack in zip(sol.crack_profiles(), sol.crack_mesh.cracks):
+        length += float(np.sum(crack.length[np.asarray(p.state) != "open"]))
+        jump_only += float(np.sum(crack.length[faces_closed(p.normal_jump, np.max(np.abs(p.normal_jump)))]))
+    assert model.readouts()["contact_length"] == pytest.approx(length, rel=1e-12)
+    assert jump_only < length - 0.1  # (measured: 0.25 by the jump alone, 0.5 by the states)
+    d = ex.Drawing()
+    d.render(sol)
+    assert "slip" in d.data["shaded"] or "stick" in d.data["shaded"]
+
+
+def test_a_figure_is_returned_not_also_displayed():
+    """plot_solution (and every plotting function on plots.new_figure: a growth's plot too) returns
+    a figure that pyplot does not hold, so that a notebook shows it once, as the cell's value."""
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    from ngcrack.planar.plots import new_figure, plot_solution
+
+    before = plt.get_fignums()
+    fig = plot_solution(ex.Explorer("griffith", maxh=MAXH).solution)
+    fig2, ax = new_figure(figsize=(3, 2))
+    assert isinstance(fig, Figure) and isinstance(fig2, Figure) and fig.axes and ax.figure is fig2
+    assert plt.get_fignums() == before  # nothing for the notebook's backend to show a second time
+
+
+def test_growth_view_keeps_each_tips_name_as_it_turns():
+    """The growth view names a step's tips as the first step does (the legend's names), not by
+    where they have turned to."""
+    from types import SimpleNamespace
+
+    from ngcrack.shell.explorer.growth_view import step_tip_names
+
+    first = [{"crack": 0, "end": "first", "x": -1.0, "y": 0.0}, {"crack": 0, "end": "last", "x": 1.0, "y": 0.0}]
+    turned = [{"crack": 0, "end": "first", "x": -1.2, "y": -3.0}, {"crack": 0, "end": "last", "x": -1.1, "y": 3.0}]
+    result = SimpleNamespace(steps=[{"tips": first}, {"tips": turned}], scene=None, scenes=None)
+    assert step_tip_names(result, 0) == step_tip_names(result, 1) == ["left tip", "right tip"]
+
+
+def test_the_widget_labels_automatic_magnification():
+    pytest.importorskip("ipywidgets")
+    view = nc.explore("inclined-crack", maxh=MAXH)
+    assert "auto" in view.controls["magnification"].description
