@@ -808,7 +808,8 @@ def test_the_colour_bar_units_and_the_magnification_are_labelled():
     d.render(sol)
     label = d.colorbar.ax.get_ylabel()
     assert "[same unit as E]" in label and "units of E" not in label
-    assert "(auto, rigid motion removed)" in d.ax.get_title() and d.data["magnification_auto"]
+    assert "(auto)" in d.ax.get_title() and d.data["magnification_auto"]
+    assert any("without its rigid motion" in t.get_text() for t in d.fig.texts)
     d.render(sol, magnification=50.0)
     assert "× 50 (as typed" in d.ax.get_title() and not d.data["magnification_auto"]
 
@@ -840,6 +841,9 @@ def test_the_contact_length_readout_is_the_length_of_the_shaded_edges():
     d = ex.Drawing()
     d.render(sol)
     assert "slip" in d.data["shaded"] or "stick" in d.data["shaded"]
+    # the zoom's words say the same (they had said "faces closed", by a third rule)
+    assert d.data["contact_length"] == pytest.approx(length, rel=1e-12)
+    assert d.axz.get_title().endswith(f"faces touch over {length:#.3g} of 2.00, open elsewhere")
 
 
 def test_a_figure_is_returned_not_also_displayed():

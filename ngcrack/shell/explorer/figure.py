@@ -17,7 +17,8 @@ What a student should read off the picture is drawn, not left to the colours:
   loads or crack models are compared on one scale; units on the colour bar and axes
   (the scene's, else "same unit as E" for stresses and "length unit");
 - the displacement less the rigid motion that rollers alone leave free (`fields.drawn_displacements`),
-  magnified by the factor the title gives, "auto" (fitted) or "as typed";
+  magnified by the factor the title gives, "auto" (fitted) or "as typed" (the legend says where the
+  rigid motion is left out);
 - the tips' K_I, K_II next to their names ("left tip (x, y): K_I = ..., K_II = ...", three
   significant digits), the stick / slip shading only where the faces move.
 """
@@ -186,7 +187,7 @@ class Drawing:
         peak, clipped = self._mark_peak(sol, field, moved, vals, clim)
         closed = np.vstack([poly, poly[:1]])
         self._temporary += self.ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
-        self._draw_boundary(sol.scene, poly, diam, held["load"])
+        self._draw_boundary(sol.scene, poly, diam, held["load"], _mover(corners, scale * disp))
         # the crack faces, each moved by its own side's displacement; the tips; nu and t
         faces = crack_faces(sol, corners, disp, self._crack_side(sol.crack_mesh))
         gap, overlap, drawn = self._draw_faces(faces, scale, FACE_RTOL * umax)
@@ -194,7 +195,8 @@ class Drawing:
         self._draw_frames(sol.crack_mesh, faces, scale, diam)
         self._label_body(sol, model, title, load_factor, scale, moved, poly, length_unit, auto)
         # the zoom on the cracks: the same magnification
-        self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap)
+        touching, total = _touching_length(sol, profiles)
+        self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap, touching, total)
         jlim, tlim, shaded = self._draw_profiles(profiles, held, umax, model, sol.crack_mesh, stress_unit,
                                                  length_unit)
         if tip_text:
@@ -203,6 +205,7 @@ class Drawing:
         self.data = {"magnification": scale, "magnification_auto": auto, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
                      "peak_clipped": bool(clipped), "jump_lim": jlim, "traction_lim": tlim,
                      "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
+                     "contact_length": touching,
                      "held": bool(hold) or scales is not None, "field": field, "shaded": sorted(shaded)}
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png", pil_kwargs={"compress_level": PNG_COMPRESSION})
@@ -359,9 +362,8 @@ class Drawing:
         if load_factor is not None:
             load_txt = f", load factor {load_factor:+.2f}"
         how = "auto" if auto else "as typed"
-        rigid = "" if rigid_motion_drawn(sol.scene) else ", rigid motion removed"
         ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt}): "
-                     f"displacements × {scale:.3g} ({how}{rigid})", fontsize=FONT_SIZE + 1, pad=12)
+                     f"displacements × {scale:.3g} ({how})", fontsize=FONT_SIZE + 1, pad=12)
         kinds = {bc.type for bc in sol.scene.boundary.values()}
         legend = [("red arrows: traction", "#b91c1c")] if "traction" in kinds else []
         legend += [("purple arrows: prescribed u", "#6d28d9")] if "displacement" in kinds else []
@@ -369,6 +371,8 @@ class Drawing:
         legend += [("hatched: clamped", "k")] if "clamped" in kinds else []
         legend += [("circles: roller", "k")] if "roller" in kinds else []
         legend += [("blue / orange: + / - face (ν points into +)", FACE_COLORS["+"])] if cm.cracks else []
+        if not rigid_motion_drawn(sol.scene):  # (rollers alone: where they sit is a modelling choice)
+            legend += [("drawn without its rigid motion (held by rollers only)", "0.25")]
         self._temporary.append(self.fig.text(0.01, 0.05 / self._height * 6, ";  ".join(t for t, _ in legend),
                                              fontsize=FONT_SIZE - 0.5, color="0.25", va="bottom", ha="left"))
 
@@ -445,8 +449,10 @@ class Drawing:
         rows, cols = np.nonzero(cm.triangles == v)
         return disp[rows, cols].mean(axis=0) if len(rows) else np.zeros(2)
 
-    def _draw_boundary(self, scene, poly: np.ndarray, diam: float, load_ref: float) -> None:
-        """Load arrows on the loaded edges, hatching on clamped edges, circles on rollers."""
+    def _draw_boundary(self, scene, poly: np.ndarray, diam: float, load_ref: float, move=None) -> None:
+        """Load arrows on the loaded edges, hatching on clamped edges, circles on rollers, each where
+        the drawn body has its edge (`move`: point -> the drawn displacement there)."""
+        move = move or (lambda p: np.zeros_like(np.asarray(p, float)))
         ax = self.ax
         self._extent = []  # points the body panel must show (the arrows' ends)
         n = len(poly)
@@ -467,16 +473,19 @@ class Drawing:
             if bc is None:
                 continue
             if bc.type == "clamped":
-                self._temporary += ax.plot(*np.vstack([a, b]).T, color="k", lw=2.2, zorder=5, solid_capstyle="butt")
+                ends = np.vstack([a, b])
+                self._temporary += ax.plot(*(ends + move(ends)).T, color="k", lw=2.2, zorder=5, solid_capstyle="butt")
                 k = max(3, int(L / (0.04 * diam)))
                 for s in np.linspace(0.0, 1.0, k):
                     p = a + s * d
+                    p = p + move(p[None])[0]
                     q = p + 0.025 * diam * (out + 0.7 * t)
                     self._temporary += ax.plot([p[0], q[0]], [p[1], q[1]], color="k", lw=0.8, zorder=5)
             elif bc.type == "roller":
                 k = max(3, int(L / (0.06 * diam)))
                 s = np.linspace(0.5 / k, 1 - 0.5 / k, k)
-                pts = a[None] + s[:, None] * d[None] + 0.015 * diam * out[None]
+                on = a[None] + s[:, None] * d[None]
+                pts = on + move(on) + 0.015 * diam * out[None]
                 self._temporary += ax.plot(pts[:, 0], pts[:, 1], "o", ms=3.5, mfc="white", mec="k", mew=0.8,
                                            zorder=5, ls="none")
             elif bc.type in ("traction", "displacement"):
@@ -490,6 +499,7 @@ class Drawing:
                 k = max(3, int(L / (0.12 * diam)))
                 for s in np.linspace(0.5 / k, 1 - 0.5 / k, k):
                     p = a + s * d
+                    p = p + move(p[None])[0]
                     tail, head = (p - length * e, p) if np.dot(e, out) <= 0 else (p, p + length * e)
                     self._extent += [tail, head]
                     self._temporary.append(ax.annotate("", xy=head, xytext=tail, annotation_clip=False, zorder=6,
@@ -506,7 +516,8 @@ class Drawing:
             self._temporary.append(ax.text(*(at - 0.5 * length * e), "f ", color="0.2", fontsize=FONT_SIZE + 1,
                                            ha="right", va="bottom", zorder=6))
 
-    def _draw_zoom(self, faces, scale, corners, moved, vals, diam, length_unit, gap, overlap) -> None:
+    def _draw_zoom(self, faces, scale, corners, moved, vals, diam, length_unit, gap, overlap, touching: float = 0.0,
+                   total: float = 0.0) -> None:
         axz = self.axz
         if not faces:
             self.zoom.set_verts(np.zeros((0, 3, 2)))
@@ -534,16 +545,47 @@ class Drawing:
         axz.set_xlim(lo[0], hi[0])
         axz.set_ylim(lo[1], hi[1])
         axz.set_xlabel(f"x [{length_unit}]", fontsize=FONT_SIZE)
-        state = (f"faces overlap (up to {significant(overlap)})" if overlap > 0
-                 else f"crack open (gap up to {significant(gap)})" if gap > 0 else "faces closed")
+        if overlap > 0:
+            state = f"faces overlap (up to {significant(overlap)})"
+        elif total > 0 and touching >= (1.0 - 1e-9) * total:
+            state = "faces closed"
+        elif touching > 0:  # (the per-edge states, as the profiles shade them and the readout counts)
+            state = f"faces touch over {significant(touching)} of {significant(total)}, open elsewhere"
+        else:
+            state = f"crack open (gap up to {significant(gap)})" if gap > 0 else "crack open"
         axz.set_title(f"zoom{where}: {state}", fontsize=FONT_SIZE)
 
 
+def _mover(corners: np.ndarray, shift: np.ndarray):
+    """point(s) (n, 2) -> the drawn displacement `shift` at the nearest triangle corner: where
+    a boundary marker goes on the drawn body."""
+    pts, moved = corners.reshape(-1, 2), shift.reshape(-1, 2)
+
+    def move(p):
+        p = np.asarray(p, float).reshape(-1, 2)
+        if not len(pts):
+            return np.zeros_like(p)
+        nearest = [int(np.argmin(np.sum((pts - q) ** 2, axis=1))) for q in p]
+        return moved[nearest]
+
+    return move
+
+
 def _pixels_per_unit(ax, poly: np.ndarray) -> float:
-    """About how many pixels one length unit takes in the body panel (equal aspect)."""
-    bbox = ax.get_window_extent()
+    """About how many pixels one length unit takes in the body panel (equal aspect), from the
+    panel's box as laid out (not as the last drawing's aspect shrank it: the same for every redraw)."""
+    bbox = ax.get_position(original=True).transformed(ax.figure.transFigure)
     w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
     return min(bbox.width / (1.25 * w) if w else np.inf, bbox.height / (1.25 * h) if h else np.inf)
+
+
+def _touching_length(sol, profiles) -> tuple[float, float]:
+    """(length of the crack edges whose faces touch by their state, stick or slip; the cracks'
+    whole length): the readout's contact length (model.contact_length), for the zoom's words."""
+    from .model import contact_length
+
+    total = float(sum(np.sum(c.length) for c in sol.crack_mesh.cracks))
+    return (contact_length(sol) if profiles else 0.0), total
 
 
 def _power(limit: float) -> float:
