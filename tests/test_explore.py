@@ -878,3 +878,29 @@ def test_the_widget_labels_automatic_magnification():
     pytest.importorskip("ipywidgets")
     view = nc.explore("inclined-crack", maxh=MAXH)
     assert "auto" in view.controls["magnification"].description
+
+
+def test_a_webgui_scene_is_shown_in_the_widget_that_ships_its_javascript(monkeypatch):
+    """display_webgui (the explorer's 3D view, notebook 12's penny): webgui_jupyter_widgets' widget
+    holding the scene's data, not ngsolve.webgui's own view, whose script comes from a CDN (an
+    empty space offline)."""
+    pytest.importorskip("webgui_jupyter_widgets")
+    import IPython.display
+
+    from ngcrack.shell.explorer.widget import display_webgui
+
+    class Scene:
+        drawn = False
+
+        def GetData(self):
+            return {"mesh_dim": 3, "funcdim": 1}
+
+        def Draw(self):
+            Scene.drawn = True
+
+    shown = []
+    monkeypatch.setattr(IPython.display, "display", lambda *objs: shown.extend(objs))
+    display_webgui(Scene())
+    (widget,) = shown
+    assert type(widget).__name__ == "WebGuiWidget" and widget.value == {"mesh_dim": 3, "funcdim": 1}
+    assert not Scene.drawn

@@ -371,13 +371,23 @@ def show_webgui(cf, name: str, mesh, deformation=None, objects=None, settings=No
         display(HTML(f"<div class='ngcrack-webgui-caption' style='font-size:13px'>{_escape(caption)}</div>"))
     kw = {k: v for k, v in (("deformation", deformation), ("objects", objects), ("settings", settings))
           if v is not None}
-    scene = Draw(cf, mesh, name, show=False, **kw)
+    display_webgui(Draw(cf, mesh, name, show=False, **kw))
+
+
+def display_webgui(scene, height: str = "420px") -> None:
+    """Display a webgui scene made with ``ngsolve.webgui.Draw(..., show=False)`` (a 2D field, or
+    ``ngcrack.solid.view.webgui_scene(sol).draw(show=False)``): in webgui_jupyter_widgets' widget
+    where it is installed (its JavaScript ships with it: the view works offline, in JupyterLab
+    as in the classic notebook), else through the scene's own ``Draw`` (which loads its
+    JavaScript from a CDN, and shows an empty space without the network)."""
+    from IPython.display import display
+
     try:
         import ipywidgets
         from webgui_jupyter_widgets import WebGuiWidget
     except ImportError:
         scene.Draw()
         return
-    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height="420px"))
+    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height=height))
     widget.value = scene.GetData()
     display(widget)
