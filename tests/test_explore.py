@@ -904,3 +904,23 @@ def test_a_webgui_scene_is_shown_in_the_widget_that_ships_its_javascript(monkeyp
     (widget,) = shown
     assert type(widget).__name__ == "WebGuiWidget" and widget.value == {"mesh_dim": 3, "funcdim": 1}
     assert not Scene.drawn
+
+
+def test_a_scene_loaded_by_nothing_opens_on_a_crack_pressure_drawn_on_the_faces():
+    """kgd (a crack in a clamped block, loaded only by its fluid) opens on p = E / 1000, not on an
+    unloaded body; the pressure is in the title and drawn as arrows on the faces, which open."""
+    from ngcrack.shell.explorer.model import UNLOADED_PRESSURE
+
+    model = ex.Explorer("kgd")
+    E = model.scene.material.E
+    assert model.error is None and model.state["pressure"] == UNLOADED_PRESSURE * E
+    assert model.scene.cracks[0].pressure == UNLOADED_PRESSURE * E
+    d = ex.Drawing()
+    d.render(model.solution, load_factor=1.0)
+    assert d.data["pressure"] == UNLOADED_PRESSURE * E and d.data["max_gap"] > 0
+    assert f"crack pressure p = {UNLOADED_PRESSURE * E:#.3g}" in d.ax.get_title()
+    arrows = [a for a in d.axz.texts if getattr(a, "arrow_patch", None) is not None
+              and a.arrow_patch.get_edgecolor()[:3] == pytest.approx((15 / 255, 118 / 255, 110 / 255))]
+    assert len(arrows) == 2 * ex.figure.PRESSURE_ARROWS  # both faces
+    assert ex.Explorer("kgd", pressure=0.0).state["pressure"] == 0.0  # a pressure given is kept
+    assert ex.Explorer("inclined-crack", maxh=MAXH).state["pressure"] == 0.0  # a loaded scene is not changed

@@ -74,6 +74,9 @@ EDGE_LIMIT = 3000
 EDGE_PIXELS = 7.0
 #: a body this much wider than high is drawn above the panels, not beside them
 WIDE = 2.0
+#: arrows of a crack-face pressure on each face in the zoom, and their colour
+PRESSURE_ARROWS = 5
+PRESSURE_COLOR = "#0f766e"
 #: colours of the two crack faces (+ side: the one nu points into)
 FACE_COLORS = {"+": "#1f3b8c", "-": "#c2410c"}
 #: the faces count as closed where |opening| is below this fraction of the largest
@@ -197,6 +200,7 @@ class Drawing:
         # the zoom on the cracks: the same magnification
         touching, total = _touching_length(sol, profiles)
         self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap, touching, total)
+        pressure = self._draw_pressure(faces, profiles, scale)
         jlim, tlim, shaded = self._draw_profiles(profiles, held, umax, model, sol.crack_mesh, stress_unit,
                                                  length_unit)
         if tip_text:
@@ -205,7 +209,7 @@ class Drawing:
         self.data = {"magnification": scale, "magnification_auto": auto, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
                      "peak_clipped": bool(clipped), "jump_lim": jlim, "traction_lim": tlim,
                      "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
-                     "contact_length": touching,
+                     "contact_length": touching, "pressure": pressure,
                      "held": bool(hold) or scales is not None, "field": field, "shaded": sorted(shaded)}
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png", pil_kwargs={"compress_level": PNG_COMPRESSION})
@@ -323,8 +327,10 @@ class Drawing:
                 p = cm.points[nearest] + scale * u
                 for a in (self.ax, self.axz):
                     self._temporary += a.plot([p[0]], [p[1]], "k*", ms=8, zorder=5)
-                    self._temporary.append(a.annotate(name, p, xytext=(4, 4), textcoords="offset points",
-                                                      fontsize=FONT_SIZE + 1, weight="bold", zorder=6))
+                    left = "left tip" in name or "lower tip" in name  # (two tips close together: labels apart)
+                    self._temporary.append(a.annotate(name, p, xytext=(-4 if left else 4, 4), textcoords="offset points",
+                                                      ha="right" if left else "left", fontsize=FONT_SIZE + 1,
+                                                      weight="bold", zorder=6))
                 where = f"({significant(x)}, {significant(y)})"
             else:
                 where = ""
@@ -332,6 +338,36 @@ class Drawing:
             k1 = "0 (faces closed)" if shut else significant(tip_value(tip, "K_I"))
             tip_text.append(f"{name} {where}: K_I = {k1}, K_II = {significant(tip_value(tip, 'K_II'))}")
         return tip_text
+
+    def _draw_pressure(self, faces: list, profiles, scale: float) -> float:
+        """A crack-face pressure p as arrows on both faces in the zoom, pushing them apart (p > 0) or
+        together, at PRESSURE_ARROWS points per crack; the largest |p| (0: none drawn)."""
+        top = 0.0
+        for prof in profiles:
+            p = np.asarray(getattr(prof, "face_pressure", None), dtype=float)
+            if p.ndim != 1 or not len(p) or not np.any(p != 0):
+                continue
+            top = max(top, float(np.max(np.abs(p))))
+        if top == 0:
+            return 0.0
+        for f, prof in zip(faces, profiles):
+            p = np.asarray(getattr(prof, "face_pressure", None), dtype=float)
+            if p.ndim != 1 or not len(p) or not np.any(p != 0):
+                continue
+            pts = f["points"]
+            length = 0.12 * float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+            edges = len(p)
+            for k in np.linspace(0, edges - 1, min(PRESSURE_ARROWS, edges)).round().astype(int):
+                i = min(k + 1, len(pts) - 2) if edges > 1 else 0  # a vertex inside the crack, not a tip
+                n = f["normal"][i]
+                L = length * float(p[k]) / top
+                for face, sign in (("plus", 1.0), ("minus", -1.0)):
+                    at = pts[i] + scale * f[face][i]
+                    tail, head = (at, at + sign * L * n) if L > 0 else (at - sign * L * n, at)
+                    self._temporary.append(self.axz.annotate(
+                        "", xy=head, xytext=tail, zorder=6, annotation_clip=True,
+                        arrowprops={"arrowstyle": "-|>", "color": PRESSURE_COLOR, "lw": 1.0}))
+        return top
 
     def _draw_frames(self, cm, faces: list, scale: float, diam: float) -> None:
         """nu and t on each crack (undeformed directions, at the crack's middle edge), in both panels."""
@@ -361,8 +397,11 @@ class Drawing:
         load_txt = ""
         if load_factor is not None:
             load_txt = f", load factor {load_factor:+.2f}"
+        pressures = [c.pressure for c in sol.scene.cracks if isinstance(getattr(c, "pressure", None), float)]
+        if any(pressures):
+            load_txt += f", crack pressure p = {significant(max(pressures, key=abs))}"
         how = "auto" if auto else "as typed"
-        ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt}): "
+        ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt})\n"
                      f"displacements × {scale:.3g} ({how})", fontsize=FONT_SIZE + 1, pad=12)
         kinds = {bc.type for bc in sol.scene.boundary.values()}
         legend = [("red arrows: traction", "#b91c1c")] if "traction" in kinds else []
@@ -371,6 +410,8 @@ class Drawing:
         legend += [("hatched: clamped", "k")] if "clamped" in kinds else []
         legend += [("circles: roller", "k")] if "roller" in kinds else []
         legend += [("blue / orange: + / - face (ν points into +)", FACE_COLORS["+"])] if cm.cracks else []
+        if any(getattr(c, "pressure", None) not in (None, 0.0) for c in sol.scene.cracks):
+            legend += [("teal arrows on the faces (zoom): crack pressure", PRESSURE_COLOR)]
         if not rigid_motion_drawn(sol.scene):  # (rollers alone: where they sit is a modelling choice)
             legend += [("drawn without its rigid motion (held by rollers only)", "0.25")]
         self._temporary.append(self.fig.text(0.01, 0.05 / self._height * 6, ";  ".join(t for t, _ in legend),

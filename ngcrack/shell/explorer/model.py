@@ -85,6 +85,23 @@ def _one_line(exc: BaseException) -> str:
 
 
 
+#: the crack pressure, relative to E, that a scene loaded by nothing else opens with
+UNLOADED_PRESSURE = 1e-3
+
+
+def _loaded(scene) -> bool:
+    """Whether something loads `scene`: a traction or a prescribed displacement that is not zero, a
+    body force, a point force or a crack pressure."""
+    for bc in scene.boundary.values():
+        if bc.type in ("traction", "displacement") and bc.value is not None and any(v != 0 for v in bc.value):
+            return True
+    if scene.body_force is not None and any(v != 0 for v in scene.body_force):
+        return True
+    if any(pc.type == "force" for pc in (getattr(scene, "points", None) or ())):
+        return True
+    return any(c.pressure not in (None, 0.0) for c in scene.cracks)
+
+
 def _planar_names() -> list[str]:
     """The built-in scenes the explorer draws: the 2D ones."""
     return [n for n in _scene_names() if getattr(_load_scene(n), "dimension", 2) == 2]
@@ -160,6 +177,11 @@ class Explorer:
         self.state.setdefault("friction", ref.cracks[0].friction if ref.cracks else 0.0)
         own = ref.cracks[0].pressure if ref.cracks else None
         self.state.setdefault("pressure", own if isinstance(own, float) else 0.0)
+        if ref.cracks and "pressure" not in params and not _loaded(ref):
+            # nothing loads the body (kgd: a crack in a clamped block, loaded by its fluid): open on a
+            # crack pressure of E / 1000 (a strain of 1e-3), not on an unloaded body
+            self.state["pressure"] = UNLOADED_PRESSURE * ref.material.E
+            self._pressure_set = True
         # every value checked before anything is built: ValueError naming the control and what it allows
         check_choice("element", element, ELEMENTS)
         self.ranges: dict[str, Range] = dict(FIXED)

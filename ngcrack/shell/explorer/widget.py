@@ -52,6 +52,9 @@ SCALES_HELP = ("hold for load changes: colour limits and magnification are those
                "crack models are compared on one scale; hold always (kept from the first frame held); or fit "
                "every frame")
 
+#: width of a box for a typed value: room for E = 30000000000 (kgd's 30 GPa in Pa) without cutting it
+TYPED_WIDTH = "110px"
+
 #: the slider ranges of older imports (the model's `ranges` are what counts)
 SLIDERS = {"load": (-2.0, 2.0, 0.1), "load_angle": (-180.0, 180.0, 5.0), "nu": (0.0, 0.5, 0.01),
            "friction": (0.0, 1.0, 0.05)}
@@ -156,7 +159,7 @@ class _ExplorerView:
                                           step=r.step, **common)
             else:
                 slider = w.FloatSlider(value=float(value), min=r.low, max=r.high, step=r.step, **common)
-            box = w.FloatText(value=float(value), layout=w.Layout(width="80px"), tooltip=tip)
+            box = w.FloatText(value=float(value), layout=w.Layout(width=TYPED_WIDTH), tooltip=tip)
             box.add_class(f"ngcrack-typed-{name}")
             slider.add_class(f"ngcrack-slider-{name}")
             self.controls[name], self.typed[name] = slider, box
