@@ -924,3 +924,44 @@ def test_a_scene_loaded_by_nothing_opens_on_a_crack_pressure_drawn_on_the_faces(
     assert len(arrows) == 2 * ex.figure.PRESSURE_ARROWS  # both faces
     assert ex.Explorer("kgd", pressure=0.0).state["pressure"] == 0.0  # a pressure given is kept
     assert ex.Explorer("inclined-crack", maxh=MAXH).state["pressure"] == 0.0  # a loaded scene is not changed
+
+
+@pytest.fixture(scope="module")
+def kgd_run():
+    """Three steps of the built-in KGD scene (about 5 s)."""
+    return nc.hydrofrac(nc.scenes.load("kgd"), rate=1e-4, K_Ic=1e6, da=0.1, steps=3)
+
+
+def test_the_hydrofrac_view_draws_the_pressure_and_compares_with_the_closed_form(kgd_run):
+    """explore_growth of a hydrofrac result: a step slider; each step's crack carries its fluid
+    pressure as arrows on both faces, and the readout quotes l, p, w0 beside the KGD closed form
+    (toughness-dominated, uniform pressure), within 1% (notebook 13: 40 steps within 1%)."""
+    from ngcrack.shell.explorer import hydrofrac_view as hv
+
+    res = kgd_run
+    for n in range(len(res.steps)):
+        png, drawn = hv.render_step(res, n)
+        assert png[:4] == b"\x89PNG" and drawn["pressure"] == res.steps[n]["pressure"] > 0
+        assert drawn["pressure_arrows"] == 2 * min(hv.PRESSURE_ARROWS, len(res.frames[n]["x"]))
+        text = hv.step_readout(res, n)
+        ref = hv.closed_form(res, res.steps[n]["time"])
+        assert f"pressure p = {res.steps[n]['pressure'] * 1e-6:.4g} MPa; KGD closed form {ref['pressure'] * 1e-6:.4g}" in text
+        for key in ("half_length", "pressure", "opening_at_injection"):
+            assert abs(res.steps[n][key] / ref[key] - 1) < 0.01, (n, key)
+    # the closed form itself: volume 2 pi p l^2 / E' = Q0 t and K_I = p sqrt(pi l) = K_Ic
+    mat = res.scene.material
+    e_prime = mat.E / (1 - mat.nu ** 2)
+    ref = hv.closed_form(res, 10.0)
+    assert 2 * np.pi * ref["pressure"] * ref["half_length"] ** 2 / e_prime == pytest.approx(1e-4 * 10.0, rel=1e-12)
+    assert ref["pressure"] * np.sqrt(np.pi * ref["half_length"]) == pytest.approx(1e6, rel=1e-12)
+    assert ref["half_length"] == pytest.approx(4.335, abs=5e-4)  # GEOS's value at t = 10 s
+    pytest.importorskip("ipywidgets")
+    view = nc.explore_growth(res)
+    (slider, box), status, image, readout = view.children[0].children, *view.children[1:]
+    first = image.value
+    slider.value = 2
+    assert image.value != first and "step 2 of 3" in readout.value and status.value == "" and box.value == 2
+    box.value = 9  # refused in one red line, the box back to the step shown
+    assert "Step 9 is out of range: choose a step from 0 to 3." in status.value and box.value == slider.value == 2
+    with pytest.raises(ex.messages.ArgumentError, match="step = 7"):
+        nc.explore_growth(res, step=7)

@@ -75,11 +75,20 @@ def step_readout(result: GrowthResult, n: int) -> str:
 
 def explore_growth(result: GrowthResult, **kwargs: Any):
     """An ipywidgets view of `result` (a GrowthResult kept with frames): a step slider,
-    the step's picture and its tips' numbers."""
+    the step's picture and its tips' numbers. The result of `nc.hydrofrac` gets its own view
+    (`hydrofrac_view.explore_hydrofrac`: the crack with its fluid pressure, the profiles along
+    it, the pressure at injection against time beside the closed form)."""
     import html
 
+    from ...studies.hydrofrac.result import HydrofracResult
+
+    if isinstance(result, HydrofracResult):
+        from .hydrofrac_view import explore_hydrofrac
+
+        return explore_hydrofrac(result, **kwargs)
     if not isinstance(result, GrowthResult):  # named by its type: a result's repr is its arrays
-        raise ArgumentError(f"result = <{type(result).__name__}>: explore_growth takes the GrowthResult of nc.grow(...)")
+        raise ArgumentError(f"result = <{type(result).__name__}>: explore_growth takes the result of nc.grow(...) "
+                            f"or nc.hydrofrac(...)")
     unknown = sorted(set(kwargs) - {"step"})
     if unknown:
         raise ArgumentError(f"{unknown[0]}: not an argument of explore_growth; allowed: step")
