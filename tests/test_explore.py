@@ -291,13 +291,12 @@ def test_unknown_scene_lists_scene_functions_and_built_in_scenes():
     assert "penny" not in msg  # (3D: not a scene the explorer draws)
 
 
-def test_a_3d_scene_is_refused_saying_why():
-    """nc.explore("penny") says that the scene is 3D and what to use instead, in one line."""
-    pytest.importorskip("ipywidgets")
+def test_the_2d_model_sends_a_3d_scene_to_the_3d_explorer():
+    """The 2D model refuses a 3D scene in one line naming what opens it: nc.explore("penny")."""
     with pytest.raises(ValueError) as info:
-        nc.explore("penny")
+        ex.Explorer("penny")
     msg = str(info.value)
-    assert msg.startswith("scene = 'penny': a 3D scene") and "nc.solve('penny')" in msg and "\n" not in msg
+    assert msg.startswith("scene = 'penny': a 3D scene") and "nc.explore('penny')" in msg and "\n" not in msg
 
 
 def test_controls_follow_the_scene_and_the_installed_ngcrack():
@@ -965,3 +964,60 @@ def test_the_hydrofrac_view_draws_the_pressure_and_compares_with_the_closed_form
     assert "Step 9 is out of range: choose a step from 0 to 3." in status.value and box.value == slider.value == 2
     with pytest.raises(ex.messages.ArgumentError, match="step = 7"):
         nc.explore_growth(res, step=7)
+
+
+# ----------------------------------------------------------- the 3D explorer
+def _inclined_penny():
+    from ngcrack.scenes.coarse3d import inclined_penny
+
+    return nc.Scene.from_dict(inclined_penny(0.0))  # at 45 degrees to a compression, on a tiny mesh
+
+
+def test_the_3d_explorer_checks_its_controls_and_turns_the_crack():
+    """Without a solve: every control checked (one line naming it), the crack turned by `tilt` about
+    its centre, the loads scaled by `load`, front_h and crack_h set together."""
+    from ngcrack.shell.explorer.solid_view import SolidExplorer, tilt_axis
+
+    model = SolidExplorer("penny", solve_now=False)
+    assert model.state == {"load": 1.0, "nu": 0.3, "friction": 0.0, "tilt": 0.0, "front_h": 0.5}
+    assert model.update(tilt=100.0) is None and "tilt" in model.error_detail and "\n" not in model.error
+    assert model.update(nu=0.5) is None and "0.4999" in model.error_detail
+    assert model.update(colour=1) is None and "no control called colour" in model.error
+    with pytest.raises(ValueError, match="not a control of a 3D scene"):
+        SolidExplorer("penny", solve_now=False, angle=3)
+    with pytest.raises(ValueError, match="not a 3D scene"):
+        SolidExplorer(nc.scenes.load("griffith"), solve_now=False)
+    model.state.update(tilt=30.0, load=-2.0, front_h=0.4)
+    scene = model.make_scene()
+    n = np.asarray(scene.cracks[0].normal, float)
+    assert np.degrees(np.arccos(n @ (0.0, 0.0, 1.0))) == pytest.approx(30.0, abs=1e-9)
+    assert abs(n @ tilt_axis((0.0, 0.0, 1.0))) < 1e-12  # turned about an axis in its plane
+    assert scene.boundary["zmax"].value == pytest.approx((0.0, 0.0, -2.0))
+    assert (scene.front_h, scene.crack_h) == (0.4, 0.8)
+
+
+@pytest.mark.slow
+def test_the_3d_explorer_shows_the_inclined_penny_close_and_slide():
+    """nc.explore of a 3D scene: the inclined penny under compression is closed over all its faces and
+    slides (K_I = 0 along the front, K_II and K_III not), the load reversed opens it (K_I > 0); a bad
+    value is refused in one line without a solve, the controls kept."""
+    pytest.importorskip("ipywidgets")
+    from ngcrack.shell.explorer.solid_view import SolidExplorer, draw
+
+    view = nc.explore(_inclined_penny())
+    model = view.model
+    assert isinstance(model, SolidExplorer) and model.error is None
+    r = model.readouts()
+    assert r["closed_fraction"] == [1.0] and r["kkt"] < 1e-8
+    (front,) = model.solution.fronts
+    assert np.all(front.K_I == 0) and np.max(np.abs(front.K_II)) > 0.1 and np.max(np.abs(front.K_III)) > 0.1
+    png, drawn = draw(model.solution)
+    assert drawn["states"]["open"] == 0 and drawn["states"]["slip"] > 0 and drawn["closed_fraction"] == 1.0
+    assert "closed 100%" in view.readout.value and view.image.value[:4] == b"\x89PNG"
+    view.controls["load"].value = -1.0  # the student moves the load slider: tension
+    r = model.readouts()
+    assert model.state["load"] == -1.0 and r["closed_fraction"] == [0.0] and "closed 0%" in view.readout.value
+    assert np.all(model.solution.fronts[0].K_I > 0)
+    solution = model.solution
+    view.typed["nu"].value = 0.7  # refused in one line, the box back, no solve
+    assert "out of range" in view.status.value and view.typed["nu"].value == 0.3 and model.solution is solution

@@ -146,9 +146,9 @@ class Explorer:
         elif isinstance(scene, Scene):
             self.base = scene
         elif isinstance(scene, str) and scene in _scene_names():  # a built-in 3D scene
-            raise InputError(f"scene = {scene!r}: a 3D scene; the explorer draws 2D scenes (one of the scene "
+            raise InputError(f"scene = {scene!r}: a 3D scene; this model holds 2D scenes (one of the scene "
                               f"functions {', '.join(SCENE_FUNCTIONS)} or built-in scenes {', '.join(_planar_names())}); "
-                              f"solve it with nc.solve({scene!r}) and view it with ngcrack.solid.view.draw(sol)")
+                              f"nc.explore({scene!r}) opens the 3D explorer (ngcrack.shell.explorer.SolidExplorer)")
         else:
             raise InputError(f"scene = {scene!r}: a Scene, or one of the scene functions "
                               f"({', '.join(SCENE_FUNCTIONS)}) or built-in 2D scenes ({', '.join(_planar_names())})")

@@ -71,11 +71,26 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     ``explorer`` extra one line naming it (`MissingExtraError`), before any solve.
     """
     require_extras("nc.explore", WIDGET_PACKAGES + (WEBGUI_PACKAGES if webgui else ()))  # before any solve
+    if _is_3d(scene):  # the 3D explorer: K along the fronts, the faces' map, NGSolve's view of the body
+        from .solid_view import explore_solid
+
+        if element not in ("bdm", "tdnns"):  # (bdm is the 2D default: 3D solves with tdnns)
+            raise ArgumentError(f"element = {element!r}: a 3D scene is solved with tdnns")
+        return explore_solid(scene, webgui=webgui, **kwargs)
     try:
         model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
     except InputError as exc:
         raise ArgumentError(str(exc)) from None
     return _widget_class()(model, webgui=webgui)
+
+
+def _is_3d(scene) -> bool:
+    """Whether `scene` is a 3D scene or the name of a built-in one."""
+    if isinstance(scene, str):
+        from ...scenes import load, names
+
+        return scene in names() and getattr(load(scene), "dimension", 2) == 3
+    return getattr(scene, "dimension", 2) == 3
 
 
 @functools.lru_cache(maxsize=1)
