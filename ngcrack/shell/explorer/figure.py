@@ -47,6 +47,7 @@ from .fields import (
     units,
 )
 from .messages import tip_names
+from .supports import draw_boundary, mover
 
 #: a held magnification is given up where it would draw a displacement larger than this
 #: fraction of the body's diameter (the figure re-fits it)
@@ -190,7 +191,9 @@ class Drawing:
         peak, clipped = self._mark_peak(sol, field, moved, vals, clim)
         closed = np.vstack([poly, poly[:1]])
         self._temporary += self.ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
-        self._draw_boundary(sol.scene, poly, diam, held["load"], _mover(corners, scale * disp))
+        artists, self._extent = draw_boundary(self.ax, sol.scene, poly, diam, held["load"], mover(corners, scale * disp),
+                                              FONT_SIZE + 1)
+        self._temporary += artists
         # the crack faces, each moved by its own side's displacement; the tips; nu and t
         faces = crack_faces(sol, corners, disp, self._crack_side(sol.crack_mesh))
         gap, overlap, drawn = self._draw_faces(faces, scale, FACE_RTOL * umax)
@@ -490,73 +493,6 @@ class Drawing:
         rows, cols = np.nonzero(cm.triangles == v)
         return disp[rows, cols].mean(axis=0) if len(rows) else np.zeros(2)
 
-    def _draw_boundary(self, scene, poly: np.ndarray, diam: float, load_ref: float, move=None) -> None:
-        """Load arrows on the loaded edges, hatching on clamped edges, circles on rollers, each where
-        the drawn body has its edge (`move`: point -> the drawn displacement there)."""
-        move = move or (lambda p: np.zeros_like(np.asarray(p, float)))
-        ax = self.ax
-        self._extent = []  # points the body panel must show (the arrows' ends)
-        n = len(poly)
-        labels = scene.labels or tuple(str(i) for i in range(n))
-        arrow = 0.08 * diam
-        centroid = poly.mean(axis=0)
-        for i in range(n):
-            a, b = poly[i], poly[(i + 1) % n]
-            d = b - a
-            L = float(np.hypot(*d))
-            if L == 0:
-                continue
-            t = d / L
-            out = np.array([t[1], -t[0]])
-            if np.dot(out, 0.5 * (a + b) - centroid) < 0:
-                out = -out
-            bc = scene.boundary.get(labels[i]) if i < len(labels) else None
-            if bc is None:
-                continue
-            if bc.type == "clamped":
-                ends = np.vstack([a, b])
-                self._temporary += ax.plot(*(ends + move(ends)).T, color="k", lw=2.2, zorder=5, solid_capstyle="butt")
-                k = max(3, int(L / (0.04 * diam)))
-                for s in np.linspace(0.0, 1.0, k):
-                    p = a + s * d
-                    p = p + move(p[None])[0]
-                    q = p + 0.025 * diam * (out + 0.7 * t)
-                    self._temporary += ax.plot([p[0], q[0]], [p[1], q[1]], color="k", lw=0.8, zorder=5)
-            elif bc.type == "roller":
-                k = max(3, int(L / (0.06 * diam)))
-                s = np.linspace(0.5 / k, 1 - 0.5 / k, k)
-                on = a[None] + s[:, None] * d[None]
-                pts = on + move(on) + 0.015 * diam * out[None]
-                self._temporary += ax.plot(pts[:, 0], pts[:, 1], "o", ms=3.5, mfc="white", mec="k", mew=0.8,
-                                           zorder=5, ls="none")
-            elif bc.type in ("traction", "displacement"):
-                v = np.asarray(bc.value, float)
-                mag = float(np.hypot(*v))
-                if mag == 0 or not load_ref:
-                    continue
-                length = min(2.0, mag / load_ref) * arrow
-                e = v / mag
-                color = "#b91c1c" if bc.type == "traction" else "#6d28d9"
-                k = max(3, int(L / (0.12 * diam)))
-                for s in np.linspace(0.5 / k, 1 - 0.5 / k, k):
-                    p = a + s * d
-                    p = p + move(p[None])[0]
-                    tail, head = (p - length * e, p) if np.dot(e, out) <= 0 else (p, p + length * e)
-                    self._extent += [tail, head]
-                    self._temporary.append(ax.annotate("", xy=head, xytext=tail, annotation_clip=False, zorder=6,
-                                                       arrowprops={"arrowstyle": "-|>", "color": color, "lw": 1.2}))
-        f = getattr(scene, "body_force", None)
-        if f is not None and np.hypot(*f) > 0 and load_ref:
-            f = np.asarray(f, float)
-            e = f / np.hypot(*f)
-            length = min(2.0, float(np.hypot(*f)) / load_ref) * arrow
-            lo, hi = poly.min(axis=0), poly.max(axis=0)
-            at = lo + np.array([0.1, 0.75]) * (hi - lo)  # (the upper left, away from a central crack)
-            self._temporary.append(ax.annotate("", xy=at + 0.5 * length * e, xytext=at - 0.5 * length * e, zorder=6,
-                                               arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.6}))
-            self._temporary.append(ax.text(*(at - 0.5 * length * e), "f ", color="0.2", fontsize=FONT_SIZE + 1,
-                                           ha="right", va="bottom", zorder=6))
-
     def _draw_zoom(self, faces, scale, corners, moved, vals, diam, length_unit, gap, overlap, touching: float = 0.0,
                    total: float = 0.0) -> None:
         axz = self.axz
@@ -594,22 +530,7 @@ class Drawing:
             state = f"faces touch over {significant(touching)} of {significant(total)}, open elsewhere"
         else:
             state = f"crack open (gap up to {significant(gap)})" if gap > 0 else "crack open"
-        axz.set_title(f"zoom{where}: {state}", fontsize=FONT_SIZE)
-
-
-def _mover(corners: np.ndarray, shift: np.ndarray):
-    """point(s) (n, 2) -> the drawn displacement `shift` at the nearest triangle corner: where
-    a boundary marker goes on the drawn body."""
-    pts, moved = corners.reshape(-1, 2), shift.reshape(-1, 2)
-
-    def move(p):
-        p = np.asarray(p, float).reshape(-1, 2)
-        if not len(pts):
-            return np.zeros_like(p)
-        nearest = [int(np.argmin(np.sum((pts - q) ** 2, axis=1))) for q in p]
-        return moved[nearest]
-
-    return move
+        axz.set_title(f"zoom{where}:\n{state}", fontsize=FONT_SIZE)
 
 
 def _pixels_per_unit(ax, poly: np.ndarray) -> float:
