@@ -13,7 +13,8 @@
   a step slider over a hydraulic-fracture run beside its closed form.
 """
 
-from ...core.pipeline import ParameterLoads, geometry_key, load_structure
+from ...core.pipeline import ParameterLoads, load_structure
+from ...planar.stages import geometry_key
 from .figure import FIELDS, Drawing, draw, stress_values
 from .growth_view import explore_growth
 from .hydrofrac_view import explore_hydrofrac
