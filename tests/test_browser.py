@@ -18,7 +18,7 @@ is opened in JupyterLab and run; then, as a student would:
 7. the hydraulic-fracture view (`nc.explore_growth` of a KGD run): a step typed shows its
    figure and numbers beside the closed form, a step out of range is refused in one line;
 8. the 3D explorer on the inclined penny: closed over the whole crack under compression, the
-   load factor typed to -1: open.
+   load factor typed to -1: open; its checkbox shows NGSolve's view of the deformed body.
 
 JupyterLab runs on 127.0.0.1 with a free port and a token, in a temporary root folder,
 with temporary Jupyter config, data, runtime and settings folders (nothing of the user's
@@ -83,7 +83,7 @@ EXTRA_CELLS = ['w3 = nc.explore("griffith-plate", maxh=2.0, webgui=True)\nw3',
                'kgd = nc.hydrofrac(nc.scenes.load("kgd"), rate=1e-4, K_Ic=1e6, da=0.1, steps=3)\n'
                'h = nc.explore_growth(kgd)  # the hydraulic-fracture view\nh',
                'from ngcrack.scenes.coarse3d import inclined_penny\n'
-               'p3 = nc.explore(nc.Scene.from_dict(inclined_penny()))  # 3D: the inclined penny, compressed\np3',
+               'p3 = nc.explore(nc.Scene.from_dict(inclined_penny()), webgui=True)  # 3D: the inclined penny\np3',
                'nc.explore("inclined-crack", element="q2")']
 
 
@@ -412,6 +412,16 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             seen["solid_open"] = readout.inner_text()
             sfig.screenshot(path=str(shots / "6i-penny-open.png"))
             page.screenshot(path=str(shots / "6j-penny-widget.png"))
+            canvases = page.locator(".jp-OutputArea canvas").count()
+            box3d = page.locator(".widget-checkbox:has-text('view of the body')").first
+            box3d.scroll_into_view_if_needed()
+            box3d.locator("input").click()
+            page.wait_for_function(f"() => document.querySelectorAll('.jp-OutputArea canvas').length > {canvases}",
+                                   timeout=MOVE_TIMEOUT * 1000)
+            _wait_idle(page, MOVE_TIMEOUT)
+            page.wait_for_timeout(1500)
+            seen["solid_canvases"] = page.locator(".jp-OutputArea canvas").count() - canvases
+            page.screenshot(path=str(shots / "6k-penny-webgui-body.png"))
             # 5. the webgui view of the third widget
             box = page.locator(".widget-checkbox:has-text('NGSolve webgui')").first
             box.scroll_into_view_if_needed()
@@ -475,6 +485,7 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
     assert seen["hydrofrac_refused"] == "3"
     # 4e. the 3D explorer: closed over the whole crack under compression, open under tension
     assert "closed 100%" in seen["solid_start"] and "closed 0%" in seen["solid_open"], seen
+    assert seen["solid_canvases"] >= 1  # NGSolve's view of the deformed body
     # 5. webgui
     assert seen["canvases"] >= 1
     # 6. the construction error

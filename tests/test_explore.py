@@ -1021,3 +1021,12 @@ def test_the_3d_explorer_shows_the_inclined_penny_close_and_slide():
     solution = model.solution
     view.typed["nu"].value = 0.7  # refused in one line, the box back, no solve
     assert "out of range" in view.status.value and view.typed["nu"].value == 0.3 and model.solution is solution
+    # NGSolve's view of the body: the von Mises stress (projected: the webgui evaluates vectorised) on the 3D mesh
+    import json
+
+    from ngcrack.shell.explorer.solid_view import webgui_body
+
+    data = webgui_body(solution).GetData()
+    assert data["mesh_dim"] == 3 and 0.1 < data["funcmax"] < 100 and data["funcmin"] >= -1e-12
+    assert 3.0 < data["mesh_radius"] < 4.0  # the 4 x 4 x 4 box, deformed 5%: not a NaN from the surfaces
+    json.dumps(data, allow_nan=False)  # what the widget sends to the browser

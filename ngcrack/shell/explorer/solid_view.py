@@ -262,9 +262,16 @@ def webgui_body(sol, magnification: float | None = None):
         umax = float(np.max(np.linalg.norm(np.asarray(sol.u(mesh(pts[:, 0], pts[:, 1], pts[:, 2]))), axis=1)))
         size = float(np.max(np.ptp(pts, axis=0)))
         magnification = 0.05 * size / umax if umax > 0 else 0.0
+    # the solution's fields live in spaces the webgui cannot evaluate vectorised (SIMD): their L2
+    # projections are drawn, continuous at order 1 (the webgui evaluates them on the surfaces too: a
+    # discontinuous one gave the surfaces no values and the view no size)
+    stress = ngs.GridFunction(ngs.H1(mesh, order=1))
+    stress.Set(vm)
+    u = ngs.GridFunction(ngs.VectorH1(mesh, order=1))
+    u.Set(sol.u)
     c = sol.smesh.cracks[0]
     nrm = [float(x) for x in c.normal]
-    return Draw(vm, mesh, "von Mises", deformation=magnification * sol.u, show=False,
+    return Draw(stress, mesh, "von Mises", deformation=magnification * u, show=False,
                 clipping={"x": nrm[0], "y": nrm[1], "z": nrm[2], "dist": float(np.dot(nrm, c.crack.center))})
 
 
