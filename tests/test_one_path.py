@@ -128,3 +128,27 @@ def test_a_3d_sweep_gives_one_row_per_front_size_against_the_finest():
         nc.sweep(scene, maxh=[0.5], front_h=sizes)
     with pytest.raises(nc.InputError, match="front_h: the size axis of 3D scenes"):
         nc.sweep("griffith", front_h=[0.5])
+
+
+def test_a_3d_solve_writes_its_outputs_together_or_not_at_all(tmp_path, monkeypatch, capsys):
+    """The JSON record and the ParaView files of `ngcrack solve` on a 3D scene are staged together: a
+    failure while the VTK files are written leaves the old JSON as it was and no new file."""
+    from pathlib import Path
+
+    from ngcrack.shell.cli import main
+    from ngcrack.solid.output import SolidSolution
+
+    scene = tmp_path / "tiny.toml"
+    scene.write_text(nc.Scene.from_dict(coarse3d.inclined_penny()).to_toml_string())
+    old = tmp_path / "out.json"
+    old.write_text("old")
+
+    def broken(self, path, subdivision=0):  # a writer that fails half-way, its first file written
+        Path(str(path) + ".vtu").write_text("half")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(SolidSolution, "save_vtk", broken)
+    code = main(["solve", str(scene), "--json", str(old), "--vtk", str(tmp_path / "v")])
+    err = capsys.readouterr().err
+    assert code == 2 and "--vtk" in err and "nothing was written" in err
+    assert old.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["out.json", "tiny.toml"]

@@ -23,8 +23,12 @@ __all__ = ["CRACK_MODELS", "Pipeline", "Solution", "SolveError", "SolveOptions",
 
 def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptions | None = None,
           loads: Loads | None = None, warm_start=None, crack_mesh=None,
-          pipeline: Pipeline | None = None, **changes) -> Solution:
-    """Solve the unilateral crack problem of `scene` with one element family.
+          pipeline: Pipeline | None = None, **changes) -> Solution | None:
+    """Solve the unilateral crack problem of `scene` (2D or 3D) with one element family.
+
+    Returns the `Solution` of the scene's kind (`PlanarSolution`, `SolidSolution`: the same names
+    for what they share, `fronts` among them). Under `mpiexec -n N` (N > 1) the solve is
+    distributed and returns the solution on rank 0 and None on the other ranks.
 
     element: "tdnns" (default: the most accurate per second at the scenes' default meshes,
     measured against the finite bodies' converged answers, README "Which element when"),
@@ -65,6 +69,12 @@ def solve(scene: Scene | str, element: str | None = None, *, options: SolveOptio
     hp: L layers of geometric refinement (ratio hp_sigma, default 0.2) towards every crack
     tip of the scene's mesh (ngcrack.planar.hp); with order 2-3 of bdm or tdnns it converges
     exponentially in the unknowns at the tips' square-root singularity.
+
+    3D scenes take front_h (the mesh size at the crack fronts), fronts and front_points (the
+    fracture parameters along the fronts) and refuse the planar options by name (tip_h, hp, adapt,
+    ...), as a 2D scene refuses the 3D ones; estimate: True computes the error estimate during the
+    solve, False never, None (default) when `sol.error_estimate` is first read. Every option is
+    checked, by the scene's body for what depends on it, before any meshing.
 
     `scene` is a Scene or the name of a built-in scene (`ngcrack scenes`). The options
     may also come as one validated `options=SolveOptions(...)` (keywords then change

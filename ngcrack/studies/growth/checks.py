@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from ...core.errors import InputError
+from ...core.scene import planar_only
 from .criteria import check_criterion, check_r_c
 from .fatigue import check_paris
 from .holes import check_at_hole
@@ -34,8 +35,7 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     from ngcrack.planar.tips import tip_labels
 
     check_criterion(criterion)
-    if getattr(scene, "dimension", 2) == 3:
-        raise InputError(f"scene {scene.name!r} is 3D: crack growth takes 2D scenes (3D growth is a later step)")
+    planar_only(scene, "crack growth")
 
     def number(v):
         return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
