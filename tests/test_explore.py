@@ -297,6 +297,8 @@ def test_the_2d_model_sends_a_3d_scene_to_the_3d_explorer():
         ex.Explorer("penny")
     msg = str(info.value)
     assert msg.startswith("scene = 'penny': a 3D scene") and "nc.explore('penny')" in msg and "\n" not in msg
+    with pytest.raises(ValueError, match="scene 'penny' is 3D: this model holds 2D scenes; nc.explore"):
+        ex.Explorer(nc.scenes.load("penny"))
 
 
 def test_controls_follow_the_scene_and_the_installed_ngcrack():

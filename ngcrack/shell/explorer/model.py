@@ -43,7 +43,6 @@ from ...core.constraints import CLOSED_RTOL
 from ...core.errors import InputError
 from ...core.options import CRACK_MODELS, SolveOptions
 from ...core.pipeline import Pipeline
-from ...core.scene import planar_only
 from ...planar.elements import ELEMENTS
 from ...planar.scene import Scene
 from ...scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
@@ -153,8 +152,9 @@ class Explorer:
         else:
             raise InputError(f"scene = {scene!r}: a Scene, or one of the scene functions "
                               f"({', '.join(SCENE_FUNCTIONS)}) or built-in 2D scenes ({', '.join(_planar_names())})")
-        if self.base is not None:
-            planar_only(self.base, "the explorer")
+        if self.base is not None and getattr(self.base, "dimension", 2) == 3:  # a 3D scene object
+            raise InputError(f"scene {self.base.name!r} is 3D: this model holds 2D scenes; nc.explore(scene) opens the "
+                              f"3D explorer (ngcrack.shell.explorer.SolidExplorer)")
         #: the scene's name as given (a scene function's or built-in scene's name), for titles
         self.name = scene.name if isinstance(scene, (Scene, SceneFunction)) else scene
         self.solve_options = dict(solve_options or {})
