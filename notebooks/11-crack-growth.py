@@ -122,8 +122,7 @@ print("step  main crack closed  wings open  KKT")
 for n, closed, opened, kkt in rows:
     print(f"{n:4d}  {closed:17.0%}  {opened:10.0%}  {kkt:.1e}")
 res.animate("wings.gif")
-res.plot()
-plt.show()
+res.plot()  # the figure is returned, not displayed: the cell's value shows it once
 
 # %%
 _, r0 = wings[0.0]

@@ -42,10 +42,11 @@ print(f"{sol.ndof['total']} unknowns ({sol.ndof['global']} after condensation, {
 # viewer's clipping plane.
 
 # %%
+from ngcrack.shell.explorer.widget import display_webgui
 from ngcrack.solid.view import webgui_scene
 
 view = webgui_scene(sol, "opening")
-view.draw()
+display_webgui(view.draw(show=False))  # the widget whose JavaScript ships with it: drawn offline too
 assert view.kwargs["max"] == sol.crack_summaries()[0]["max_opening"]
 
 # %% [markdown]

@@ -14,7 +14,11 @@ is opened in JupyterLab and run; then, as a student would:
    the figure's data, which the widget keeps in a hidden element, not on pixels);
 5. the webgui view is switched on: its canvas appears;
 6. the construction error is a single message (one ValueError naming the element and the
-   allowed values; no widget traceback).
+   allowed values; no widget traceback);
+7. the hydraulic-fracture view (`nc.explore_growth` of a KGD run): a step typed shows its
+   figure and numbers beside the closed form, a step out of range is refused in one line;
+8. the 3D explorer on the inclined penny: closed over the whole crack under compression, the
+   load factor typed to -1: open; its checkbox shows NGSolve's view of the deformed body.
 
 JupyterLab runs on 127.0.0.1 with a free port and a token, in a temporary root folder,
 with temporary Jupyter config, data, runtime and settings folders (nothing of the user's
@@ -76,6 +80,10 @@ EXTRA_CELLS = ['w3 = nc.explore("griffith-plate", maxh=2.0, webgui=True)\nw3',
                'res.animate("wings.gif")  # a file: the figures after it still show\n'
                'g = nc.explore_growth(res)\ng',
                'plt.figure(figsize=(3, 2))\nplt.plot([0, 1], [0, 1])\nplt.title("shown after the GIF")\nplt.show()',
+               'kgd = nc.hydrofrac(nc.scenes.load("kgd"), rate=1e-4, K_Ic=1e6, da=0.1, steps=3)\n'
+               'h = nc.explore_growth(kgd)  # the hydraulic-fracture view\nh',
+               'from ngcrack.scenes.coarse3d import inclined_penny\n'
+               'p3 = nc.explore(nc.Scene.from_dict(inclined_penny()), webgui=True)  # 3D: the inclined penny\np3',
                'nc.explore("inclined-crack", element="q2")']
 
 
@@ -369,6 +377,51 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
             _wait_idle(page, MOVE_TIMEOUT)
             gfig.screenshot(path=str(shots / "6e-growth-step-2.png"))
             seen["after_gif_images"] = page.locator(".jp-Cell:has-text('shown after the GIF') .jp-OutputArea img").count()
+            # 4d. the hydraulic-fracture view: a step typed, then one out of range
+            hfig = page.locator("img.ngcrack-hydrofrac-figure").first
+            hfig.scroll_into_view_if_needed()
+            h_src = hfig.get_attribute("src")
+            hbox = page.locator(".ngcrack-hydrofrac-typed-step input").first
+            hbox.click()
+            hbox.fill("3")
+            hbox.press("Enter")
+            page.wait_for_function("(src) => { const i = document.querySelector('img.ngcrack-hydrofrac-figure');"
+                                   " return i && i.src !== src; }", arg=h_src, timeout=MOVE_TIMEOUT * 1000)
+            _wait_idle(page, MOVE_TIMEOUT)
+            seen["hydrofrac_readout"] = page.locator(".jp-Cell:has(img.ngcrack-hydrofrac-figure) pre").first.inner_text()
+            hfig.screenshot(path=str(shots / "6f-hydrofrac-step-3.png"))
+            hbox.click()
+            hbox.fill("9")
+            hbox.press("Enter")
+            page.wait_for_selector("text=Step 9 is out of range", timeout=MOVE_TIMEOUT * 1000)
+            seen["hydrofrac_refused"] = hbox.input_value()
+            page.screenshot(path=str(shots / "6g-hydrofrac-step-refused.png"))
+            # 4e. the 3D explorer: the inclined penny closed and sliding, then the load reversed: open
+            sfig = page.locator("img.ngcrack-solid-figure").first
+            sfig.scroll_into_view_if_needed()
+            readout = page.locator(".jp-Cell:has(img.ngcrack-solid-figure) .widget-html").nth(1)
+            seen["solid_start"] = readout.inner_text()
+            sfig.screenshot(path=str(shots / "6h-penny-closed-sliding.png"))
+            sbox = page.locator(".ngcrack-solid-typed-load input").first
+            sbox.click()
+            sbox.fill("-1")
+            sbox.press("Enter")
+            page.wait_for_selector(".jp-Cell:has(img.ngcrack-solid-figure) :text('closed 0%')",
+                                   timeout=3 * MOVE_TIMEOUT * 1000)
+            _wait_idle(page, MOVE_TIMEOUT)
+            seen["solid_open"] = readout.inner_text()
+            sfig.screenshot(path=str(shots / "6i-penny-open.png"))
+            page.screenshot(path=str(shots / "6j-penny-widget.png"))
+            canvases = page.locator(".jp-OutputArea canvas").count()
+            box3d = page.locator(".widget-checkbox:has-text('view of the body')").first
+            box3d.scroll_into_view_if_needed()
+            box3d.locator("input").click()
+            page.wait_for_function(f"() => document.querySelectorAll('.jp-OutputArea canvas').length > {canvases}",
+                                   timeout=MOVE_TIMEOUT * 1000)
+            _wait_idle(page, MOVE_TIMEOUT)
+            page.wait_for_timeout(1500)
+            seen["solid_canvases"] = page.locator(".jp-OutputArea canvas").count() - canvases
+            page.screenshot(path=str(shots / "6k-penny-webgui-body.png"))
             # 5. the webgui view of the third widget
             box = page.locator(".widget-checkbox:has-text('NGSolve webgui')").first
             box.scroll_into_view_if_needed()
@@ -427,6 +480,12 @@ def test_explore_widget_in_jupyterlab(chromium, jupyterlab, tmp_path):
     # 4c. the growth view refuses step 99 and keeps the step shown; a figure after the GIF still shows
     assert seen["growth_refused"] == "0"
     assert seen["after_gif_images"] == 1
+    # 4d. the hydraulic-fracture view: step 3 beside the closed form; step 9 refused, the box back
+    assert "step 3 of 3" in seen["hydrofrac_readout"] and "KGD closed form" in seen["hydrofrac_readout"]
+    assert seen["hydrofrac_refused"] == "3"
+    # 4e. the 3D explorer: closed over the whole crack under compression, open under tension
+    assert "closed 100%" in seen["solid_start"] and "closed 0%" in seen["solid_open"], seen
+    assert seen["solid_canvases"] >= 1  # NGSolve's view of the deformed body
     # 5. webgui
     assert seen["canvases"] >= 1
     # 6. the construction error

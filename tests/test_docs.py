@@ -41,14 +41,15 @@ EXECUTED = "05-contact-teaching"
 CONCLUSION = "Compression: the crack closes"
 #: the user guide's pages (docs/guide/NAME.md)
 GUIDE = ("scenes", "cli", "elements", "method", "hp", "contact", "fracture", "growth", "estimates", "size-guard", "studies", "paper",
-         "stability", "explore", "paraview", "performance", "solid")
+         "stability", "explore", "paraview", "performance", "solid", "distributed")
 #: a Sphinx warning or error in the build's log (not the Jupyter kernel's own log lines)
 SPHINX_WARNING = re.compile(r"(?m)(^|: )(WARNING|ERROR|CRITICAL|SEVERE): ")
 #: seconds: the quick build, the full build
 QUICK_TIMEOUT, FULL_TIMEOUT = 900, 2400
 #: text that would send a user to a file of the repository they do not have
 OUTSIDE = re.compile(r"DESIGN\.md")
-#: ... and, outside the API pages (docstrings) and the contributors' page, to the repository's files
+#: ... and, outside the API pages (docstrings) and the contributors' pages (contributing, benchmarks), to the
+#: repository's files
 REPOSITORY_FILES = re.compile(r"BENCHMARKS\.md|README|tests/test_|benchmarks/\w+\.py")
 
 
@@ -122,7 +123,7 @@ def test_build_has_no_warnings(site):
 
 def test_every_page_is_built(site):
     html = site[0]
-    expected = ["index", "getting-started", "tutorials", "contributing", "api/index", "api/toplevel",
+    expected = ["index", "getting-started", "tutorials", "contributing", "benchmarks", "changes", "api/index", "api/toplevel",
                 "api/generated/index", "guide/index"] + [f"guide/{g}" for g in GUIDE]
     expected += [f"notebooks/{p.stem}" for p in sorted((ROOT / "notebooks").glob("[0-9][0-9]-*.py"))]
     import ngcrack
@@ -162,7 +163,7 @@ def test_no_page_sends_readers_to_files_they_do_not_have(site):
         text = " ".join(_parse(page).text)
         assert not OUTSIDE.search(text), page
         rel = page.relative_to(html).as_posix()
-        if not rel.startswith(("api/", "contributing", "_modules")):
+        if not rel.startswith(("api/", "contributing", "benchmarks", "_modules")):  # the contributors' pages
             assert not REPOSITORY_FILES.search(text), (rel, REPOSITORY_FILES.search(text).group())
 
 
@@ -380,12 +381,69 @@ def test_every_package_docstring_is_valid_rest(plain):
 
 def test_readme_links_into_the_site_resolve():
     """The README is the front page: its relative links name pages of the site (or
-    CONTRIBUTING.md) that exist, and it stays under 400 lines (its changelog included)."""
+    CONTRIBUTING.md) that exist, and it stays within 300 lines (the changes are a page of the site)."""
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     links = re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", text)
     local = [link for link in links if not urlparse(link).scheme]
     assert len(local) >= 10
     assert [link for link in local if not (ROOT / link).is_file()] == []
     assert all(link.startswith("docs/") or link == "CONTRIBUTING.md" for link in local)
-    assert len(text.splitlines()) <= 400
+    assert len(text.splitlines()) <= 300
     assert not OUTSIDE.search(text)
+
+
+#: where a page names a measurement: "BENCHMARKS section 18b" or "BENCHMARKS 18" instead of a link
+BENCHMARK_REFERENCE = re.compile(r"BENCHMARKS(\.md)?,?\s+(section\s+)?\d")
+
+
+def test_benchmark_references_are_links_to_the_benchmarks_page():
+    """A page that quotes a measurement links to the site's benchmarks page (BENCHMARKS.md
+    included as a page), not to a file the reader of the site does not have."""
+    assert "{include} ../BENCHMARKS.md" in (DOCS / "benchmarks.md").read_text(encoding="utf-8")
+    pages = [p for p in DOCS.rglob("*.md") if "_build" not in p.parts and p.name != "benchmarks.md"]
+    pages.append(ROOT / "README.md")
+    named = [(p.relative_to(ROOT).as_posix(), m.group()) for p in pages for m in BENCHMARK_REFERENCE.finditer(p.read_text(encoding="utf-8"))]
+    assert named == []
+    solid = (DOCS / "guide" / "solid.md").read_text(encoding="utf-8")
+    assert len(re.findall(r"\]\(\.\./benchmarks\.md#1[78][a-f]?-", solid)) >= 6
+
+
+def test_the_distributed_page_covers_installing_and_running():
+    """The site's page on distributed solves, linked from the guide's index and the home page."""
+    page = (DOCS / "guide" / "distributed.md").read_text(encoding="utf-8")
+    for needed in ("ngcrack[mpi]", "mpiexec -n", "--hostfile", "mpiexec -f hosts", "#SBATCH", "srun",
+                   "What is distributed and what is not", "CG steps", "GB"):
+        assert needed in page, needed
+    assert re.search(r"(?m)^distributed$", (DOCS / "guide" / "index.md").read_text(encoding="utf-8"))
+    home = (DOCS / "index.md").read_text(encoding="utf-8")
+    assert "guide/distributed" in home and "**in 2D**" in home and "**in 3D**" in home
+    assert "2D linear elasticity" not in home
+
+
+#: what a default value must not show in a signature of the API pages: a module's repr carries its file's path
+MACHINE_PATH = re.compile(r"<module '[^']*' from '|/(?:home|usr|opt|tmp|work)/")
+
+
+def test_no_signature_shows_a_machine_path():
+    """The API pages print every signature: none may hold a default whose repr is a file path
+    (`m=<module 'numpy' from '/.../numpy/__init__.py'>`)."""
+    import importlib
+    import inspect
+
+    import ngcrack
+
+    found = []
+    for name in ["ngcrack"] + sorted(m.name for m in pkgutil.walk_packages(ngcrack.__path__, "ngcrack.")):
+        module = importlib.import_module(name)
+        members = [v for v in vars(module).values() if getattr(v, "__module__", None) == name]
+        members += [m for c in members if inspect.isclass(c) for m in vars(c).values() if callable(m)]
+        for obj in members:
+            if not callable(obj):
+                continue
+            try:
+                text = str(inspect.signature(obj))
+            except (TypeError, ValueError):
+                continue
+            if MACHINE_PATH.search(text):
+                found.append(f"{name}.{getattr(obj, '__qualname__', obj)}{text}")
+    assert found == []

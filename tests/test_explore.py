@@ -226,7 +226,14 @@ def test_tips_are_named_by_where_they_are():
     tips = [{"crack": 0, "end": "first", "x": 1.0, "y": 0.2}, {"crack": 0, "end": "last", "x": -1.0, "y": -0.2}]
     assert tip_names(tips) == ["right tip", "left tip"]
     steep = [{"crack": 0, "end": "first", "x": 0.1, "y": -1.0}, {"crack": 0, "end": "last", "x": 0.0, "y": 1.0}]
-    assert tip_names(steep) == ["lower tip", "upper tip"]
+    assert tip_names(steep) == ["right tip", "left tip"]  # the same names however far the crack turns
+    vertical = [{"crack": 0, "end": "first", "x": 0.0, "y": -1.0}, {"crack": 0, "end": "last", "x": 0.0, "y": 1.0}]
+    assert tip_names(vertical) == ["lower tip", "upper tip"]
+    # a crack's only tip inside the body (griffith: the other end on the symmetry line) by its direction
+    griffith = nc.scenes.load("griffith")
+    lone = [{"crack": 0, "end": "last", "x": 1.0, "y": 0.0}]
+    assert tip_names(lone, griffith) == ["right tip"] and tip_names(lone) == ["last tip"]
+    assert tip_names([{**lone[0], "e1": (-1.0, 0.1)}]) == ["left tip"]
     two = tips + [{"crack": 1, "end": "first", "x": 3.0, "y": 0.0}, {"crack": 1, "end": "last", "x": 4.0, "y": 0.0}]
     assert tip_names(two) == ["crack 1, right tip", "crack 1, left tip", "crack 2, left tip", "crack 2, right tip"]
 
@@ -278,8 +285,20 @@ def test_unknown_scene_lists_scene_functions_and_built_in_scenes():
         nc.explore("inclined")
     msg = str(info.value)
     assert msg.startswith("scene = 'inclined'")
-    for name in list(SCENE_FUNCTIONS) + nc.scenes.names():
+    planar = [n for n in nc.scenes.names() if getattr(nc.scenes.load(n), "dimension", 2) == 2]
+    for name in list(SCENE_FUNCTIONS) + planar:
         assert name in msg
+    assert "penny" not in msg  # (3D: not a scene the explorer draws)
+
+
+def test_the_2d_model_sends_a_3d_scene_to_the_3d_explorer():
+    """The 2D model refuses a 3D scene in one line naming what opens it: nc.explore("penny")."""
+    with pytest.raises(ValueError) as info:
+        ex.Explorer("penny")
+    msg = str(info.value)
+    assert msg.startswith("scene = 'penny': a 3D scene") and "nc.explore('penny')" in msg and "\n" not in msg
+    with pytest.raises(ValueError, match="scene 'penny' is 3D: this model holds 2D scenes; nc.explore"):
+        ex.Explorer(nc.scenes.load("penny"))
 
 
 def test_controls_follow_the_scene_and_the_installed_ngcrack():
@@ -661,11 +680,11 @@ def test_webgui_view_draws_the_figures_deformation_faces_and_limits():
     """The 3D view's deformation is the figure's, to round-off (each triangle's affine map
     through its corners' displacements); the crack faces are lines; the colours are fixed
     at the figure's limits, not the tip's peak."""
-    from ngcrack.planar.plots import element_displacements
+    from ngcrack.shell.explorer.fields import drawn_displacements
     from ngcrack.shell.explorer.webgui import deformation_cf, webgui_scene
 
     sol = nc.Explorer("inclined-crack", maxh=MAXH, load=-1.0).solution
-    corners, disp = element_displacements(sol)
+    corners, disp = drawn_displacements(sol)
     c = corners.mean(axis=1)
     pts = (0.8 * corners + 0.2 * c[:, None, :]).reshape(-1, 2)
     vals = np.asarray(deformation_cf(sol, 2.0)(sol.mesh(pts[:, 0], pts[:, 1]))).reshape(-1, 3)
@@ -703,3 +722,313 @@ def test_free_faces_keep_their_negative_K_I():
     assert all("faces closed" not in t and f"K_I = {s.K_I:#.3g}".rstrip(".") in t
                for s, t in zip(study.solution.tips, d.data["tips"]))
     assert d.data["peak_clipped"] and "peak" in d.colorbar.ax.get_ylabel()
+
+
+# ----------------------------------------------------------- missing extras, one-line refusals, names
+def test_a_missing_explorer_extra_is_one_line_naming_it_before_any_solve(monkeypatch):
+    """nc.explore without ipywidgets: one line naming `pip install 'ngcrack[explorer]'` (an InputError and a
+    ModuleNotFoundError naming the package, as on the command line), raised before the model solves."""
+    from ngcrack.shell.explorer import messages
+
+    monkeypatch.setitem(__import__("sys").modules, "ipywidgets", None)  # import ipywidgets now fails
+    built = []
+    monkeypatch.setattr(ex.widget, "Explorer", lambda *a, **k: built.append(a))
+    with pytest.raises(messages.MissingExtraError) as info:
+        nc.explore("inclined-crack", maxh=MAXH)
+    exc = info.value
+    assert isinstance(exc, nc.InputError) and isinstance(exc, ModuleNotFoundError) and exc.name == "ipywidgets"
+    assert "pip install 'ngcrack[explorer]'" in str(exc) and "\n" not in str(exc)
+    assert exc._render_traceback_() == [f"InputError: {exc}"]
+    assert built == []  # refused before the model was made (no mesh, no solve)
+    from ngcrack.shell.cli_errors import EXIT_INPUT, classify  # the command line reads it as its own missing extra
+    code, line = classify(exc)
+    assert code == EXIT_INPUT and "pip install 'ngcrack[explorer]'" in line
+
+
+def test_explore_growth_refuses_in_one_short_line(monkeypatch):
+    """A wrong result is named by its type, not by its repr (a result's arrays are hundreds of kB)."""
+
+    class Big:
+        def __repr__(self):
+            return "x" * 100_000
+
+    for bad in (Big(), "not a result"):
+        with pytest.raises(ex.messages.ArgumentError) as info:
+            nc.explore_growth(bad)
+        assert len(str(info.value)) < 120 and "nc.grow" in str(info.value)
+        assert len(info.value._render_traceback_()) == 1
+
+
+def test_two_different_scenes_never_share_a_name():
+    """The explorer's inclined crack (a 10 x 10 plate) is not the built-in inclined-compression (20 x 20)."""
+    from ngcrack.scenes import inclined_crack
+
+    built_in = set(nc.scenes.names())
+    made = {name: f().name for name, f in SCENE_FUNCTIONS.items()}
+    assert made["inclined-crack"] == "inclined-crack"
+    assert not set(made.values()) & built_in
+    assert inclined_crack() == nc.scenes.load("inclined-compression")
+    assert inclined_crack(angle=45.0).name == "inclined-compression-45deg"
+    assert inclined_crack(load=1.0).name == "inclined-tension-30deg"
+    assert ex.Explorer("inclined-crack", maxh=MAXH).scene.name == "inclined-crack"
+
+
+# ----------------------------------------------------------- the figure a student reads
+def test_the_figure_draws_griffith_without_the_rigid_motion_and_names_its_tip():
+    """griffith is held by rollers alone: its crack, 10 lengths above the bottom roller, is drawn
+    where it is, the faces symmetric about y = 0 (the plate's stretch, 95 times magnified, had put
+    it at y = +0.9), its one tip named "right tip" as the guide says; a clamped body is drawn as
+    computed."""
+    from ngcrack.planar.plots import element_displacements
+    from ngcrack.shell.explorer.fields import drawn_displacements, rigid_fit, rigid_motion_drawn
+
+    sol = ex.Explorer("griffith", maxh=MAXH).solution
+    d = ex.Drawing()
+    d.render(sol)
+    plus, minus = (np.array(d.data["faces"][0][k]) for k in ("plus", "minus"))
+    gap = d.data["magnification"] * d.data["max_gap"]  # the largest drawn opening
+    assert abs(float(np.mean(plus[:, 1] + minus[:, 1]))) / 2 < 0.05 * gap  # centred on the crack's line
+    assert np.max(plus[:, 1]) > 0.4 * gap and np.min(minus[:, 1]) < -0.4 * gap
+    corners, drawn = drawn_displacements(sol)
+    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    a, _, w = rigid_fit(corners, drawn, 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]))
+    scale = float(np.max(np.abs(drawn)))
+    assert np.hypot(*a) < 0.05 * scale and abs(w) * 10 < 0.05 * scale  # no rigid motion left to speak of
+    _, computed = element_displacements(sol)
+    assert abs(np.mean(computed[..., 1])) > 0.5 * scale  # (what the supports' position added)
+    assert d.data["tips"] == [t.replace("last tip", "right tip") for t in d.data["tips"]]
+    assert d.data["tips"][0].startswith("right tip (1.00, 0.00)")
+    beam = ex.Explorer("paper-2", maxh=0.25).solution  # clamped at both ends
+    assert rigid_motion_drawn(beam.scene) and not rigid_motion_drawn(sol.scene)
+    assert np.array_equal(drawn_displacements(beam)[1], element_displacements(beam)[1])
+
+
+def test_the_colour_bar_units_and_the_magnification_are_labelled():
+    sol = ex.Explorer("griffith", maxh=MAXH).solution
+    d = ex.Drawing()
+    d.render(sol)
+    label = d.colorbar.ax.get_ylabel()
+    assert "[same unit as E]" in label and "units of E" not in label
+    assert "(auto)" in d.ax.get_title() and d.data["magnification_auto"]
+    assert any("without its rigid motion" in t.get_text() for t in d.fig.texts)
+    d.render(sol, magnification=50.0)
+    assert "× 50 (as typed" in d.ax.get_title() and not d.data["magnification_auto"]
+
+
+def test_a_view_change_after_a_refusal_does_not_solve_again():
+    """A refusal puts the controls back on the figure's values: the next view-only change only
+    redraws (no mesh, assembly or solve) and clears the refusal."""
+    model = ex.Explorer("inclined-crack", maxh=MAXH)
+    assert model.update(half_length=4.0) is None and model.error  # the crack would leave the plate
+    counts = dict(model.counts)
+    assert model.update(magnification=40.0) is model.solution
+    assert model.redone == ["figure"] and model.error is None and model.refused == ()
+    assert dict(model.counts) == counts
+
+
+def test_the_contact_length_readout_is_the_length_of_the_shaded_edges():
+    """paper-2: the readout's contact length is the length of the edges whose faces touch by the
+    per-edge states (stick or slip), which the figure shades; it had counted by the jump alone."""
+    from ngcrack.core.constraints import faces_closed
+
+    model = ex.Explorer("paper-2", maxh=0.25, load=-1.0)  # the beam pushed up: the crack partly closed
+    sol = model.solution
+    length = jump_only = 0.0
+    for p, crack in zip(sol.crack_profiles(), sol.crack_mesh.cracks):
+        length += float(np.sum(crack.length[np.asarray(p.state) != "open"]))
+        jump_only += float(np.sum(crack.length[faces_closed(p.normal_jump, np.max(np.abs(p.normal_jump)))]))
+    assert model.readouts()["contact_length"] == pytest.approx(length, rel=1e-12)
+    assert jump_only < length - 0.1  # (measured: 0.25 by the jump alone, 0.5 by the states)
+    d = ex.Drawing()
+    d.render(sol)
+    assert "slip" in d.data["shaded"] or "stick" in d.data["shaded"]
+    # the zoom's words say the same (they had said "faces closed", by a third rule)
+    assert d.data["contact_length"] == pytest.approx(length, rel=1e-12)
+    assert d.axz.get_title().endswith(f"faces touch over {length:#.3g} of 2.00, open elsewhere")
+
+
+def test_a_figure_is_returned_not_also_displayed():
+    """plot_solution (and every plotting function on plots.new_figure: a growth's plot too) returns
+    a figure that pyplot does not hold, so that a notebook shows it once, as the cell's value."""
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    from ngcrack.planar.plots import new_figure, plot_solution
+
+    before = plt.get_fignums()
+    fig = plot_solution(ex.Explorer("griffith", maxh=MAXH).solution)
+    fig2, ax = new_figure(figsize=(3, 2))
+    assert isinstance(fig, Figure) and isinstance(fig2, Figure) and fig.axes and ax.figure is fig2
+    assert plt.get_fignums() == before  # nothing for the notebook's backend to show a second time
+
+
+def test_growth_view_keeps_each_tips_name_as_it_turns():
+    """The growth view names a step's tips as the first step does (the legend's names), not by
+    where they have turned to."""
+    from types import SimpleNamespace
+
+    from ngcrack.shell.explorer.growth_view import step_tip_names
+
+    first = [{"crack": 0, "end": "first", "x": -1.0, "y": 0.0}, {"crack": 0, "end": "last", "x": 1.0, "y": 0.0}]
+    turned = [{"crack": 0, "end": "first", "x": -1.2, "y": -3.0}, {"crack": 0, "end": "last", "x": -1.1, "y": 3.0}]
+    result = SimpleNamespace(steps=[{"tips": first}, {"tips": turned}], scene=None, scenes=None)
+    assert step_tip_names(result, 0) == step_tip_names(result, 1) == ["left tip", "right tip"]
+
+
+def test_the_widget_labels_automatic_magnification():
+    pytest.importorskip("ipywidgets")
+    view = nc.explore("inclined-crack", maxh=MAXH)
+    assert "auto" in view.controls["magnification"].description
+
+
+def test_a_webgui_scene_is_shown_in_the_widget_that_ships_its_javascript(monkeypatch):
+    """display_webgui (the explorer's 3D view, notebook 12's penny): webgui_jupyter_widgets' widget
+    holding the scene's data, not ngsolve.webgui's own view, whose script comes from a CDN (an
+    empty space offline)."""
+    pytest.importorskip("webgui_jupyter_widgets")
+    import IPython.display
+
+    from ngcrack.shell.explorer.widget import display_webgui
+
+    class Scene:
+        drawn = False
+
+        def GetData(self):
+            return {"mesh_dim": 3, "funcdim": 1}
+
+        def Draw(self):
+            Scene.drawn = True
+
+    shown = []
+    monkeypatch.setattr(IPython.display, "display", lambda *objs: shown.extend(objs))
+    display_webgui(Scene())
+    (widget,) = shown
+    assert type(widget).__name__ == "WebGuiWidget" and widget.value == {"mesh_dim": 3, "funcdim": 1}
+    assert not Scene.drawn
+
+
+def test_a_scene_loaded_by_nothing_opens_on_a_crack_pressure_drawn_on_the_faces():
+    """kgd (a crack in a clamped block, loaded only by its fluid) opens on p = E / 1000, not on an
+    unloaded body; the pressure is in the title and drawn as arrows on the faces, which open."""
+    from ngcrack.shell.explorer.model import UNLOADED_PRESSURE
+
+    model = ex.Explorer("kgd")
+    E = model.scene.material.E
+    assert model.error is None and model.state["pressure"] == UNLOADED_PRESSURE * E
+    assert model.scene.cracks[0].pressure == UNLOADED_PRESSURE * E
+    d = ex.Drawing()
+    d.render(model.solution, load_factor=1.0)
+    assert d.data["pressure"] == UNLOADED_PRESSURE * E and d.data["max_gap"] > 0
+    assert f"crack pressure p = {UNLOADED_PRESSURE * E:#.3g}" in d.ax.get_title()
+    arrows = [a for a in d.axz.texts if getattr(a, "arrow_patch", None) is not None
+              and a.arrow_patch.get_edgecolor()[:3] == pytest.approx((15 / 255, 118 / 255, 110 / 255))]
+    assert len(arrows) == 2 * ex.figure.PRESSURE_ARROWS  # both faces
+    assert ex.Explorer("kgd", pressure=0.0).state["pressure"] == 0.0  # a pressure given is kept
+    assert ex.Explorer("inclined-crack", maxh=MAXH).state["pressure"] == 0.0  # a loaded scene is not changed
+
+
+@pytest.fixture(scope="module")
+def kgd_run():
+    """Three steps of the built-in KGD scene (about 5 s)."""
+    return nc.hydrofrac(nc.scenes.load("kgd"), rate=1e-4, K_Ic=1e6, da=0.1, steps=3)
+
+
+def test_the_hydrofrac_view_draws_the_pressure_and_compares_with_the_closed_form(kgd_run):
+    """explore_growth of a hydrofrac result: a step slider; each step's crack carries its fluid
+    pressure as arrows on both faces, and the readout quotes l, p, w0 beside the KGD closed form
+    (toughness-dominated, uniform pressure), within 1% (notebook 13: 40 steps within 1%)."""
+    from ngcrack.shell.explorer import hydrofrac_view as hv
+
+    res = kgd_run
+    for n in range(len(res.steps)):
+        png, drawn = hv.render_step(res, n)
+        assert png[:4] == b"\x89PNG" and drawn["pressure"] == res.steps[n]["pressure"] > 0
+        assert drawn["pressure_arrows"] == 2 * min(hv.PRESSURE_ARROWS, len(res.frames[n]["x"]))
+        text = hv.step_readout(res, n)
+        ref = hv.closed_form(res, res.steps[n]["time"])
+        assert f"pressure p = {res.steps[n]['pressure'] * 1e-6:.4g} MPa; KGD closed form {ref['pressure'] * 1e-6:.4g}" in text
+        for key in ("half_length", "pressure", "opening_at_injection"):
+            assert abs(res.steps[n][key] / ref[key] - 1) < 0.01, (n, key)
+    # the closed form itself: volume 2 pi p l^2 / E' = Q0 t and K_I = p sqrt(pi l) = K_Ic
+    mat = res.scene.material
+    e_prime = mat.E / (1 - mat.nu ** 2)
+    ref = hv.closed_form(res, 10.0)
+    assert 2 * np.pi * ref["pressure"] * ref["half_length"] ** 2 / e_prime == pytest.approx(1e-4 * 10.0, rel=1e-12)
+    assert ref["pressure"] * np.sqrt(np.pi * ref["half_length"]) == pytest.approx(1e6, rel=1e-12)
+    assert ref["half_length"] == pytest.approx(4.335, abs=5e-4)  # GEOS's value at t = 10 s
+    pytest.importorskip("ipywidgets")
+    view = nc.explore_growth(res)
+    (slider, box), status, image, readout = view.children[0].children, *view.children[1:]
+    first = image.value
+    slider.value = 2
+    assert image.value != first and "step 2 of 3" in readout.value and status.value == "" and box.value == 2
+    box.value = 9  # refused in one red line, the box back to the step shown
+    assert "Step 9 is out of range: choose a step from 0 to 3." in status.value and box.value == slider.value == 2
+    with pytest.raises(ex.messages.ArgumentError, match="step = 7"):
+        nc.explore_growth(res, step=7)
+
+
+# ----------------------------------------------------------- the 3D explorer
+def _inclined_penny():
+    from ngcrack.scenes.coarse3d import inclined_penny
+
+    return nc.Scene.from_dict(inclined_penny(0.0))  # at 45 degrees to a compression, on a tiny mesh
+
+
+def test_the_3d_explorer_checks_its_controls_and_turns_the_crack():
+    """Without a solve: every control checked (one line naming it), the crack turned by `tilt` about
+    its centre, the loads scaled by `load`, front_h and crack_h set together."""
+    from ngcrack.shell.explorer.solid_view import SolidExplorer, tilt_axis
+
+    model = SolidExplorer("penny", solve_now=False)
+    assert model.state == {"load": 1.0, "nu": 0.3, "friction": 0.0, "tilt": 0.0, "front_h": 0.5}
+    assert model.update(tilt=100.0) is None and "tilt" in model.error_detail and "\n" not in model.error
+    assert model.update(nu=0.5) is None and "0.4999" in model.error_detail
+    assert model.update(colour=1) is None and "no control called colour" in model.error
+    with pytest.raises(ValueError, match="not a control of a 3D scene"):
+        SolidExplorer("penny", solve_now=False, angle=3)
+    with pytest.raises(ValueError, match="not a 3D scene"):
+        SolidExplorer(nc.scenes.load("griffith"), solve_now=False)
+    model.state.update(tilt=30.0, load=-2.0, front_h=0.4)
+    scene = model.make_scene()
+    n = np.asarray(scene.cracks[0].normal, float)
+    assert np.degrees(np.arccos(n @ (0.0, 0.0, 1.0))) == pytest.approx(30.0, abs=1e-9)
+    assert abs(n @ tilt_axis((0.0, 0.0, 1.0))) < 1e-12  # turned about an axis in its plane
+    assert scene.boundary["zmax"].value == pytest.approx((0.0, 0.0, -2.0))
+    assert (scene.front_h, scene.crack_h) == (0.4, 0.8)
+
+
+@pytest.mark.slow
+def test_the_3d_explorer_shows_the_inclined_penny_close_and_slide():
+    """nc.explore of a 3D scene: the inclined penny under compression is closed over all its faces and
+    slides (K_I = 0 along the front, K_II and K_III not), the load reversed opens it (K_I > 0); a bad
+    value is refused in one line without a solve, the controls kept."""
+    pytest.importorskip("ipywidgets")
+    from ngcrack.shell.explorer.solid_view import SolidExplorer, draw
+
+    view = nc.explore(_inclined_penny())
+    model = view.model
+    assert isinstance(model, SolidExplorer) and model.error is None
+    r = model.readouts()
+    assert r["closed_fraction"] == [1.0] and r["kkt"] < 1e-8
+    (front,) = model.solution.fronts
+    assert np.all(front.K_I == 0) and np.max(np.abs(front.K_II)) > 0.1 and np.max(np.abs(front.K_III)) > 0.1
+    png, drawn = draw(model.solution)
+    assert drawn["states"]["open"] == 0 and drawn["states"]["slip"] > 0 and drawn["closed_fraction"] == 1.0
+    assert "closed 100%" in view.readout.value and view.image.value[:4] == b"\x89PNG"
+    view.controls["load"].value = -1.0  # the student moves the load slider: tension
+    r = model.readouts()
+    assert model.state["load"] == -1.0 and r["closed_fraction"] == [0.0] and "closed 0%" in view.readout.value
+    assert np.all(model.solution.fronts[0].K_I > 0)
+    solution = model.solution
+    view.typed["nu"].value = 0.7  # refused in one line, the box back, no solve
+    assert "out of range" in view.status.value and view.typed["nu"].value == 0.3 and model.solution is solution
+    # NGSolve's view of the body: the von Mises stress (projected: the webgui evaluates vectorised) on the 3D mesh
+    import json
+
+    from ngcrack.shell.explorer.solid_view import webgui_body
+
+    data = webgui_body(solution).GetData()
+    assert data["mesh_dim"] == 3 and 0.1 < data["funcmax"] < 100 and data["funcmin"] >= -1e-12
+    assert 3.0 < data["mesh_radius"] < 4.0  # the 4 x 4 x 4 box, deformed 5%: not a NaN from the surfaces
+    json.dumps(data, allow_nan=False)  # what the widget sends to the browser

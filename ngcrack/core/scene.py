@@ -34,8 +34,6 @@ NOT_YET_3D = {
     "hydraulic fracture": "radial (3D) hydraulic fractures are a later step",
     "volume control": "the crack volume of a 3D crack is a later step",
     "the crack volume": "the crack volume of a 3D crack is a later step",
-    "the explorer": ("its 3D view is a later step; solve with nc.solve and draw with ngcrack.solid.view.draw(sol) "
-                     "in JupyterLab or --vtk files in ParaView"),
 }
 
 

@@ -109,12 +109,26 @@ def crack_faces(sol, corners: np.ndarray, disp: np.ndarray, side: np.ndarray | N
     return faces
 
 
-def tip_names(tips) -> list[str]:
-    """A name per tip, by position: "left tip" / "right tip" at the ends of a crack closer
-    to horizontal, "lower tip" / "upper tip" of a steeper one; prefixed "crack k, " where
-    the tips belong to more than one crack. `tips`: objects or dicts with crack, end, x, y."""
+#: a crack counts as vertical (its tips named lower and upper, not left and right) where its tips'
+#: horizontal distance is below this fraction of their distance
+VERTICAL_RTOL = 1e-9
+
+
+def tip_names(tips, scene=None) -> list[str]:
+    """A name per tip, by position: "left tip" / "right tip" by the tips' x (and so the same names
+    however far the crack turns, short of vertical); "lower tip" / "upper tip" for a vertical crack;
+    a crack's only tip inside the body (the other end on the boundary) by the direction `e1` it
+    points in, out of the crack (its `e1`, else its crack's last segment in `scene`). Prefixed
+    "crack k, " where the tips belong to more than one crack. `tips`: objects or dicts with crack,
+    end, x, y (a lone tip without e1 or scene: "first tip", "last tip")."""
     def get(t, k):
         return t.get(k) if isinstance(t, dict) else getattr(t, k, None)
+
+    def by_direction(d) -> str:
+        d = np.asarray(d, float)
+        if abs(d[0]) > VERTICAL_RTOL * float(np.hypot(*d)):
+            return "right tip" if d[0] > 0 else "left tip"
+        return "upper tip" if d[1] > 0 else "lower tip"
 
     by_crack: dict = {}
     for t in tips:
@@ -126,22 +140,35 @@ def tip_names(tips) -> list[str]:
         mates = by_crack[crack]
         name = "tip"
         if len(mates) == 2 and get(t, "x") is not None:
-            a = np.array([get(t, "x"), get(t, "y")], float)
             other = mates[1] if mates[0] is t else mates[0]
-            d = a - np.array([get(other, "x"), get(other, "y")], float)
-            if abs(d[0]) >= abs(d[1]):
-                name = "right tip" if d[0] > 0 else "left tip"
-            else:
-                name = "upper tip" if d[1] > 0 else "lower tip"
+            name = by_direction(np.array([get(t, "x") - get(other, "x"), get(t, "y") - get(other, "y")], float))
+        elif len(mates) == 1 and _out_of_crack(t, scene, get) is not None:
+            name = by_direction(_out_of_crack(t, scene, get))
         elif get(t, "end") is not None:
             name = f"{get(t, 'end')} tip"
         names.append(f"crack {int(crack) + 1}, {name}" if several and crack is not None else name)
     return names
 
 
+def _out_of_crack(tip, scene, get) -> np.ndarray | None:
+    """The direction a tip points in, out of its crack: its `e1`, else its crack's end segment in
+    `scene`; None where neither is known (or it has no length)."""
+    d = get(tip, "e1")
+    if d is None and scene is not None and get(tip, "crack") is not None and get(tip, "end") in ("first", "last"):
+        cracks = getattr(scene, "cracks", ())
+        k = int(get(tip, "crack"))
+        pts = np.asarray(getattr(cracks[k], "points", ()) if k < len(cracks) else (), float)
+        if pts.ndim == 2 and len(pts) >= 2 and pts.shape[1] == 2:
+            d = pts[-1] - pts[-2] if get(tip, "end") == "last" else pts[0] - pts[1]
+    if d is None or not float(np.hypot(*np.asarray(d, float)[:2])) > 0:
+        return None
+    return np.asarray(d, float)[:2]
+
+
 def plot_solution(sol, path=None, levels: int = 20):
-    """Isolines of sigma_nu next to the magnified deformed body; saved to `path` if given
-    (then on a figure of its own, `new_figure`: pyplot's backend is left alone).
+    """Isolines of sigma_nu next to the magnified deformed body; saved to `path` if given.
+    Returns the figure without displaying it (`new_figure`): a notebook shows it once, as
+    the cell's value.
 
     The cracks are drawn where the deformed body has them: each crack's two faces moved by
     the displacement of the triangles on their side (`explorer.fields.crack_faces`), the
@@ -248,14 +275,12 @@ def _element_style(element: str, k: int = 0):
 
 
 def new_figure(path=None, **kw):
-    """(figure, axes) as pyplot.subplots(**kw) gives them. To be shown (`path` None): a pyplot
-    figure, drawn by the notebook's backend. To be saved (`path` given): a
-    matplotlib.figure.Figure with its own Agg canvas, so that writing a file never touches
-    pyplot's figures or backend (a notebook's later figures still show)."""
-    if path is None:
-        import matplotlib.pyplot as plt
-
-        return plt.subplots(**kw)
+    """(figure, axes) as pyplot.subplots(**kw) gives them, but on a matplotlib.figure.Figure with
+    its own Agg canvas, never one of pyplot's: the plotting functions return their figure and
+    do not display it. A notebook shows it once, as the cell's value (or `display(fig)`); a
+    script saves it (`path`, or `fig.savefig`). (A pyplot figure returned as a cell's value
+    was shown twice: by the notebook's backend and as the value.) Writing a file never touches
+    pyplot's figures or backend."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 

@@ -126,11 +126,13 @@ def effective_modulus(E: float, nu: float, plane: str) -> float:
 
 
 # ----------------------------------------------------------- auxiliary Williams fields
-# Functions of polar coordinates (r, theta) in the tip frame, for K = 1; `m` is the
-# math namespace (numpy for arrays, ngsolve for CoefficientFunctions). mode 1 or 2.
+# Functions of polar coordinates (r, theta) in the tip frame, for K = 1; `m` (keyword) is the
+# math namespace: None for numpy (arrays), or ngsolve (CoefficientFunctions). mode 1 or 2.
+# (A default of None, not the module: a module as a default shows its path in the signature.)
 
-def williams_stress(r, theta, mode: int, m=np):
+def williams_stress(r, theta, mode: int, *, m=None):
     """(sigma_11, sigma_22, sigma_12) of the mode-`mode` Williams field with K = 1."""
+    m = np if m is None else m
     c, s = m.cos(0.5 * theta), m.sin(0.5 * theta)
     c3, s3 = m.cos(1.5 * theta), m.sin(1.5 * theta)
     k = 1.0 / m.sqrt(2.0 * math.pi * r)
@@ -141,18 +143,20 @@ def williams_stress(r, theta, mode: int, m=np):
     raise InputError(f"mode = {mode!r}: allowed values are 1, 2")
 
 
-def williams_displacement(r, theta, mode: int, kappa: float, mu: float, m=np):
+def williams_displacement(r, theta, mode: int, kappa: float, mu: float, *, m=None):
     """(u_1, u_2) of the mode-`mode` Williams field with K = 1 (no rigid motion: u = 0 at the tip)."""
+    m = np if m is None else m
     f1, f2 = _angular(theta, mode, kappa, m)[:2]
     a = m.sqrt(r / (2.0 * math.pi)) / (2.0 * mu)
     return a * f1, a * f2
 
 
-def williams_dx1(r, theta, mode: int, kappa: float, mu: float, m=np):
+def williams_dx1(r, theta, mode: int, kappa: float, mu: float, *, m=None):
     """(du_1/dx_1, du_2/dx_1) of the mode-`mode` Williams field with K = 1.
 
     u = sqrt(r) f(theta) / (2 mu sqrt(2 pi)) and d/dx_1 = cos(theta) d/dr - sin(theta) / r d/dtheta.
     """
+    m = np if m is None else m
     f1, f2, g1, g2 = _angular(theta, mode, kappa, m)
     ct, st = m.cos(theta), m.sin(theta)
     a = 1.0 / (2.0 * mu * m.sqrt(2.0 * math.pi * r))

@@ -36,7 +36,9 @@ def inclined_crack(angle: float = 30.0, half_length: float = 1.0, load: float = 
     L = 10 a the finite plate changes them by well under 1%.
 
     Mesh: ``maxh`` (default a) and ``tip_h`` (default a / 200) at the tips, graded like
-    the ``griffith`` scene.
+    the ``griffith`` scene. Name: ``name``, else ``inclined-compression`` with the defaults
+    (the built-in scene of that name) and ``inclined-{compression|tension}-{angle}deg``
+    otherwise.
     """
     a = float(half_length)
     if not (isinstance(angle, (int, float)) and math.isfinite(angle) and -90.0 < angle < 90.0):
@@ -49,7 +51,7 @@ def inclined_crack(angle: float = 30.0, half_length: float = 1.0, load: float = 
     d = (a * math.cos(b), a * math.sin(b))
     kind = "compression" if load < 0 else "tension"
     return Scene(
-        name=name or f"inclined-{kind}",
+        name=name or _inclined_name(kind, angle, half_length, load, plate, E, nu, plane, center, maxh, tip_h),
         description=(f"crack of half-length {a:g} at {angle:g} degrees in a {2 * L:g} x {2 * L:g} plate "
                      f"under remote sigma_yy = {load:g}; closed forms for the infinite plate"),
         polygon=((-L, -L), (L, -L), (L, L), (-L, L)),
@@ -64,6 +66,21 @@ def inclined_crack(angle: float = 30.0, half_length: float = 1.0, load: float = 
         grading=0.2,
         exact={"kind": "inclined", "a": a, "p": float(load), "angle": float(angle), "center": [cx, cy]},
     )
+
+
+#: the arguments of `inclined_crack` that make the built-in scene ``inclined-compression``
+#: (scenes/inclined-compression.toml): only these get its name
+BUILT_IN_INCLINED = (30.0, 1.0, -1.0, 10.0, 1000.0, 0.3, "strain", (0.0, 0.0), None, None)
+
+
+def _inclined_name(kind: str, angle, half_length, load, plate, E, nu, plane, center, maxh, tip_h) -> str:
+    """``inclined-compression`` for the built-in scene's arguments, else a name of its own
+    (``inclined-compression-45deg``, ``inclined-tension-30deg``) so that two different scenes
+    never share a name."""
+    given = (angle, half_length, load, plate, E, nu, plane, tuple(float(c) for c in center), maxh, tip_h)
+    if given == BUILT_IN_INCLINED:
+        return "inclined-compression"
+    return f"inclined-{kind}-{float(angle):g}deg"
 
 
 def inclined_closed_form(scene: Scene) -> dict[str, float]:
@@ -210,10 +227,11 @@ def teaching_inclined(angle: float = 30.0, half_length: float = 1.0, center_x: f
                       plane: str = "strain", maxh: float | None = None, tip_h: float | None = None,
                       name: str | None = None) -> Scene:
     """:func:`inclined_crack` in the fixed plate [-5, 5]^2, crack centre in absolute units,
-    mesh TEACHING_MESH unless given."""
+    mesh TEACHING_MESH unless given; named ``inclined-crack`` (the scene function's name)
+    unless `name` is given."""
     a = _teaching_half_length(half_length)
     return inclined_crack(angle=angle, half_length=a, load=load, plate=TEACHING_PLATE / a, E=E, nu=nu, plane=plane,
-                          center=(center_x / a, center_y / a), name=name,
+                          center=(center_x / a, center_y / a), name=name or "inclined-crack",
                           maxh=TEACHING_MESH["maxh"] if maxh is None else maxh,
                           tip_h=TEACHING_MESH["tip_h"] if tip_h is None else tip_h)
 

@@ -7,18 +7,24 @@
 - `figure`: `Drawing`, the deformed body with its crack faces, loads and supports, a zoom
   on the crack and the crack profiles (matplotlib, PNG);
 - `widget`: `explore()` and `ExplorerWidget`, the ipywidgets view;
-- `growth_view`: `explore_growth(result)`, a step slider over a crack-growth path.
+- `growth_view`: `explore_growth(result)`, a step slider over a crack-growth path;
+- `solid_view`: `SolidExplorer` and `explore_solid`, the explorer of a 3D scene (`nc.explore("penny")`);
+- `hydrofrac_view`: `explore_hydrofrac(result)` (also `explore_growth` of a hydrofrac result),
+  a step slider over a hydraulic-fracture run beside its closed form.
 """
 
 from ...core.pipeline import ParameterLoads, load_structure
 from ...planar.stages import geometry_key
 from .figure import FIELDS, Drawing, draw, stress_values
 from .growth_view import explore_growth
+from .hydrofrac_view import explore_hydrofrac
 from .loads import scaled_loads
 from .model import LEVELS, Explorer, Study, contact_length, overlap_length
+from .solid_view import SolidExplorer, explore_solid
 from .widget import SLIDERS, explore
 
-__all__ = ["Drawing", "Explorer", "explore_growth", "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS",
+__all__ = ["Drawing", "Explorer", "SolidExplorer", "explore_growth", "explore_hydrofrac", "explore_solid",
+           "ExplorerWidget", "FIELDS", "LEVELS", "ParameterLoads", "SLIDERS",
            "Study", "contact_length", "draw", "explore", "geometry_key", "load_structure",
            "overlap_length",
            "scaled_loads", "stress_values"]

@@ -1,5 +1,11 @@
 """What the explorer's figure shows, computed (no matplotlib): stress fields, crack faces, units, labels.
 
+`drawn_displacements` the displacement the figure draws: the computed one, less the rigid
+motion that the supports leave to a modelling choice (a body held by rollers and symmetry
+lines alone: its translation and rotation are where the rollers happen to sit, so that
+griffith's crack, 10 lengths above its bottom roller, would be drawn displaced by the
+plate's stretch times the magnification); a body with a clamped or prescribed edge or a
+point support is drawn as computed (its supports stay where they are);
 `stress_values` the stress field shown, per triangle; `crack_faces` the two faces of each
 crack, each with its own side's displacement, and the opening between them; `units` the
 scene's stress and length units; `field_label` the colour bar's label; `significant` a
@@ -36,10 +42,62 @@ def significant(value: float, digits: int = K_DIGITS) -> str:
     return f"{value:#.{digits}g}".rstrip(".")
 
 
+#: the stress unit of a scene that names none: stresses are in the unit E is given in (the
+#: words cannot be read as "sigma / E")
+STRESS_UNIT = "same unit as E"
+#: the length unit of a scene that names none
+LENGTH_UNIT = "length unit"
+
+
 def units(scene) -> tuple[str, str]:
-    """(stress unit, length unit) of a scene: its own where it names them, else "E units", "length units"."""
+    """(stress unit, length unit) of a scene: its own where it names them, else STRESS_UNIT, LENGTH_UNIT."""
     u = getattr(scene, "units", None) or {}
-    return (u.get("stress") or "units of E", u.get("length") or "length units")
+    return (u.get("stress") or STRESS_UNIT, u.get("length") or LENGTH_UNIT)
+
+
+#: the supports that hold a body where it is: with one of them the displacement is drawn as computed
+HOLDING_SUPPORTS = frozenset({"clamped", "displacement"})
+
+
+def rigid_motion_drawn(scene) -> bool:
+    """Whether the figure draws the displacement as computed (True: a clamped or prescribed edge
+    or a point support holds the body where it is) or less its rigid motion (False: rollers and
+    tractions alone)."""
+    held = any(bc.type in HOLDING_SUPPORTS for bc in scene.boundary.values())
+    return held or any(pc.type != "force" for pc in (getattr(scene, "points", None) or ()))
+
+
+def rigid_fit(points: np.ndarray, disp: np.ndarray, weights: np.ndarray | None = None) -> tuple:
+    """(translation a, centre c, rotation w) of the rigid motion a + w (-(y - c_y), x - c_x) closest
+    to `disp` at `points` in least squares, each point counted with its weight (..., 2 arrays)."""
+    p = np.asarray(points, float).reshape(-1, 2)
+    u = np.asarray(disp, float).reshape(-1, 2)
+    wt = np.ones(len(p)) if weights is None else np.repeat(np.asarray(weights, float), len(p) // len(weights))
+    total = float(np.sum(wt))
+    if total <= 0:
+        return np.zeros(2), np.zeros(2), 0.0
+    c = (wt[:, None] * p).sum(axis=0) / total
+    a = (wt[:, None] * u).sum(axis=0) / total
+    r, du = p - c, u - a
+    den = float(np.sum(wt * np.sum(r * r, axis=1)))
+    w = float(np.sum(wt * (r[:, 0] * du[:, 1] - r[:, 1] * du[:, 0])) / den) if den > 0 else 0.0
+    return a, c, w
+
+
+def drawn_displacements(sol, sigma: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(corners, displacements) per triangle as the figure draws them (`plots.element_displacements`),
+    less the rigid motion closest to them (area-weighted) where `rigid_motion_drawn` says the
+    supports leave it to a modelling choice. Jumps across the cracks are unchanged."""
+    from ...planar.plots import element_displacements
+
+    corners, disp = element_displacements(sol, sigma)
+    if not len(disp) or rigid_motion_drawn(sol.scene):
+        return corners, disp
+    a_, b_ = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    area = 0.5 * np.abs(a_[:, 0] * b_[:, 1] - a_[:, 1] * b_[:, 0])
+    a, c, w = rigid_fit(corners, disp, area)
+    r = corners - c
+    return corners, disp - a - w * np.stack([-r[..., 1], r[..., 0]], axis=-1)
 
 
 def stress_values(sol, field: str, sigma: np.ndarray | None = None) -> np.ndarray:
@@ -107,11 +165,11 @@ def color_limits(vals: np.ndarray, corners: np.ndarray, field: str) -> tuple[flo
 def fit_scales(sol, field: str, corners=None, disp=None, vals=None) -> dict:
     """The figure's scales fitted to `sol`: magnification ("scale"), colour limit ("clim",
     the upper one), the profiles' jump and traction limits, the load arrows' reference."""
-    from ...planar.plots import centroid_stress, element_displacements
+    from ...planar.plots import centroid_stress
 
     if corners is None or disp is None or vals is None:
         sigma = centroid_stress(sol)
-        corners, disp = element_displacements(sol, sigma)
+        corners, disp = drawn_displacements(sol, sigma)
         vals = stress_values(sol, field, sigma)
     poly = np.asarray(sol.scene.polygon, float)
     diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))

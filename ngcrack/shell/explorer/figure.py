@@ -15,8 +15,11 @@ What a student should read off the picture is drawn, not left to the colours:
 - the scales can be held (`render(hold=True)`): colour limits, profile axes,
   magnification and load-arrow scale stay those of the first frame held, so that two
   loads or crack models are compared on one scale; units on the colour bar and axes
-  (the scene's, else "E units" for stresses and "length units");
-- the tips' K_I, K_II next to their names ("tip A (x, y): K_I = ..., K_II = ...", three
+  (the scene's, else "same unit as E" for stresses and "length unit");
+- the displacement less the rigid motion that rollers alone leave free (`fields.drawn_displacements`),
+  magnified by the factor the title gives, "auto" (fitted) or "as typed" (the legend says where the
+  rigid motion is left out);
+- the tips' K_I, K_II next to their names ("left tip (x, y): K_I = ..., K_II = ...", three
   significant digits), the stick / slip shading only where the faces move.
 """
 
@@ -33,8 +36,10 @@ from .fields import (
     K_DIGITS,
     PROFILE_FLOOR,  # noqa: F401  (kept for older imports)
     crack_faces,
+    drawn_displacements,
     field_label,
     fit_scales,
+    rigid_motion_drawn,
     significant,
     stress_values,
     tip_closed,
@@ -42,6 +47,7 @@ from .fields import (
     units,
 )
 from .messages import tip_names
+from .supports import draw_boundary, mover
 
 #: a held magnification is given up where it would draw a displacement larger than this
 #: fraction of the body's diameter (the figure re-fits it)
@@ -69,6 +75,9 @@ EDGE_LIMIT = 3000
 EDGE_PIXELS = 7.0
 #: a body this much wider than high is drawn above the panels, not beside them
 WIDE = 2.0
+#: arrows of a crack-face pressure on each face in the zoom, and their colour
+PRESSURE_ARROWS = 5
+PRESSURE_COLOR = "#0f766e"
 #: colours of the two crack faces (+ side: the one nu points into)
 FACE_COLORS = {"+": "#1f3b8c", "-": "#c2410c"}
 #: the faces count as closed where |opening| is below this fraction of the largest
@@ -159,20 +168,21 @@ class Drawing:
         drawn times this factor (0: automatic, or the held one). ``load_factor``: shown in
         the title, with its sign's meaning. ``scales``: the scales to use (`fields.fit_scales`
         of a reference solution, the explorer's "hold for load changes"), before ``hold``."""
-        from ...planar.plots import centroid_stress, element_displacements
+        from ...planar.plots import centroid_stress
 
         poly = np.asarray(sol.scene.polygon, float)
         self._start(poly)
         stress_unit, length_unit = units(sol.scene)
         model = (getattr(sol, "options", None) or {}).get("crack_model")
         sigma = centroid_stress(sol)
-        corners, disp = element_displacements(sol, sigma)
+        corners, disp = drawn_displacements(sol, sigma)  # (less the rigid motion rollers leave free)
         diam = float(np.max(np.linalg.norm(poly[:, None] - poly[None], axis=2)))
         umax = float(np.max(np.linalg.norm(disp, axis=2))) if len(disp) else 0.0
         vals = stress_values(sol, field, sigma)
         profiles = sol.crack_profiles()
         held = self._hold_scales(fit_scales(sol, field, corners, disp, vals), field, hold, scales, umax, diam)
-        scale = float(magnification) if magnification and magnification > 0 else held["scale"]
+        auto = not (magnification and magnification > 0)
+        scale = held["scale"] if auto else float(magnification)
         clim = held["clim"] or 1.0
 
         # the body, its outline, loads and supports
@@ -181,23 +191,28 @@ class Drawing:
         peak, clipped = self._mark_peak(sol, field, moved, vals, clim)
         closed = np.vstack([poly, poly[:1]])
         self._temporary += self.ax.plot(*closed.T, color="0.55", lw=0.6, ls="--", zorder=1)
-        self._draw_boundary(sol.scene, poly, diam, held["load"])
+        artists, self._extent = draw_boundary(self.ax, sol.scene, poly, diam, held["load"], mover(corners, scale * disp),
+                                              FONT_SIZE + 1)
+        self._temporary += artists
         # the crack faces, each moved by its own side's displacement; the tips; nu and t
         faces = crack_faces(sol, corners, disp, self._crack_side(sol.crack_mesh))
         gap, overlap, drawn = self._draw_faces(faces, scale, FACE_RTOL * umax)
         tip_text = self._draw_tips(sol, model, corners, disp, scale)
         self._draw_frames(sol.crack_mesh, faces, scale, diam)
-        self._label_body(sol, model, title, load_factor, scale, moved, poly, length_unit)
+        self._label_body(sol, model, title, load_factor, scale, moved, poly, length_unit, auto)
         # the zoom on the cracks: the same magnification
-        self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap)
+        touching, total = _touching_length(sol, profiles)
+        self._draw_zoom(faces, scale, corners, moved, vals, diam, length_unit, gap, overlap, touching, total)
+        pressure = self._draw_pressure(faces, profiles, scale)
         jlim, tlim, shaded = self._draw_profiles(profiles, held, umax, model, sol.crack_mesh, stress_unit,
                                                  length_unit)
         if tip_text:
             self._temporary.append(self.fig.text(0.01, 0.1 / self._height, ";   ".join(tip_text), ha="left",
                                                  va="bottom", fontsize=FONT_SIZE + 0.5))
-        self.data = {"magnification": scale, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
+        self.data = {"magnification": scale, "magnification_auto": auto, "clim": (lo, clim), "peak": float(vals[peak]) if peak >= 0 else None,
                      "peak_clipped": bool(clipped), "jump_lim": jlim, "traction_lim": tlim,
                      "faces": drawn, "max_gap": gap, "max_overlap": overlap, "tips": tip_text,
+                     "contact_length": touching, "pressure": pressure,
                      "held": bool(hold) or scales is not None, "field": field, "shaded": sorted(shaded)}
         buf = io.BytesIO()
         self.fig.savefig(buf, format="png", pil_kwargs={"compress_level": PNG_COMPRESSION})
@@ -304,7 +319,7 @@ class Drawing:
         tips = [t for t in (getattr(sol, "tips", None) or []) if tip_value(t, "K_I") is not None]
         tip_text = []
         cm = sol.crack_mesh
-        names = tip_names(tips)
+        names = tip_names(tips, sol.scene)
         for k, tip in enumerate(tips):
             name = names[k]
             x, y = tip_value(tip, "x"), tip_value(tip, "y")
@@ -315,8 +330,10 @@ class Drawing:
                 p = cm.points[nearest] + scale * u
                 for a in (self.ax, self.axz):
                     self._temporary += a.plot([p[0]], [p[1]], "k*", ms=8, zorder=5)
-                    self._temporary.append(a.annotate(name, p, xytext=(4, 4), textcoords="offset points",
-                                                      fontsize=FONT_SIZE + 1, weight="bold", zorder=6))
+                    left = "left tip" in name or "lower tip" in name  # (two tips close together: labels apart)
+                    self._temporary.append(a.annotate(name, p, xytext=(-4 if left else 4, 4), textcoords="offset points",
+                                                      ha="right" if left else "left", fontsize=FONT_SIZE + 1,
+                                                      weight="bold", zorder=6))
                 where = f"({significant(x)}, {significant(y)})"
             else:
                 where = ""
@@ -324,6 +341,36 @@ class Drawing:
             k1 = "0 (faces closed)" if shut else significant(tip_value(tip, "K_I"))
             tip_text.append(f"{name} {where}: K_I = {k1}, K_II = {significant(tip_value(tip, 'K_II'))}")
         return tip_text
+
+    def _draw_pressure(self, faces: list, profiles, scale: float) -> float:
+        """A crack-face pressure p as arrows on both faces in the zoom, pushing them apart (p > 0) or
+        together, at PRESSURE_ARROWS points per crack; the largest |p| (0: none drawn)."""
+        top = 0.0
+        for prof in profiles:
+            p = np.asarray(getattr(prof, "face_pressure", None), dtype=float)
+            if p.ndim != 1 or not len(p) or not np.any(p != 0):
+                continue
+            top = max(top, float(np.max(np.abs(p))))
+        if top == 0:
+            return 0.0
+        for f, prof in zip(faces, profiles):
+            p = np.asarray(getattr(prof, "face_pressure", None), dtype=float)
+            if p.ndim != 1 or not len(p) or not np.any(p != 0):
+                continue
+            pts = f["points"]
+            length = 0.12 * float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+            edges = len(p)
+            for k in np.linspace(0, edges - 1, min(PRESSURE_ARROWS, edges)).round().astype(int):
+                i = min(k + 1, len(pts) - 2) if edges > 1 else 0  # a vertex inside the crack, not a tip
+                n = f["normal"][i]
+                L = length * float(p[k]) / top
+                for face, sign in (("plus", 1.0), ("minus", -1.0)):
+                    at = pts[i] + scale * f[face][i]
+                    tail, head = (at, at + sign * L * n) if L > 0 else (at - sign * L * n, at)
+                    self._temporary.append(self.axz.annotate(
+                        "", xy=head, xytext=tail, zorder=6, annotation_clip=True,
+                        arrowprops={"arrowstyle": "-|>", "color": PRESSURE_COLOR, "lw": 1.0}))
+        return top
 
     def _draw_frames(self, cm, faces: list, scale: float, diam: float) -> None:
         """nu and t on each crack (undeformed directions, at the crack's middle edge), in both panels."""
@@ -340,7 +387,8 @@ class Drawing:
                     self._temporary.append(a.text(*(base + 1.2 * L * vec), lab, color=col, fontsize=FONT_SIZE + 2,
                                                   ha="center", va="center", zorder=6))
 
-    def _label_body(self, sol, model, title: str, load_factor, scale: float, moved, poly, length_unit: str) -> None:
+    def _label_body(self, sol, model, title: str, load_factor, scale: float, moved, poly, length_unit: str,
+                    auto: bool = True) -> None:
         """The body panel's extent, axes, title (element, crack model, load factor, magnification) and
         the legend of what is drawn."""
         ax, cm = self.ax, sol.crack_mesh
@@ -352,8 +400,12 @@ class Drawing:
         load_txt = ""
         if load_factor is not None:
             load_txt = f", load factor {load_factor:+.2f}"
-        ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt}): "
-                     f"displacements × {scale:.3g}", fontsize=FONT_SIZE + 1, pad=12)
+        pressures = [c.pressure for c in sol.scene.cracks if isinstance(getattr(c, "pressure", None), float)]
+        if any(pressures):
+            load_txt += f", crack pressure p = {significant(max(pressures, key=abs))}"
+        how = "auto" if auto else "as typed"
+        ax.set_title(f"{head} ({sol.element}{', ' + model if model else ''}{load_txt})\n"
+                     f"displacements × {scale:.3g} ({how})", fontsize=FONT_SIZE + 1, pad=12)
         kinds = {bc.type for bc in sol.scene.boundary.values()}
         legend = [("red arrows: traction", "#b91c1c")] if "traction" in kinds else []
         legend += [("purple arrows: prescribed u", "#6d28d9")] if "displacement" in kinds else []
@@ -361,6 +413,10 @@ class Drawing:
         legend += [("hatched: clamped", "k")] if "clamped" in kinds else []
         legend += [("circles: roller", "k")] if "roller" in kinds else []
         legend += [("blue / orange: + / - face (ν points into +)", FACE_COLORS["+"])] if cm.cracks else []
+        if any(getattr(c, "pressure", None) not in (None, 0.0) for c in sol.scene.cracks):
+            legend += [("teal arrows on the faces (zoom): crack pressure", PRESSURE_COLOR)]
+        if not rigid_motion_drawn(sol.scene):  # (rollers alone: where they sit is a modelling choice)
+            legend += [("drawn without its rigid motion (held by rollers only)", "0.25")]
         self._temporary.append(self.fig.text(0.01, 0.05 / self._height * 6, ";  ".join(t for t, _ in legend),
                                              fontsize=FONT_SIZE - 0.5, color="0.25", va="bottom", ha="left"))
 
@@ -437,68 +493,8 @@ class Drawing:
         rows, cols = np.nonzero(cm.triangles == v)
         return disp[rows, cols].mean(axis=0) if len(rows) else np.zeros(2)
 
-    def _draw_boundary(self, scene, poly: np.ndarray, diam: float, load_ref: float) -> None:
-        """Load arrows on the loaded edges, hatching on clamped edges, circles on rollers."""
-        ax = self.ax
-        self._extent = []  # points the body panel must show (the arrows' ends)
-        n = len(poly)
-        labels = scene.labels or tuple(str(i) for i in range(n))
-        arrow = 0.08 * diam
-        centroid = poly.mean(axis=0)
-        for i in range(n):
-            a, b = poly[i], poly[(i + 1) % n]
-            d = b - a
-            L = float(np.hypot(*d))
-            if L == 0:
-                continue
-            t = d / L
-            out = np.array([t[1], -t[0]])
-            if np.dot(out, 0.5 * (a + b) - centroid) < 0:
-                out = -out
-            bc = scene.boundary.get(labels[i]) if i < len(labels) else None
-            if bc is None:
-                continue
-            if bc.type == "clamped":
-                self._temporary += ax.plot(*np.vstack([a, b]).T, color="k", lw=2.2, zorder=5, solid_capstyle="butt")
-                k = max(3, int(L / (0.04 * diam)))
-                for s in np.linspace(0.0, 1.0, k):
-                    p = a + s * d
-                    q = p + 0.025 * diam * (out + 0.7 * t)
-                    self._temporary += ax.plot([p[0], q[0]], [p[1], q[1]], color="k", lw=0.8, zorder=5)
-            elif bc.type == "roller":
-                k = max(3, int(L / (0.06 * diam)))
-                s = np.linspace(0.5 / k, 1 - 0.5 / k, k)
-                pts = a[None] + s[:, None] * d[None] + 0.015 * diam * out[None]
-                self._temporary += ax.plot(pts[:, 0], pts[:, 1], "o", ms=3.5, mfc="white", mec="k", mew=0.8,
-                                           zorder=5, ls="none")
-            elif bc.type in ("traction", "displacement"):
-                v = np.asarray(bc.value, float)
-                mag = float(np.hypot(*v))
-                if mag == 0 or not load_ref:
-                    continue
-                length = min(2.0, mag / load_ref) * arrow
-                e = v / mag
-                color = "#b91c1c" if bc.type == "traction" else "#6d28d9"
-                k = max(3, int(L / (0.12 * diam)))
-                for s in np.linspace(0.5 / k, 1 - 0.5 / k, k):
-                    p = a + s * d
-                    tail, head = (p - length * e, p) if np.dot(e, out) <= 0 else (p, p + length * e)
-                    self._extent += [tail, head]
-                    self._temporary.append(ax.annotate("", xy=head, xytext=tail, annotation_clip=False, zorder=6,
-                                                       arrowprops={"arrowstyle": "-|>", "color": color, "lw": 1.2}))
-        f = getattr(scene, "body_force", None)
-        if f is not None and np.hypot(*f) > 0 and load_ref:
-            f = np.asarray(f, float)
-            e = f / np.hypot(*f)
-            length = min(2.0, float(np.hypot(*f)) / load_ref) * arrow
-            lo, hi = poly.min(axis=0), poly.max(axis=0)
-            at = lo + np.array([0.1, 0.75]) * (hi - lo)  # (the upper left, away from a central crack)
-            self._temporary.append(ax.annotate("", xy=at + 0.5 * length * e, xytext=at - 0.5 * length * e, zorder=6,
-                                               arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.6}))
-            self._temporary.append(ax.text(*(at - 0.5 * length * e), "f ", color="0.2", fontsize=FONT_SIZE + 1,
-                                           ha="right", va="bottom", zorder=6))
-
-    def _draw_zoom(self, faces, scale, corners, moved, vals, diam, length_unit, gap, overlap) -> None:
+    def _draw_zoom(self, faces, scale, corners, moved, vals, diam, length_unit, gap, overlap, touching: float = 0.0,
+                   total: float = 0.0) -> None:
         axz = self.axz
         if not faces:
             self.zoom.set_verts(np.zeros((0, 3, 2)))
@@ -526,16 +522,32 @@ class Drawing:
         axz.set_xlim(lo[0], hi[0])
         axz.set_ylim(lo[1], hi[1])
         axz.set_xlabel(f"x [{length_unit}]", fontsize=FONT_SIZE)
-        state = (f"faces overlap (up to {significant(overlap)})" if overlap > 0
-                 else f"crack open (gap up to {significant(gap)})" if gap > 0 else "faces closed")
-        axz.set_title(f"zoom{where}: {state}", fontsize=FONT_SIZE)
+        if overlap > 0:
+            state = f"faces overlap (up to {significant(overlap)})"
+        elif total > 0 and touching >= (1.0 - 1e-9) * total:
+            state = "faces closed"
+        elif touching > 0:  # (the per-edge states, as the profiles shade them and the readout counts)
+            state = f"faces touch over {significant(touching)} of {significant(total)}, open elsewhere"
+        else:
+            state = f"crack open (gap up to {significant(gap)})" if gap > 0 else "crack open"
+        axz.set_title(f"zoom{where}:\n{state}", fontsize=FONT_SIZE)
 
 
 def _pixels_per_unit(ax, poly: np.ndarray) -> float:
-    """About how many pixels one length unit takes in the body panel (equal aspect)."""
-    bbox = ax.get_window_extent()
+    """About how many pixels one length unit takes in the body panel (equal aspect), from the
+    panel's box as laid out (not as the last drawing's aspect shrank it: the same for every redraw)."""
+    bbox = ax.get_position(original=True).transformed(ax.figure.transFigure)
     w, h = float(np.ptp(poly[:, 0])), float(np.ptp(poly[:, 1]))
     return min(bbox.width / (1.25 * w) if w else np.inf, bbox.height / (1.25 * h) if h else np.inf)
+
+
+def _touching_length(sol, profiles) -> tuple[float, float]:
+    """(length of the crack edges whose faces touch by their state, stick or slip; the cracks'
+    whole length): the readout's contact length (model.contact_length), for the zoom's words."""
+    from .model import contact_length
+
+    total = float(sum(np.sum(c.length) for c in sol.crack_mesh.cracks))
+    return (contact_length(sol) if profiles else 0.0), total
 
 
 def _power(limit: float) -> float:

@@ -22,6 +22,7 @@ from ...core.errors import InputError
 from ...planar.plots import tip_names
 from ...studies.growth.figures import draw_frame, draw_load_factors, frame_view
 from ...studies.growth.result import GrowthResult
+from .messages import ArgumentError, require_extras
 
 #: figure size in inches and resolution of a step's picture
 FIGURE_SIZE = (11.0, 5.0)
@@ -44,6 +45,18 @@ def render_step(result: GrowthResult, n: int, view=None) -> bytes:
     return buf.getvalue()
 
 
+def step_tip_names(result: GrowthResult, n: int) -> list[str]:
+    """The names of step `n`'s tips: those of the first step (by crack and end), as the figure's
+    legend names them, so that a tip keeps its name as its path turns; a tip the first step
+    does not have is named by where it is."""
+    first = result.steps[0]["tips"]
+    scene = getattr(result, "scene", None)
+    names = dict(zip([(t["crack"], t["end"]) for t in first], tip_names(first, scene)))
+    tips = result.steps[n]["tips"]
+    own = tip_names(tips, result.scenes[n] if getattr(result, "scenes", None) else scene)
+    return [names.get((t["crack"], t["end"]), mine) for t, mine in zip(tips, own)]
+
+
 def step_readout(result: GrowthResult, n: int) -> str:
     """One line per tip of step `n`: position, K_I, K_II, K_eq, kink (4 significant digits)."""
     step = result.steps[n]
@@ -51,7 +64,7 @@ def step_readout(result: GrowthResult, n: int) -> str:
     lines = [f"step {n} of {len(result.steps) - 1}: load factor " + (f"{lam:.4g}" if lam is not None else "none")]
     rows = result.table[result.table["step"] == n]
     closed = {(r.crack, r.end): bool(r.closed) for r in rows.itertuples()}
-    for t, name in zip(step["tips"], tip_names(step["tips"])):
+    for t, name in zip(step["tips"], step_tip_names(result, n)):
         kink = "" if t["kink_deg"] is None else f", kink {t['kink_deg']:+.1f}°"
         # a closed tip's K_I is 0 (the crack cannot open there): the computed value is the method's error
         k1 = "0 (faces closed)" if closed.get((t["crack"], t["end"])) else f"{t['K_I']:.4g}"
@@ -62,18 +75,33 @@ def step_readout(result: GrowthResult, n: int) -> str:
 
 def explore_growth(result: GrowthResult, **kwargs: Any):
     """An ipywidgets view of `result` (a GrowthResult kept with frames): a step slider,
-    the step's picture and its tips' numbers."""
+    the step's picture and its tips' numbers. The result of `nc.hydrofrac` gets its own view
+    (`hydrofrac_view.explore_hydrofrac`: the crack with its fluid pressure, the profiles along
+    it, the pressure at injection against time beside the closed form)."""
     import html
 
-    import ipywidgets as w
+    from ...studies.hydrofrac.result import HydrofracResult
 
-    if not isinstance(result, GrowthResult):
-        raise InputError(f"result = {result!r}: must be the GrowthResult of nc.grow(...)")
-    view = frame_view(result)  # refuses a result kept without frames, naming the field
+    if isinstance(result, HydrofracResult):
+        from .hydrofrac_view import explore_hydrofrac
+
+        return explore_hydrofrac(result, **kwargs)
+    if not isinstance(result, GrowthResult):  # named by its type: a result's repr is its arrays
+        raise ArgumentError(f"result = <{type(result).__name__}>: explore_growth takes the result of nc.grow(...) "
+                            f"or nc.hydrofrac(...)")
+    unknown = sorted(set(kwargs) - {"step"})
+    if unknown:
+        raise ArgumentError(f"{unknown[0]}: not an argument of explore_growth; allowed: step")
+    try:
+        view = frame_view(result)  # refuses a result kept without frames, naming the field
+    except InputError as exc:
+        raise ArgumentError(str(exc).splitlines()[0]) from None
     last = len(result.frames) - 1
     start = kwargs.get("step", 0)
     if isinstance(start, bool) or not isinstance(start, int) or not 0 <= start <= last:
-        raise InputError(f"step = {start!r}: a whole number from 0 to {last}")
+        raise ArgumentError(f"step = {start!r}: a whole number from 0 to {last}")
+    require_extras("nc.explore_growth")
+    import ipywidgets as w
     slider = w.IntSlider(value=start, min=0, max=last, description="step", readout=False,
                          continuous_update=False)
     slider.add_class("ngcrack-growth-step")

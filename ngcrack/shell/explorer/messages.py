@@ -8,17 +8,61 @@ turns an exception raised by an update into that pair: a control's own refusal
 (`controls.ControlRefused`) carries its sentence; a solve's failure is recognised by the
 rule it names, and anything else gets a sentence naming the changed controls.
 
+`ArgumentError` is a bad argument of `nc.explore` or `nc.explore_growth`, shown in a notebook
+as its one line; `require_extras(what)` refuses a call whose optional packages (the
+``explorer`` extra) are missing with one line naming the extra, before any work.
+
 `GLOSSARY` is the one-line meaning of each word of the readouts (hover), and `tip_names`
 names the tips by where they are ("left tip", "right tip"; "lower" and "upper" for a
-crack closer to vertical; "crack 2, left tip" where there are several cracks).
+vertical crack; "crack 2, left tip" where there are several cracks).
 """
 
 from __future__ import annotations
 
+import importlib
 from typing import Any
 
+from ...core.errors import InputError
 from ...planar.plots import tip_names  # noqa: F401  (the tips' names, shared with the growth figures)
 from .controls import LABELS, ControlRefused
+
+#: the packages of the ``explorer`` extra that a widget needs (webgui: only with ``webgui=True``)
+WIDGET_PACKAGES = ("ipywidgets",)
+WEBGUI_PACKAGES = ("webgui_jupyter_widgets",)
+#: how to install them, as the message says it
+EXPLORER_EXTRA = "pip install 'ngcrack[explorer]'"
+
+
+class ArgumentError(InputError):
+    """A bad argument of `explore` or `explore_growth`: a ValueError that a notebook shows as
+    its one line (IPython renders `_render_traceback_` instead of the frames of the checks)."""
+
+    def _render_traceback_(self) -> list[str]:
+        return [f"ValueError: {self}"]
+
+
+class MissingExtraError(ArgumentError, ModuleNotFoundError):
+    """An optional package of the ``explorer`` extra is not installed: one line naming the
+    extra (an `InputError`, and a `ModuleNotFoundError` whose `name` is the package, as the
+    command line's missing extras are)."""
+
+    def __init__(self, message: str, name: str):
+        super().__init__(message)
+        self.name = name
+
+    def _render_traceback_(self) -> list[str]:
+        return [f"InputError: {self}"]
+
+
+def require_extras(what: str, packages: tuple[str, ...] = WIDGET_PACKAGES) -> None:
+    """Raise `MissingExtraError` if one of `packages`, which `what` needs, cannot be imported."""
+    for package in packages:
+        try:
+            importlib.import_module(package)
+        except ModuleNotFoundError:
+            raise MissingExtraError(f"{what} needs the package {package!r}, an optional part of ngcrack: "
+                                    f"{EXPLORER_EXTRA}", name=package) from None
+
 
 #: one line per word of the readouts, shown on hover
 GLOSSARY = {
@@ -31,7 +75,8 @@ GLOSSARY = {
     "time": "from the change of a control to the new figure, split by stage",
     "K": "stress intensity factors at a crack tip: K_I opens the crack, K_II slides its faces "
          "(units: stress times square root of length)",
-    "tip": "a crack tip, named by where it is: left or right (lower or upper for a steep crack)",
+    "tip": "a crack tip, named by where it is: the left or the right end of its crack (lower or upper only "
+           "for a vertical crack)",
 }
 
 

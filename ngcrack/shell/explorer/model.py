@@ -39,11 +39,10 @@ from typing import Any
 
 import numpy as np
 
-from ...core.constraints import CLOSED_RTOL, faces_closed
+from ...core.constraints import CLOSED_RTOL
 from ...core.errors import InputError
 from ...core.options import CRACK_MODELS, SolveOptions
 from ...core.pipeline import Pipeline
-from ...core.scene import planar_only
 from ...planar.elements import ELEMENTS
 from ...planar.scene import Scene
 from ...scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
@@ -86,6 +85,28 @@ def _one_line(exc: BaseException) -> str:
 
 
 
+#: the crack pressure, relative to E, that a scene loaded by nothing else opens with
+UNLOADED_PRESSURE = 1e-3
+
+
+def _loaded(scene) -> bool:
+    """Whether something loads `scene`: a traction or a prescribed displacement that is not zero, a
+    body force, a point force or a crack pressure."""
+    for bc in scene.boundary.values():
+        if bc.type in ("traction", "displacement") and bc.value is not None and any(v != 0 for v in bc.value):
+            return True
+    if scene.body_force is not None and any(v != 0 for v in scene.body_force):
+        return True
+    if any(pc.type == "force" for pc in (getattr(scene, "points", None) or ())):
+        return True
+    return any(c.pressure not in (None, 0.0) for c in scene.cracks)
+
+
+def _planar_names() -> list[str]:
+    """The built-in scenes the explorer draws: the 2D ones."""
+    return [n for n in _scene_names() if getattr(_load_scene(n), "dimension", 2) == 2]
+
+
 class Explorer:
     """The model behind `explore`: one scene, its solve options, the pipeline's caches.
 
@@ -120,15 +141,20 @@ class Explorer:
             self.function = scene
         elif isinstance(scene, str) and scene in SCENE_FUNCTIONS:
             self.function = scene_function(scene)
-        elif isinstance(scene, str) and scene in _scene_names():
+        elif isinstance(scene, str) and scene in _scene_names() and getattr(_load_scene(scene), "dimension", 2) == 2:
             self.base = _load_scene(scene)
         elif isinstance(scene, Scene):
             self.base = scene
+        elif isinstance(scene, str) and scene in _scene_names():  # a built-in 3D scene
+            raise InputError(f"scene = {scene!r}: a 3D scene; this model holds 2D scenes (one of the scene "
+                              f"functions {', '.join(SCENE_FUNCTIONS)} or built-in scenes {', '.join(_planar_names())}); "
+                              f"nc.explore({scene!r}) opens the 3D explorer (ngcrack.shell.explorer.SolidExplorer)")
         else:
             raise InputError(f"scene = {scene!r}: a Scene, or one of the scene functions "
-                              f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
-        if self.base is not None:
-            planar_only(self.base, "the explorer")
+                              f"({', '.join(SCENE_FUNCTIONS)}) or built-in 2D scenes ({', '.join(_planar_names())})")
+        if self.base is not None and getattr(self.base, "dimension", 2) == 3:  # a 3D scene object
+            raise InputError(f"scene {self.base.name!r} is 3D: this model holds 2D scenes; nc.explore(scene) opens the "
+                              f"3D explorer (ngcrack.shell.explorer.SolidExplorer)")
         #: the scene's name as given (a scene function's or built-in scene's name), for titles
         self.name = scene.name if isinstance(scene, (Scene, SceneFunction)) else scene
         self.solve_options = dict(solve_options or {})
@@ -154,6 +180,11 @@ class Explorer:
         self.state.setdefault("friction", ref.cracks[0].friction if ref.cracks else 0.0)
         own = ref.cracks[0].pressure if ref.cracks else None
         self.state.setdefault("pressure", own if isinstance(own, float) else 0.0)
+        if ref.cracks and "pressure" not in params and not _loaded(ref):
+            # nothing loads the body (kgd: a crack in a clamped block, loaded by its fluid): open on a
+            # crack pressure of E / 1000 (a strain of 1e-3), not on an unloaded body
+            self.state["pressure"] = UNLOADED_PRESSURE * ref.material.E
+            self._pressure_set = True
         # every value checked before anything is built: ValueError naming the control and what it allows
         check_choice("element", element, ELEMENTS)
         self.ranges: dict[str, Range] = dict(FIXED)
@@ -250,9 +281,11 @@ class Explorer:
             self.state.update(changes)
             self._friction_set = self._friction_set or "friction" in changes
             self._pressure_set = self._pressure_set or "pressure" in changes
-            if self.solution is not None and changes and all(self.level(k) == "view" for k in changes) \
-                    and self.error is None:
+            if self.solution is not None and changes and all(self.level(k) == "view" for k in changes):
+                # the controls are those of the answer shown (a refusal put them back): only a redraw
                 self.redone = ["figure"]
+                self.error = self.error_detail = None
+                self.refused = ()
                 return self.solution
             self.solution = self._solve(self.make_scene())
             self.error = self.error_detail = None
@@ -357,10 +390,18 @@ class Explorer:
 
 
 def contact_length(sol) -> float:
-    """Total length of the crack edges that are closed: faces touching at the mid point
-    (constraints.faces_closed: all of them if nothing moves); faces that pass through
-    each other (crack model free) are not."""
-    return _length_where(sol, lambda jn, W: faces_closed(jn, W) & (jn >= -CLOSED_RTOL * W))
+    """Total length of the crack edges whose faces touch: the edges whose state is not "open"
+    (stick or slip: `CrackProfile.state`, the per-edge states the figure shades, which also
+    count a pressed edge with a small positive jump as closed); faces that pass through each
+    other (crack model free) are not."""
+    profiles = sol.crack_profiles()
+    total = 0.0
+    for p, crack in zip(profiles, sol.crack_mesh.cracks):
+        jn = np.asarray(p.normal_jump, dtype=float)
+        W = float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0))
+        touching = (np.asarray(p.state) != "open") & (jn >= -CLOSED_RTOL * W)
+        total += float(np.sum(crack.length[touching]))
+    return total
 
 
 def overlap_length(sol) -> float:

@@ -2,7 +2,7 @@
 body, the crack faces as lines, the figure's colour limits and a caption naming the field.
 
 The deformation is the figure's: each triangle moved by the locally post-processed
-displacement u*(x) = u_T + (A sigma + r W)(x - c_T) (plots.element_displacements, here as
+displacement u*(x) = u_T + (A sigma + r W)(x - c_T) (fields.drawn_displacements, here as
 an NGSolve CoefficientFunction: on each triangle the affine map through its corners'
 displacements, from piecewise constant functions), times the figure's magnification. The crack faces are the figure's too
 (plots.crack_faces): two black polylines per crack, each moved by its own side's
@@ -22,9 +22,9 @@ def deformation_cf(sol, scale: float):
     held as piecewise constants (centroid, value there, gradient)."""
     import ngsolve as ngs
 
-    from ...planar.plots import element_displacements
+    from .fields import drawn_displacements
 
-    corners, disp = element_displacements(sol)
+    corners, disp = drawn_displacements(sol)  # the figure's: less the rigid motion that rollers leave free
     cent = corners.mean(axis=1)
     uc = disp.mean(axis=1)  # (affine on the triangle: its mean over the corners is its value at the centroid)
     M = np.stack([corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]], axis=2)  # columns: edges
@@ -59,9 +59,10 @@ def _element_order(sol) -> np.ndarray:
 def crack_lines(sol, scale: float) -> list[dict]:
     """The crack faces as webgui line objects (segments as point pairs), moved by `scale` times
     their own side's displacement."""
-    from ...planar.plots import crack_faces, element_displacements
+    from ...planar.plots import crack_faces
+    from .fields import drawn_displacements
 
-    corners, disp = element_displacements(sol)
+    corners, disp = drawn_displacements(sol)
     position = []
     for f in crack_faces(sol, corners, disp):
         for side in ("plus", "minus"):

@@ -33,7 +33,7 @@ from ...planar.scene import Scene
 from ...scenes import SceneFunction
 from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, LABELS, SCALES
 from .figure import FIELDS, Drawing
-from .messages import GLOSSARY
+from .messages import GLOSSARY, WEBGUI_PACKAGES, WIDGET_PACKAGES, ArgumentError, MissingExtraError, require_extras  # noqa: F401
 from .model import Explorer, _one_line
 
 #: the page's style: the busy figure greyed, the refusals red
@@ -52,6 +52,9 @@ SCALES_HELP = ("hold for load changes: colour limits and magnification are those
                "crack models are compared on one scale; hold always (kept from the first frame held); or fit "
                "every frame")
 
+#: width of a box for a typed value: room for E = 30000000000 (kgd's 30 GPa in Pa) without cutting it
+TYPED_WIDTH = "110px"
+
 #: the slider ranges of older imports (the model's `ranges` are what counts)
 SLIDERS = {"load": (-2.0, 2.0, 0.1), "load_angle": (-180.0, 180.0, 5.0), "nu": (0.0, 0.5, 0.01),
            "friction": (0.0, 1.0, 0.05)}
@@ -64,8 +67,16 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     half length and position; ``nc.explore(scene)`` a fixed geometry. ``webgui`` adds a
     checkbox for NGSolve's 3D view of the stress field. Returns an `ExplorerWidget`
     (an ipywidgets VBox; `.model` is the model). Bad arguments raise one ValueError
-    naming the argument and what it allows, before any widget is made.
+    naming the argument and what it allows, before any widget is made; a missing
+    ``explorer`` extra one line naming it (`MissingExtraError`), before any solve.
     """
+    require_extras("nc.explore", WIDGET_PACKAGES + (WEBGUI_PACKAGES if webgui else ()))  # before any solve
+    if _is_3d(scene):  # the 3D explorer: K along the fronts, the faces' map, NGSolve's view of the body
+        from .solid_view import explore_solid
+
+        if element not in ("bdm", "tdnns"):  # (bdm is the 2D default: 3D solves with tdnns)
+            raise ArgumentError(f"element = {element!r}: a 3D scene is solved with tdnns")
+        return explore_solid(scene, webgui=webgui, **kwargs)
     try:
         model = Explorer(scene, element, **kwargs)  # (checks every argument before it builds anything)
     except InputError as exc:
@@ -73,12 +84,13 @@ def explore(scene: Scene | str | SceneFunction, element: str = "bdm", *, webgui:
     return _widget_class()(model, webgui=webgui)
 
 
-class ArgumentError(InputError):
-    """A bad argument of `explore`: a ValueError that a notebook shows as its one line
-    (IPython renders `_render_traceback_` instead of the frames of the checks)."""
+def _is_3d(scene) -> bool:
+    """Whether `scene` is a 3D scene or the name of a built-in one."""
+    if isinstance(scene, str):
+        from ...scenes import load, names
 
-    def _render_traceback_(self) -> list[str]:
-        return [f"ValueError: {self}"]
+        return scene in names() and getattr(load(scene), "dimension", 2) == 3
+    return getattr(scene, "dimension", 2) == 3
 
 
 @functools.lru_cache(maxsize=1)
@@ -162,7 +174,7 @@ class _ExplorerView:
                                           step=r.step, **common)
             else:
                 slider = w.FloatSlider(value=float(value), min=r.low, max=r.high, step=r.step, **common)
-            box = w.FloatText(value=float(value), layout=w.Layout(width="80px"), tooltip=tip)
+            box = w.FloatText(value=float(value), layout=w.Layout(width=TYPED_WIDTH), tooltip=tip)
             box.add_class(f"ngcrack-typed-{name}")
             slider.add_class(f"ngcrack-slider-{name}")
             self.controls[name], self.typed[name] = slider, box
@@ -177,7 +189,7 @@ class _ExplorerView:
                                             value=st["field"], description="stress shown", **menu)
         self.controls["scales"] = w.Dropdown(options=[(v, k) for k, v in SCALES.items()], value=st["scales"],
                                              description="scales", tooltip=SCALES_HELP, **menu)
-        self.controls["magnification"] = w.FloatText(value=float(st["magnification"]), description="magnification",
+        self.controls["magnification"] = w.FloatText(value=float(st["magnification"]), description="magnification (0: auto)",
                                                      tooltip=HELP["magnification"], style=style,
                                                      layout=w.Layout(width="300px"))
         self.controls["magnification"].add_class("ngcrack-typed-magnification")
@@ -377,13 +389,23 @@ def show_webgui(cf, name: str, mesh, deformation=None, objects=None, settings=No
         display(HTML(f"<div class='ngcrack-webgui-caption' style='font-size:13px'>{_escape(caption)}</div>"))
     kw = {k: v for k, v in (("deformation", deformation), ("objects", objects), ("settings", settings))
           if v is not None}
-    scene = Draw(cf, mesh, name, show=False, **kw)
+    display_webgui(Draw(cf, mesh, name, show=False, **kw))
+
+
+def display_webgui(scene, height: str = "420px") -> None:
+    """Display a webgui scene made with ``ngsolve.webgui.Draw(..., show=False)`` (a 2D field, or
+    ``ngcrack.solid.view.webgui_scene(sol).draw(show=False)``): in webgui_jupyter_widgets' widget
+    where it is installed (its JavaScript ships with it: the view works offline, in JupyterLab
+    as in the classic notebook), else through the scene's own ``Draw`` (which loads its
+    JavaScript from a CDN, and shows an empty space without the network)."""
+    from IPython.display import display
+
     try:
         import ipywidgets
         from webgui_jupyter_widgets import WebGuiWidget
     except ImportError:
         scene.Draw()
         return
-    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height="420px"))
+    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height=height))
     widget.value = scene.GetData()
     display(widget)
