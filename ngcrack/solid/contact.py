@@ -13,11 +13,20 @@ constraints are bounds, x_c >= 0, and the KKT conditions read
     (K_w x - F_w)_c = lam >= 0,  x_c >= 0,  lam x_c = 0,  (K_w x - F_w)_r = 0,
 
 K_w = T^T K T, F_w = T^T F. The primal-dual active set method (Hintermueller, Ito and
-Kunisch: a semismooth Newton method) guesses the closed points A, solves K_w on the
-other unknowns with x_A = 0 (one sparse factorization per active set), reads lam from
-the residual and updates A = {i : lam_i - c_i x_i > 0} (c_i the diagonal of K_w) until A
-repeats. Nothing of size m^2 (m the constrained unknowns) is ever formed: time and
-memory are those of the sparse factorizations.
+Kunisch: a semismooth Newton method) guesses the closed points A, solves with x_A = 0,
+reads lam from the residual and updates A = {i : lam_i - c_i x_i > 0} (c the diagonal of
+the matrix) until A repeats. Two ways (`method`):
+
+- "schur" (the default while m <= SCHUR_MAX_M): one sparse factorization of K_w with the
+  crack unknowns last, which leaves the dense Schur complement S = K_cc - K_cr K_rr^-1 K_rc
+  on them (MKL PARDISO's Schur option, `ngcrack.schur.schur_complement`, as the 2D contact
+  stage does); the active set then iterates on S alone (one dense Cholesky factorization
+  of S's free block per active set: m^3/3 flops, milliseconds at m = 1e3), and the rest
+  is recovered with one solve. An active-set change costs a small dense solve, not a
+  refactorization; the sparse factorization is the one any linear solve of the body needs
+  (timed apart as "factorize").
+- "sparse": one sparse factorization of K_w's free unknowns per active set, nothing of
+  size m^2 formed (for m above SCHUR_MAX_M, where S would not fit).
 
 The answer is certified as in 2D (ngcrack.constraints): the contact forces are taken
 from the residual of K y = F at the constrained rows (`discrete_contact_forces`), not
@@ -39,6 +48,13 @@ from ..schur import Factorization
 
 #: at most this many active-set steps
 MAX_ITERATIONS = 60
+#: method "auto" forms the dense Schur complement on the crack unknowns up to this many of them
+#: (its m^2 doubles: 288 MB at 6000)
+SCHUR_MAX_M = 6000
+#: the contact solve's methods (module docstring)
+METHODS = ("auto", "schur", "sparse")
+#: iterative refinement steps of the "schur" method's solves (at most)
+REFINEMENTS = 4
 
 
 @dataclass
@@ -53,6 +69,7 @@ class ContactResult:
     kkt: dict
     timings: dict = field(default_factory=dict)
     factorizations: int = 0
+    method: str = "sparse"  # "schur" or "sparse" (module docstring)
 
 
 def _transform(K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, G) -> tuple[sp.csr_matrix, np.ndarray, sp.csr_matrix]:
@@ -91,20 +108,117 @@ def _refined(fac: Factorization, K: sp.csr_matrix, b: np.ndarray, steps: int = 3
     return x
 
 
+def _initial(active, m: int) -> np.ndarray:
+    A = np.zeros(m, dtype=bool) if active is None else np.asarray(active, dtype=bool).copy()
+    if A.shape != (m,):
+        raise ValueError(f"active: a boolean array of {m} entries (one per constraint point) was expected")
+    return A
+
+
+class _BlockSolver:
+    """Solves with K_w's free unknowns (the crack's closed ones held at zero) through the partial
+    factorization of K_rr and the dense Schur complement S (the "schur" method)."""
+
+    def __init__(self, Kw: sp.csr_matrix, contact: np.ndarray, rest: np.ndarray, data):
+        self.Kw, self.contact, self.rest, self.data = Kw, contact, rest, data
+        self.K_cr = Kw[contact][:, rest].tocsr()
+        self.K_rc = self.K_cr.T.tocsr()
+
+    def solve(self, r: np.ndarray, free: np.ndarray, chol) -> np.ndarray:
+        """d with K_w d = r on the free rows, d = 0 at the closed crack unknowns (`chol`: S's free block)."""
+        import scipy.linalg as la
+
+        fac = self.data.factorization
+        z = fac.solve(r[self.rest])
+        d = np.zeros(len(r))
+        d_c = np.zeros(len(self.contact))
+        if free.any():
+            d_c[free] = la.cho_solve(chol, (r[self.contact] - self.K_cr @ z)[free])
+            z = z - fac.solve(self.K_rc @ d_c)
+        d[self.rest], d[self.contact] = z, d_c
+        return d
+
+    def refined(self, Fw: np.ndarray, A: np.ndarray) -> np.ndarray:
+        """x with the closed crack unknowns at zero solving K_w x = F_w on the other rows, refined
+        (up to REFINEMENTS steps while the residual halves): the dense S of a stiff body (nu near 1/2)
+        carries the partial factorization's rounding, and the certificate reads the forces from the
+        residual (as `_refined` for the sparse method)."""
+        import scipy.linalg as la
+
+        free = ~A
+        chol = la.cho_factor(self.data.S[np.ix_(free, free)]) if free.any() else None
+        held = self.contact[A]
+        x = np.zeros(len(Fw))
+        r = Fw.copy()
+        r[held] = 0.0
+        norm = np.inf
+        for _ in range(REFINEMENTS + 1):
+            trial = x + self.solve(r, free, chol)
+            r_new = Fw - self.Kw @ trial
+            r_new[held] = 0.0
+            norm_new = np.linalg.norm(r_new)
+            if not norm_new < 0.5 * norm:
+                break
+            x, r, norm = trial, r_new, norm_new
+            if norm == 0.0:
+                break
+        return x
+
+
+def _solve_schur(K, F, Kw, Fw, T, contact, G, A, linear_solver: str, max_iterations: int, t0: float) -> ContactResult:
+    """The "schur" method (module docstring): one partial factorization, the active set on S."""
+    from ..schur import schur_complement
+
+    n = Kw.shape[0]
+    rest = np.setdiff1d(np.arange(n), contact)
+    t1 = time.perf_counter()
+    data = schur_complement(Kw, Fw, rest, contact, linear_solver=linear_solver)
+    t2 = time.perf_counter()
+    block = _BlockSolver(Kw, contact, rest, data)
+    c = np.diag(data.S).copy()
+    seen = set()
+    for it in range(1, max_iterations + 1):
+        x = block.refined(Fw, A)
+        lam = np.asarray(block.Kw[contact] @ x - Fw[contact])
+        new = lam - c * x[contact] > 0
+        if np.array_equal(new, A):
+            break
+        key = new.tobytes()
+        if key in seen:
+            raise ContactSolverError(f"the active-set method cycles after {it} steps")
+        seen.add(key)
+        A = new
+    else:
+        raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
+    t3 = time.perf_counter()
+    y = T @ x
+    w = x[contact]
+    lam, bound = discrete_contact_forces(K, F, y, contact, G)
+    kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if len(w) else 0.0, jump_scale=float(np.max(np.abs(y))),
+                             force_scale=float(np.max(np.abs(F))), lam_bound=bound)
+    t4 = time.perf_counter()
+    timings = {"setup": t1 - t0, "factorize": t2 - t1, "factorizations": t2 - t1, "active_set": t3 - t2,
+               "certificate": t4 - t3, "total": t4 - t0}
+    return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=1, method="schur")
+
+
 def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *, linear_solver: str = "auto",
-                  active=None, max_iterations: int = MAX_ITERATIONS) -> ContactResult:
-    """Solve the constrained problem (module docstring); `active`: an initial guess of the closed points."""
+                  active=None, max_iterations: int = MAX_ITERATIONS, method: str = "auto") -> ContactResult:
+    """Solve the constrained problem (module docstring); `active`: an initial guess of the closed points;
+    `method`: "schur", "sparse" or "auto" (schur up to SCHUR_MAX_M constrained unknowns)."""
+    if method not in METHODS:
+        raise ValueError(f"method = {method!r}: allowed values are {', '.join(METHODS)}")
     t0 = time.perf_counter()
     K = sp.csr_matrix(K)
     contact = np.asarray(contact, dtype=int)
     n, m = K.shape[0], len(contact)
+    A = _initial(active, m)
     Kw, Fw, T = _transform(K, F, contact, G)
     diag = Kw.diagonal()[contact]
     if np.any(diag <= 0):
         raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
-    A = np.zeros(m, dtype=bool) if active is None else np.asarray(active, dtype=bool).copy()
-    if A.shape != (m,):
-        raise ValueError(f"active: a boolean array of {m} entries (one per constraint point) was expected")
+    if method == "schur" or (method == "auto" and 0 < m <= SCHUR_MAX_M):
+        return _solve_schur(K, F, Kw, Fw, T, contact, G, A, linear_solver, max_iterations, t0)
     t_setup = time.perf_counter() - t0
     t_fact = 0.0
     x = np.zeros(n)
@@ -135,4 +249,4 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
     kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if m else 0.0, jump_scale=float(np.max(np.abs(y))),
                              force_scale=float(np.max(np.abs(F))), lam_bound=bound)
     timings = {"setup": t_setup, "factorizations": t_fact, "total": time.perf_counter() - t0}
-    return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=it)
+    return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=it, method="sparse")
