@@ -62,8 +62,8 @@ def sliding_error(sol) -> float:
 
 def effectivity(quick: bool) -> None:
     import ngcrack as nc
-    from ngcrack.adapt import solve_adaptive
-    from ngcrack.estimate import energy_error_against
+    from ngcrack.planar.estimate import energy_error_against
+    from ngcrack.studies.adapt import solve_adaptive
 
     warnings.simplefilter("ignore")
     scales = SCALES[:2] if quick else SCALES
@@ -89,10 +89,10 @@ def effectivity(quick: bool) -> None:
 def manufactured(quick: bool) -> None:
     import ngsolve as ngs
 
-    from ngcrack.elements import Loads
-    from ngcrack.estimate import energy_error
-    from ngcrack.scene import BoundaryCondition, Material, Scene
-    from ngcrack.solve import solve
+    from ngcrack.core.solve import solve
+    from ngcrack.planar.elements import Loads
+    from ngcrack.planar.estimate import energy_error
+    from ngcrack.planar.scene import BoundaryCondition, Material, Scene
 
     X, Y = ngs.x, ngs.y
     mu, nu = 1.0, 0.3
@@ -116,7 +116,7 @@ def manufactured(quick: bool) -> None:
 
 def compare(quick: bool, elements) -> None:
     import ngcrack as nc
-    from ngcrack.adapt import solve_adaptive
+    from ngcrack.studies.adapt import solve_adaptive
 
     warnings.simplefilter("ignore")
     scene = nc.scenes.load("inclined-compression")

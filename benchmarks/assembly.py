@@ -61,10 +61,10 @@ def run_case(element: str, maxh: float, crack_h: float, model: str) -> dict:
     """One solve in this process: wall times per stage, and CPU times (all threads) per stage."""
     import ngsolve as ngs
 
-    import ngcrack.hybrid as hybrid
+    import ngcrack.core.hybrid as hybrid
     import ngcrack.scenes as scenes
 
-    S = importlib.import_module("ngcrack.pipeline")  # the stages' module: its functions are timed here
+    S = importlib.import_module("ngcrack.core.pipeline")  # the stages' module: its functions are timed here
     wall: dict[str, float] = {}
     cpu: dict[str, float] = {}
 
@@ -86,7 +86,7 @@ def run_case(element: str, maxh: float, crack_h: float, model: str) -> dict:
     hybrid.CondensedSystem.expand = timed("recover", hybrid.CondensedSystem.expand)
     load = os.getloadavg()[0]
     c0 = time.process_time()
-    sol = importlib.import_module("ngcrack.solve").solve(scenes.load(SCENE), element, maxh=maxh, crack_h=crack_h,
+    sol = importlib.import_module("ngcrack.core.solve").solve(scenes.load(SCENE), element, maxh=maxh, crack_h=crack_h,
                                                         crack_model=model)
     cpu["total"] = time.process_time() - c0
     cpu["post"] = cpu["total"] - sum(v for k, v in cpu.items() if k != "total")

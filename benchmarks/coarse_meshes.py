@@ -1,4 +1,4 @@
-"""How coarse a mesh each element survives: the measurements behind ngcrack.sizing's
+"""How coarse a mesh each element survives: the measurements behind ngcrack.planar.sizing's
 thin-part check (MIN_ACROSS_REFUSE, MIN_ACROSS_WARN).
 
 Bodies whose thin parts bend: a plain cantilever (0,4) x (0,t), clamped on the left,
@@ -22,8 +22,9 @@ import warnings
 import ngsolve as ngs
 
 import ngcrack as nc
-from ngcrack import scenes, sizing
-from ngcrack.scene import Scene
+from ngcrack import scenes
+from ngcrack.planar import sizing
+from ngcrack.planar.scene import Scene
 
 ELEMENTS = [("peers", None), ("bdm", None), ("tdnns", 1), ("tdnns", 2), ("tdnns", 3), ("h1p1", None), ("h1p2", None)]
 #: mesh sizes as fractions of the thickness t: t / h = 0.8 ... 8

@@ -1,6 +1,6 @@
 """Contact solve against the plain linear solve of the same condensed system.
 
-For every element of ngcrack.elements.ELEMENTS, on griffith and paper-2, over a mesh
+For every element of ngcrack.planar.elements.ELEMENTS, on griffith and paper-2, over a mesh
 sequence that ends at the first mesh with at least --target unknowns in total:
 
   (a) solve(..., crack_model="bonded"): the condensed system with jn = 0, i.e. one
@@ -57,7 +57,7 @@ TARGET_QP_SHARE = 0.05
 def run_case(scene: str, element: str, maxh: float, crack_h, tip_h, model: str, extra: dict) -> dict:
     """One solve in this process; returns timings, sizes and peak memory."""
     import ngcrack.scenes as scenes
-    from ngcrack.solve import solve
+    from ngcrack.core.solve import solve
 
     load = os.getloadavg()[0]  # the machine is shared: record how busy it was
     t0 = time.perf_counter()
@@ -167,7 +167,7 @@ def machine() -> str:
 
 
 def main_table(args) -> None:
-    import ngcrack.elements as E
+    import ngcrack.planar.elements as E
 
     elements = args.elements or list(E.ELEMENTS)
     rows = []
@@ -204,13 +204,13 @@ def main_schur(args) -> None:
     import scipy.sparse as sp
 
     import ngcrack.scenes as scenes
-    from ngcrack import elements as E
-    from ngcrack.contact import solve_qp
-    from ngcrack.geometry import make_mesh
-    from ngcrack.hybrid import condense
-    from ngcrack.materials import compliance
-    from ngcrack.schur import Factorization, mkl_available, schur_complement
-    from ngcrack.solve import scene_loads
+    from ngcrack.core.contact import solve_qp
+    from ngcrack.core.hybrid import condense
+    from ngcrack.core.schur import Factorization, mkl_available, schur_complement
+    from ngcrack.core.solve import scene_loads
+    from ngcrack.planar import elements as E
+    from ngcrack.planar.geometry import make_mesh
+    from ngcrack.planar.materials import compliance
 
     print(machine(), flush=True)
     sc = scenes.load(args.scene)

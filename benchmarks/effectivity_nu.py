@@ -9,7 +9,7 @@ plane strain at nu = 0.3, 0.45, 0.49, 0.499, 0.4999:
     tests/test_readable.py);
   * reference: the same element on maxh 1, crack_h 0.05, tip_h 0.005.
 Two estimates from the same solve: "robust" is `sol.error_estimate` (the volumetric
-strain residual weighted by min(lambda + mu, 2.5 mu), ngcrack/estimate.py); "plain" is
+strain residual weighted by min(lambda + mu, 2.5 mu), ngcrack/planar/estimate.py); "plain" is
 the Prager-Synge estimate with the full weight lambda + mu (the same reconstructed w),
 rebuilt from the estimate's terms. --quick: nu = 0.3 and 0.4999 only. Accuracy only: no timing is claimed.
 """
@@ -21,8 +21,8 @@ import math
 import warnings
 
 import ngcrack as nc
-from ngcrack.estimate import VOLUMETRIC_WEIGHT, energy_error_against
-from ngcrack.materials import lame_parameters
+from ngcrack.planar.estimate import VOLUMETRIC_WEIGHT, energy_error_against
+from ngcrack.planar.materials import lame_parameters
 
 SCENES = ("griffith", "inclined-compression")
 ELEMENTS = ("bdm", "peers", "tdnns")

@@ -8,7 +8,7 @@ the closed crack under compression), at each Poisson ratio (default 0.3 and 0.49
 per level) and a strongly graded one (GRADED: maxh 2, crack_h 0.2, tip_h 5e-4, grading
 0.5): every element (tdnns also at orders 2 and 3), its unknowns, the CPU seconds
 of the whole solve on one thread, and its errors against the finite plate's converged
-answer (ngcrack.references: K, max over the tips of |K - K_ref| / |K_ref|; profile,
+answer (ngcrack.studies.references: K, max over the tips of |K - K_ref| / |K_ref|; profile,
 relative L2 error over the crack edges' mid points weighted by their lengths), the
 infinite plate's closed-form opening error beside them. Prints Markdown tables.
 Expect +-30% on CPU times (shared machine).
@@ -26,7 +26,7 @@ import time
 
 import ngcrack as nc
 from ngcrack import references
-from ngcrack.elements import ELEMENTS
+from ngcrack.planar.elements import ELEMENTS
 
 RUNS = [(el, None) for el in ELEMENTS] + [("tdnns", 2), ("tdnns", 3)]
 SCENES = ("griffith", "inclined-compression")

@@ -61,7 +61,7 @@ def bench_mesh(label, maxh, tip_h, repeat, element="bdm"):
     for kind, (name, values) in CHANGES.items():
         row[kind], row[kind + "_cpu"], row[kind + "_estimate"], row[kind + "_redone"] = \
             _median_update(study, name, values, repeat)
-    from ngcrack.explorer import Drawing
+    from ngcrack.shell.explorer import Drawing
 
     drawing = Drawing()
     drawing.render(study.solution)  # (the first render builds the figure)

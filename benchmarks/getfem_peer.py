@@ -20,7 +20,7 @@ passes. Two CPU columns:
 
 Scenes: `griffith` (K_I and the opening) and `inclined-compression` (K_II and the sliding,
 crack faces in frictionless contact). Errors against the same finite-body references
-(ngcrack.references) for both codes: K, max over the tips of |K - K_ref| / |K_ref|;
+(ngcrack.studies.references) for both codes: K, max over the tips of |K - K_ref| / |K_ref|;
 profile, the true relative L2 error of the opening (sliding) along the crack, by
 quadrature for both (GetFEM: its quadrature on the level set; ngcrack: the jump
 (n.nu)(u.Other() - u) of the displacement sol.u on the crack edges, NGSolve's element-
@@ -137,7 +137,7 @@ def peer_problem(scene, ref, h: float, faces: str) -> dict:
     if len(scene.cracks) != 1 or len(scene.cracks[0].points) != 2:
         raise ValueError(f"scene {scene.name!r}: one straight crack only")
     pts = np.asarray(scene.cracks[0].points, float)
-    from ngcrack import tips as nctips
+    from ngcrack.planar import tips as nctips
 
     tips = []
     for label in nctips.tip_labels(scene):

@@ -4,7 +4,7 @@ The README's teaching scene: `inclined-compression` (the plate [-10, 10]^2, a cr
 half-length 1 at 30 degrees, remote compression sigma_yy = -1, its mesh maxh 1, tip_h
 0.005, crack_h 0.05) with friction 0.3 on the crack; wing cracks grow from both tips,
 da = 0.1, K_Ic = 2, PLS, the default element, growth's default path grading (the grown
-path coarser with the distance from the tips, `ngcrack.path_sizes`). Printed per step:
+path coarser with the distance from the tips, `ngcrack.planar.path_sizes`). Printed per step:
 ndof, the solves that made it (more than one: PLS trials), its wall-clock seconds split
 into meshing, assembly, linear solves, the crack problem and post-processing (the tips' K
 and the error estimate); every `--every` steps a fresh solve of the same step's scene
@@ -48,8 +48,8 @@ def main(argv=None) -> int:
         "path_grading": None if args.path_grading.lower() == "none" else float(args.path_grading)}
 
     import ngcrack as nc
-    from ngcrack.growth.solves import growth_solve_options
-    from ngcrack.solve import solve
+    from ngcrack.core.solve import solve
+    from ngcrack.studies.growth.solves import growth_solve_options
 
     print(f"load average before: {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
     scene = nc.scenes.load("inclined-compression").with_(friction=args.friction)
@@ -121,7 +121,7 @@ def compare(nc, scene, res, cpu, args, what: str, **options) -> None:
 def same_scenes(nc, uniform, every: int) -> None:
     """Every `every`-th grown scene of the run with the path at crack_h, solved again with growth's
     path grading: how far K moves on the same geometry (no path divergence), and the unknowns."""
-    from ngcrack.growth.checks import GROWTH_PATH_GRADING
+    from ngcrack.studies.growth.checks import GROWTH_PATH_GRADING
 
     print(f"\nthe same grown scenes (every {every}-th step of the run with the path at crack_h), graded "
           f"(path_grading {GROWTH_PATH_GRADING:g}): |dK_I| / K, |dK_II| / K, K = max(|K_I|, |K_II|) (largest over the tips)")

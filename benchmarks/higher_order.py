@@ -1,7 +1,7 @@
 """Higher order and hp at the tips: error against unknowns and CPU time, and where the time goes.
 
 Table 1 (`hp`): griffith and inclined-compression, bdm and tdnns of order 1-3, on the hp
-meshes of ngcrack.hp (`hp_mesh(scene, L)`: the coarse base mesh plus L geometric layers
+meshes of ngcrack.planar.hp (`hp_mesh(scene, L)`: the coarse base mesh plus L geometric layers
 of ratio 0.2 towards every tip) for L = 0, 1, ..., and, for comparison, on the scene's
 own graded mesh ("own"). Errors are relative, against the finite plates' converged
 answers (REFERENCES: order 3, 8 and 10 layers, base meshes maxh 1 and 0.5, bdm and tdnns
@@ -36,8 +36,9 @@ import time
 os.environ.setdefault("NGCRACK_THREADS", "1")  # one thread (process time = wall time), before ngcrack loads
 
 
-from ngcrack import hp, scenes
-from ngcrack.solve import solve
+from ngcrack import scenes
+from ngcrack.core.solve import solve
+from ngcrack.planar import hp
 
 #: the finite plates' converged answers (see tests/test_hp.py for their uncertainty)
 REFERENCES = {

@@ -34,12 +34,12 @@ def worker(scene_name: str, scale: float, out: str) -> None:
     from mpi4py import MPI
 
     import ngcrack as nc
-    from ngcrack import elements
+    from ngcrack.core.options import SolveOptions
+    from ngcrack.core.pipeline import ParameterLoads, Pipeline
     from ngcrack.distributed.bddc import preconditioner, unconstrained_steps
     from ngcrack.distributed.mesh import distribute
-    from ngcrack.materials import compliance
-    from ngcrack.options import SolveOptions
-    from ngcrack.pipeline import ParameterLoads, Pipeline
+    from ngcrack.planar import elements
+    from ngcrack.planar.materials import compliance
 
     comm = MPI.COMM_WORLD
     scene = nc.scenes.load(scene_name)

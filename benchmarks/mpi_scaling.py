@@ -36,7 +36,7 @@ MAX_DOF = 10**8
 
 
 def options(scene, scale: float):
-    from ngcrack.options import SolveOptions
+    from ngcrack.core.options import SolveOptions
 
     return SolveOptions(maxh=scene.maxh * scale, tip_h=scene.tip_h * scale, crack_h=scene.crack_h * scale,
                         max_dof=MAX_DOF)
@@ -49,11 +49,11 @@ def peak_mb() -> float:
 def bddc_iterations(scene, o, comm, kind: str) -> dict:
     """CG steps with the preconditioner `kind` on the sign-flipped condensed system (no crack constraint) to
     1e-6 and 1e-8 (preconditioned residual), and the size of its coarse problem (global unknowns)."""
-    from ngcrack import elements
+    from ngcrack.core.pipeline import ParameterLoads, Pipeline
     from ngcrack.distributed.bddc import unconstrained_steps
     from ngcrack.distributed.mesh import distribute
-    from ngcrack.materials import compliance
-    from ngcrack.pipeline import ParameterLoads, Pipeline
+    from ngcrack.planar import elements
+    from ngcrack.planar.materials import compliance
 
     serial = Pipeline().mesh(scene, o) if comm.rank == 0 else None
     cmesh = distribute(serial, scene, comm)
@@ -92,7 +92,7 @@ def worker(scene_name: str, scale: float, element_bddc: bool, counts: bool) -> N
 
 def serial_worker(scene_name: str, scale: float) -> None:
     """The serial solve in its own process; one JSON line."""
-    from ngcrack.pipeline import Pipeline
+    from ngcrack.core.pipeline import Pipeline
     from ngcrack.scenes import load
 
     scene = load(scene_name)

@@ -42,7 +42,7 @@ def run_level(front_h: float, order: int, reverse: bool) -> dict:
     import numpy as np
 
     import ngcrack as nc
-    from ngcrack.hybrid import condense
+    from ngcrack.core.hybrid import condense
     from ngcrack.solid.contact import solve_contact
     from ngcrack.solid.element import build
     from ngcrack.solid.front import front_parameters

@@ -28,7 +28,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     import ngcrack as nc
-    from ngcrack.load_points import load_point_values
+    from ngcrack.planar.load_points import load_point_values
 
     bend = nc.scenes.load("three-point-bend")
     force = [pc for pc in bend.points if pc.type == "force"]

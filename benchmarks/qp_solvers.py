@@ -43,11 +43,11 @@ RANDOM = [(200, 1e4), (1000, 1e6), (2000, 1e8)]
 
 def scene_qp(scene: str, element: str, maxh: float, crack_h):
     import ngcrack.scenes as scenes
-    from ngcrack import elements as E
-    from ngcrack.geometry import make_mesh
-    from ngcrack.hybrid import condense, reduce_to_contact
-    from ngcrack.materials import compliance
-    from ngcrack.solve import scene_loads
+    from ngcrack.core.hybrid import condense, reduce_to_contact
+    from ngcrack.core.solve import scene_loads
+    from ngcrack.planar import elements as E
+    from ngcrack.planar.geometry import make_mesh
+    from ngcrack.planar.materials import compliance
 
     sc = scenes.load(scene)
     loads = scene_loads(sc)
@@ -71,7 +71,7 @@ def random_qp(m: int, cond: float, seed: int = 0):
 
 
 def run_all(label: str, S, b, G) -> list[str]:
-    from ngcrack.contact import ContactSolverError, solve_qp
+    from ngcrack.core.contact import ContactSolverError, solve_qp
 
     m = len(b)
     cond = np.linalg.cond(S)
@@ -116,7 +116,7 @@ def main_solvers(args) -> None:
 def main_sweep(args) -> None:
     """Warm starts: pdas steps and QP time, cold against warm, along a maxh and a nu sweep."""
     import ngcrack.scenes as scenes
-    from ngcrack.solve import solve
+    from ngcrack.core.solve import solve
 
     print(f"{'sweep':34s} {'m':>5s} {'steps cold':>10s} {'steps warm':>10s} {'qp cold [s]':>11s} "
           f"{'qp warm [s]':>11s} {'total cold':>10s} {'total warm':>10s} {'|dj|':>8s}")

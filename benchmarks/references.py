@@ -1,4 +1,4 @@
-"""The finite-body references of ngcrack.references, reproduced with their convergence tables.
+"""The finite-body references of ngcrack.studies.references, reproduced with their convergence tables.
 
     NGCRACK_THREADS=1 python benchmarks/references.py [--quick] [--nu NU]
 
@@ -11,7 +11,7 @@ change its uncertainty); bdm beside them for comparison. The profile correction 
 of
 profile / shape, even for griffith, whose crack centre is on the symmetry line) is fitted
 to the finest level's samples. Prints the tables (Markdown) and the data block of
-ngcrack/references.py, at nu = 0.3 (the scenes' own) and 0.4999 (or --nu NU only). About 3
+ngcrack/studies/references.py, at nu = 0.3 (the scenes' own) and 0.4999 (or --nu NU only). About 3
 minutes per Poisson ratio on one thread; --quick stops a level earlier.
 """
 
@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 import ngcrack as nc
-from ngcrack.references import closed_form_shape
+from ngcrack.studies.references import closed_form_shape
 
 LEVELS = [(1.0 / 2**k, 0.05 / 2**k, 0.005 / 5**k) for k in range(4)]
 #: levels per scene and element (order 3 reaches the finest)
@@ -200,7 +200,7 @@ def main() -> None:
         for name, depth in DEPTH.items():
             results[(name, nu)] = run(name, depth - 1 if quick else depth, nu)
             table(name, results[(name, nu)], nu)
-    print("\n# data block for ngcrack/references.py")
+    print("\n# data block for ngcrack/studies/references.py")
     for (name, nu), res in results.items():
         data_block(name, res, nu)
 

@@ -1,4 +1,4 @@
-"""The size guard's triangle estimate (ngcrack.sizing) against netgen's meshes.
+"""The size guard's triangle estimate (ngcrack.planar.sizing) against netgen's meshes.
 
 For every built-in scene on uniform and graded meshes (its own [mesh] values, maxh
 halved and quartered, and a few tip_h / crack_h / grading variants), print netgen's
@@ -22,8 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ngcrack import scenes, sizing
-from ngcrack.geometry import make_mesh
+from ngcrack import scenes
+from ngcrack.planar import sizing
+from ngcrack.planar.geometry import make_mesh
 
 CASES = [
     ("paper-1", [dict(maxh=h) for h in (0.4, 0.2, 0.1, 0.05, 0.025, 0.0125)]),
@@ -72,7 +73,7 @@ def main(argv=None) -> int:
           f"median {np.median(big):.2f}")
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
     t0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", "solve", "griffith", "--maxh", "1e-7"],
+    proc = subprocess.run([sys.executable, "-m", "ngcrack.shell.cli", "solve", "griffith", "--maxh", "1e-7"],
                           capture_output=True, text=True, env=env)
     print(f"\nngcrack solve griffith --maxh 1e-7: exit code {proc.returncode} after {time.perf_counter() - t0:.2f} s "
           f"(process start and imports included)\n  {proc.stderr.strip()}")

@@ -51,16 +51,16 @@ COMMANDS = {
     "import ngsolve": [PY, "-c", "import ngsolve"],
     "import ngsolve, netgen.geom2d (the floor: what every 2D solve imports)": [PY, "-c", "import ngsolve, netgen.geom2d"],
     "import ngsolve, scipy.sparse, shapely (what a solve imported before)": [PY, "-c", "import ngsolve, scipy.sparse, shapely"],
-    "import ngcrack.solve (the floor and ngcrack's modules of a solve)": [PY, "-c", "import ngcrack as nc; nc.solve"],
+    "import ngcrack.core.solve (the floor and ngcrack's modules of a solve)": [PY, "-c", "import ngcrack as nc; nc.solve"],
     "import ngcrack": [PY, "-c", "import ngcrack"],
-    "ngcrack --help": [PY, "-m", "ngcrack.cli", "--help"],
-    "ngcrack solve griffith --json": [PY, "-m", "ngcrack.cli", "solve", "griffith", "--json", JSON_OUT],
+    "ngcrack --help": [PY, "-m", "ngcrack.shell.cli", "--help"],
+    "ngcrack solve griffith --json": [PY, "-m", "ngcrack.shell.cli", "solve", "griffith", "--json", JSON_OUT],
     "python: import + nc.solve('griffith')": [PY, "-c", SOLVE],
     f"python: import + nc.solve('griffith', {LOOSE})": [PY, "-c", LOOSE_CHILD],
 }
 LOOSE_NAME = f"python: import + nc.solve('griffith', {LOOSE})"
 FLOOR_NAME = "import ngsolve, netgen.geom2d (the floor: what every 2D solve imports)"
-MODULES_NAME = "import ngcrack.solve (the floor and ngcrack's modules of a solve)"
+MODULES_NAME = "import ngcrack.core.solve (the floor and ngcrack's modules of a solve)"
 if os.path.exists(SYSTEM_PYTHON):
     COMMANDS["GetFEM: /usr/bin/python3 -c 'import getfem'"] = [SYSTEM_PYTHON, "-c", "import getfem"]
 

@@ -19,8 +19,8 @@ import math
 import pandas as pd
 
 import ngcrack as nc
-from ngcrack import sweeps
 from ngcrack.scenes import handbook
+from ngcrack.studies import sweeps
 
 
 def cases():

@@ -20,8 +20,8 @@ import time
 import pandas as pd
 
 import ngcrack as nc
-from ngcrack import sweeps
-from ngcrack import tips as T
+from ngcrack.planar import tips as T
+from ngcrack.studies import sweeps
 
 WIDTH = 1.0 / math.sqrt(math.cos(math.pi / 20))
 

@@ -63,7 +63,7 @@ def _module_pages() -> None:
     """Write docs/api/generated/<module>.rst for every module of ngcrack and an index with
     each module's first docstring line, so that a new or renamed module needs no edit here.
 
-    (autosummary's recursive mode takes ``ngcrack.solve`` for the function ``nc.solve``,
+    (autosummary's recursive mode takes ``ngcrack.core.solve`` for the function ``nc.solve``,
     which the package's namespace binds over the module of the same name.)
     """
     import importlib

@@ -26,23 +26,24 @@ __version__ = "0.1.0"
 
 #: public name -> the module that defines it
 _EXPORTS = {
-    "references": ".references", "scenes": ".scenes",
-    "ContactSolverError": ".constraints",
-    "ELEMENTS": ".elements", "Loads": ".elements",
-    "InputError": ".errors",
-    "Explorer": ".explorer", "Study": ".explorer", "explore": ".explorer", "explore_growth": ".explorer",
-    "GrowthResult": ".growth", "grow": ".growth",
-    "HydrofracResult": ".hydrofrac", "hydrofrac": ".hydrofrac",
-    "CRACK_MODELS": ".options", "SolveOptions": ".options",
-    "Pipeline": ".pipeline",
-    "BoundaryCondition": ".scene", "Crack": ".scene", "Hole": ".scene", "Material": ".scene", "PointCondition": ".scene", "Scene": ".scene",
-    "SceneError": ".scene",
-    "LinearSolverError": ".schur",
-    "CoarseMeshWarning": ".sizing",
-    "Solution": ".solution",
-    "SolveError": ".solve", "solve": ".solve",
-    "SweepError": ".sweeps", "fitted_rates": ".sweeps", "sweep": ".sweeps",
-    "crack_volume": ".volume", "solve_volume": ".volume",
+    "references": ".studies.references", "scenes": ".scenes",
+    "ContactSolverError": ".core.constraints",
+    "ELEMENTS": ".planar.elements", "Loads": ".planar.elements",
+    "InputError": ".core.errors",
+    "Explorer": ".shell.explorer", "Study": ".shell.explorer", "explore": ".shell.explorer", "explore_growth": ".shell.explorer",
+    "GrowthResult": ".studies.growth", "grow": ".studies.growth",
+    "HydrofracResult": ".studies.hydrofrac", "hydrofrac": ".studies.hydrofrac",
+    "CRACK_MODELS": ".core.options", "SolveOptions": ".core.options",
+    "Pipeline": ".core.pipeline",
+    "BoundaryCondition": ".planar.scene", "Crack": ".planar.scene", "Hole": ".planar.scene", "Material": ".planar.scene",
+    "PointCondition": ".planar.scene", "Scene": ".planar.scene",
+    "SceneError": ".planar.scene",
+    "LinearSolverError": ".core.schur",
+    "CoarseMeshWarning": ".planar.sizing",
+    "Solution": ".core.solution",
+    "SolveError": ".core.solve", "solve": ".core.solve",
+    "SweepError": ".studies.sweeps", "fitted_rates": ".studies.sweeps", "sweep": ".studies.sweeps",
+    "crack_volume": ".studies.volume", "solve_volume": ".studies.volume",
 }
 
 __all__ = [
@@ -58,6 +59,18 @@ __all__ = [
 #: the public names that are modules themselves
 _MODULES = ("references", "scenes")
 
+#: the package's folders: the dimension-free core, the planar (2D) and solid (3D) bodies, distributed
+#: solves, the studies and loops over solves, and the user's shell (command line, explorer, files)
+FOLDERS = ("core", "planar", "solid", "distributed", "studies", "shell", "scenes")
+
+#: the modules a script reaches as ``nc.<name>`` (``nc.tips``, ``nc.hp``, ``nc.vtk``) -> where they live
+_SUBMODULES = {name: f"{folder}.{name}" for folder, names in {
+    "core": ("constraints", "contact", "friction", "hybrid", "options", "pipeline", "schur", "solution", "stages"),
+    "planar": ("elements", "estimate", "geometry", "hp", "materials", "plots", "post", "sizing", "tips", "tstress", "vtk"),
+    "studies": ("adapt", "growth", "hydrofrac", "paper", "stability", "sweeps", "volume"),
+    "shell": ("cli", "explorer", "files", "interrupts"),
+}.items() for name in names}
+
 
 def __getattr__(name: str):
     """A public name or a submodule (``nc.vtk``, ``nc.tips``), imported on first use."""
@@ -67,9 +80,9 @@ def __getattr__(name: str):
         value = module if name in _MODULES else getattr(module, name)
     else:
         try:
-            value = importlib.import_module("." + name, __name__)
+            value = importlib.import_module("." + _SUBMODULES.get(name, name), __name__)
         except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
+            if exc.name != f"{__name__}.{_SUBMODULES.get(name, name)}":
                 raise
             raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
     globals()[name] = value
@@ -82,7 +95,7 @@ def __dir__() -> list[str]:
 
 class _Package(types.ModuleType):
     """The package's module type. Importing a submodule that shares its name with a public
-    function (``ngcrack.solve``, ``ngcrack.hydrofrac``) binds the submodule as an attribute
+    function (``ngcrack.core.solve``, ``ngcrack.studies.hydrofrac``) binds the submodule as an attribute
     of the package (Python's import system does), which would hide the function; that
     binding is skipped, so the name stays the function's (resolved on first use, as with
     eager imports) and the submodule stays in sys.modules."""
@@ -96,19 +109,20 @@ class _Package(types.ModuleType):
 sys.modules[__name__].__class__ = _Package
 
 if TYPE_CHECKING:  # what type checkers and editors see: the names above, eagerly
-    from . import references, scenes
-    from .constraints import ContactSolverError
-    from .elements import ELEMENTS, Loads
-    from .errors import InputError
-    from .explorer import Explorer, Study, explore, explore_growth
-    from .growth import GrowthResult, grow
-    from .hydrofrac import HydrofracResult, hydrofrac
-    from .options import CRACK_MODELS, SolveOptions
-    from .pipeline import Pipeline
-    from .scene import BoundaryCondition, Crack, Hole, Material, PointCondition, Scene, SceneError
-    from .schur import LinearSolverError
-    from .sizing import CoarseMeshWarning
-    from .solution import Solution
-    from .solve import SolveError, solve
-    from .sweeps import SweepError, fitted_rates, sweep
-    from .volume import crack_volume, solve_volume
+    from . import scenes
+    from .core.constraints import ContactSolverError
+    from .core.errors import InputError
+    from .core.options import CRACK_MODELS, SolveOptions
+    from .core.pipeline import Pipeline
+    from .core.schur import LinearSolverError
+    from .core.solution import Solution
+    from .core.solve import SolveError, solve
+    from .planar.elements import ELEMENTS, Loads
+    from .planar.scene import BoundaryCondition, Crack, Hole, Material, PointCondition, Scene, SceneError
+    from .planar.sizing import CoarseMeshWarning
+    from .shell.explorer import Explorer, Study, explore, explore_growth
+    from .studies import references
+    from .studies.growth import GrowthResult, grow
+    from .studies.hydrofrac import HydrofracResult, hydrofrac
+    from .studies.sweeps import SweepError, fitted_rates, sweep
+    from .studies.volume import crack_volume, solve_volume

@@ -1,14 +1,14 @@
-"""Former home of the explorer, kept so that old imports work (importing it warns once): see `ngcrack.explorer`.
+"""Former home of the explorer, kept so that old imports work (importing it warns once): see `ngcrack.shell.explorer`.
 
-The explorer's model is `ngcrack.explorer.Explorer` (formerly `Study`, still importable
+The explorer's model is `ngcrack.shell.explorer.Explorer` (formerly `Study`, still importable
 here and as `nc.Study`, deprecated); the ipywidgets view is
-`ngcrack.explorer.ExplorerWidget` (formerly `ngcrack.interactive.Explorer`, which this
+`ngcrack.shell.explorer.ExplorerWidget` (formerly `ngcrack.interactive.Explorer`, which this
 module still gives).
 """
 
 import warnings
 
-from .explorer import (
+from .shell.explorer import (
     FIELDS,
     LEVELS,
     SLIDERS,
@@ -22,10 +22,10 @@ from .explorer import (
     scaled_loads,
     stress_values,
 )
-from .explorer.figure import DEFORMED_FRACTION, FIGURE_DPI, FIGURE_SIZE, PROFILE_FLOOR, STATE_COLORS
-from .explorer.model import CLOSED_RTOL
+from .shell.explorer.figure import DEFORMED_FRACTION, FIGURE_DPI, FIGURE_SIZE, PROFILE_FLOOR, STATE_COLORS
+from .shell.explorer.model import CLOSED_RTOL
 
-warnings.warn("ngcrack.interactive is now ngcrack.explorer (nc.explore, nc.Explorer); import ngcrack.explorer",
+warnings.warn("ngcrack.interactive is now ngcrack.shell.explorer (nc.explore, nc.Explorer); import ngcrack.shell.explorer",
               DeprecationWarning, stacklevel=2)
 
 __all__ = ["CLOSED_RTOL", "DEFORMED_FRACTION", "Drawing", "FIELDS", "FIGURE_DPI", "FIGURE_SIZE", "LEVELS",
@@ -35,7 +35,7 @@ __all__ = ["CLOSED_RTOL", "DEFORMED_FRACTION", "Drawing", "FIELDS", "FIGURE_DPI"
 
 def __getattr__(name: str):
     if name == "Explorer":  # the widget class, as this module called it
-        from .explorer import widget
+        from .shell.explorer import widget
 
         return widget.ExplorerWidget
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -11,7 +11,7 @@
 # $\nu = 0.29$; `paper-2`: the interior crack $(1,3)\times\{1/2\}$, $\nu = 0.49$; $E = 206900$,
 # plane strain, $f = (0,-1)$ (ngcrack's reading of the paper: the user guide, "Scenes"). Errors
 # against a finer reference mesh of the same element; rates as least-squares slopes
-# (`ngcrack.sweeps`: `rate_dof` is the paper's convention, $e \sim \mathrm{dof}^{-r}$;
+# (`ngcrack.studies.sweeps`: `rate_dof` is the paper's convention, $e \sim \mathrm{dof}^{-r}$;
 # `rate_h` has $e \sim h^r$, about twice as large).
 #
 # This is `ngcrack paper --quick` from Python. Set `NGCRACK_QUICK=1` for a smoke run on
@@ -26,7 +26,8 @@ from pathlib import Path
 from IPython.display import Image, Markdown, display
 
 import ngcrack as nc
-from ngcrack import CoarseMeshWarning, paper
+from ngcrack import CoarseMeshWarning
+from ngcrack.studies import paper
 
 # Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
 # h1p1 are known to be more than 20% off: ngcrack warns about each such solve

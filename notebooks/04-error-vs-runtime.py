@@ -19,7 +19,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import ngcrack as nc
-from ngcrack import CoarseMeshWarning, plots, sweeps
+from ngcrack import CoarseMeshWarning
+from ngcrack.planar import plots
+from ngcrack.studies import sweeps
 
 # Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
 # h1p1 are known to be more than 20% off: ngcrack warns about each such solve

@@ -80,7 +80,7 @@ plt.show()
 # %%
 from matplotlib.collections import PolyCollection
 
-from ngcrack.plots import element_displacements
+from ngcrack.planar.plots import element_displacements
 
 fig, axes = plt.subplots(2, 3, figsize=(13, 8.8), constrained_layout=True)
 for row, load in zip(axes, scenes):

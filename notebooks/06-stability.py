@@ -7,7 +7,7 @@
 # $10^9$, bodies from a millimetre to a kilometre, a 1:100 strip and a crack tip meshed at
 # $10^{-4}$ of the mesh size? And what does a displacement element do instead?
 #
-# **Method.** `ngcrack.stability` (the same code as `ngcrack stability`): a manufactured
+# **Method.** `ngcrack.studies.stability` (the same code as `ngcrack stability`): a manufactured
 # solution exact for every $\nu$, Griffith's closed form, and paper-2 against BDM on a finer
 # mesh, for every element; then paper-1 rescaled, checking that jumps scale with
 # load · size / E and stresses with load. `NGCRACK_QUICK=1` runs a reduced set.
@@ -16,7 +16,8 @@
 import os
 import warnings
 
-from ngcrack import CoarseMeshWarning, stability
+from ngcrack import CoarseMeshWarning
+from ngcrack.studies import stability
 
 # Some meshes here put under 3 triangles across the beam's 0.5-thick halves, where peers and
 # h1p1 are known to be more than 20% off: ngcrack warns about each such solve

@@ -13,7 +13,7 @@
 # +90°. They come from the domain form of the J-integral ($G$) and of the interaction
 # integral with the auxiliary Williams fields ($K_I$, $K_{II}$; Moës, Dolbow and Belytschko
 # 1999; Yau, Wang and Corten 1980), including the traction the closed faces carry
-# (`ngcrack/tips.py`).
+# (`ngcrack/planar/tips.py`).
 #
 # **Experiments.** (1) A crack of half-length $a = 1$ at angle $\beta$ in a plate under remote
 # compression $p = -1$ (`nc.scenes.inclined_crack`), solved with unilateral contact and with
@@ -34,7 +34,7 @@ import numpy as np
 import pandas as pd
 
 import ngcrack as nc
-from ngcrack import plots
+from ngcrack.planar import plots
 from ngcrack.scenes import handbook
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
@@ -125,7 +125,7 @@ strips.round(4)
 # meshes: the user guide, "Fracture parameters"): the distance to that line is the discretization's.
 
 # %%
-from ngcrack import sweeps
+from ngcrack.studies import sweeps
 
 griffith = nc.scenes.load("griffith")
 SCALES = [2.0, 1.0] if SMOKE else [2.0, 1.0, 0.5]

@@ -31,7 +31,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import ngcrack as nc
-from ngcrack.friction import solve_crack_problem
+from ngcrack.core.friction import solve_crack_problem
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 ANGLE = 30.0

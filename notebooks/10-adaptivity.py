@@ -10,7 +10,7 @@
 # faces stay in contact along the whole crack and slide as
 # $[u]\cdot t = 4(1-\nu^2)/E\;\tau\sqrt{a^2-s^2}$ (frictionless, infinite plate).
 #
-# **Method.** Every solve carries `sol.error_estimate` (`ngcrack/estimate.py`): for the
+# **Method.** Every solve carries `sol.error_estimate` (`ngcrack/planar/estimate.py`): for the
 # mixed elements a Prager–Synge estimate $\eta^2 = \sum_T \|\sigma_h - C\varepsilon(w)\|^2_{A,T}
 # + 2\int_{\Gamma_c} |\sigma_{h,n}|\,[w]\cdot\nu$, with $w$ a displacement rebuilt from the facet
 # traces that is continuous except across the crack and has $[w]\cdot\nu \ge 0$ there.
@@ -88,7 +88,7 @@ plt.show()
 # (here the measured sliding error) adds columns.
 
 # %%
-from ngcrack.adapt import solve_adaptive  # noqa: E402
+from ngcrack.studies.adapt import solve_adaptive  # noqa: E402
 
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")  # a budget reached is recorded in sol.options["adapt"]

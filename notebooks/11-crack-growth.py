@@ -37,7 +37,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import ngcrack as nc
-from ngcrack.growth import mts_angle
+from ngcrack.studies.growth import mts_angle
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 MESH = {"maxh": 2.0, "tip_h": 0.02} if SMOKE else {"maxh": 1.0}

@@ -29,7 +29,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import ngcrack as nc
-from ngcrack.scene import Scene
+from ngcrack.planar.scene import Scene
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 

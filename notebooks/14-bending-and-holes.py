@@ -35,8 +35,8 @@ import numpy as np
 import shapely
 
 import ngcrack as nc
-from ngcrack.growth.records import plot_load_displacement
-from ngcrack.load_points import load_point_values
+from ngcrack.planar.load_points import load_point_values
+from ngcrack.studies.growth.records import plot_load_displacement
 
 SMOKE = os.environ.get("NGCRACK_QUICK") == "1"
 BEND_MESH = {"maxh": 0.3, "tip_h": 0.01} if SMOKE else {"maxh": 0.2, "tip_h": 0.01}

@@ -1,4 +1,4 @@
-"""Adaptive refinement (ngcrack/adapt.py): mark, refine with the crack kept, the loop, bad input."""
+"""Adaptive refinement (ngcrack/studies/adapt.py): mark, refine with the crack kept, the loop, bad input."""
 
 from __future__ import annotations
 
@@ -10,11 +10,11 @@ import pandas as pd
 import pytest
 
 import ngcrack as nc
-from ngcrack import sweeps as study
-from ngcrack.adapt import mark, solve_adaptive
-from ngcrack.cli import main
-from ngcrack.geometry import make_mesh, refine_crack_mesh
+from ngcrack.planar.geometry import make_mesh, refine_crack_mesh
 from ngcrack.scenes import inclined_closed_form
+from ngcrack.shell.cli import main
+from ngcrack.studies import sweeps as study
+from ngcrack.studies.adapt import mark, solve_adaptive
 
 
 def coarse_inclined():

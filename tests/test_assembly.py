@@ -15,12 +15,12 @@ import scipy.sparse as sp
 
 import ngcrack as nc
 import ngcrack.scenes as scenes
-from ngcrack.elements import base, bdm, peers
-from ngcrack.geometry import crack_frame_cf, make_mesh
-from ngcrack.hybrid import _congruence, _to_scipy, condense
-from ngcrack.materials import compliance
-from ngcrack.parallel import THREADS_ENV, task_manager, thread_count
-from ngcrack.solve import scene_loads
+from ngcrack.core.hybrid import _congruence, _to_scipy, condense
+from ngcrack.core.parallel import THREADS_ENV, task_manager, thread_count
+from ngcrack.core.solve import scene_loads
+from ngcrack.planar.elements import base, bdm, peers
+from ngcrack.planar.geometry import crack_frame_cf, make_mesh
+from ngcrack.planar.materials import compliance
 
 #: relative agreement of two assemblies of the same form (summation order differs)
 ROUND_OFF = 1e-13
@@ -112,7 +112,7 @@ def test_congruence_equals_sparse_products():
 def test_condense_reproduces_the_condensed_form(griffith):
     """K of `condense` is sign T^T A T of NGSolve's condensed matrix (rollers included)."""
     sc, cm = griffith
-    from ngcrack import elements
+    from ngcrack.planar import elements
 
     loads = scene_loads(sc)
     assert loads.roller  # griffith holds its symmetry lines on rollers
@@ -128,7 +128,7 @@ def test_a_sweep_worker_runs_through_one_pipeline_sharing_each_mesh():
     """The runs of a sweep's worker go through its one Pipeline: another element or
     Poisson ratio at the same size meshes nothing, another size meshes once; only the
     mesh is kept between runs (the assembly and the factorization are released)."""
-    from ngcrack.sweeps.cases import Case, run_case, worker_pipeline
+    from ngcrack.studies.sweeps.cases import Case, run_case, worker_pipeline
 
     sc = scenes.load("paper-1")
     pipeline = worker_pipeline()

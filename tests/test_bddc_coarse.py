@@ -1,6 +1,6 @@
 """Why NGSolve's element-wise BDDC needs TDNNS's higher-order normal-facet unknowns in its coarse space.
 
-Serial, on small unit squares (the hybrid TDNNS form of ngcrack.elements.tdnns without a
+Serial, on small unit squares (the hybrid TDNNS form of ngcrack.planar.elements.tdnns without a
 crack). The numbers asserted: an element's condensed matrix has exactly the rigid motions
 as kernel and its block on the higher-order (interface) unknowns is nonsingular, yet the
 coarse matrix on the lowest-order unknowns is singular: its kernel holds the piecewise
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from netgen.geom2d import unit_square
 
-from ngcrack.elements.tdnns import tdnns_terms
-from ngcrack.materials import compliance
+from ngcrack.planar.elements.tdnns import tdnns_terms
+from ngcrack.planar.materials import compliance
 
 
 def _tdnns(mesh: ngs.Mesh, dirichlet: str = "", only=None) -> tuple[ngs.FESpace, ngs.BilinearForm]:

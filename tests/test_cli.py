@@ -22,8 +22,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from ngcrack.cli import main
-from ngcrack.sweeps import QUANTITIES, ROW_COLUMNS, read_results
+from ngcrack.shell.cli import main
+from ngcrack.studies.sweeps import QUANTITIES, ROW_COLUMNS, read_results
 
 
 def run(argv, capsys):
@@ -160,7 +160,7 @@ def test_sweep_jobs_and_dask_from_the_command_line(tmp_path, capsys):
 
 def test_sweep_dask_unreachable_scheduler_is_a_usage_error(tmp_path, capsys, monkeypatch):
     pytest.importorskip("distributed")
-    monkeypatch.setattr("ngcrack.sweeps.executors.DASK_CONNECT_TIMEOUT", "2s")
+    monkeypatch.setattr("ngcrack.studies.sweeps.executors.DASK_CONNECT_TIMEOUT", "2s")
     code, _, err = run(["sweep", "paper-2", "--element", "bdm", "--maxh", "0.4", "--out", tmp_path / "r.csv",
                         "--dask", "tcp://127.0.0.1:9", "--no-progress"], capsys)
     assert code == 2 and "cannot connect" in err
@@ -232,11 +232,11 @@ def test_paper_quick_runs_in_time_and_writes_everything(tmp_path):
     """The README's main job, as a user runs it (a fresh process, the installed command)."""
     out = tmp_path / "quick"
     t0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", "paper", "--quick", "--out", str(out)],
+    proc = subprocess.run([sys.executable, "-m", "ngcrack.shell.cli", "paper", "--quick", "--out", str(out)],
                           capture_output=True, text=True, timeout=600)
     elapsed = time.perf_counter() - t0
     assert proc.returncode == 0, proc.stderr
-    from ngcrack.paper import mixed_elements
+    from ngcrack.studies.paper import mixed_elements
 
     check_paper_output(out, proc.stdout, mixed_elements(), 3)
     print(f"[cli] paper --quick: {elapsed:.0f} s")  # (its time goes to BENCHMARKS, not into a threshold)
@@ -244,7 +244,7 @@ def test_paper_quick_runs_in_time_and_writes_everything(tmp_path):
 
 def test_solve_order_is_passed_and_checked(tmp_path):
     """--order reaches tdnns; an element of fixed order refuses it with exit code 2 and no file."""
-    from ngcrack.cli import main
+    from ngcrack.shell.cli import main
 
     out = tmp_path / "t.json"
     assert main(["solve", "paper-2", "--element", "tdnns", "--order", "2", "--maxh", "0.2", "--json", str(out)]) == 0
@@ -256,7 +256,7 @@ def test_solve_order_is_passed_and_checked(tmp_path):
 
 
 def test_stability_refuses_a_missing_folder(tmp_path, capsys):
-    from ngcrack.cli import main
+    from ngcrack.shell.cli import main
 
     assert main(["stability", "--quick", "--out", str(tmp_path / "no" / "such")]) == 2
     assert "--out" in capsys.readouterr().err
@@ -267,17 +267,17 @@ def test_help_texts_stand_alone():
     import pydoc
 
     import ngcrack
-    from ngcrack.cli import build_parser
+    from ngcrack.shell.cli import build_parser
 
     parser = build_parser()
     texts = {"ngcrack": parser.format_help()}
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     for name, p in sub.choices.items():
         texts[name] = p.format_help()
-    for mod in ("ngcrack", "ngcrack.solve", "ngcrack.contact", "ngcrack.post", "ngcrack.cli", "ngcrack.scene",
-                "ngcrack.scenes", "ngcrack.sweeps"):
+    for mod in ("ngcrack", "ngcrack.core.solve", "ngcrack.core.contact", "ngcrack.planar.post", "ngcrack.shell.cli", "ngcrack.planar.scene",
+                "ngcrack.scenes", "ngcrack.studies.sweeps"):
         texts[mod] = pydoc.render_doc(__import__(mod, fromlist=["_"]), renderer=pydoc.plaintext)
-    texts["solve()"] = ngcrack.solve.__doc__
+    texts["solve()"] = ngcrack.core.solve.__doc__
     for name, text in texts.items():
         for other in ("DESIGN" + ".md", "STYLE" + ".md"):
             assert other not in text, f"{name}: help refers to {other}"

@@ -1,4 +1,4 @@
-"""The paper comparison on a common footing (ngcrack.paper, sweeps.comparison_errors).
+"""The paper comparison on a common footing (ngcrack.studies.paper, sweeps.comparison_errors).
 
 - the paper's dof convert to triangles by the standard PEERS count, which on ngcrack's
   124-triangle mesh of paper-1 is about 990 unknowns (ngcrack's hybridized: 1767);
@@ -13,8 +13,9 @@ from __future__ import annotations
 import numpy as np
 
 import ngcrack as nc
-from ngcrack import paper, scenes, sweeps
-from ngcrack.geometry import make_mesh
+from ngcrack import scenes
+from ngcrack.planar.geometry import make_mesh
+from ngcrack.studies import paper, sweeps
 
 
 def test_standard_count_and_conversion():

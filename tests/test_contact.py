@@ -24,11 +24,11 @@ import pytest
 from test_schur import system
 
 import ngcrack.scenes as scenes
-from ngcrack import contact
-from ngcrack.contact import ContactSolverError, QPResult, solve_qp, warm_start_data
-from ngcrack.hybrid import reduce_to_contact
-from ngcrack.post import endpoint_map
-from ngcrack.solve import solve
+from ngcrack.core import contact
+from ngcrack.core.contact import ContactSolverError, QPResult, solve_qp, warm_start_data
+from ngcrack.core.hybrid import reduce_to_contact
+from ngcrack.core.solve import solve
+from ngcrack.planar.post import endpoint_map
 
 #: every path agrees with the known (or reference) solution to this, relative to its size
 AGREE_RTOL = 1e-8

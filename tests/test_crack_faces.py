@@ -16,7 +16,7 @@ opening for every element and the inclined crack's sliding for the baselines
 (tests/test_inclined.py pins the mixed elements), so that a regression, or an
 improvement the table should then show, is seen. The errors are relative L2 errors over
 the crack edges' mid points, weighted by the edge lengths, against the finite plate's
-converged answer (`ngcrack.references`); the infinite-plate closed forms' errors stay
+converged answer (`ngcrack.studies.references`); the infinite-plate closed forms' errors stay
 beside them, labelled (the finite plate opens 0.94% and slides 0.28% more than they do,
 so those errors mix the element's error with the plate's own effect).
 
@@ -32,9 +32,9 @@ import pytest
 
 import ngcrack as nc
 from ngcrack import references
-from ngcrack.elements import ELEMENTS
+from ngcrack.planar.elements import ELEMENTS
 from ngcrack.scenes import inclined_closed_form
-from ngcrack.sweeps import opening_error
+from ngcrack.studies.sweeps import opening_error
 
 #: the issue's bound on the sampled shear at the default mesh, relative to the load
 SHEAR_BOUND = 0.01
@@ -46,7 +46,7 @@ ROUND_OFF = 1e-10
 REFINED = {"crack_h": 0.025, "tip_h": 0.0025}
 SCENES = ("inclined-compression", "griffith")
 #: (low, high) of the Griffith opening error at the scene's default mesh against the finite
-#: plate (ngcrack.references); measured tdnns 0.092%, h1p2 0.165%, bdm 0.36%, peers 1.26%, h1p1 3.56%
+#: plate (ngcrack.studies.references); measured tdnns 0.092%, h1p2 0.165%, bdm 0.36%, peers 1.26%, h1p1 3.56%
 GRIFFITH_BANDS = {
     "tdnns": (0.0005, 0.0014),
     "h1p2": (0.0011, 0.0024),
@@ -54,7 +54,7 @@ GRIFFITH_BANDS = {
     "peers": (0.009, 0.017),
     "h1p1": (0.028, 0.045),
 }
-#: the same against the infinite plate's closed form (`ngcrack.sweeps.opening_error`), labelled:
+#: the same against the infinite plate's closed form (`ngcrack.studies.sweeps.opening_error`), labelled:
 #: measured bdm 0.59%, h1p2 0.83%, tdnns 1.01%, peers 2.17%, h1p1 2.67%
 GRIFFITH_CLOSED_FORM_BANDS = {
     "bdm": (0.004, 0.008),

@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.constraints import CLOSED_RTOL
-from ngcrack.post import profile_states
+from ngcrack.core.constraints import CLOSED_RTOL
+from ngcrack.planar.post import profile_states
 
 ANGLE, HALF_LENGTH, SIDE = 60.0, 2.0, 40.0
 

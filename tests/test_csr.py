@@ -1,4 +1,4 @@
-"""ngcrack.csr gives bitwise scipy.sparse's results on the same arrays.
+"""ngcrack.core.csr gives bitwise scipy.sparse's results on the same arrays.
 
 The condensed system of a 2D solve is held as `csr.CSR` (numpy alone) so that a small
 solve does not import scipy.sparse; its answers must not change by a bit. Each
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from ngcrack.csr import CSR, as_csr, to_scipy
+from ngcrack.core.csr import CSR, as_csr, to_scipy
 
 
 def _same(A: CSR, B) -> bool:

@@ -10,8 +10,9 @@ import math
 import pytest
 
 import ngcrack as nc
-from ngcrack import scenes, sizing
-from ngcrack.geometry import make_mesh
+from ngcrack import scenes
+from ngcrack.planar import sizing
+from ngcrack.planar.geometry import make_mesh
 
 NO_SIZES = dict(maxh=None, tip_h=None, crack_h=None, grading=None)
 #: K_I / (p sqrt(pi a)) of the 40 x 40 plate (rollers left and bottom, crack length 2),

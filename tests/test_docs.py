@@ -205,7 +205,7 @@ def test_the_scenes_guide_covers_every_field_and_scene():
     """Every top-level key of a scene file, every key of [[hole]] and every built-in scene
     is in the scenes guide, and its example file is a valid scene with holes."""
     import ngcrack as nc
-    from ngcrack.scene.toml import MESH_KEYS, TOP_KEYS
+    from ngcrack.planar.scene.toml import MESH_KEYS, TOP_KEYS
 
     text = (DOCS / "guide" / "scenes.md").read_text(encoding="utf-8")
     keys = TOP_KEYS + MESH_KEYS + ("center", "radius", "label", "labels", "polygon", "friction", "pressure", "plane",

@@ -21,7 +21,7 @@ import pytest
 
 import ngcrack as nc
 from ngcrack import InputError
-from ngcrack.growth import loop
+from ngcrack.studies.growth import loop
 
 SCENE = "inclined-compression"
 FAST = {"maxh": 2.0, "criterion": "mts"}
@@ -62,7 +62,7 @@ def test_grow_takes_a_scene_name_as_solve_does():
 
 
 def test_solve_refuses_hp_without_a_tip_before_meshing(monkeypatch):
-    from ngcrack import pipeline
+    from ngcrack.core import pipeline
 
     def reached(*args, **kwargs):
         raise AssertionError("meshing ran before the input was refused")

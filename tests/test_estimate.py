@@ -1,4 +1,4 @@
-"""The a posteriori error estimate of every solve (ngcrack/estimate.py).
+"""The a posteriori error estimate of every solve (ngcrack/planar/estimate.py).
 
 - exactness: a uniform stress state (the closed crack under compression) has a zero
   estimate up to round-off for the elements that reproduce it exactly;
@@ -19,11 +19,11 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.elements import Loads
-from ngcrack.estimate import energy_error, energy_error_against
-from ngcrack.materials import compliance
-from ngcrack.scene import BoundaryCondition, Material, Scene
-from ngcrack.solve import solve
+from ngcrack.core.solve import solve
+from ngcrack.planar.elements import Loads
+from ngcrack.planar.estimate import energy_error, energy_error_against
+from ngcrack.planar.materials import compliance
+from ngcrack.planar.scene import BoundaryCondition, Material, Scene
 
 X, Y = ngs.x, ngs.y
 LABELS = ("b", "r", "t", "l")
@@ -119,9 +119,9 @@ def test_incompressible_limit_has_no_prager_synge_estimate():
 
 @pytest.mark.parametrize("nu", [0.2, 0.3, 0.45, 0.4999])
 def test_split_is_the_compliance_norm_up_to_nu_03_and_capped_above(nu):
-    from ngcrack.estimate import VOLUMETRIC_WEIGHT, _robust_parts
-    from ngcrack.local_fields import _Quadrature
-    from ngcrack.materials import lame_parameters
+    from ngcrack.planar.estimate import VOLUMETRIC_WEIGHT, _robust_parts
+    from ngcrack.planar.local_fields import _Quadrature
+    from ngcrack.planar.materials import lame_parameters
 
     rng = np.random.default_rng(7)
     d = rng.normal(size=(5, 6, 2, 2))  # sigma_h - C eps(w) at 6 points of 5 triangles, skew part too

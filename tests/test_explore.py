@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-import ngcrack.elements
-import ngcrack.schur
-from ngcrack import explorer as ex
+import ngcrack.core.schur
+import ngcrack.planar.elements
 from ngcrack.scenes import SCENE_FUNCTIONS
+from ngcrack.shell import explorer as ex
 
 #: cached against fresh answers: relative difference of the solution vector and profiles
 ROUNDOFF = 1e-10
@@ -31,7 +31,7 @@ def _relative(a, b, floor: float = 0.0) -> float:
 def _same_answer(cached, fresh) -> float:
     """The largest relative difference over the solution vector and the crack profiles
     (the tractions of an open crack are round-off: relative to the body's stress scale)."""
-    from ngcrack.post import field_scales
+    from ngcrack.planar.post import field_scales
 
     assert cached.ndof == fresh.ndof
     u_scale, sigma_scale = field_scales(fresh.crack_mesh, fresh.u, fresh.sigma)
@@ -59,11 +59,11 @@ def factorizations(monkeypatch):
             return fn(*args, **kwargs)
         return wrapped
 
-    monkeypatch.setattr(ngcrack.schur.Factorization, "__init__",
-                        counting("factorization", ngcrack.schur.Factorization.__init__))
-    monkeypatch.setattr(ngcrack.schur._Pardiso, "__init__", counting("pardiso", ngcrack.schur._Pardiso.__init__))
-    monkeypatch.setattr(ngcrack.hybrid, "schur_complement", counting("schur_complement", ngcrack.hybrid.schur_complement))
-    monkeypatch.setattr(ngcrack.elements, "build", counting("build", ngcrack.elements.build))
+    monkeypatch.setattr(ngcrack.core.schur.Factorization, "__init__",
+                        counting("factorization", ngcrack.core.schur.Factorization.__init__))
+    monkeypatch.setattr(ngcrack.core.schur._Pardiso, "__init__", counting("pardiso", ngcrack.core.schur._Pardiso.__init__))
+    monkeypatch.setattr(ngcrack.core.hybrid, "schur_complement", counting("schur_complement", ngcrack.core.hybrid.schur_complement))
+    monkeypatch.setattr(ngcrack.planar.elements, "build", counting("build", ngcrack.planar.elements.build))
     return counts
 
 
@@ -206,8 +206,8 @@ def test_held_scales_depend_on_the_controls_not_on_their_history():
     a.update(E=1000.0, angle=60.0)
     assert a.reference_scales("sigma_nu")["clim"] != pytest.approx(ref["clim"], rel=1e-3)
     # the colour limit is a level of the body, not the tip's peak: the area-weighted 98th percentile
-    from ngcrack.explorer.fields import CLIM_PERCENTILE, stress_values
-    from ngcrack.plots import element_displacements
+    from ngcrack.planar.plots import element_displacements
+    from ngcrack.shell.explorer.fields import CLIM_PERCENTILE, stress_values
 
     sol = nc.Explorer("inclined-crack", maxh=MAXH, load=1.0).solution
     corners, _ = element_displacements(sol)
@@ -221,7 +221,7 @@ def test_held_scales_depend_on_the_controls_not_on_their_history():
 
 
 def test_tips_are_named_by_where_they_are():
-    from ngcrack.explorer.messages import tip_names
+    from ngcrack.shell.explorer.messages import tip_names
 
     tips = [{"crack": 0, "end": "first", "x": 1.0, "y": 0.2}, {"crack": 0, "end": "last", "x": -1.0, "y": -0.2}]
     assert tip_names(tips) == ["right tip", "left tip"]
@@ -250,8 +250,8 @@ def test_out_of_range_values_are_refused_not_clamped_nor_kept():
     study.update(nu=0.7)
     assert study.error == "The Poisson's ratio 0.7 is out of range: choose a value from 0 to 0.5."
     # the finest mesh offered stays below the unknowns the widget allows (sizing's estimate)
-    from ngcrack.explorer.controls import MAX_UNKNOWNS
-    from ngcrack.sizing import estimate_size
+    from ngcrack.planar.sizing import estimate_size
+    from ngcrack.shell.explorer.controls import MAX_UNKNOWNS
 
     low = study.ranges["maxh"].low
     assert estimate_size(study.make_scene(), "bdm", maxh=low).unknowns <= 1.01 * MAX_UNKNOWNS
@@ -314,7 +314,7 @@ def test_scene_functions_and_listing(capsys):
         SCENE_FUNCTIONS["griffith-plate"](angle=3)
     with pytest.raises(ValueError, match="scene function"):
         nc.scenes.scene_function("nope")
-    from ngcrack.cli import main
+    from ngcrack.shell.cli import main
 
     assert main(["scenes"]) == 0
     out = capsys.readouterr().out
@@ -489,7 +489,7 @@ def test_former_names_still_work():
     import sys
 
     sys.modules.pop("ngcrack.interactive", None)
-    with pytest.warns(DeprecationWarning, match="ngcrack.explorer"):
+    with pytest.warns(DeprecationWarning, match="ngcrack.shell.explorer"):
         old = importlib.import_module("ngcrack.interactive")
 
     with pytest.warns(DeprecationWarning, match="nc.Explorer"):
@@ -508,9 +508,9 @@ def test_estimate_sums_in_numpy_as_ngsolve_integrates(monkeypatch, element, crac
     numbers to 1e-12 (tdnns 1e-10) as NGSolve's element-wise Integrate over the same integrands with
     the point search (the path kept for curved meshes). paper-1: a body force, a clamped
     edge, a crack partly in contact."""
-    from ngcrack import estimate as est
-    from ngcrack import local_fields
-    from ngcrack.pipeline import scene_loads
+    from ngcrack.core.pipeline import scene_loads
+    from ngcrack.planar import estimate as est
+    from ngcrack.planar import local_fields
 
     model = nc.Explorer("paper-1", element, maxh=0.2, crack_model=crack_model)
     sol, loads = model.solution, scene_loads(model.scene)
@@ -621,7 +621,7 @@ def test_scales_are_held_while_the_load_changes():
 
 def test_webgui_field_is_the_figure_field():
     """The webgui's stress is the figure's: sigma_nu, and von Mises in plane strain (the scene's)."""
-    from ngcrack.explorer.widget import webgui_field
+    from ngcrack.shell.explorer.widget import webgui_field
 
     study = nc.Explorer("inclined-crack", maxh=MAXH)
     sol = study.solution
@@ -643,7 +643,7 @@ def test_a_closed_tip_shows_K_I_zero_by_the_one_state_rule():
     """Under compression the inclined crack is closed at both tips (the state of the crack
     sample nearest each tip, the rule the growth loop uses): K_I is shown as 0, not as the
     method's small error about zero; in tension the computed K_I is shown."""
-    from ngcrack.explorer.fields import tip_closed
+    from ngcrack.shell.explorer.fields import tip_closed
 
     study = nc.Explorer("inclined-crack", maxh=MAXH)
     d = ex.Drawing()
@@ -661,8 +661,8 @@ def test_webgui_view_draws_the_figures_deformation_faces_and_limits():
     """The 3D view's deformation is the figure's, to round-off (each triangle's affine map
     through its corners' displacements); the crack faces are lines; the colours are fixed
     at the figure's limits, not the tip's peak."""
-    from ngcrack.explorer.webgui import deformation_cf, webgui_scene
-    from ngcrack.plots import element_displacements
+    from ngcrack.planar.plots import element_displacements
+    from ngcrack.shell.explorer.webgui import deformation_cf, webgui_scene
 
     sol = nc.Explorer("inclined-crack", maxh=MAXH, load=-1.0).solution
     corners, disp = element_displacements(sol)
@@ -682,7 +682,7 @@ def test_webgui_view_draws_the_figures_deformation_faces_and_limits():
 def test_robust_colour_limits_clip_a_peak_on_small_triangles():
     """The solve figure's colour limits: area-weighted percentiles, so that a singular peak
     on many tiny triangles (a tip's refinement) is clipped instead of setting the scale."""
-    from ngcrack.plots import robust_limits
+    from ngcrack.planar.plots import robust_limits
 
     body = np.linspace(0.5, 1.5, 1000)  # the plate: 1000 values of area 1
     peak = np.full(5000, 40.0)  # the tip: 5000 values of area 1e-6

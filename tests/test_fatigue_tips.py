@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.growth import fatigue
+from ngcrack.studies.growth import fatigue
 
 C, M = 1e-3, 4.0
 

@@ -29,8 +29,9 @@ from pathlib import Path
 
 import pytest
 
-from ngcrack import cli, scenes
-from ngcrack.sweeps import read_results, sweep
+from ngcrack import scenes
+from ngcrack.shell import cli
+from ngcrack.studies.sweeps import read_results, sweep
 
 LINUX = sys.platform.startswith("linux")
 
@@ -67,7 +68,7 @@ GRID = ["--element", "bdm", "--maxh", "0.2", "0.15", "0.12", "0.1", "0.08", "0.0
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL], ids=["SIGTERM", "SIGKILL"])
 def test_a_killed_parallel_sweep_leaves_no_worker(tmp_path, sig):
     out = tmp_path / "r.csv"
-    cmd = [sys.executable, "-m", "ngcrack.cli", "sweep", "paper-2", *GRID, "--jobs", "2", "--out", str(out),
+    cmd = [sys.executable, "-m", "ngcrack.shell.cli", "sweep", "paper-2", *GRID, "--jobs", "2", "--out", str(out),
            "--no-progress"]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=tmp_path,
                             start_new_session=True, text=True)
@@ -102,7 +103,7 @@ def test_a_killed_parallel_sweep_leaves_no_worker(tmp_path, sig):
 
 
 def test_a_failed_or_interrupted_sweep_leaves_no_header_alone(tmp_path, monkeypatch):
-    import ngcrack.sweeps.plan as plan
+    import ngcrack.studies.sweeps.plan as plan
 
     out = tmp_path / "r.csv"
 
@@ -213,7 +214,7 @@ def test_scene_names_stay_inside_the_output_folder(tmp_path, name):
 @pytest.mark.skipif(not LINUX, reason="reads the process table from /proc")
 def test_a_killed_sweep_worker_ends_the_sweep_with_one_line(tmp_path):
     out = tmp_path / "r.csv"
-    cmd = [sys.executable, "-m", "ngcrack.cli", "sweep", "paper-2", *GRID, "--jobs", "2", "--out", str(out),
+    cmd = [sys.executable, "-m", "ngcrack.shell.cli", "sweep", "paper-2", *GRID, "--jobs", "2", "--out", str(out),
            "--no-progress"]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=tmp_path,
                             start_new_session=True, text=True)
@@ -244,7 +245,7 @@ def test_an_address_space_limit_is_reported_as_out_of_memory(tmp_path):
     def limit():
         resource.setrlimit(resource.RLIMIT_AS, (500000 * 1024, resource.RLIM_INFINITY))
 
-    proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", "solve", "paper-2", "--maxh", "0.3", "--json",
+    proc = subprocess.run([sys.executable, "-m", "ngcrack.shell.cli", "solve", "paper-2", "--maxh", "0.3", "--json",
                            "r.json"], cwd=tmp_path, capture_output=True, text=True, timeout=120, preexec_fn=limit)
     err = proc.stderr.splitlines()
     assert proc.returncode == 3, proc.stderr

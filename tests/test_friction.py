@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.contact import ContactSolverError
-from ngcrack.friction import coulomb_residual, solve_crack_problem
+from ngcrack.core.contact import ContactSolverError
+from ngcrack.core.friction import coulomb_residual, solve_crack_problem
 from ngcrack.scenes import inclined_closed_form, inclined_crack
 
 ELEMENTS = ("peers", "bdm", "tdnns", "h1p1", "h1p2")
@@ -72,7 +72,7 @@ def test_friction_field_validated_and_round_trips():
 
 
 def test_cli_refuses_bad_friction_before_meshing(capsys):
-    from ngcrack.cli import main
+    from ngcrack.shell.cli import main
 
     assert main(["solve", "paper-2", "--friction", "-0.5"]) == 2
     assert "friction" in capsys.readouterr().err
@@ -265,7 +265,7 @@ def test_bad_friction_options_refused_before_meshing(options, field, monkeypatch
     def no_mesh(*args, **kwargs):
         raise AssertionError("meshed before the options were checked")
 
-    monkeypatch.setattr(importlib.import_module("ngcrack.pipeline"), "make_mesh", no_mesh)
+    monkeypatch.setattr(importlib.import_module("ngcrack.core.pipeline"), "make_mesh", no_mesh)
     with pytest.raises(ValueError, match=field):
         nc.solve(nc.scenes.load("paper-1").with_(friction=0.5), element="bdm", **options)
 

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.cli import main
-from ngcrack.growth.criteria import check_r_c, gmts_angle, gmts_hoop, gmts_keq, mts_angle, mts_keq
+from ngcrack.shell.cli import main
+from ngcrack.studies.growth.criteria import check_r_c, gmts_angle, gmts_hoop, gmts_keq, mts_angle, mts_keq
 
 R_C = 0.01
 A = math.sqrt(2.0 * math.pi * R_C)

@@ -1,4 +1,4 @@
-"""Crack growth (ngcrack.growth): the criteria against their closed forms, the loop against
+"""Crack growth (ngcrack.studies.growth): the criteria against their closed forms, the loop against
 closed forms and handbook values, wing cracks from a closed frictional crack, stops at the
 boundary and before another crack, the JSON contract, the command, and bad input.
 
@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.cli import main
-from ngcrack.growth import criteria, loop
 from ngcrack.scenes import inclined_crack
 from ngcrack.scenes.handbook import centre_cracked_K, centre_cracked_strip
+from ngcrack.shell.cli import main
+from ngcrack.studies.growth import criteria, loop
 
 MTS_EQUAL = math.degrees(2 * math.atan((1 - 3) / 4))  # K_I = K_II: 2 atan(-1/2) = -53.13 degrees
 MTS_MODE_II = math.degrees(2 * math.atan(-math.sqrt(8) / 4))  # -70.53 degrees
@@ -150,7 +150,7 @@ def test_json_contract(tension_mts):
 def test_error_estimate_per_step_when_asked():
     """grow(..., estimate=True): each step's relative estimate, step 0's equal to a fresh solve's
     (with growth's path grading)."""
-    from ngcrack.growth.checks import GROWTH_PATH_GRADING
+    from ngcrack.studies.growth.checks import GROWTH_PATH_GRADING
     scene = inclined_crack(angle=45.0, load=1.0)
     res = nc.grow(scene, da=0.1, steps=1, K_Ic=1.0, criterion="mts", estimate=True)
     ests = [s["error_estimate"] for s in res.to_json_dict()["steps"]]
@@ -366,7 +366,7 @@ def test_growth_view_shows_each_step_with_its_numbers(tension_mts):
     """The widget's step view: a picture per step and a readout that quotes the table."""
     from PIL import Image
 
-    from ngcrack.explorer.growth_view import explore_growth, render_step, step_readout
+    from ngcrack.shell.explorer.growth_view import explore_growth, render_step, step_readout
 
     for n in range(len(tension_mts.steps)):
         png = render_step(tension_mts, n)
@@ -396,7 +396,7 @@ def test_growth_frames_draw_kinks_and_the_body_without_rigid_motion(tension_mts)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from ngcrack.growth.figures import _minus_rigid, draw_frame, without_rigid_motion
+    from ngcrack.studies.growth.figures import _minus_rigid, draw_frame, without_rigid_motion
 
     fig = Figure()
     FigureCanvasAgg(fig)
@@ -424,7 +424,7 @@ def test_load_factor_panel_marks_tips_off_the_scale():
     import pandas as pd
     from matplotlib.figure import Figure
 
-    from ngcrack.growth.figures import draw_load_factors
+    from ngcrack.studies.growth.figures import draw_load_factors
 
     rows = [{"step": n, "crack": 0, "end": end, "x": x, "y": 0.0, "tip_load_factor": lam, "load_factor": 0.8 + 0.1 * n,
              "crack_length": 2.0 + 0.1 * n, "grew": end == "last", "closed": end == "first"}
@@ -441,7 +441,7 @@ def test_load_factor_panel_marks_tips_off_the_scale():
 def test_growth_study_of_friction_resumes(tmp_path, monkeypatch):
     """One path per friction coefficient; the wings start at lambda = K_Ic / ((2/sqrt 3) K_II,eff(mu)),
     and a rerun with one more value runs only that one."""
-    from ngcrack.growth import study
+    from ngcrack.studies.growth import study
 
     scene = inclined_crack(angle=45.0, load=-1.0, maxh=2.0, tip_h=0.01)
     out = tmp_path / "study.csv"
@@ -467,7 +467,7 @@ def test_growth_study_of_friction_resumes(tmp_path, monkeypatch):
 @pytest.mark.slow
 def test_growth_study_on_worker_processes_gives_the_serial_rows():
     scene = inclined_crack(angle=45.0, load=-1.0, maxh=2.0, tip_h=0.01)
-    from ngcrack.growth import grow_study
+    from ngcrack.studies.growth import grow_study
 
     serial = grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0)
     parallel = grow_study(scene, "friction", [0.0, 0.3], da=0.1, steps=1, K_Ic=1.0, jobs=2)

@@ -1,4 +1,4 @@
-"""Crack paths as they are grown (ngcrack.growth): the kinked-crack relations against their
+"""Crack paths as they are grown (ngcrack.studies.growth): the kinked-crack relations against their
 closed forms (no mesh), no kink where the new tip is not in the state the criterion
 assumes (the zig-zag of an edge crack under compression with friction), and the cost
 of PLS steps.
@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.cli import main
-from ngcrack.growth import criteria, fatigue, holes
 from ngcrack.scenes.handbook import centre_cracked_K, centre_cracked_strip
+from ngcrack.shell.cli import main
+from ngcrack.studies.growth import criteria, fatigue, holes
 
 MODE_II_PLS_EXACT = 77.3  # Amestoy and Leblond's exact PLS angle under pure mode II (degrees)
 

@@ -21,10 +21,10 @@ import ngsolve as ngs
 import pytest
 
 from ngcrack import scenes
-from ngcrack.elements import Loads
-from ngcrack.scene import BoundaryCondition, Material, Scene
-from ngcrack.solve import solve
-from ngcrack.stability import manufactured_errors
+from ngcrack.core.solve import solve
+from ngcrack.planar.elements import Loads
+from ngcrack.planar.scene import BoundaryCondition, Material, Scene
+from ngcrack.studies.stability import manufactured_errors
 
 #: expected L2 rates (u, sigma) of BDM_k - P_{k-1} - P_{k-1}: h^k for both (elements/bdm.py)
 RATES = {1: (1.0, 1.0), 2: (2.0, 2.0), 3: (3.0, 3.0)}

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.geometry import make_mesh
-from ngcrack.scene import Scene, SceneError
+from ngcrack.planar.geometry import make_mesh
+from ngcrack.planar.scene import Scene, SceneError
 
 PLATE = nc.scenes.load("hole-crack")  # 20 x 20, hole of radius 2 at (10, 10); rollers bottom and left, top pulled
 
@@ -106,7 +106,7 @@ def test_a_near_miss_breaks_into_the_hole_radially():
     """A segment that would pass a circle 0.05 off its edge (thinner than the scene allows) ends on the
     circle at the point nearest to the tip (radially), if the turn is at most GRAZE_TURN; a polygon,
     or a turn beyond it, gives none."""
-    from ngcrack.growth import paths
+    from ngcrack.studies.growth import paths
 
     hole = nc.Hole(center=(1.0, 0.0), radius=0.25, labels=("h",))
     p, d = np.array([0.0, 0.3]), np.array([1.0, 0.0])

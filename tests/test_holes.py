@@ -9,9 +9,10 @@ import pytest
 import shapely
 
 import ngcrack as nc
-from ngcrack import scenes, sizing
-from ngcrack.geometry import make_mesh
-from ngcrack.scene import CIRCLE_SEGMENTS, Hole, Scene, SceneError
+from ngcrack import scenes
+from ngcrack.planar import sizing
+from ngcrack.planar.geometry import make_mesh
+from ngcrack.planar.scene import CIRCLE_SEGMENTS, Hole, Scene, SceneError
 
 PLATE = """
 name = "plate"

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 import ngcrack as nc
-from ngcrack import cli
+from ngcrack.shell import cli
 
 PAPER_2 = (Path(__file__).parents[1] / "ngcrack" / "scenes" / "paper-2.toml").read_text()
 SCENES = {
@@ -216,7 +216,7 @@ def _failing_solve(monkeypatch, exc: BaseException) -> None:
     def broken(*args, **kwargs):
         raise exc
 
-    monkeypatch.setattr(sys.modules["ngcrack.solve"], "solve", broken)
+    monkeypatch.setattr(sys.modules["ngcrack.core.solve"], "solve", broken)
 
 
 class NgException(Exception):
@@ -236,10 +236,10 @@ class NgException(Exception):
     ("PathError", 2, "cannot write"),
 ])
 def test_errors_of_the_package_get_their_exit_code(place, capsys, monkeypatch, exc, code, fragment):
-    from ngcrack.contact import ContactSolverError
-    from ngcrack.files import PathError
-    from ngcrack.schur import LinearSolverError
-    from ngcrack.solve import SolveError
+    from ngcrack.core.contact import ContactSolverError
+    from ngcrack.core.schur import LinearSolverError
+    from ngcrack.core.solve import SolveError
+    from ngcrack.shell.files import PathError
 
     exc = {"SolveError": SolveError("bdm on 'x': the condensed system is singular\n(pivot 3)"),
            "InputError": nc.InputError("maxh = -1: must be > 0"),
@@ -276,7 +276,7 @@ def test_a_library_fault_is_not_called_bad_input(place, capsys, monkeypatch):
 
     import sys
 
-    monkeypatch.setattr(sys.modules["ngcrack.solve"], "solve", broken)
+    monkeypatch.setattr(sys.modules["ngcrack.core.solve"], "solve", broken)
     code, _, err = run(["solve", "paper-2", "--json", "r.json"], capsys)
     assert code == 3 and len(err) == 1, err
     assert "unexpected ValueError in ngcrack solve" in err[0] and "broadcast" in err[0] and "report it" in err[0], err
@@ -284,13 +284,13 @@ def test_a_library_fault_is_not_called_bad_input(place, capsys, monkeypatch):
 
 
 def test_a_failing_plot_leaves_no_json_and_the_old_one_untouched(place, capsys, monkeypatch):
-    import ngcrack.plots
+    import ngcrack.planar.plots
 
     def broken(sol, path):
         Path(path).write_text("half a figure")
         raise RuntimeError("the figure broke")
 
-    monkeypatch.setattr(ngcrack.plots, "plot_solution", broken)
+    monkeypatch.setattr(ngcrack.planar.plots, "plot_solution", broken)
     before = _files(place)
     code, _, err = run(["solve", "paper-2", *MAXH, "--element", "bdm", "--json", "old.json", "--plot", "r.png"], capsys)
     assert code == 3 and len(err) == 1 and "the figure broke" in err[0], err
@@ -312,7 +312,7 @@ def test_the_installed_command_prints_one_line_too(tmp_path):
 
     for argv, code, fragment in [(["solve", "paper-2", "--maxh", "1e-300"], 2, "--maxh = 1e-300"),
                                  (["sweep", "paper-2", "--maxh", "0.4", "--out", "adir"], 2, "must end in .csv")]:
-        proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", *argv], cwd=tmp_path, capture_output=True,
+        proc = subprocess.run([sys.executable, "-m", "ngcrack.shell.cli", *argv], cwd=tmp_path, capture_output=True,
                               text=True, timeout=120)
         err = proc.stderr.splitlines()
         assert proc.returncode == code and len(err) == 1 and fragment in err[0], proc.stderr
@@ -323,7 +323,7 @@ def test_a_closed_pipe_ends_quietly(tmp_path):
     """`ngcrack scenes | head -1`: the reader goes away; no traceback, the shell's code for SIGPIPE."""
     import sys
 
-    proc = subprocess.Popen([sys.executable, "-m", "ngcrack.cli", "scenes"], cwd=tmp_path, stdout=subprocess.PIPE,
+    proc = subprocess.Popen([sys.executable, "-m", "ngcrack.shell.cli", "scenes"], cwd=tmp_path, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE)
     proc.stdout.close()
     assert proc.wait(timeout=120) == 141
@@ -333,10 +333,10 @@ def test_a_closed_pipe_ends_quietly(tmp_path):
 def test_every_error_of_the_input_is_an_input_error():
     """The family the command line maps to exit 2: the scene's, the paths', the meshes',
     the command line's and the explorer's errors, and the option checks."""
-    from ngcrack.cli import UsageError
-    from ngcrack.explorer.widget import ArgumentError
-    from ngcrack.files import PathError
-    from ngcrack.geometry import MeshingError
+    from ngcrack.planar.geometry import MeshingError
+    from ngcrack.shell.cli import UsageError
+    from ngcrack.shell.explorer.widget import ArgumentError
+    from ngcrack.shell.files import PathError
 
     for cls in (nc.SceneError, PathError, MeshingError, UsageError, ArgumentError):
         assert issubclass(cls, nc.InputError) and issubclass(cls, ValueError), cls

@@ -25,8 +25,9 @@ import math
 import numpy as np
 import pytest
 
-from ngcrack import hp, scenes
-from ngcrack.solve import solve
+from ngcrack import scenes
+from ngcrack.core.solve import solve
+from ngcrack.planar import hp
 
 #: K_I of griffith's finite plate, 1.00936 p sqrt(pi a) (our converged hp answer: 1.009361, +-2e-6)
 K_I_FINITE = 1.00936 * math.sqrt(math.pi)

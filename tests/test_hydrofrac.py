@@ -18,9 +18,9 @@ import pandas as pd
 import pytest
 
 import ngcrack as nc
-from ngcrack.cli import main
-from ngcrack.hydrofrac.result import STEP_KEYS, TIP_KEYS
-from ngcrack.scene import Scene
+from ngcrack.planar.scene import Scene
+from ngcrack.shell.cli import main
+from ngcrack.studies.hydrofrac.result import STEP_KEYS, TIP_KEYS
 
 E, NU, Q0, K_IC = 30e9, 0.25, 1e-4, 1e6
 E_PRIME = E / (1 - NU**2)

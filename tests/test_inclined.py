@@ -1,7 +1,7 @@
 """The inclined-crack scene family against its closed forms and the finite plate's answer (frictionless contact).
 
 The closed forms are the infinite plate's; the scene's 20 a plate slides 0.28% more
-(ngcrack.references). The sliding bands are against the finite plate's converged
+(ngcrack.studies.references). The sliding bands are against the finite plate's converged
 profile (relative L2 over the crack edges' mid points, weighted by the edge lengths);
 the closed form's error (unweighted mid-point l2, as measured before) stays beside them.
 """

@@ -28,7 +28,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from ngcrack import cli
+from ngcrack.shell import cli
 
 LINUX = sys.platform.startswith("linux")
 GROW = ["grow", "inclined-compression", "--da", "0.2", "--maxh", "2", "--criterion", "mts"]
@@ -62,7 +62,7 @@ def _stop(proc) -> None:
 @pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGINT, marks=pytest.mark.slow)],
                          ids=["SIGTERM", "SIGINT"])
 def test_a_signal_stops_netgen_meshing_at_once(tmp_path, sig):
-    cmd = [sys.executable, "-m", "ngcrack.cli", "solve", "griffith", "--maxh", "0.02", "--max-dof", "1e30",
+    cmd = [sys.executable, "-m", "ngcrack.shell.cli", "solve", "griffith", "--maxh", "0.02", "--max-dof", "1e30",
            "--json", "r.json"]
     env = dict(os.environ, OMP_NUM_THREADS="1")
     start = time.monotonic()
@@ -91,8 +91,8 @@ def test_a_long_c_call_is_ended_by_the_watcher(tmp_path):
     script = textwrap.dedent("""
         import ctypes, sys
         from pathlib import Path
-        from ngcrack.files import register_temporary
-        from ngcrack.interrupts import Interrupts
+        from ngcrack.shell.files import register_temporary
+        from ngcrack.shell.interrupts import Interrupts
 
         tmp = Path(sys.argv[1]) / ".out.json.tmp"
         tmp.write_text("half")
@@ -140,7 +140,7 @@ def _grow_files(place: Path, steps_at_least: int, signame: str):
 @pytest.mark.skipif(not LINUX, reason="POSIX signals")
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
 def test_an_interrupted_grow_writes_its_finished_steps(tmp_path, sig):
-    cmd = [sys.executable, "-m", "ngcrack.cli", *GROW, "--steps", "30", "--json", "g.json", "--csv", "g.csv",
+    cmd = [sys.executable, "-m", "ngcrack.shell.cli", *GROW, "--steps", "30", "--json", "g.json", "--csv", "g.csv",
            "--gif", "g.gif"]
     proc = subprocess.Popen(cmd, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=dict(os.environ, OMP_NUM_THREADS="1"), start_new_session=True)
@@ -167,8 +167,8 @@ def test_a_grow_held_in_a_long_c_call_still_writes_its_finished_steps(tmp_path):
     the watcher writes steps 0 and 1 itself."""
     script = textwrap.dedent(f"""
         import ctypes, sys
-        from ngcrack import cli
-        from ngcrack.growth import loop
+        from ngcrack.shell import cli
+        from ngcrack.studies.growth import loop
 
         real, calls = loop.solve_step, []
 
@@ -209,7 +209,7 @@ def test_a_grow_held_in_a_long_c_call_still_writes_its_finished_steps(tmp_path):
 def _signal_in_step(monkeypatch, at_call: int, then):
     """Send SIGTERM to this process inside the loop's `at_call`-th tip evaluation; `then(exc)` decides
     what the library does with the KeyboardInterrupt (swallow it, or raise its own error)."""
-    from ngcrack.growth import loop
+    from ngcrack.studies.growth import loop
 
     real, calls = loop.tip_values, []
 

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.constraints import KKT_KEYS, kkt_at_constraints
-from ngcrack.elements import ELEMENTS
+from ngcrack.core.constraints import KKT_KEYS, kkt_at_constraints
+from ngcrack.planar.elements import ELEMENTS
 
 #: what certifies an answer: every kkt figure at most this (the issue's bound)
 KKT_BOUND = 1e-10
@@ -91,8 +91,8 @@ def test_kkt_formula_sees_each_violation():
 
 def test_a_wrong_contact_state_shows(monkeypatch):
     """kkt is not vacuous: hold one open point of griffith closed and the tension shows."""
-    import ngcrack.contact as contact
-    import ngcrack.stages as stages  # the crack stage calls the QP
+    import ngcrack.core.contact as contact
+    import ngcrack.core.stages as stages  # the crack stage calls the QP
     true_qp = contact.solve_qp
 
     def wrong_qp(*args, **kwargs):

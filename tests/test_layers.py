@@ -18,20 +18,24 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundations", ("materials", "memory", "parallel", "quadrature", "csr", "schur", "constraints", "contact",
-                     "files", "errors", "extras", "element_names", "solid", "solid.contact", "solid.friction")),
-    ("scene", ("scene", "scenes", "references", "sizing", "path_sizes", "solid.scene")),
-    ("mesh", ("crack_sides", "crack_loads", "geometry", "solid.geometry")),
-    ("discretization", ("discretization", "elements", "hybrid", "friction", "friction_setup", "held_means", "solid.element", "solid.friction_points",
+    ("foundations", ("core", "planar", "studies", "shell", "planar.materials", "core.memory", "core.parallel", "planar.quadrature",
+                        "core.csr", "core.schur", "core.constraints", "core.contact",
+                     "shell.files", "core.errors", "shell.extras", "core.element_names", "solid", "solid.contact", "solid.friction")),
+    ("scene", ("planar.scene", "scenes", "studies.references", "planar.sizing", "planar.path_sizes", "solid.scene")),
+    ("mesh", ("planar.crack_sides", "planar.crack_loads", "planar.geometry", "solid.geometry")),
+    ("discretization", ("core.discretization", "planar.elements", "core.hybrid", "core.friction", "core.friction_setup",
+                        "planar.held_means", "solid.element", "solid.friction_points",
                         "solid.h1")),
-    ("post-processing", ("post", "post2d", "tips", "tstress", "local_fields", "estimate", "vtk", "load_points", "solid.front",
+    ("post-processing", ("planar.post", "planar.post2d", "planar.tips", "planar.tstress", "planar.local_fields", "planar.estimate",
+                        "planar.vtk", "planar.load_points", "solid.front",
                          "solid.face_pressure", "solid.estimate", "solid.face_friction")),
-    ("options and solution", ("options", "solution", "stages", "friction_checks", "solid.output", "solid.stages")),
-    ("pipeline and hp meshes", ("pipeline", "hp", "solid.solve")),
-    ("loops over the pipeline", ("adapt", "distributed")),
-    ("one-shot solve", ("solve", "volume")),
-    ("studies", ("study", "sweeps", "stability", "growth", "hydrofrac", "paper", "plots")),
-    ("views", ("explorer", "interactive", "cli", "cli_errors", "cli_runs", "interrupts", "growth.cli", "hydrofrac.cli", "__main__", "",
+    ("options and solution", ("core.options", "core.solution", "core.stages", "core.friction_checks", "solid.output", "solid.stages")),
+    ("pipeline and hp meshes", ("core.pipeline", "planar.hp", "solid.solve")),
+    ("loops over the pipeline", ("studies.adapt", "distributed")),
+    ("one-shot solve", ("core.solve", "studies.volume")),
+    ("studies", ("study", "studies.sweeps", "studies.stability", "studies.growth", "studies.hydrofrac", "studies.paper", "planar.plots")),
+    ("views", ("shell.explorer", "interactive", "shell.cli", "shell.cli_errors", "shell.cli_runs", "shell.interrupts",
+                        "studies.growth.cli", "studies.hydrofrac.cli", "__main__", "",
                "solid.cli", "solid.view")),
 ]
 
@@ -87,7 +91,7 @@ def _imports(name: str, path: pathlib.Path) -> set[str]:
                 target = node.module[len("ngcrack."):] if node.module != "ngcrack" else ""
             else:
                 continue
-            for alias in node.names:  # `from . import elements` imports the module ngcrack.elements
+            for alias in node.names:  # `from . import elements` imports the module ngcrack.planar.elements
                 full = f"{target}.{alias.name}" if target else alias.name
                 add(full if full in modules else target)
         elif isinstance(node, ast.Import):
@@ -174,7 +178,7 @@ def test_module_size_and_docstring(name):
 
 def test_no_module_outside_the_elements_tests_an_element_name():
     """What the post-processing needs of an element (its grad u, its estimate, whether that
-    is a bound) is asked of the element (`ElementTraits`): outside ngcrack/elements/ no
+    is a bound) is asked of the element (`ElementTraits`): outside ngcrack/planar/elements/ no
     module compares an object's element name (`sol.element == "tdnns"`) or looks a table
     up by it (`DEGREE[sol.element]`)."""
     import re
@@ -182,13 +186,13 @@ def test_no_module_outside_the_elements_tests_an_element_name():
     pattern = re.compile(r"\.element\s*(==|!=|in\s|not\s+in\s)|\[\s*[A-Za-z_.]*\.element\s*\]")
     found = []
     for name, path in _modules().items():
-        if name == "elements" or name.startswith("elements."):
+        if name == "planar.elements" or name.startswith("planar.elements."):
             continue
         for k, line in enumerate(path.read_text().splitlines(), start=1):
             code = line.split("#")[0]
             if pattern.search(code) and "args.element" not in code and "rates.element" not in code:
                 found.append(f"ngcrack/{path.relative_to(ROOT)}:{k}: {line.strip()}")
-    assert not found, "element names compared outside ngcrack/elements/:\n" + "\n".join(found)
+    assert not found, "element names compared outside ngcrack/planar/elements/:\n" + "\n".join(found)
 
 
 # ------------------------------------------------------------ 2D parts and dimension-free parts
@@ -197,15 +201,17 @@ def test_no_module_outside_the_elements_tests_an_element_name():
 #: scene and its built-in scenes, netgen's 2D geometry and what reads its triangles, the 2D
 #: element families and the hp meshes, the crack profiles sampled along crack edges, the 2D
 #: interaction integral and the estimate on triangles, the ParaView writer, the 2D views
-TWO_D = ("scene", "scenes", "references", "sizing", "quadrature", "materials", "geometry", "crack_sides",
-         "crack_loads", "held_means", "load_points", "elements", "hp", "post", "post2d", "tips", "tstress", "local_fields",
-         "estimate", "vtk", "plots", "explorer", "interactive")
+TWO_D = ("planar.scene", "scenes", "studies.references", "planar.sizing", "planar.quadrature", "planar.materials", "planar.geometry",
+         "planar.crack_sides", "planar.crack_loads", "planar.held_means", "planar.load_points", "planar.elements", "planar.hp",
+         "planar.post", "planar.post2d", "planar.tips", "planar.tstress", "planar.local_fields", "planar.estimate", "planar.vtk",
+         "planar.plots", "shell.explorer", "interactive")
 
 #: the modules that must stay free of any 2D assumption: the element's protocol, the
 #: condensed system and the reduction, the crack problem (QP, friction), the KKT residuals,
 #: the stages, the options and the solution
-DIMENSION_FREE = ("errors", "memory", "parallel", "files", "csr", "constraints", "contact", "schur", "element_names",
-                  "discretization", "hybrid", "friction", "friction_setup", "stages", "options", "solution")
+DIMENSION_FREE = ("core.errors", "core.memory", "core.parallel", "shell.files", "core.csr", "core.constraints", "core.contact",
+                  "core.schur", "core.element_names", "core.discretization", "core.hybrid", "core.friction", "core.friction_setup",
+                  "core.stages", "core.options", "core.solution")
 
 class _WithoutTypeChecking:
     """A module's source without its `if TYPE_CHECKING:` blocks (imports for annotations only)."""

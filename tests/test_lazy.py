@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.explorer import scaled_loads
+from ngcrack.shell.explorer import scaled_loads
 
 SMALL = dict(maxh=4.0, tip_h=0.05)
 

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.tips import effective_modulus
+from ngcrack.planar.tips import effective_modulus
 
 DA = 0.1
 

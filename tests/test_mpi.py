@@ -58,7 +58,7 @@ COMPARE = textwrap.dedent('''
     options = {"peers": nc.SolveOptions(element="peers")}  # rollers on facet unknowns, the direct preconditioner
     cases["peers"] = cases["inclined-compression"]
     # a prescribed displacement (interpolated on rank 0's serial mesh and sent to the ranks)
-    from ngcrack.scene.types import BoundaryCondition
+    from ngcrack.planar.scene.types import BoundaryCondition
     g = cases["griffith"]
     cases["displacement"] = g.with_(boundary=dict(g.boundary, top=BoundaryCondition(type="displacement",
                                                                                      value=(0.002, 0.01))))
@@ -164,12 +164,12 @@ THREE = textwrap.dedent('''
     import json, sys
     from mpi4py import MPI
     import ngcrack as nc
-    from ngcrack import elements
+    from ngcrack.planar import elements
     from ngcrack.distributed import solve as distributed_solve
     from ngcrack.distributed.bddc import unconstrained_steps
     from ngcrack.distributed.mesh import distribute
-    from ngcrack.materials import compliance
-    from ngcrack.pipeline import ParameterLoads, Pipeline
+    from ngcrack.planar.materials import compliance
+    from ngcrack.core.pipeline import ParameterLoads, Pipeline
     comm = MPI.COMM_WORLD
     scene = nc.scenes.load("griffith")
     o = nc.SolveOptions(maxh=2 * scene.maxh, tip_h=2 * scene.tip_h, crack_h=2 * scene.crack_h)  # about 2.6k unknowns
@@ -225,7 +225,7 @@ def test_closed_crack_needs_an_active_set(compared):
 
 def test_cli_writes_json_once(tmp_path):
     out = tmp_path / "g.json"
-    proc = _run(["-m", "ngcrack.cli", "solve", "griffith", "--json", str(out)])
+    proc = _run(["-m", "ngcrack.shell.cli", "solve", "griffith", "--json", str(out)])
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert proc.stdout.count("wrote ") == 1  # rank 0 alone prints and writes
     result = json.loads(out.read_text())
@@ -266,7 +266,7 @@ def test_mesh_too_small_for_the_ranks():
 
 
 def test_mpi_missing_is_one_line():
-    code = ("import sys; sys.modules['mpi4py'] = None; from ngcrack.cli import main; "
+    code = ("import sys; sys.modules['mpi4py'] = None; from ngcrack.shell.cli import main; "
             "sys.exit(main(['solve', 'griffith']))")
     proc = subprocess.run([sys.executable, "-c", code], env=dict(_env(), PMI_SIZE="2"), capture_output=True,
                           text=True, timeout=LIMIT_S)
@@ -277,7 +277,7 @@ def test_mpi_missing_is_one_line():
 
 def test_unsupported_element_is_one_line():
     """A displacement element is refused alike on every rank: one line from rank 0, no abort."""
-    proc = _run(["-m", "ngcrack.cli", "solve", "griffith", "--element", "h1p1"])
+    proc = _run(["-m", "ngcrack.shell.cli", "solve", "griffith", "--element", "h1p1"])
     assert proc.returncode != 0
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "'h1p1' is not distributed" in lines[0], proc.stderr
@@ -288,7 +288,7 @@ def test_unsupported_element_is_one_line():
 def test_bad_option_is_one_line(args, tmp_path):
     """An option every rank refuses alike (the checks, the parser): one line from rank 0, exit 2, nothing written."""
     out = tmp_path / "out.json"
-    proc = _run(["-m", "ngcrack.cli", "solve", *args, "--json", str(out)])
+    proc = _run(["-m", "ngcrack.shell.cli", "solve", *args, "--json", str(out)])
     assert proc.returncode == 2
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and ("maxh" in lines[0] or "--order" in lines[0]), proc.stderr

@@ -82,7 +82,7 @@ def test_3d_mesh_too_small_for_the_ranks_is_one_line(tmp_path):
     path.write_text(json.dumps(small))
     code = textwrap.dedent(f'''
         import json, sys
-        from ngcrack.cli import main
+        from ngcrack.shell.cli import main
         from ngcrack.solid.scene import SolidScene
         text = SolidScene.from_dict(json.load(open({str(path)!r}))).to_toml_string()
         open({str(tmp_path / "small.toml")!r}, "w").write(text)
@@ -98,7 +98,7 @@ def test_3d_mesh_too_small_for_the_ranks_is_one_line(tmp_path):
 
 def test_3d_displacement_element_is_one_line():
     """h1p1 in 3D is not distributed: refused alike on every rank before meshing, one line from rank 0."""
-    proc = _run(["-m", "ngcrack.cli", "solve", "penny", "--element", "h1p1"])
+    proc = _run(["-m", "ngcrack.shell.cli", "solve", "penny", "--element", "h1p1"])
     assert proc.returncode != 0
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "element = 'h1p1': a distributed 3D solve takes element = 'tdnns'" in lines[0], \
@@ -126,7 +126,7 @@ def test_cli_writes_the_3d_json_once(tmp_path):
     scene = SolidScene.from_dict(BEAM)
     path, out = tmp_path / "bent.toml", tmp_path / "bent.json"
     path.write_text(scene.to_toml_string())
-    proc = _run(["-m", "ngcrack.cli", "solve", str(path), "--json", str(out)])
+    proc = _run(["-m", "ngcrack.shell.cli", "solve", str(path), "--json", str(out)])
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert proc.stdout.count("wrote ") == 1 and proc.stdout.count("(3D)") == 1
     record = json.loads(out.read_text())
@@ -173,8 +173,8 @@ def test_four_ranks_three_subdomains_with_primal_edges_equal_serial(tmp_path):
 def test_3d_prescribed_displacement_above_three_ranks_is_refused():
     """NGSolve's interpolation of a prescribed displacement sums through its own exchange, wrong from 3 subdomains
     on with MPICH: refused by name above 3 ranks, before any mesh; clamped faces and 2-3 ranks pass."""
+    from ngcrack.core.errors import InputError
     from ngcrack.distributed.solid import check_supported
-    from ngcrack.errors import InputError
     from ngcrack.solid.scene import SolidScene
 
     opts = {"element": "tdnns"}

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.constraints import _compute_inverse_map, _sparse_inverse
-from ngcrack.errors import InputError
-from ngcrack.geometry import make_mesh
-from ngcrack.path_sizes import (
+from ngcrack.core.constraints import _compute_inverse_map, _sparse_inverse
+from ngcrack.core.errors import InputError
+from ngcrack.planar.geometry import make_mesh
+from ngcrack.planar.path_sizes import (
     PATH_H_CAP,
     PathGrading,
     check_path_grading,
@@ -50,7 +50,7 @@ def test_bad_path_grading_refused_naming_the_field(value):
 
 
 def test_grow_refuses_a_bad_path_grading_before_any_solve(monkeypatch):
-    from ngcrack.growth import loop
+    from ngcrack.studies.growth import loop
 
     monkeypatch.setattr(loop, "solve_step", lambda *a: pytest.fail("solved"))
     with pytest.raises(InputError, match="path_grading"):
@@ -147,7 +147,7 @@ def test_graded_mesh_of_a_grown_scene_gives_the_same_K(both_runs):
 def test_grow_command_path_grading(tmp_path, capsys):
     """`ngcrack grow --path-grading`: a bad rate refused before any work (exit 2, naming the field);
     none meshes the path at crack_h: step 0 is the plain solve's mesh."""
-    from ngcrack.cli import main
+    from ngcrack.shell.cli import main
 
     out = tmp_path / "bad.json"
     code = main(["grow", "griffith", "--da", "0.05", "--steps", "1", "--path-grading", "2", "--json", str(out)])

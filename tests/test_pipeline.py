@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.explorer.loads import scaled_loads
-from ngcrack.options import SolveOptions
-from ngcrack.pipeline import Pipeline
+from ngcrack.core.options import SolveOptions
+from ngcrack.core.pipeline import Pipeline
+from ngcrack.shell.explorer.loads import scaled_loads
 
 COARSE = dict(maxh=2.0, tip_h=0.25)
 
@@ -139,8 +139,8 @@ def test_what_an_element_cannot_solve_is_refused_before_any_meshing(scene):
 def test_every_family_implements_the_methods_the_stages_call():
     """Every family's Discretization overrides each method of the base class that the
     stages and the condensed system call (none is an optional attribute)."""
-    from ngcrack.discretization import Discretization
-    from ngcrack.elements import base, h1, tdnns
+    from ngcrack.core.discretization import Discretization
+    from ngcrack.planar.elements import base, h1, tdnns
 
     methods = ("fields", "boundary_values", "traction", "constraint_map", "constraint_positions", "crack_jumps",
                "tangential_jump", "held_mean_rows")

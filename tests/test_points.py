@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.load_points import load_displacement, load_point_values
-from ngcrack.scene import SceneError
+from ngcrack.planar.load_points import load_displacement, load_point_values
+from ngcrack.planar.scene import SceneError
 
 E, NU = 1000.0, 0.3
 LENGTH, HEIGHT, SPAN, WIDTH = 10.0, 1.0, 9.0, 0.1
@@ -66,7 +66,7 @@ def test_scaled_scenes_carry_the_point_forces():
     big = s.scaled(load=3.0, size=2.0)
     assert big.points[2].value == pytest.approx((0.0, -6.0))  # a stress times a length
     assert big.points[2].width == pytest.approx(2 * WIDTH) and big.points[2].at == pytest.approx((10.0, 2.0))
-    from ngcrack.explorer.loads import scaled_loads
+    from ngcrack.shell.explorer.loads import scaled_loads
 
     turned = scaled_loads(s, 2.0, 90.0)
     assert turned.points[2].value == pytest.approx((2.0, 0.0), abs=1e-12)

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.scene import Scene, SceneError
+from ngcrack.planar.scene import Scene, SceneError
 
 E, NU = 1000.0, 0.3
 E_PRIME = E / (1 - NU**2)

@@ -9,7 +9,7 @@ import warnings
 import pytest
 
 import ngcrack as nc
-from ngcrack.files import Staged, atomic_write
+from ngcrack.shell.files import Staged, atomic_write
 
 COARSE = {"element": "bdm", "maxh": 2.0, "crack_h": 0.4, "tip_h": 0.08}
 
@@ -81,7 +81,7 @@ EFF_FINE = {"maxh": 1.0, "tip_h": 0.005, "crack_h": 0.05}
 @pytest.mark.parametrize("name,element", [pytest.param(*k, marks=pytest.mark.slow) if k[1] == "peers" else k
                                           for k in sorted(EFFECTIVITY)])  # (peers: in the slow run)
 def test_effectivity_as_nu_tends_to_one_half(name, element):
-    from ngcrack.estimate import energy_error_against
+    from ngcrack.planar.estimate import energy_error_against
 
     eff, k_first = {}, {}
     with warnings.catch_warnings():

@@ -1,4 +1,4 @@
-"""The finite-body references (ngcrack.references): their contents, their use, and that solvers converge to them.
+"""The finite-body references (ngcrack.studies.references): their contents, their use, and that solvers converge to them.
 
 The references themselves come from benchmarks/references.py (a tdnns order 3 / order 2
 convergence sequence); here: the stored numbers against an independent code's answers
@@ -20,7 +20,7 @@ import pytest
 
 import ngcrack as nc
 from ngcrack import references
-from ngcrack.sweeps import opening_error
+from ngcrack.studies.sweeps import opening_error
 
 ROOT_PI = math.sqrt(math.pi)
 

@@ -13,9 +13,10 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack import geometry, scenes, sizing
-from ngcrack.scene import MAX_CRACK_POINTS, MAX_POLYGON_VERTICES, Scene, SceneError
-from ngcrack.scene.planar import MIN_GAP_RTOL
+from ngcrack import scenes
+from ngcrack.planar import geometry, sizing
+from ngcrack.planar.scene import MAX_CRACK_POINTS, MAX_POLYGON_VERTICES, Scene, SceneError
+from ngcrack.planar.scene.planar import MIN_GAP_RTOL
 
 ROOT = Path(__file__).resolve().parents[1]
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
@@ -204,7 +205,7 @@ def test_the_guard_respects_the_address_space_limit():
 
 def test_the_guard_respects_the_cgroup_limit(monkeypatch):
     values = {"/sys/fs/cgroup/memory.max": 1.5e9, "/sys/fs/cgroup/memory.current": 0.5e9}
-    from ngcrack import memory
+    from ngcrack.core import memory
 
     monkeypatch.setattr(memory, "_read_number", lambda path: values.get(path))
     assert sizing.memory_limits()["cgroup"] == pytest.approx(1e9)

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from ngcrack import scenes
-from ngcrack.scene import GEOMETRY_RTOL, BoundaryCondition, Crack, Material, Scene, SceneError
+from ngcrack.planar.scene import GEOMETRY_RTOL, BoundaryCondition, Crack, Material, Scene, SceneError
 
 SQUARE = [[0, 0], [4, 0], [4, 1], [0, 1]]
 LABELS = ["bottom", "right", "top", "left"]
@@ -417,7 +417,7 @@ def test_dataclasses_validate_on_construction():
 def test_scaled_scene_keeps_friction_and_scales_every_length_and_load():
     """Scene.scaled (one function, also behind stability.scaled_scene): lengths by size,
     E by E, tractions by load, displacements by load*size/E, each crack's friction kept."""
-    from ngcrack.stability import scaled_scene
+    from ngcrack.studies.stability import scaled_scene
 
     s = scenes.load("paper-2").with_(friction=0.4, maxh=0.1)
     s = s.with_(boundary={**s.boundary, "bottom": {"type": "displacement", "value": [0.0, 1e-3]}})
@@ -439,7 +439,7 @@ def test_diameter_is_the_farthest_vertex_pair():
     """The one polygon diameter (convex hull, chunked) against the plain pairwise maximum."""
     import numpy as np
 
-    from ngcrack.scene import diameter
+    from ngcrack.planar.scene import diameter
 
     rng = np.random.default_rng(3)
     for n in (3, 4, 17, 2500):

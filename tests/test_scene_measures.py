@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import shapely
 
-from ngcrack.scene import SceneError, measures, planar
+from ngcrack.planar.scene import SceneError, measures, planar
 
 
 def _star(rng, n: int, rounded: bool) -> list[tuple[float, float]]:

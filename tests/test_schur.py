@@ -21,13 +21,13 @@ import pytest
 import scipy.sparse as sp
 
 import ngcrack.scenes as scenes
-from ngcrack import elements as _elements
-from ngcrack import schur as schur_mod
-from ngcrack.geometry import make_mesh
-from ngcrack.hybrid import condense, reduce_to_contact
-from ngcrack.materials import compliance
-from ngcrack.schur import Factorization, LinearSolverError, schur_complement
-from ngcrack.solve import scene_loads
+from ngcrack.core import schur as schur_mod
+from ngcrack.core.hybrid import condense, reduce_to_contact
+from ngcrack.core.schur import Factorization, LinearSolverError, schur_complement
+from ngcrack.core.solve import scene_loads
+from ngcrack.planar import elements as _elements
+from ngcrack.planar.geometry import make_mesh
+from ngcrack.planar.materials import compliance
 
 #: S, b, x0 of every path agree with the column-by-column reference to this (relative)
 MATCH_RTOL = 1e-10

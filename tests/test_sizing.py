@@ -1,4 +1,4 @@
-"""The size guard and the thin-part check (ngcrack.sizing), before any meshing.
+"""The size guard and the thin-part check (ngcrack.planar.sizing), before any meshing.
 
 - the triangle estimate against netgen's meshes (graded and uniform, several scenes),
   the unknowns per triangle against the solves' counts;
@@ -22,10 +22,11 @@ import ngsolve as ngs
 import pytest
 
 import ngcrack as nc
-from ngcrack import scenes, sizing
-from ngcrack.cli import main
-from ngcrack.geometry import make_mesh
-from ngcrack.sweeps import sweep
+from ngcrack import scenes
+from ngcrack.planar import sizing
+from ngcrack.planar.geometry import make_mesh
+from ngcrack.shell.cli import main
+from ngcrack.studies.sweeps import sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -82,7 +83,7 @@ def test_cli_refuses_a_mistyped_maxh_within_seconds(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     out = tmp_path / "r.json"
     t0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "ngcrack.cli", "solve", "griffith", "--maxh", "1e-7", "--json", str(out)],
+    proc = subprocess.run([sys.executable, "-m", "ngcrack.shell.cli", "solve", "griffith", "--maxh", "1e-7", "--json", str(out)],
                           capture_output=True, text=True, env=env, timeout=300)
     report(f"ngcrack solve griffith --maxh 1e-7: exit {proc.returncode} after {time.perf_counter() - t0:.1f} s "
            f"(process start and imports included)")

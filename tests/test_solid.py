@@ -158,7 +158,7 @@ def test_penny_mesh_is_glued_and_curved(penny_mesh):
 def test_penny_under_tension_matches_sneddon_and_contact_equals_the_linear_solve(penny_mesh):
     scene, smesh = penny_mesh
     sol = nc.solve(scene, crack_mesh=smesh)
-    from ngcrack.schur import Factorization
+    from ngcrack.core.schur import Factorization
 
     free = Factorization(sol.system.K).solve(sol.system.F)  # the plain linear solve, crack faces free
     # no face closes: the contact answer is the linear one to round-off
@@ -281,7 +281,7 @@ def test_2d_only_entry_points_refuse_a_3d_scene_by_name():
 def test_cli_solves_a_3d_scene_to_json_and_vtk(tmp_path, capsys):
     import json
 
-    from ngcrack.cli import main
+    from ngcrack.shell.cli import main
 
     path = tmp_path / "penny.toml"
     path.write_text(SolidScene.from_dict(penny()).to_toml_string())

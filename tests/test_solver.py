@@ -32,13 +32,13 @@ import scipy.optimize as sopt
 
 import ngcrack as nc
 import ngcrack.scenes as scenes
-from ngcrack.contact import solve_qp
-from ngcrack.elements import Loads
-from ngcrack.geometry import make_mesh
-from ngcrack.materials import compliance, lame_parameters
-from ngcrack.post import facet_basis
-from ngcrack.scene import BoundaryCondition, Material, Scene
-from ngcrack.solve import solve
+from ngcrack.core.contact import solve_qp
+from ngcrack.core.solve import solve
+from ngcrack.planar.elements import Loads
+from ngcrack.planar.geometry import make_mesh
+from ngcrack.planar.materials import compliance, lame_parameters
+from ngcrack.planar.post import facet_basis
+from ngcrack.planar.scene import BoundaryCondition, Material, Scene
 
 ELEMENTS = ("peers", "bdm")
 X, Y = ngs.x, ngs.y
@@ -515,13 +515,13 @@ def test_qp_against_nnls():
     (dict(maxh=True), ("maxh",)),
 ], ids=lambda v: repr(v) if isinstance(v, dict) else None)
 def test_bad_options_are_refused_before_any_meshing(options, fragments, monkeypatch):
-    import ngcrack.pipeline
+    import ngcrack.core.pipeline
 
     def no_meshing(*args, **kwargs):
         raise AssertionError("meshed before refusing the options")
 
-    monkeypatch.setattr(ngcrack.pipeline, "make_mesh", no_meshing)
-    monkeypatch.setattr(ngcrack.pipeline, "hp_mesh", no_meshing)
+    monkeypatch.setattr(ngcrack.core.pipeline, "make_mesh", no_meshing)
+    monkeypatch.setattr(ngcrack.core.pipeline, "hp_mesh", no_meshing)
     scene = scenes.load("paper-2")  # a cracked scene, so that the QP solver is reached
     with pytest.raises(nc.InputError) as info:
         solve(scene, **options)

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 import ngcrack.scenes as scenes
-from ngcrack import stability
-from ngcrack.contact import ContactSolverError
-from ngcrack.elements import MIXED, Loads
-from ngcrack.scene import SceneError
-from ngcrack.solve import SolveError, solve
+from ngcrack.core.contact import ContactSolverError
+from ngcrack.core.solve import SolveError, solve
+from ngcrack.planar.elements import MIXED, Loads
+from ngcrack.planar.scene import SceneError
+from ngcrack.studies import stability
 
 NEAR_HALF = (0.49, 0.4999, 0.49999, 0.5 - 1e-8, 0.5)
 
@@ -135,7 +135,7 @@ def test_singular_system_is_refused():
 
 def test_qp_solver_failure_names_the_solver(monkeypatch):
     """A QP solver returning garbage is caught by the KKT check and named."""
-    import ngcrack.contact as contact
+    import ngcrack.core.contact as contact
 
     def broken(S, b, *args, **kwargs):
         return np.full(len(b), np.nan)

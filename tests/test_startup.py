@@ -3,7 +3,7 @@
 `import ngcrack` imports its public names on first use (PEP 562), so the package alone
 loads nothing but itself; the command line's parser loads no numerics; a plain 2D solve
 loads NGSolve and numpy but none of the optional parts (pandas, widgets, cvxpy, meshio,
-dask, jupytext, matplotlib), nor scipy.sparse (its condensed system is `ngcrack.csr`,
+dask, jupytext, matplotlib), nor scipy.sparse (its condensed system is `ngcrack.core.csr`,
 numpy alone) nor shapely (the scene's planar checks). benchmarks/startup.py prints the
 times.
 """
@@ -17,8 +17,8 @@ import sys
 import pytest
 
 import ngcrack as nc
-from ngcrack.cli_errors import EXIT_INPUT, classify
-from ngcrack.extras import EXTRAS, missing_extra, require
+from ngcrack.shell.cli_errors import EXIT_INPUT, classify
+from ngcrack.shell.extras import EXTRAS, missing_extra, require
 
 #: what no solve needs: the extras and the heavy packages of plots and other QP solvers
 NOT_FOR_A_SOLVE = {"pandas", "tqdm", "ipywidgets", "IPython", "jupytext", "meshio", "dask", "distributed",
@@ -43,9 +43,10 @@ def test_import_ngcrack_loads_only_the_package():
 
 
 def test_the_command_line_parser_loads_no_numerics():
-    loaded = _loaded("from ngcrack.cli import build_parser; build_parser().format_help()")
+    loaded = _loaded("from ngcrack.shell.cli import build_parser; build_parser().format_help()")
     assert not _top(loaded) & (NOT_FOR_A_SOLVE | {"ngsolve", "netgen", "numpy", "scipy", "shapely"})
-    assert not {m for m in loaded if m.startswith("ngcrack.growth.") and m != "ngcrack.growth.criteria"} - {"ngcrack.growth.cli"}
+    grown = {m for m in loaded if m.startswith("ngcrack.studies.growth.") and m != "ngcrack.studies.growth.criteria"}
+    assert not grown - {"ngcrack.studies.growth.cli"}
 
 
 def test_a_solve_loads_no_optional_part():
@@ -53,7 +54,8 @@ def test_a_solve_loads_no_optional_part():
                      "sol.crack_profiles(); sol.error_estimate")
     assert {"ngsolve", "numpy"} <= _top(loaded)
     assert not _top(loaded) & NOT_FOR_A_SOLVE
-    assert not {"ngcrack.explorer", "ngcrack.sweeps", "ngcrack.growth", "ngcrack.paper", "ngcrack.plots"} & loaded
+    assert not {"ngcrack.shell.explorer", "ngcrack.studies.sweeps", "ngcrack.studies.growth", "ngcrack.studies.paper",
+                "ngcrack.planar.plots"} & loaded
     # scipy.sparse costs 0.08-0.11 s of CPU at import (scipy 1.17 builds an array-API copy
     # of numpy, loading numpy.f2py and numpy.testing), scipy.linalg loads its own BLAS: only
     # friction, point supports, superlu, large dense QPs and the 3D paths need scipy
@@ -73,10 +75,10 @@ def test_a_plain_griffith_solve_loads_neither_scipy_sparse_nor_shapely():
 
 def test_the_solve_command_loads_no_sweeps(tmp_path):
     out = tmp_path / "g.json"
-    loaded = _loaded("from ngcrack.cli import main; main(['solve', 'griffith', '--maxh', '4', '--tip-h', '0.05', "
+    loaded = _loaded("from ngcrack.shell.cli import main; main(['solve', 'griffith', '--maxh', '4', '--tip-h', '0.05', "
                      f"'--crack-h', '0.2', '--json', {str(out)!r}])")
     assert out.exists()
-    assert not {m for m in loaded if m.startswith(("ngcrack.sweeps", "multiprocessing", "concurrent.futures.process"))}
+    assert not {m for m in loaded if m.startswith(("ngcrack.studies.sweeps", "multiprocessing", "concurrent.futures.process"))}
     assert not _top(loaded) & NOT_FOR_A_SOLVE
 
 
@@ -84,16 +86,16 @@ def test_every_public_name_resolves():
     for name in nc.__all__:
         assert getattr(nc, name) is not None
     assert set(nc.__all__) <= set(dir(nc))
-    assert nc.tips.__name__ == "ngcrack.tips"  # a submodule, on first use
+    assert nc.tips.__name__ == "ngcrack.planar.tips"  # a submodule, on first use
     with pytest.raises(AttributeError, match="no attribute 'no_such_name'"):
         nc.no_such_name  # noqa: B018
 
 
 def test_a_function_stays_the_function_after_its_module_is_imported():
-    code = ("import ngcrack as nc, ngcrack.pipeline; import ngcrack.solve; from ngcrack import solve; "
-            "import ngcrack.hydrofrac.cli; "
-            "print(callable(nc.solve) and nc.solve is solve and nc.solve.__module__ == 'ngcrack.solve' "
-            "and callable(nc.hydrofrac) and nc.hydrofrac.__module__ == 'ngcrack.hydrofrac.loop')")
+    code = ("import ngcrack as nc, ngcrack.core.pipeline; import ngcrack.core.solve; from ngcrack import solve; "
+            "import ngcrack.studies.hydrofrac.cli; "
+            "print(callable(nc.solve) and nc.solve is solve and nc.solve.__module__ == 'ngcrack.core.solve' "
+            "and callable(nc.hydrofrac) and nc.hydrofrac.__module__ == 'ngcrack.studies.hydrofrac.loop')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "True"
 

@@ -1,4 +1,4 @@
-"""Tests of the study layer (ngcrack.sweeps): error quantities, rates, sweeps, resume, parallel runs.
+"""Tests of the study layer (ngcrack.studies.sweeps): error quantities, rates, sweeps, resume, parallel runs.
 
 What is checked, and against what:
 - the error quantities: sigma_t1 and sigma_nu of a known stress and normal, quadrature
@@ -28,8 +28,9 @@ import pandas as pd
 import pytest
 
 import ngcrack as nc
-from ngcrack import scenes, sweeps
-from ngcrack.sweeps import QUANTITIES, RATE_COLUMNS, ROW_COLUMNS, ROW_SCHEMA, Reference, fitted_rates, sweep, with_rates
+from ngcrack import scenes
+from ngcrack.studies import sweeps
+from ngcrack.studies.sweeps import QUANTITIES, RATE_COLUMNS, ROW_COLUMNS, ROW_SCHEMA, Reference, fitted_rates, sweep, with_rates
 
 
 def report(msg: str) -> None:
@@ -297,10 +298,10 @@ def test_resume_after_a_partial_sweep_adds_only_the_missing_rows(tmp_path):
     first = sweep("paper-2", elements=["bdm"], maxh=[0.4, 0.3], reference_maxh=0.2, out=out)
     before = out.read_bytes()
     assert len(first) == 2
-    import ngcrack.sweeps.plan
+    import ngcrack.studies.sweeps.plan
 
     with pytest.MonkeyPatch.context() as mp:  # nothing to solve: a run would fail the test
-        mp.setattr(ngcrack.sweeps.plan, "run_case", lambda case: pytest.fail(f"resumed sweep ran {case.describe()}"))
+        mp.setattr(ngcrack.studies.sweeps.plan, "run_case", lambda case: pytest.fail(f"resumed sweep ran {case.describe()}"))
         again = sweep("paper-2", elements=["bdm"], maxh=[0.4, 0.3], reference_maxh=0.2, out=out)
     assert out.read_bytes() == before  # nothing to do, nothing written
     pd.testing.assert_frame_equal(first, again)
@@ -318,7 +319,7 @@ def test_a_file_without_the_cpu_column_is_read_and_upgraded_on_resume(tmp_path):
     rewrites it once with the column (old rows' cells kept) and appends its own rows."""
     import csv
 
-    from ngcrack.sweeps.results import row_check
+    from ngcrack.studies.sweeps.results import row_check
 
     out = tmp_path / "r.csv"
     first = sweep("paper-2", elements=["bdm"], maxh=[0.4], reference_maxh=0.3, out=out)
@@ -354,7 +355,7 @@ KILL_GRID = ["--element", "bdm", "--maxh", "0.2", "0.15", "0.12", "0.1", "0.08",
 
 def test_resume_after_the_process_is_killed(tmp_path):
     out = tmp_path / "kill.csv"
-    cmd = [sys.executable, "-m", "ngcrack.cli", "sweep", "paper-2", *KILL_GRID, "--out", str(out), "--no-progress"]
+    cmd = [sys.executable, "-m", "ngcrack.shell.cli", "sweep", "paper-2", *KILL_GRID, "--out", str(out), "--no-progress"]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path)
     try:
         deadline = time.time() + 120

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import ngcrack.scenes as scenes
-from ngcrack.solve import solve
-from ngcrack.stability import griffith_error, manufactured_errors
+from ngcrack.core.solve import solve
+from ngcrack.studies.stability import griffith_error, manufactured_errors
 
 #: expected L2 rates of u and sigma for stress degree k: h^(k+1) (see elements/tdnns.py)
 RATES = {1: 2.0, 2: 3.0}

@@ -3,7 +3,7 @@
 Closed forms (infinite plate): Griffith K_I = p sqrt(pi a), K_II = 0; the inclined crack
 under tension p: K_I = p cos^2(b) sqrt(pi a), K_II = p sin(b) cos(b) sqrt(pi a); closed and
 frictionless under compression: K_I = 0, K_II = tau sqrt(pi a); G = (K_I^2 + K_II^2) / E'.
-The scenes' plates are finite (20 a wide): their own K, converged (ngcrack.references),
+The scenes' plates are finite (20 a wide): their own K, converged (ngcrack.studies.references),
 is 0.94% above the closed form on griffith and 0.25% / 0.30% above tau sqrt(pi a) at the
 inclined crack's two tips; the tighter bands are against those, the 1% bounds against the
 closed forms stay beside them. Finite strips: Tada, Paris, Irwin (see
@@ -19,11 +19,11 @@ import pytest
 
 import ngcrack as nc
 from ngcrack import references
-from ngcrack import tips as T
+from ngcrack.planar import tips as T
 from ngcrack.scenes import handbook
 
 ROOT_PI = math.sqrt(math.pi)
-#: |K / K_ref - 1| bands at the default mesh against the finite plate's K (ngcrack.references);
+#: |K / K_ref - 1| bands at the default mesh against the finite plate's K (ngcrack.studies.references);
 #: measured griffith bdm 0.17%, tdnns 0.017%; inclined-compression bdm 0.14% (K_II)
 K_BANDS = {"bdm": 3e-3, "tdnns": 5e-4}
 
@@ -107,7 +107,7 @@ def test_griffith_reversed_is_closed_K_I_zero_and_free_reports_the_overlap(griff
     """The load reversed: with contact the faces close at the tip and K_I is 0 exactly
     (the integral's value, its error about zero, kept in K_I_raw), G = K_II^2 / E'; the
     free model (linear) gives exactly the open crack's K with the sign reversed."""
-    from ngcrack.explorer.loads import scaled_loads
+    from ngcrack.shell.explorer.loads import scaled_loads
 
     scene = scaled_loads(nc.scenes.load("griffith"), -1.0)
     e_prime = T.effective_modulus(1000.0, 0.3, "strain")
@@ -272,7 +272,7 @@ def test_body_force_term_makes_the_integral_domain_independent():
 def test_tips_on_the_boundary_are_skipped_and_labels_match_the_scene():
     for name in ("griffith", "two-cracks", "paper-2", "paper-1"):
         scene = nc.scenes.load(name)
-        from ngcrack.geometry import make_mesh
+        from ngcrack.planar.geometry import make_mesh
 
         cm = make_mesh(scene, maxh=0.5)
         assert [t.label for t in T.crack_tips(scene, cm)] == T.tip_labels(scene)

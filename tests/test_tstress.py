@@ -1,4 +1,4 @@
-"""The T-stress by the interaction integral with the point-force auxiliary field (ngcrack.tstress).
+"""The T-stress by the interaction integral with the point-force auxiliary field (ngcrack.planar.tstress).
 
 Without a mesh: the auxiliary field is an elastic field (its strain is the compliance of its
 stress, it is in equilibrium, its faces are traction free), and the domain integral over a
@@ -22,16 +22,16 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.materials import compliance
-from ngcrack.scenes import handbook
-from ngcrack.tips import effective_modulus, kolosov, williams_dx1, williams_stress
-from ngcrack.tstress import (
+from ngcrack.planar.materials import compliance
+from ngcrack.planar.tips import effective_modulus, kolosov, williams_dx1, williams_stress
+from ngcrack.planar.tstress import (
     interaction_integrand,
     point_force_displacement,
     point_force_dx1,
     point_force_stress,
     t_stress,
 )
+from ngcrack.scenes import handbook
 
 E, NU = 1000.0, 0.3
 #: the griffith plate's T, converged (tdnns order 2 at maxh 1 and 0.5: -1.0110217, -1.0110256)

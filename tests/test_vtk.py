@@ -1,4 +1,4 @@
-"""ParaView output (ngcrack.vtk): the files read back with meshio hold the solution's values.
+"""ParaView output (ngcrack.planar.vtk): the files read back with meshio hold the solution's values.
 
 The body's file is compared, triangle by triangle and vertex by vertex, with the
 solution's CoefficientFunctions evaluated at the same points of the same triangle
@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.vtk import STATE_CODES, body_fields, save_vtk, write_collection
+from ngcrack.planar.vtk import STATE_CODES, body_fields, save_vtk, write_collection
 
 meshio = pytest.importorskip("meshio")
 ngs = pytest.importorskip("ngsolve")
@@ -136,7 +136,7 @@ def test_crack_faces_are_the_crack_profiles(solutions, tmp_path):
 
 
 def test_cli_vtk_matches_its_json(tmp_path):
-    from ngcrack.cli import main
+    from ngcrack.shell.cli import main
 
     out, js = tmp_path / "out" / "open", tmp_path / "r.json"
     assert main(["solve", "tension-open", "--maxh", "0.5", "--vtk", str(out)]) == 2  # a missing folder, as --json
@@ -187,7 +187,7 @@ def test_collection_lists_every_part_relative_to_itself(solutions, tmp_path):
 
 
 def test_series_writes_one_file_per_step_and_their_collection(solutions, tmp_path):
-    from ngcrack.vtk import save_series
+    from ngcrack.planar.vtk import save_series
 
     sols = [solutions["bdm"], solutions["tdnns"]]
     pvd = save_series(sols, [1, 2.5], tmp_path / "steps" / "run")
@@ -214,7 +214,7 @@ def test_a_target_that_is_a_directory_is_named_and_nothing_is_written(solutions,
 
 def test_a_reused_series_leaves_no_stale_step_file(solutions, tmp_path):
     """A second series on the same path (a shorter run) removes the first one's step files, and only those."""
-    from ngcrack.vtk import SeriesWriter
+    from ngcrack.planar.vtk import SeriesWriter
 
     sol = next(iter(solutions.values()))
     first = SeriesWriter(tmp_path / "run")
@@ -235,7 +235,7 @@ def test_growth_writes_one_file_per_step_through_its_progress_callback(tmp_path)
     """nc.grow(..., progress=SeriesWriter(path)): one body and one crack file per step, the
     collection listing them at the step numbers, each crack file the crack of its step
     (one more segment per step) with that step's opening."""
-    from ngcrack.vtk import SeriesWriter
+    from ngcrack.planar.vtk import SeriesWriter
 
     writer = SeriesWriter(tmp_path / "growth" / "run")
     scene = nc.scenes.inclined_crack(angle=45, load=1)

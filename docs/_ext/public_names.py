@@ -1,8 +1,8 @@
 """Resolve references to public names that a package re-exports.
 
 The pages and docstrings refer to objects by the names a user imports: ``ngcrack.Scene``,
-``ngcrack.scene.SceneError``, ``Scene.scaled`` from a module that imports ``Scene``. The
-API pages document each object once, where it is defined (``ngcrack.scene.body.Scene``).
+``ngcrack.planar.scene.SceneError``, ``Scene.scaled`` from a module that imports ``Scene``. The
+API pages document each object once, where it is defined (``ngcrack.planar.scene.body.Scene``).
 When Sphinx finds no target for a Python reference, this extension imports the name as
 written (relative to the reference's module and its parents, as Python would see it),
 follows it to the module and qualified name where the object is defined, and links there.

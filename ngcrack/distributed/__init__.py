@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import os
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 #: environment variables through which mpiexec (MPICH/hydra, Open MPI, Slurm's PMI) tells a
 #: process the size of its world, read without importing MPI

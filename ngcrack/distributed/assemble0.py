@@ -14,10 +14,10 @@ import weakref
 
 import numpy as np
 
-from ..contact import QPResult
-from ..friction import FrictionResult, coulomb_residual
-from ..solution import Backend, Solution
-from ..stages import CrackAnswer, Recovered, SolveError, faces_stage
+from ..core.contact import QPResult
+from ..core.friction import FrictionResult, coulomb_residual
+from ..core.solution import Backend, Solution
+from ..core.stages import CrackAnswer, Recovered, SolveError, faces_stage
 from .gather import scatter_into
 from .mesh import MATCH_RTOL
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from ..geometry import CrackMesh, _crack_edges
+from ..planar.geometry import CrackMesh, _crack_edges
 
 #: two vertices closer than this fraction of the body's diameter are the same point
 MATCH_RTOL = 1e-9

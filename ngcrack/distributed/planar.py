@@ -19,11 +19,11 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from .. import elements as _elements
-from ..errors import InputError
-from ..materials import compliance
-from ..options import SolveOptions
-from ..post import endpoint_map
+from ..core.errors import InputError
+from ..core.options import SolveOptions
+from ..planar import elements as _elements
+from ..planar.materials import compliance
+from ..planar.post import endpoint_map
 from . import MPIUnavailable, require_mpi
 from .bddc import default_for, owned, preconditioner
 from .friction import FrictionSets, friction_loop
@@ -120,7 +120,7 @@ def _fail(comm, rank: int, exc: BaseException) -> None:
 
 def solve(scene, options: SolveOptions | None = None):
     """One solve over the ranks of MPI_COMM_WORLD; the Solution on rank 0, None on the others."""
-    from ..pipeline import Pipeline
+    from ..core.pipeline import Pipeline
     from ..scenes import load
 
     comm = require_mpi()
@@ -149,7 +149,7 @@ def solve(scene, options: SolveOptions | None = None):
 
 
 def _solve(comm, scene, o: SolveOptions):
-    from ..pipeline import ParameterLoads, Pipeline
+    from ..core.pipeline import ParameterLoads, Pipeline
 
     rank = comm.rank
     timings: dict[str, float] = {}

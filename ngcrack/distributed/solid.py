@@ -36,7 +36,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InputError
+from ..core.errors import InputError
 from .krylov import Operator, condensed_rhs, held_rows
 from .solid_mesh import TooFewTetrahedra, check_ranks, crack_layout, distribute, gather_to_rank0, local_solid_mesh, scatter_into
 
@@ -185,7 +185,7 @@ class LocalSystem:
 def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
     """Mesh on rank 0, distribute, find the cracks again and assemble on every rank (module docstring), the stages'
     seconds into `timings` (collective)."""
-    from ..pipeline import Pipeline
+    from ..core.pipeline import Pipeline
     from ..solid.element import build
     from ..solid.geometry import CURVE_ORDER
     from ..solid.solve import scene_loads

@@ -16,11 +16,11 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..constraints import discrete_contact_forces, kkt_at_constraints
+from ..core.constraints import discrete_contact_forces, kkt_at_constraints
+from ..core.stages import SolveError
 from ..solid.contact import ContactResult
 from ..solid.friction import certificate
 from ..solid.output import SolidSolution
-from ..stages import SolveError
 from .assemble0 import reduced_unknowns
 from .mesh import MATCH_RTOL
 from .solid_mesh import scatter_into

@@ -62,11 +62,11 @@ MODE_RTOL = 1e-6
 
 
 def _lu(M: sp.csc_matrix, definite: bool = False):
-    """A factorization of the symmetric saddle-point matrix M (ngcrack.schur.Factorization with definite=False:
+    """A factorization of the symmetric saddle-point matrix M (ngcrack.core.schur.Factorization with definite=False:
     MKL PARDISO's symmetric indefinite factorization with matching where MKL loads, else SuperLU's pivoting LU);
     `.solve(b)`. With `definite` (M positive definite: an interior block without held rows) PARDISO's Cholesky.
     Either stores one triangle: about half the memory of PARDISO's LU."""
-    from ..schur import Factorization
+    from ..core.schur import Factorization
 
     if not definite:  # PARDISO's symmetric factorization wants every diagonal entry stored, zeros included
         C, d = M.tocoo(), np.arange(M.shape[0])
@@ -128,7 +128,7 @@ def _local_projection(space: ngs.FESpace, fields) -> np.ndarray:
         f += cf * v * ngs.dx
         f.Assemble()
         b[:, j] = f.vec.FV().NumPy()  # this rank's elements' integrals (the distributed vector's local part)
-    from ..schur import Factorization
+    from ..core.schur import Factorization
 
     # a mass matrix: positive definite (PARDISO's Cholesky; SuperLU's LU took minutes and gigabytes on a
     # subdomain of millions of unknowns)

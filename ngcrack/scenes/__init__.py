@@ -15,7 +15,7 @@ import functools
 from importlib import resources
 from pathlib import Path
 
-from ngcrack.scene import Scene, SceneError
+from ngcrack.planar.scene import Scene, SceneError
 
 #: the names of parametric.py, imported on first use (PEP 562): loading a built-in scene
 #: needs neither the scene functions nor the handbook strips (handbook.py)

@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import math
 
-from ngcrack.scene import Scene
+from ngcrack.planar.scene import Scene
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 #: half length of the clamped anchor of the edge-cracked strip, in widths: the loads are
 #: self-equilibrated, so the anchor only removes the rigid motions (its reaction is the

@@ -1,6 +1,6 @@
 """Scene functions: scenes built from a few physical parameters (for studies and teaching).
 
-Each function returns a validated :class:`~ngcrack.scene.Scene` and documents its
+Each function returns a validated :class:`~ngcrack.planar.scene.Scene` and documents its
 parameters, its supports and the closed form it carries in ``scene.exact``.
 """
 
@@ -12,9 +12,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from ngcrack.scene import Scene
+from ngcrack.planar.scene import Scene
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 
 def inclined_crack(angle: float = 30.0, half_length: float = 1.0, load: float = -1.0,

@@ -18,6 +18,6 @@ A scene is 3D when its ``[domain]`` is a box or a cylinder; ``nc.solve`` and
 ``solve``     solve_solid: the stages in one call
 ``cli``       ``ngcrack solve`` on a 3D scene
 
-The condensed system is the 2D code's (``ngcrack.hybrid.condense``), which sees only the
+The condensed system is the 2D code's (``ngcrack.core.hybrid.condense``), which sees only the
 element's spaces and forms.
 """

@@ -22,11 +22,11 @@ def solve_command(scene, args, json_path) -> int:
     """Run `ngcrack solve` for a 3D scene; both outputs or neither (files.Staged)."""
     for key, flag in UNSUPPORTED:
         if getattr(args, key, None) is not None:
-            from ..errors import InputError
+            from ..core.errors import InputError
 
             raise InputError(f"{flag}: not available for a 3D scene yet")
-    from ..cli_errors import check_finite
-    from ..files import Staged
+    from ..shell.cli_errors import check_finite
+    from ..shell.files import Staged
     from .solve import ESTIMATES, check_options, solve_solid
 
     options = {k: v for k, v in (("element", args.element), ("order", args.order), ("maxh", args.maxh),

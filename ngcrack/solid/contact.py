@@ -28,7 +28,7 @@ the matrix) until A repeats. Two ways (`method`):
 - "sparse": one sparse factorization of K_w's free unknowns per active set, nothing of
   size m^2 formed (for m above SCHUR_MAX_M, where S would not fit).
 
-The answer is certified as in 2D (ngcrack.constraints): the contact forces are taken
+The answer is certified as in 2D (ngcrack.core.constraints): the contact forces are taken
 from the residual of K y = F at the constrained rows (`discrete_contact_forces`), not
 from the iteration, and the KKT residuals (max_penetration, max_tension,
 complementarity) are relative to the largest jump and force.
@@ -42,9 +42,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
-from ..csr import to_scipy
-from ..schur import Factorization
+from ..core.constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
+from ..core.csr import to_scipy
+from ..core.schur import Factorization
 
 #: at most this many active-set steps
 MAX_ITERATIONS = 60
@@ -77,7 +77,7 @@ def _transform(K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, G) -> tuple
     if G is None:
         T = sp.identity(n, format="csr")
         return K, F, T
-    from ..constraints import _inverse_map
+    from ..core.constraints import _inverse_map
 
     Ginv = _inverse_map(G, len(contact))
     Ginv = sp.csr_matrix(to_scipy(Ginv)) if Ginv is not None else sp.identity(len(contact), format="csr")

@@ -13,7 +13,7 @@ Order k (1, 2 or 3; the stress degree), on tetrahedra:
   an edge or face has a tangential trace on the faces through it only, so [u]_t = u_e
   on the crack and u stays tangentially continuous everywhere else.
 
-The weak form is the gradient form of the 2D element (ngcrack.elements.tdnns), with
+The weak form is the gradient form of the 2D element (ngcrack.planar.elements.tdnns), with
 b(sigma; v, v_hat_n) = sum_T [ -(sigma, grad v)_T + <sigma_nn, v.n - v_hat_n>_dT ]:
 
     (A sigma, tau) + b(tau; u, u_hat_n - chi jn) = 0
@@ -38,9 +38,9 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..discretization import Discretization, Loads
-from ..elements.tdnns import ORDERS, tdnns_order, tdnns_spaces, tdnns_terms  # noqa: F401  (ORDERS: the 3D orders too)
-from ..parallel import task_manager
+from ..core.discretization import Discretization, Loads
+from ..core.parallel import task_manager
+from ..planar.elements.tdnns import ORDERS, tdnns_order, tdnns_spaces, tdnns_terms  # noqa: F401  (ORDERS: the 3D orders too)
 from .geometry import SolidMesh
 
 ELEMENTS = ("tdnns", "h1p2")
@@ -150,7 +150,7 @@ def constraint_map(smesh: SolidMesh, jn_space: ngs.FESpace, full: ngs.FESpace, k
 
 @dataclass(eq=False)
 class SolidDiscretization(Discretization):
-    """A Discretization (ngcrack.discretization) with the 3D crack's constraint points.
+    """A Discretization (ngcrack.core.discretization) with the 3D crack's constraint points.
 
     Its methods are the element's own maps, handed in by `build` (all required; the
     constraint map only with a crack)."""

@@ -1,6 +1,6 @@
 """An a posteriori estimate of the 3D stress error: Prager-Synge with a rebuilt displacement.
 
-As the 2D estimate of the mixed elements (ngcrack.estimate), for sigma_h the discrete
+As the 2D estimate of the mixed elements (ngcrack.planar.estimate), for sigma_h the discrete
 stress and w a displacement admissible on the cracked body (w = u_D on clamped faces,
 w.n = 0 on rollers, continuous except across the crack, [w].nu >= 0 on it):
 

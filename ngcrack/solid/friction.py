@@ -50,8 +50,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..constraints import KKT_ZERO_RTOL, ContactSolverError, discrete_contact_forces, kkt_at_constraints
-from ..schur import Factorization
+from ..core.constraints import KKT_ZERO_RTOL, ContactSolverError, discrete_contact_forces, kkt_at_constraints
+from ..core.schur import Factorization
 from .contact import MAX_ITERATIONS, _transform
 
 #: the slip law must hold to this fraction of the largest normal force at the end

@@ -11,7 +11,7 @@ direction v = e1 of each point's foot on the front (v turns along a curved front
           P^m = sigma_ij u^m_i,l + sigma^m_ij u_i,l - sigma_ij eps^m_ij delta_lj
 
 give G = J and, with the auxiliary fields of mode m with unit K (the 2D Williams fields of
-ngcrack.tips in plane strain for modes I and II, the antiplane field for mode III, each in
+ngcrack.planar.tips in plane strain for modes I and II, the antiplane field for mode III, each in
 the frame of the point's foot and at its distance from the front),
 
     K_I = E' I_1 / 2,   K_II = E' I_2 / 2,   K_III = mu I_3,     E' = E / (1 - nu^2).
@@ -56,7 +56,7 @@ import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..tips import williams_displacement, williams_dx1, williams_stress
+from ..planar.tips import williams_displacement, williams_dx1, williams_stress
 from .face_friction import face_friction
 from .face_pressure import face_pressure
 

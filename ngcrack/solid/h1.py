@@ -23,10 +23,10 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..elements.base import Loads
-from ..errors import InputError
-from ..geometry import boundary_regex
-from ..parallel import task_manager
+from ..core.errors import InputError
+from ..core.parallel import task_manager
+from ..planar.elements.base import Loads
+from ..planar.geometry import boundary_regex
 from .geometry import SolidMesh
 
 #: the element names and their polynomial order

@@ -22,7 +22,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from ..constraints import KKT_KEYS
+from ..core.constraints import KKT_KEYS
 
 
 @dataclass
@@ -166,7 +166,7 @@ class SolidSolution:
         import shutil
         import tempfile
 
-        from ..vtk import vtk_stem
+        from ..planar.vtk import vtk_stem
 
         base = vtk_stem(path)
         base.parent.mkdir(parents=True, exist_ok=True)

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from ..scene.fields import SceneError, check_keys, finite, is_number, positive, short, table
+from ..planar.scene.fields import SceneError, check_keys, finite, is_number, positive, short, table
 
 DOMAIN_KINDS = ("box", "cylinder")
 SHAPES = ("disc", "ellipse", "polygon")
@@ -520,7 +520,7 @@ class SolidScene:
 
     def to_toml_string(self) -> str:
         """The scene as TOML text; ``Scene.from_toml_string`` of it gives an equal scene."""
-        from ..scene.toml import dump_toml
+        from ..planar.scene.toml import dump_toml
 
         return dump_toml(self.to_dict())
 

@@ -1,9 +1,9 @@
 """solve_solid(scene, ...) -> SolidSolution: the 3D pipeline in one call.
 
 The options are checked here, before any meshing; the solve then runs through the
-stages of an `ngcrack.pipeline.Pipeline` (`stages.run_solid`), cached as in 2D:
+stages of an `ngcrack.core.pipeline.Pipeline` (`stages.run_solid`), cached as in 2D:
 scene -> mesh (geometry.make_mesh) -> hybridized TDNNS with the crack's jumps
-(element.build) -> the condensed sparse system (ngcrack.hybrid.condense, shared with 2D)
+(element.build) -> the condensed sparse system (ngcrack.core.hybrid.condense, shared with 2D)
 -> the contact problem on it (contact.solve_contact: a primal-dual active set with one
 sparse factorization per active set; with friction, friction.solve_friction: a sparse
 semismooth Newton method on the Coulomb cone) -> the fields, the crack summaries and the front's
@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..elements.base import Loads
-from ..errors import InputError
+from ..core.errors import InputError
+from ..planar.elements.base import Loads
 from . import h1
 from .element import ORDERS
 from .geometry import SolidMesh
@@ -38,8 +38,8 @@ ESTIMATES = ("tdnns",)
 
 def scene_loads(scene: SolidScene) -> Loads:
     """The scene's boundary data and body force as NGSolve CoefficientFunctions (of Parameters:
-    `ngcrack.pipeline.ParameterLoads` of the 3D body)."""
-    from ..pipeline import ParameterLoads
+    `ngcrack.core.pipeline.ParameterLoads` of the 3D body)."""
+    from ..core.pipeline import ParameterLoads
     from .stages import SOLID
 
     return ParameterLoads(scene, SOLID).loads
@@ -81,7 +81,7 @@ def check_options(options: dict) -> dict:
 
 def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, pipeline=None, **options) -> SolidSolution:
     """Solve the unilateral crack problem of a 3D scene (options: OPTIONS) through the
-    stages of `pipeline` (an `ngcrack.pipeline.Pipeline` whose cached stages the solve may
+    stages of `pipeline` (an `ngcrack.core.pipeline.Pipeline` whose cached stages the solve may
     reuse; None: a fresh one), `ngcrack.solid.stages.run_solid`."""
     opts = check_options(options)
     mu = [float(c.friction) for c in scene.cracks]
@@ -91,7 +91,7 @@ def solve_solid(scene: SolidScene, *, smesh: SolidMesh | None = None, pipeline=N
         raise InputError(f"crack[{i}].friction = {mu[i]:g}: Coulomb friction in 3D is solved with element = 'tdnns' "
                          f"(not {opts['element']!r}); set friction = 0 or element = 'tdnns'")
     SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
-    from ..pipeline import Pipeline
+    from ..core.pipeline import Pipeline
     from .stages import run_solid
 
     sizes = {k: options.get(k) for k in ("maxh", "crack_h", "front_h", "grading")}

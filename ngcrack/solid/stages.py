@@ -1,7 +1,7 @@
-"""A 3D body in the pipeline's stages: what `ngcrack.pipeline.Pipeline` asks of a 3D scene.
+"""A 3D body in the pipeline's stages: what `ngcrack.core.pipeline.Pipeline` asks of a 3D scene.
 
 `SOLID` (a `SolidBody`) gives the pipeline's stages the parts that depend on the body's
-dimension, as `ngcrack.pipeline.PLANAR` does for a plane body: the mesh key and the OCC
+dimension, as `ngcrack.core.pipeline.PLANAR` does for a plane body: the mesh key and the OCC
 mesh (`solid.geometry`), the element and its key (`solid.element`, `solid.h1`), the
 loads' crack pressures and held means. `run_solid(pipeline, scene, options)` runs the stages on a 3D
 scene with the pipeline's caches:
@@ -22,9 +22,9 @@ from __future__ import annotations
 import json
 import time
 
-from ..discretization import Loads
-from ..parallel import task_manager
-from ..stages import SparseAnswer, sparse_contact_stage
+from ..core.discretization import Loads
+from ..core.parallel import task_manager
+from ..core.stages import SparseAnswer, sparse_contact_stage
 from . import h1
 from .element import build
 from .geometry import SolidMesh, make_mesh

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 #: the quantities shown on the crack faces
 QUANTITIES = ("opening", "sliding")

@@ -1,0 +1,216 @@
+"""The options of a solve, checked once: one validated value that every entry passes on.
+
+`SolveOptions` holds everything `solve` accepts besides the scene and the loads: the
+element and its order, the mesh sizes, the crack model, the solvers and their options,
+the size budget and the adaptive tolerance. It is built (and so checked) once, by
+`nc.solve`, `nc.sweep`, the explorer and the command line alike, and handed on
+unchanged: no module re-checks another's options or reads another's signature.
+
+What can be checked without a scene is checked when the value is made (types, ranges,
+the names of elements, solvers and methods); `check_for(scene)` adds what depends on the
+scene (friction with the chosen solver, adaptivity with its material). Numbers may be
+Python or numpy numbers; booleans are not numbers here.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..planar.path_sizes import PathGrading, check_path_grading
+from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS
+from .element_names import check_element
+from .errors import InputError
+from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_solver
+from .hybrid import Factorization
+from .schur import SCHUR_METHODS
+
+#: the default element family: measured against the finite bodies' converged answers at
+#: the scenes' default meshes, tdnns is 4 (opening) to 10 (K) times more accurate than bdm
+#: for about 1.25 times its CPU time (README, "Which element when")
+DEFAULT_ELEMENT = "tdnns"
+
+#: how the crack faces interact: unilateral contact, traction-free, or bonded in the normal direction
+CRACK_MODELS = ("contact", "free", "bonded")
+
+#: the QP solvers cvxpy offers that can solve the crack problem (when installed)
+CVXPY_QP_SOLVERS = ("CLARABEL", "OSQP", "SCS", "ECOS", "CVXOPT", "PIQP", "PROXQP", "MOSEK", "GUROBI", "CPLEX",
+                    "QPALM", "DAQP", "HIGHS")
+
+
+#: hp meshes (ngcrack.planar.hp): the ratio of consecutive layer radii, its allowed range, and the
+#: most layers (beyond about 10 the innermost triangles reach round-off relative to the body)
+HP_SIGMA = 0.2
+HP_SIGMA_RANGE = (0.05, 0.7)
+HP_MAX_LAYERS = 12
+
+
+def qp_solvers() -> tuple[str, ...]:
+    """The QP solvers available here: the native ones and cvxpy's installed QP solvers."""
+    import cvxpy as cp
+
+    return NATIVE_SOLVERS + tuple(s.lower() for s in cp.installed_solvers() if s in CVXPY_QP_SOLVERS)
+
+
+def is_number(value) -> bool:
+    """A real number (Python or numpy), not a boolean."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def positive_size(name: str, value) -> float | None:
+    """None, or a finite number > 0 as a float (the error names `name`)."""
+    if value is None:
+        return None
+    if not is_number(value) or not (math.isfinite(float(value)) and float(value) > 0):
+        raise InputError(f"{name} = {value!r}: must be a finite number > 0")
+    return float(value)
+
+
+def whole_number(name: str, value, minimum: int = 1) -> int | None:
+    """None, or an integer >= minimum (whole-number floats such as 2e5 accepted, 2.5 refused)."""
+    if value is None:
+        return None
+    if not is_number(value) or not math.isfinite(float(value)) or float(value) != int(value) or int(value) < minimum:
+        raise InputError(f"{name} = {value!r}: must be a whole number >= {minimum}")
+    return int(value)
+
+
+def _choice(name: str, value, allowed) -> str:
+    if not isinstance(value, str) or value not in allowed:
+        raise InputError(f"{name} = {value!r}: allowed values are {', '.join(allowed)}")
+    return value
+
+
+@dataclass(frozen=True)
+class SolveOptions:
+    """Everything a solve is asked for besides the scene and its loads, validated on creation.
+
+    element: "tdnns" (default, DEFAULT_ELEMENT), "bdm", "peers", "h1p1" or "h1p2"; order: the polynomial
+    order of a family that has several (tdnns 1-3; None: the family's default). maxh,
+    tip_h, crack_h, grading: override the scene's [mesh] values (sizes > 0, grading in
+    (0, 1]). crack_model: "contact", "free" or "bonded". qp_solver: "pdas", "uzawa" or an
+    installed cvxpy QP solver; qp_options go to it unchanged. linear_solver: "auto",
+    "pardiso", "superlu", "cholespy" or "ngsolve"; schur: "auto", "factor", "blocked" or
+    "columns". friction_method: "fixed-point" or "newton"; tangential: keep the tangential
+    jumps in the crack problem (None: where a crack has friction). condition: estimate
+    condition numbers. max_dof: the largest number of unknowns (None: the size guard's
+    default ceiling and the memory the process may use). adapt: a relative error
+    tolerance in (0, 1) for adaptive refinement (None: one solve). path_grading: the
+    crack's mesh size grows from crack_h with the distance from the nearest crack end at this
+    rate, or a `path_sizes.PathGrading` (None, the default: crack_h all along; growth
+    grades its path by default, `ngcrack.studies.growth.checks.GROWTH_PATH_GRADING`).
+    """
+
+    element: str = DEFAULT_ELEMENT
+    order: int | None = None
+    maxh: float | None = None
+    tip_h: float | None = None
+    crack_h: float | None = None
+    grading: float | None = None
+    crack_model: str = "contact"
+    qp_solver: str = DEFAULT_SOLVER
+    qp_options: dict | None = field(default=None, compare=False)
+    linear_solver: str = "auto"
+    schur: str = "auto"
+    friction_method: str = DEFAULT_FRICTION_METHOD
+    tangential: bool | None = None
+    condition: bool = False
+    max_dof: int | None = None
+    adapt: float | None = None
+    hp: int | None = None
+    hp_sigma: float | None = None
+    path_grading: PathGrading | float | None = None
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        set_(self, "order", check_element(self.element, self.order))
+        for name in ("maxh", "tip_h", "crack_h"):
+            set_(self, name, positive_size(name, getattr(self, name)))
+        if self.grading is not None:
+            g = self.grading
+            if not is_number(g) or not 0 < float(g) <= 1:
+                raise InputError(f"grading = {g!r}: must lie in (0, 1] (netgen's default is 0.3)")
+            set_(self, "grading", float(g))
+        set_(self, "crack_model", _choice("crack_model", self.crack_model, CRACK_MODELS))
+        set_(self, "linear_solver", _choice("linear_solver", self.linear_solver, Factorization.BACKENDS))
+        set_(self, "schur", _choice("schur", self.schur, SCHUR_METHODS))
+        set_(self, "friction_method", _choice("friction_method", self.friction_method, FRICTION_METHODS))
+        # the native solvers need no cvxpy import (about 0.8 s of CPU in a fresh process)
+        allowed = NATIVE_SOLVERS if self.qp_solver in NATIVE_SOLVERS else qp_solvers()
+        set_(self, "qp_solver", _choice("qp_solver", self.qp_solver, allowed))
+        if self.qp_options is not None and not isinstance(self.qp_options, dict):
+            raise InputError(f"qp_options = {self.qp_options!r}: must be a dict of the QP solver's options (or None)")
+        if self.tangential is not None and not isinstance(self.tangential, bool):
+            raise InputError(f"tangential = {self.tangential!r}: must be None, True or False")
+        if not isinstance(self.condition, bool):
+            raise InputError(f"condition = {self.condition!r}: must be True or False")
+        set_(self, "max_dof", whole_number("max_dof", self.max_dof))
+        set_(self, "path_grading", check_path_grading(self.path_grading))
+        if self.hp is not None or self.hp_sigma is not None:
+            set_(self, "hp", whole_number("hp", self.hp, minimum=0) if self.hp is not None else 0)
+            if self.hp > HP_MAX_LAYERS:
+                raise InputError(f"hp = {self.hp!r}: the number of layers must be an integer in 0..{HP_MAX_LAYERS}")
+            sigma = HP_SIGMA if self.hp_sigma is None else self.hp_sigma
+            if not is_number(sigma) or not HP_SIGMA_RANGE[0] <= float(sigma) <= HP_SIGMA_RANGE[1]:
+                raise InputError(f"hp_sigma = {sigma!r}: the layer ratio must lie in [{HP_SIGMA_RANGE[0]:g}, "
+                                  f"{HP_SIGMA_RANGE[1]:g}]")
+            set_(self, "hp_sigma", float(sigma))
+        if self.adapt is not None:
+            a = self.adapt
+            if not is_number(a) or not (math.isfinite(float(a)) and 0 < float(a) < 1):
+                raise InputError(f"adapt = {a!r}: the relative error tolerance must lie in (0, 1)")
+            set_(self, "adapt", float(a))
+
+    @classmethod
+    def of(cls, options: SolveOptions | None = None, **changes: Any) -> SolveOptions:
+        """`options` (or the defaults) with `changes`; an unknown name is refused with the allowed ones."""
+        known = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(changes) - known)
+        if unknown:
+            raise TypeError(f"unknown solve option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                            f"allowed: {', '.join(sorted(known))}")
+        base = options if options is not None else cls()
+        return dataclasses.replace(base, **changes) if changes else base
+
+    def replace(self, **changes: Any) -> SolveOptions:
+        """A copy with `changes` (checked again)."""
+        return SolveOptions.of(self, **changes)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The options by name (qp_options copied)."""
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        out["qp_options"] = dict(self.qp_options) if self.qp_options is not None else None
+        return out
+
+    # ------------------------------------------------------------ what each stage depends on
+    @property
+    def mesh_key(self) -> tuple:
+        """The mesh options (besides the scene's geometry and [mesh] values)."""
+        return (self.maxh, self.tip_h, self.crack_h, self.grading, self.hp or 0, self.hp_sigma, self.path_grading)
+
+    @property
+    def element_key(self) -> tuple:
+        """What the discretization depends on besides the mesh, material and load structure."""
+        return (self.element, self.order)
+
+    @property
+    def reduction_key(self) -> tuple:
+        """What the factorization and the crack Schur complement depend on besides the system."""
+        return (self.linear_solver, self.schur if self.crack_model == "contact" else False)
+
+    def tangential_for(self, scene) -> bool:
+        """Whether the crack problem keeps the tangential jumps (friction), before the element is known."""
+        wanted = self.tangential if self.tangential is not None else any(c.friction > 0 for c in scene.cracks)
+        return bool(wanted) and self.crack_model == "contact"
+
+    def check_for(self, scene) -> None:
+        """The checks that need the scene: friction with the chosen solver, and with a crack
+        model; hp layers only where the scene has a crack tip inside the body to grade towards."""
+        if self.hp and not scene.tip_points():
+            raise InputError(f"hp = {self.hp}: scene {scene.name!r} has no crack tip inside the body, so the hp "
+                             f"layers have nothing to refine towards; leave hp out (or 0)")
+        if self.crack_model == "contact" and (self.tangential or any(c.friction > 0 for c in scene.cracks)):
+            check_friction_solver(self.qp_solver, self.friction_method)

@@ -1,0 +1,96 @@
+"""HydrofracResult: the steps of a hydraulic-fracture run, the `hydrofrac --json` dictionary,
+the tidy table and the animation (matplotlib and pillow, imported lazily)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: the step keys of the JSON contract, in order (each step also has "tips")
+STEP_KEYS = ("step", "time", "half_length", "pressure", "opening_at_injection", "volume", "ndof", "time_s", "kkt")
+#: the tip keys of the JSON contract
+TIP_KEYS = ("crack", "end", "x", "y", "K_I", "K_II", "kink_deg")
+#: the largest opening drawn in the animation, as a fraction of the crack's length
+FACE_FRACTION = 0.08
+
+
+@dataclass
+class HydrofracResult:
+    """What `nc.hydrofrac` returns.
+
+    `steps`: one dict per step (STEP_KEYS, "tips" with TIP_KEYS, and "solves": the solves the
+    step's pressure took); `table`: a pandas DataFrame, one row per step and tip; `frames`:
+    per step the crack's points and its opening profile (mid points, normals, openings);
+    `scenes[n]`: the scene of step n (its crack carrying the pressure field, not the value);
+    `final`: the scene after the last growth; `stopped`: why the run ended.
+    """
+
+    scene: object
+    element: str
+    rate: float
+    K_Ic: float
+    da: float
+    steps: list = field(default_factory=list)
+    frames: list = field(default_factory=list)
+    scenes: list = field(default_factory=list)
+    stopped: str = ""
+    final: object = None
+
+    def add(self, row: dict, frame: dict, scene) -> None:
+        self.steps.append(row)
+        self.frames.append(frame)
+        self.scenes.append(scene)
+
+    @property
+    def table(self):
+        """One row per step and tip: the step's values, then the tip's."""
+        import pandas as pd
+
+        rows = [{**{k: s[k] for k in STEP_KEYS}, "solves": s["solves"], **{k: t[k] for k in TIP_KEYS}}
+                for s in self.steps for t in s["tips"]]
+        return pd.DataFrame(rows, columns=list(STEP_KEYS) + ["solves"] + list(TIP_KEYS))
+
+    def to_json_dict(self) -> dict:
+        """The `ngcrack hydrofrac --json` contract."""
+        final = self.final if self.final is not None else self.scene
+        return {
+            "scene": self.scene.name, "element": self.element, "rate": self.rate, "K_Ic": self.K_Ic,
+            "stopped": self.stopped,
+            "steps": [{**{k: s[k] for k in STEP_KEYS}, "tips": [{k: t[k] for k in TIP_KEYS} for t in s["tips"]]}
+                      for s in self.steps],
+            "cracks": [{"points": [list(p) for p in c.points]} for c in final.cracks],
+        }
+
+    def animate(self, path, fps: int = 4):
+        """A GIF: per step the crack's faces opened (exaggerated), time, pressure and half-length."""
+        from matplotlib.animation import PillowWriter
+
+        from ...planar.plots import new_figure
+
+        pts = np.concatenate([np.asarray(f["points"]) for f in self.frames])
+        span = float(np.max(np.ptp(pts, axis=0))) or 1.0
+        wmax = max((max(f["opening"], default=0.0) for f in self.frames), default=0.0)
+        scale = FACE_FRACTION * span / wmax if wmax > 0 else 0.0
+        center = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+        fig, ax = new_figure(path, figsize=(6, 3.5), constrained_layout=True)
+        writer = PillowWriter(fps=fps)
+        with writer.saving(fig, str(path), dpi=fig.dpi):
+            for row, f in zip(self.steps, self.frames):
+                ax.clear()
+                ends = np.asarray(f["points"])[[0, -1]]
+                # the mid-point samples, closed at the crack's ends (zero opening there)
+                xy = np.vstack([ends[:1], np.column_stack([f["x"], f["y"]]), ends[1:]])
+                half = 0.5 * scale * np.asarray(f["opening"])[:, None] * np.asarray(f["normal"])
+                half = np.vstack([np.zeros((1, 2)), half, np.zeros((1, 2))])
+                for sign in (1, -1):
+                    face = xy + sign * half
+                    ax.plot(face[:, 0], face[:, 1], "-", color="tab:blue", lw=1.2)
+                ax.set_xlim(center[0] - 0.6 * span, center[0] + 0.6 * span)
+                ax.set_ylim(center[1] - 0.3 * span, center[1] + 0.3 * span)
+                ax.set_aspect("equal")
+                ax.set_title(f"step {row['step']}: t = {row['time']:.4g}, p = {row['pressure']:.4g}, "
+                             f"l = {row['half_length']:.4g}", fontsize=9)
+                ax.text(0.02, 0.03, f"opening x {scale:.3g}", transform=ax.transAxes, fontsize=8)
+                writer.grab_frame()
+        return path
