@@ -167,7 +167,7 @@ class _BlockSolver:
 
 def _solve_schur(K, F, Kw, Fw, T, contact, G, A, linear_solver: str, max_iterations: int, t0: float) -> ContactResult:
     """The "schur" method (module docstring): one partial factorization, the active set on S."""
-    from ..schur import schur_complement
+    from ..core.schur import schur_complement
 
     n = Kw.shape[0]
     rest = np.setdiff1d(np.arange(n), contact)
