@@ -36,6 +36,7 @@ complementarity) are relative to the largest jump and force.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -115,72 +116,93 @@ def _initial(active, m: int) -> np.ndarray:
     return A
 
 
+def _inverse(G, m: int) -> sp.csr_matrix:
+    """G^-1 as a scipy CSR matrix (the identity for G None)."""
+    if G is None:
+        return sp.identity(m, format="csr")
+    from ..core.constraints import _inverse_map
+
+    Ginv = _inverse_map(G, m)
+    return sp.csr_matrix(to_scipy(Ginv)) if Ginv is not None else sp.identity(m, format="csr")
+
+
 class _BlockSolver:
-    """Solves with K_w's free unknowns (the crack's closed ones held at zero) through the partial
-    factorization of K_rr and the dense Schur complement S (the "schur" method)."""
+    """Solves with the constrained system in the variables x (x_c = w = G y_c, the rest y_r), the
+    crack's closed values held at zero, through the partial factorization of K_rr and the dense
+    Schur complement in w, S_w = G^-T S G^-1 (the "schur" method). K itself is not transformed:
+    only its crack rows K_cr and the small G^-1 are (no copy of the body's matrix is made)."""
 
-    def __init__(self, Kw: sp.csr_matrix, contact: np.ndarray, rest: np.ndarray, data):
-        self.Kw, self.contact, self.rest, self.data = Kw, contact, rest, data
-        self.K_cr = Kw[contact][:, rest].tocsr()
+    def __init__(self, K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, rest: np.ndarray, data, Ginv):
+        self.K, self.F, self.contact, self.rest, self.data, self.Ginv = K, F, contact, rest, data, Ginv
+        self.K_cr = K[contact][:, rest].tocsr()
         self.K_rc = self.K_cr.T.tocsr()
+        GS = np.asarray((Ginv.T @ data.S).T)  # S G^-1 (S symmetric)
+        self.S = np.asarray(Ginv.T @ GS)
+        self.S = 0.5 * (self.S + self.S.T)
 
-    def solve(self, r: np.ndarray, free: np.ndarray, chol) -> np.ndarray:
-        """d with K_w d = r on the free rows, d = 0 at the closed crack unknowns (`chol`: S's free block)."""
+    def solve(self, r_r: np.ndarray, r_c: np.ndarray, free: np.ndarray, chol) -> tuple[np.ndarray, np.ndarray]:
+        """(d_r, d_c) with the free rows of the constrained system solved for the residual (r_r, r_c)."""
         import scipy.linalg as la
 
         fac = self.data.factorization
-        z = fac.solve(r[self.rest])
-        d = np.zeros(len(r))
+        z = fac.solve(r_r)
         d_c = np.zeros(len(self.contact))
         if free.any():
-            d_c[free] = la.cho_solve(chol, (r[self.contact] - self.K_cr @ z)[free])
-            z = z - fac.solve(self.K_rc @ d_c)
-        d[self.rest], d[self.contact] = z, d_c
-        return d
+            d_c[free] = la.cho_solve(chol, (r_c - self.Ginv.T @ (self.K_cr @ z))[free])
+            z = z - fac.solve(self.K_rc @ (self.Ginv @ d_c))
+        return z, d_c
 
-    def refined(self, Fw: np.ndarray, A: np.ndarray) -> np.ndarray:
-        """x with the closed crack unknowns at zero solving K_w x = F_w on the other rows, refined
-        (up to REFINEMENTS steps while the residual halves): the dense S of a stiff body (nu near 1/2)
-        carries the partial factorization's rounding, and the certificate reads the forces from the
-        residual (as `_refined` for the sparse method)."""
+    def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """F - K y at the rest's rows and, in w's rows, G^-T (F - K y)_c."""
+        r = self.F - self.K @ y
+        return r[self.rest], np.asarray(self.Ginv.T @ r[self.contact])
+
+    def refined(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(y, w) with the closed values w_A = 0 solving the other rows, refined (up to REFINEMENTS
+        steps while the residual halves): the dense S of a stiff body (nu near 1/2) carries the
+        partial factorization's rounding, and the certificate reads the forces from the residual
+        (as `_refined` for the sparse method)."""
         import scipy.linalg as la
 
         free = ~A
-        chol = la.cho_factor(self.data.S[np.ix_(free, free)]) if free.any() else None
-        held = self.contact[A]
-        x = np.zeros(len(Fw))
-        r = Fw.copy()
-        r[held] = 0.0
+        chol = la.cho_factor(self.S[np.ix_(free, free)]) if free.any() else None
+        n, m = len(self.F), len(self.contact)
+        y, w = np.zeros(n), np.zeros(m)
+        r_r, r_c = self.F[self.rest].copy(), np.asarray(self.Ginv.T @ self.F[self.contact])
         norm = np.inf
         for _ in range(REFINEMENTS + 1):
-            trial = x + self.solve(r, free, chol)
-            r_new = Fw - self.Kw @ trial
-            r_new[held] = 0.0
-            norm_new = np.linalg.norm(r_new)
+            d_r, d_c = self.solve(r_r, r_c, free, chol)
+            y_new, w_new = y.copy(), w + d_c
+            y_new[self.rest] += d_r
+            y_new[self.contact] = self.Ginv @ w_new
+            nr_r, nr_c = self.residual(y_new)
+            norm_new = math.hypot(np.linalg.norm(nr_r), np.linalg.norm(nr_c[free]))
             if not norm_new < 0.5 * norm:
                 break
-            x, r, norm = trial, r_new, norm_new
+            y, w, r_r, r_c, norm = y_new, w_new, nr_r, nr_c, norm_new
             if norm == 0.0:
                 break
-        return x
+        return y, w
 
 
-def _solve_schur(K, F, Kw, Fw, T, contact, G, A, linear_solver: str, max_iterations: int, t0: float) -> ContactResult:
+def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t0: float) -> ContactResult:
     """The "schur" method (module docstring): one partial factorization, the active set on S."""
     from ..core.schur import schur_complement
 
-    n = Kw.shape[0]
+    n = K.shape[0]
     rest = np.setdiff1d(np.arange(n), contact)
     t1 = time.perf_counter()
-    data = schur_complement(Kw, Fw, rest, contact, linear_solver=linear_solver)
+    data = schur_complement(K, F, rest, contact, linear_solver=linear_solver)
     t2 = time.perf_counter()
-    block = _BlockSolver(Kw, contact, rest, data)
-    c = np.diag(data.S).copy()
+    block = _BlockSolver(K, F, contact, rest, data, _inverse(G, len(contact)))
+    c = np.diag(block.S).copy()
+    if np.any(c <= 0):
+        raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
     seen = set()
     for it in range(1, max_iterations + 1):
-        x = block.refined(Fw, A)
-        lam = np.asarray(block.Kw[contact] @ x - Fw[contact])
-        new = lam - c * x[contact] > 0
+        y, w = block.refined(A)
+        lam = -block.residual(y)[1]
+        new = lam - c * w > 0
         if np.array_equal(new, A):
             break
         key = new.tobytes()
@@ -191,8 +213,6 @@ def _solve_schur(K, F, Kw, Fw, T, contact, G, A, linear_solver: str, max_iterati
     else:
         raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
     t3 = time.perf_counter()
-    y = T @ x
-    w = x[contact]
     lam, bound = discrete_contact_forces(K, F, y, contact, G)
     kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if len(w) else 0.0, jump_scale=float(np.max(np.abs(y))),
                              force_scale=float(np.max(np.abs(F))), lam_bound=bound)
@@ -213,12 +233,12 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
     contact = np.asarray(contact, dtype=int)
     n, m = K.shape[0], len(contact)
     A = _initial(active, m)
+    if method == "schur" or (method == "auto" and 0 < m <= SCHUR_MAX_M):
+        return _solve_schur(K, F, contact, G, A, linear_solver, max_iterations, t0)
     Kw, Fw, T = _transform(K, F, contact, G)
     diag = Kw.diagonal()[contact]
     if np.any(diag <= 0):
         raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
-    if method == "schur" or (method == "auto" and 0 < m <= SCHUR_MAX_M):
-        return _solve_schur(K, F, Kw, Fw, T, contact, G, A, linear_solver, max_iterations, t0)
     t_setup = time.perf_counter() - t0
     t_fact = 0.0
     x = np.zeros(n)

@@ -300,7 +300,7 @@ def _solve_reduced(K, F, contact, G, points: FrictionPoints, crack: np.ndarray, 
     data = schur_complement(K, F, rest, crack, linear_solver=linear_solver)
     t1 = time.perf_counter()
     at = np.searchsorted(crack, contact)
-    c = slip_stiffness(_transform(K, F, contact, G)[0], sp.csr_matrix(points.B))
+    c = slip_stiffness(K, sp.csr_matrix(points.B))  # T leaves the slip's unknowns alone: K_w's diagonal there is K's
     reduced = dataclasses.replace(points, B=sp.csr_matrix(points.B)[:, crack])
     K_rc = K[rest][:, crack]
     K_c = K[crack]
