@@ -3,8 +3,9 @@
 The body (a box or a cylinder) and each crack's plane face are glued (``Glue``): the
 crack becomes a set of interior mesh faces with a tetrahedron on each side, named
 ``crack<i>`` as a boundary region, and its front an edge region ``front<i>``. Local sizes:
-``crack_h`` on the crack face, ``front_h`` on its front edges, ``maxh`` and ``grading``
-elsewhere. The mesh is curved to second order (``mesh.Curve(2)``): on a disc meshed with
+``crack_h`` on the crack face, ``front_h`` on its front edges, NEAR_H_FACTOR ``crack_h`` in
+the ball of NEAR_RADIUS half sizes around each crack (netgen's local size restrictions,
+`meshing_parameters`), ``maxh`` and ``grading`` elsewhere. The mesh is curved to second order (``mesh.Curve(2)``): on a disc meshed with
 flat facets the crack's area is about 1% short; curved, it is exact to about 1e-6.
 
 A :class:`SolidMesh` records per crack its surface elements, the mesh faces they are,

@@ -147,7 +147,7 @@ class SolidSolution:
             "E": self.scene.material.E, "nu": self.scene.material.nu,
             "ndof": self.ndof,
             "time_s": {k: float(t.get(k, 0.0)) for k in ("total", "mesh", "assemble", "condense", "linear", "contact",
-                                                        "fronts")},
+                                                        "fronts", "estimate")},
             "kkt": self.kkt,
             "contact_iterations": 0 if self.contact is None else int(self.contact.iterations),
             "fronts": [f.to_json_dict() for f in self.fronts],
