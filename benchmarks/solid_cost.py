@@ -18,7 +18,7 @@ At the end, the rates of the worst and of the mean error against the front size 
 squares of log |error| on log front_h over the sizes run).
 
 `--levers` chooses what of this round's changes the run uses, one row of the lever table
-of BENCHMARKS section 19 each: "none" (the mesh of netgen's grading alone, the bump of
+of BENCHMARKS section 20 each: "none" (the mesh of netgen's grading alone, the bump of
 3 front_h, one sparse factorization per active set), "contact" (the active set on the
 Schur complement), "mesh" (that and the body's size near the crack, geometry.NEAR_*),
 "all" (that and the bump of the front's reach, front.BUMP_REACH: the defaults).

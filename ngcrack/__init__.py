@@ -40,7 +40,7 @@ _EXPORTS = {
     "SceneError": ".planar.scene",
     "LinearSolverError": ".core.schur",
     "CoarseMeshWarning": ".planar.sizing",
-    "Solution": ".core.solution",
+    "Front": ".core.solution", "Solution": ".core.solution",
     "SolveError": ".core.solve", "solve": ".core.solve",
     "SweepError": ".studies.sweeps", "fitted_rates": ".studies.sweeps", "sweep": ".studies.sweeps",
     "crack_volume": ".studies.volume", "solve_volume": ".studies.volume",
@@ -49,7 +49,7 @@ _EXPORTS = {
 __all__ = [
     "BoundaryCondition", "CRACK_MODELS", "Crack", "ELEMENTS", "Explorer", "GrowthResult", "Hole", "Loads", "Material",
     "Pipeline", "PointCondition",
-    "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
+    "Front", "Scene", "SceneError", "Solution", "SolveError", "SolveOptions", "Study", "explore", "explore_growth", "fitted_rates",
     "grow", "references", "scenes", "solve", "sweep", "crack_volume", "solve_volume", "HydrofracResult", "hydrofrac",
     # the errors and warnings a script may catch
     "CoarseMeshWarning", "ContactSolverError", "InputError", "LinearSolverError", "SweepError",
@@ -115,7 +115,7 @@ if TYPE_CHECKING:  # what type checkers and editors see: the names above, eagerl
     from .core.options import CRACK_MODELS, SolveOptions
     from .core.pipeline import Pipeline
     from .core.schur import LinearSolverError
-    from .core.solution import Solution
+    from .core.solution import Front, Solution
     from .core.solve import SolveError, solve
     from .planar.elements import ELEMENTS, Loads
     from .planar.scene import BoundaryCondition, Crack, Hole, Material, PointCondition, Scene, SceneError

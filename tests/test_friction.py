@@ -265,7 +265,7 @@ def test_bad_friction_options_refused_before_meshing(options, field, monkeypatch
     def no_mesh(*args, **kwargs):
         raise AssertionError("meshed before the options were checked")
 
-    monkeypatch.setattr(importlib.import_module("ngcrack.core.pipeline"), "make_mesh", no_mesh)
+    monkeypatch.setattr(importlib.import_module("ngcrack.planar.stages"), "make_mesh", no_mesh)
     with pytest.raises(ValueError, match=field):
         nc.solve(nc.scenes.load("paper-1").with_(friction=0.5), element="bdm", **options)
 

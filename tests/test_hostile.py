@@ -139,6 +139,7 @@ CASES = [
      "da = 1e-06: must be at least 0.1 of the mesh size at the crack tips"),
     (GROW + ["--json", "g.json", "--friction", "0.3", "--crack-model", "free"], 2, "--friction = 0.3: friction acts only"),
     (GROW + ["--json", "g.json", "--friction", "0.3", "--crack-model", "bonded"], 2, "crack_model 'contact'"),
+    (GROW + ["--json", "old.json", "--at-hole", "0.5"], 2, "at_hole = 0.5: scene 'paper-2' has no hole"),
     (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "p"] + SWEEP, 2, "--vtk = 'p': p.pvd is a directory"),
     (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "ro/p"] + SWEEP, 2, "cannot write in the directory 'ro'"),
     (["sweep", "paper-2", "--maxh", "0.4", "--vtk", "q"] + SWEEP, 2,

@@ -20,6 +20,7 @@ import textwrap
 import numpy as np
 import pytest
 from test_mpi import _run, pytestmark  # noqa: F401  (the mpi4py skip)
+from test_solid_friction_open import open_penny
 
 from ngcrack.scenes.coarse3d import bent_penny, inclined_penny
 
@@ -118,3 +119,13 @@ def test_bent_beam_stick_and_slip_equals_serial(tmp_path, n):
     stick, on = np.array(r["stick"]), np.array(r["on"])
     assert 0.3 < np.mean(r["active"]) < 0.7 and 0 < stick.sum() < on.sum()
     assert r["info"]["subdomains"] == n - 1
+
+
+@pytest.mark.slow
+def test_open_penny_with_friction_equals_serial(tmp_path):
+    """The penny open everywhere with mu = 0.3 (no point closed): the distributed answer and its Coulomb residual
+    equal the serial ones (2237 and 2281 before the residual was taken relative to the closed points' forces)."""
+    r = _compare(tmp_path, open_penny(0.3))
+    assert not any(r["active"]) and not any(r["on"])
+    check_equal_to_serial(r)
+    assert abs(r["kkt"]["friction"] - r["kkt_serial"]["friction"]) <= 1e-8

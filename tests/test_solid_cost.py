@@ -1,5 +1,5 @@
 """The cheaper 3D solve: the crack problems on the Schur complement of the crack's unknowns, and
-the rate of K_I's error along the penny's front at the default mesh choices (BENCHMARKS section 19)."""
+the rate of K_I's error along the penny's front at the default mesh choices (BENCHMARKS section 20)."""
 
 from __future__ import annotations
 

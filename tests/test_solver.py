@@ -515,13 +515,13 @@ def test_qp_against_nnls():
     (dict(maxh=True), ("maxh",)),
 ], ids=lambda v: repr(v) if isinstance(v, dict) else None)
 def test_bad_options_are_refused_before_any_meshing(options, fragments, monkeypatch):
-    import ngcrack.core.pipeline
+    import ngcrack.planar.stages
 
     def no_meshing(*args, **kwargs):
         raise AssertionError("meshed before refusing the options")
 
-    monkeypatch.setattr(ngcrack.core.pipeline, "make_mesh", no_meshing)
-    monkeypatch.setattr(ngcrack.core.pipeline, "hp_mesh", no_meshing)
+    monkeypatch.setattr(ngcrack.planar.stages, "make_mesh", no_meshing)
+    monkeypatch.setattr(ngcrack.planar.stages, "hp_mesh", no_meshing)
     scene = scenes.load("paper-2")  # a cracked scene, so that the QP solver is reached
     with pytest.raises(nc.InputError) as info:
         solve(scene, **options)

@@ -64,7 +64,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .constraints import ContactSolverError, _inverse_map, scaled_problem
+from .constraints import ACCEPT_KKT, ContactSolverError, _inverse_map, scaled_problem
 from .csr import distinct
 from .errors import InputError
 
@@ -334,7 +334,7 @@ def solve_qp(
     solver: str = DEFAULT_SOLVER,
     solver_options: dict | None = None,
     polish: bool = True,
-    kkt_tol: float = 1e-6,
+    kkt_tol: float = ACCEPT_KKT,
     initial_active=None,
     initial_guess: np.ndarray | None = None,
 ) -> QPResult:

@@ -19,6 +19,8 @@ MIXED = ("peers", "bdm", "tdnns")
 #: families that take an `order`, and the orders each has
 ORDERS = {"bdm": (1, 2, 3), "tdnns": (1, 2, 3)}
 ORDERED = tuple(ORDERS)
+#: the displacement baselines' one order: asking for it is asking for the element's default
+FIXED_ORDERS = {"h1p1": 1, "h1p2": 2}
 
 
 def check_element(name: str, order=None) -> int | None:
@@ -30,6 +32,8 @@ def check_element(name: str, order=None) -> int | None:
     if order is None:
         return None
     if name not in ORDERED:
+        if FIXED_ORDERS.get(name) == order and not isinstance(order, bool):
+            return None
         raise InputError(f"order = {order!r}: element {name!r} has a fixed order; elements with an order: "
                          f"{', '.join(ORDERED)}")
     allowed = ORDERS[name]

@@ -53,7 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .constraints import ContactSolverError, _inverse_map, faces_closed, scaled_problem
+from .constraints import ACCEPT_KKT, ContactSolverError, _inverse_map, faces_closed, scaled_problem
 from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_MAX_ITER, ExchangeRule, QPResult, _limited_blas, spd_solve
 from .errors import InputError
 
@@ -339,7 +339,7 @@ def check_friction_solver(qp_solver: str, method: str) -> None:
 
 def solve_crack_problem(problem: CrackProblem, solver: str = "pdas", solver_options: dict | None = None,
                         method: str = DEFAULT_FRICTION_METHOD, tol: float = COULOMB_TOL,
-                        max_iter: int = COULOMB_MAX_ITER, kkt_tol: float = 1e-6) -> FrictionResult:
+                        max_iter: int = COULOMB_MAX_ITER, kkt_tol: float = ACCEPT_KKT) -> FrictionResult:
     """Solve the Tresca (problem.threshold given) or Coulomb (None) crack problem.
 
     `solver` "pdas" (native) or a cvxpy solver for the Tresca steps (polished by the

@@ -10,7 +10,12 @@ This module imports nothing of ngcrack.
 
 from __future__ import annotations
 
+import math
 import os
+
+import numpy as np
+
+from .errors import InputError
 
 __all__ = ["address_space_limit", "available_memory", "memory_limits"]
 
@@ -100,3 +105,36 @@ def address_space_limit() -> float | None:
     except (ImportError, OSError, ValueError):
         return None
     return None if soft in (resource.RLIM_INFINITY, -1) or soft <= 0 else float(soft)
+
+
+#: the default ceiling on the estimated unknowns of one solve (about 7 GB for the mixed elements);
+#: `max_dof=` / `--max-dof` replaces it
+DEFAULT_MAX_DOF = 5_000_000
+#: fraction of the machine's available memory a solve may plan to use
+MEMORY_FRACTION = 0.8
+
+
+def format_bytes(n: float) -> str:
+    """A number of bytes as people read it (kB, MB, GB, TB)."""
+    if n >= 1e15:
+        return f"{n:.2g} bytes"
+    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{n / 1e3:.3g} kB"
+
+
+def check_max_dof(max_dof) -> None:
+    """max_dof must be None or a whole number >= 1 (an integer, or a float like 1e4)."""
+    if max_dof is None:
+        return
+    ceiling = f"{DEFAULT_MAX_DOF:,}".replace(",", " ")
+    what = f"must be None (the default ceiling, {ceiling}) or a whole number of unknowns >= 1"
+    if isinstance(max_dof, (bool, np.bool_)) or not isinstance(max_dof, (int, float, np.integer, np.floating)):
+        raise InputError(f"max_dof = {max_dof!r}: {what}")
+    value = float(max_dof)
+    if not math.isfinite(value) or not value >= 1:
+        raise InputError(f"max_dof = {max_dof!r}: {what}")
+    if value != math.floor(value):
+        raise InputError(f"max_dof = {max_dof!r}: {what}; it is not a whole number (give "
+                          f"{math.floor(value):.0f} or {math.ceil(value):.0f})")

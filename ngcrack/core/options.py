@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -24,6 +23,7 @@ from ..planar.path_sizes import PathGrading, check_path_grading
 from .contact import DEFAULT_SOLVER, NATIVE_SOLVERS
 from .element_names import check_element
 from .errors import InputError
+from .fields import is_number
 from .friction import DEFAULT_FRICTION_METHOD, FRICTION_METHODS, check_friction_solver
 from .hybrid import Factorization
 from .schur import SCHUR_METHODS
@@ -53,11 +53,6 @@ def qp_solvers() -> tuple[str, ...]:
     import cvxpy as cp
 
     return NATIVE_SOLVERS + tuple(s.lower() for s in cp.installed_solvers() if s in CVXPY_QP_SOLVERS)
-
-
-def is_number(value) -> bool:
-    """A real number (Python or numpy), not a boolean."""
-    return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
 def positive_size(name: str, value) -> float | None:
@@ -102,6 +97,13 @@ class SolveOptions:
     crack's mesh size grows from crack_h with the distance from the nearest crack end at this
     rate, or a `path_sizes.PathGrading` (None, the default: crack_h all along; growth
     grades its path by default, `ngcrack.studies.growth.checks.GROWTH_PATH_GRADING`).
+
+    3D scenes: front_h the mesh size at the crack fronts (> 0); fronts: compute the fracture
+    parameters along the fronts; front_points: how many points along each front (None: one per
+    two front sizes). estimate: compute the error estimate (None: in 2D when first asked for,
+    in 3D not at all; True: during the solve; False: never). preconditioner: the distributed
+    solve's preconditioner (under mpiexec only; ngcrack.distributed). What a body cannot take
+    is refused by its body before any meshing (`check_for`).
     """
 
     element: str = DEFAULT_ELEMENT
@@ -123,12 +125,26 @@ class SolveOptions:
     hp: int | None = None
     hp_sigma: float | None = None
     path_grading: PathGrading | float | None = None
+    front_h: float | None = None
+    fronts: bool = True
+    front_points: int | None = None
+    estimate: bool | None = None
+    preconditioner: str | None = None
 
     def __post_init__(self):
         set_ = object.__setattr__
         set_(self, "order", check_element(self.element, self.order))
-        for name in ("maxh", "tip_h", "crack_h"):
+        for name in ("maxh", "tip_h", "crack_h", "front_h"):
             set_(self, name, positive_size(name, getattr(self, name)))
+        for name in ("fronts", "condition"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"{name} = {getattr(self, name)!r}: must be True or False")
+        if self.estimate is not None and not isinstance(self.estimate, bool):
+            raise InputError(f"estimate = {self.estimate!r}: must be None (when asked for), True or False")
+        set_(self, "front_points", whole_number("front_points", self.front_points, minimum=3))
+        if self.preconditioner is not None and not isinstance(self.preconditioner, str):
+            raise InputError(f"preconditioner = {self.preconditioner!r}: must be None or the name of a distributed "
+                             "solve's preconditioner")
         if self.grading is not None:
             g = self.grading
             if not is_number(g) or not 0 < float(g) <= 1:
@@ -145,8 +161,6 @@ class SolveOptions:
             raise InputError(f"qp_options = {self.qp_options!r}: must be a dict of the QP solver's options (or None)")
         if self.tangential is not None and not isinstance(self.tangential, bool):
             raise InputError(f"tangential = {self.tangential!r}: must be None, True or False")
-        if not isinstance(self.condition, bool):
-            raise InputError(f"condition = {self.condition!r}: must be True or False")
         set_(self, "max_dof", whole_number("max_dof", self.max_dof))
         set_(self, "path_grading", check_path_grading(self.path_grading))
         if self.hp is not None or self.hp_sigma is not None:
@@ -206,9 +220,19 @@ class SolveOptions:
         wanted = self.tangential if self.tangential is not None else any(c.friction > 0 for c in scene.cracks)
         return bool(wanted) and self.crack_model == "contact"
 
+    def given(self) -> dict[str, Any]:
+        """The options that differ from the defaults, by name (what a body checks it can take)."""
+        default = SolveOptions()
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+                if getattr(self, f.name) != getattr(default, f.name) or f.name == "qp_options" and self.qp_options}
+
     def check_for(self, scene) -> None:
-        """The checks that need the scene: friction with the chosen solver, and with a crack
-        model; hp layers only where the scene has a crack tip inside the body to grade towards."""
+        """The checks that need the scene, before any meshing: what its body can take
+        (`scene.body.check_options`), friction with the chosen solver and with a crack model;
+        hp layers only where the scene has a crack tip inside the body to grade towards."""
+        scene.body.check_options(scene, self)
+        if scene.dimension != 2:
+            return
         if self.hp and not scene.tip_points():
             raise InputError(f"hp = {self.hp}: scene {scene.name!r} has no crack tip inside the body, so the hp "
                              f"layers have nothing to refine towards; leave hp out (or 0)")

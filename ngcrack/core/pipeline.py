@@ -27,7 +27,7 @@ from cached stages equal fresh ones to round-off: the same functions run on the 
 data. `nc.solve` is the one-shot use: a fresh Pipeline, one run.
 
 What depends on the body's dimension the stages ask of a body object chosen by the
-scene (`Pipeline.body_for`: `PLANAR`, or `ngcrack.solid.stages.SOLID` for a 3D scene):
+scene (`scene.body`: `ngcrack.planar.stages.PLANAR`, or `ngcrack.solid.stages.SOLID` for a 3D scene):
 the mesh and its key, the element and its key, the loads' crack pressures and held
 means. A 3D scene runs through the same mesh, discretization and system stages
 (`ngcrack.solid.stages.run_solid`, which `nc.solve` and `solve_solid` call), with the
@@ -39,22 +39,17 @@ from __future__ import annotations
 import functools
 import time
 import weakref
+from typing import TYPE_CHECKING
 
 import ngsolve as ngs
 import numpy as np
 
-from ..planar import elements as _elements
-from ..planar.crack_loads import pressure_cf
-from ..planar.geometry import CrackMesh, make_mesh
-from ..planar.hp import hp_mesh
-from ..planar.materials import compliance
-from ..planar.post2d import PLANE
-from ..planar.scene import BoundaryCondition, Scene
-from ..planar.scene.points import held_directions
-from ..planar.scene.pressure import pressure_kind
-from ..planar.sizing import check_request
-from .discretization import Discretization, Loads, PostProcessing
-from .errors import InputError
+from .fields import pressure_kind
+from .scene import Scene
+
+if TYPE_CHECKING:  # a planar body's mesh (a 3D body's is its own)
+    from ..planar.geometry import CrackMesh
+from .discretization import Discretization, Loads
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .options import SolveOptions
 from .solution import Backend, Solution
@@ -89,60 +84,6 @@ def load_structure(scene) -> tuple:
             tuple(pressure_kind(getattr(c, "pressure", None)) for c in scene.cracks))
 
 
-def geometry_key(scene: Scene) -> tuple:
-    """What the mesh depends on: the polygon, its labels, the cracks' points and the mesh sizes."""
-    return (scene.polygon, scene.labels, tuple(c.points for c in scene.cracks),
-            scene.holes, scene.maxh, scene.tip_h, scene.crack_h, scene.grading)
-
-
-class PlanarBody:
-    """What the stages ask of a plane body (`Pipeline.body_for`): the mesh and its key, the
-    element and its key, the crack-face pressures and the held means of its loads, and the
-    post-processor (`post2d.PLANE`). The 3D counterpart is `ngcrack.solid.stages.SOLID`."""
-
-    dimension = 2
-    post = PLANE
-
-    def mesh_key(self, scene: Scene, options: SolveOptions) -> tuple:
-        """The scene's geometry and mesh sizes and the options' mesh sizes."""
-        return geometry_key(scene), options.mesh_key
-
-    def make_mesh(self, scene: Scene, options: SolveOptions) -> CrackMesh:
-        """geometry.make_mesh; with options.hp, hp.hp_mesh: a base mesh coarse at the tips
-        and hp geometric layers towards them."""
-        o = options
-        sizes = dict(maxh=o.maxh, tip_h=o.tip_h, crack_h=o.crack_h, grading=o.grading)
-        if o.path_grading is not None:  # the crack's size graded from its tips (ngcrack.planar.path_sizes)
-            sizes["path_grading"] = o.path_grading
-        # hp: the coarse base mesh of hp.base_mesh (unless sizes are given) and the layers
-        return hp_mesh(scene, o.hp, sigma=o.hp_sigma, **sizes) if o.hp else make_mesh(scene, **sizes)
-
-    def element_key(self, scene: Scene, options: SolveOptions) -> tuple:
-        """The element and its order, the material."""
-        mat = scene.material
-        return options.element_key, (mat.E, mat.nu, mat.plane)
-
-    def build(self, scene: Scene, crack_mesh: CrackMesh, options: SolveOptions, loads: Loads) -> Discretization:
-        """The element family's spaces and assembled forms (`ngcrack.planar.elements.build`)."""
-        mat = scene.material
-        return _elements.build(options.element, crack_mesh, compliance(mat.E, mat.nu, mat.plane), loads,
-                               order=options.order)
-
-    def crack_pressure(self, scene: Scene, k: int, parameter):
-        """The pressure on crack k's faces as a CoefficientFunction of position (a uniform
-        one through `parameter`); None where the element takes it as a number instead."""
-        crack = scene.cracks[k]
-        return pressure_cf(crack.pressure, np.asarray(crack.points), scene.diameter, parameter=parameter)
-
-    def held_mean(self, scene: Scene) -> dict:
-        """The pin and roller points' held means (label -> directions)."""
-        return held_directions(scene.polygon, scene.labels, getattr(scene, "points", ()))
-
-
-#: the one plane body
-PLANAR = PlanarBody()
-
-
 class ParameterLoads:
     """The scene's loads as NGSolve Parameters: the assembled linear form follows their values.
 
@@ -152,7 +93,8 @@ class ParameterLoads:
     `load_structure`). `body`: what depends on the body's dimension (PLANAR or the 3D one).
     """
 
-    def __init__(self, scene, body=PLANAR):
+    def __init__(self, scene, body=None):
+        body = body if body is not None else scene.body
         self.structure = load_structure(scene)
         self.params: dict[tuple[str, str], tuple[ngs.Parameter, ...]] = {}
         traction, displacement, clamped, roller = {}, {}, set(), set()
@@ -205,38 +147,6 @@ def scene_loads(scene: Scene) -> Loads:
     return ParameterLoads(scene).loads
 
 
-# ------------------------------------------------------------------ checks before any work
-
-def check_supports(scene: Scene, loads: Loads) -> None:
-    """Loads given directly: the scene's exact rigid-motion check on their supports."""
-    boundary = {lab: BoundaryCondition("clamped") for lab in loads.clamped}
-    boundary.update({lab: BoundaryCondition("roller") for lab in loads.roller})
-    boundary.update({lab: BoundaryCondition("displacement", (0.0, 0.0)) for lab in loads.displacement})
-    scene.with_(boundary=boundary)  # raises SceneError (a ValueError) if a part is not held
-
-
-def check_pressure_determined(scene: Scene, loads: Loads | None = None) -> None:
-    """Refuse an incompressible body (plane strain, nu = 1/2) with no traction edge.
-
-    Then sigma + c I solves the problem for every constant c: the pressure is
-    undetermined. An edge absent from [boundary] is traction-free and fixes it.
-    `loads`: loads given instead of the scene's (None: the scene's supports).
-    """
-    mat = scene.material
-    if mat.plane != "strain" or mat.nu != 0.5:
-        return
-    if loads is None:
-        held = {lab for lab, bc in scene.boundary.items() if bc.type in ("clamped", "roller", "displacement")}
-    else:
-        held = set(loads.clamped) | set(loads.roller) | set(loads.displacement)
-    if set(scene.boundary_labels) <= held:
-        raise InputError(
-            "material.nu = 0.5 (incompressible, plane strain) with every edge clamped, displaced or on rollers: "
-            "the pressure is undetermined; leave at least one edge traction-free or loaded by a traction, "
-            "or use nu < 0.5"
-        )
-
-
 def relative_residual(system: CondensedSystem, x_rest: np.ndarray) -> float:
     """|D (K_rr x - F_r)| / |D F_r|, D = diag(K_rr)^(-1/2): the forward residual in units
     that do not depend on the unknowns' units (rotations next to displacements).
@@ -264,9 +174,7 @@ class Pipeline:
     a growth path); it is not meant to be shared between threads.
     """
 
-    def __init__(self, post: PostProcessing = PLANE):
-        #: the post-processing of the body's dimension, chosen once (ngcrack.planar.post2d.PLANE in 2D)
-        self.post = post
+    def __init__(self):
         self.counts = dict.fromkeys(STAGES, 0)
         self.redone: list[str] = []
         self._mesh: tuple | None = None  # (key, CrackMesh)
@@ -297,13 +205,9 @@ class Pipeline:
     # -------------------------------------------------------------- stages
     @staticmethod
     def body_for(scene):
-        """What the stages ask of the scene's body, by its dimension: PLANAR, or the 3D body
-        (`ngcrack.solid.stages.SOLID`) for a 3D scene."""
-        if getattr(scene, "dimension", 2) == 3:
-            from ..solid.stages import SOLID
-
-            return SOLID
-        return PLANAR
+        """What the stages ask of the scene's body (`scene.body`: ngcrack.planar.stages.PLANAR in 2D,
+        ngcrack.solid.stages.SOLID in 3D)."""
+        return scene.body
 
     def mesh(self, scene, options):
         """The scene's mesh (a 2D CrackMesh with cracks as interior edges, or a 3D SolidMesh),
@@ -379,14 +283,8 @@ class Pipeline:
         """Every check of a request that needs the scene, before any work: the options
         against the scene (friction), what the element cannot solve (nu = 1/2), the size guard and the thin parts (`size`), the
         supports of given loads, an undetermined pressure."""
-        o = options
-        o.check_for(scene)
-        _elements.check_material(o.element, scene.material)
-        if size:
-            check_request(scene, o.element, o.maxh, o.tip_h, o.crack_h, o.grading, order=o.order, max_dof=o.max_dof)
-        if loads is not None:
-            check_supports(scene, loads)
-        check_pressure_determined(scene, loads)
+        options.check_for(scene)
+        scene.body.check(scene, options, loads, size)
 
     # -------------------------------------------------------------- one run
     def run(self, scene: Scene, options: SolveOptions | None = None, *, loads: Loads | None = None,
@@ -431,7 +329,8 @@ class Pipeline:
         conditioning = condition_estimates(red) if o.condition else {}
         rec = recovery_stage(red, system, disc, answer.jn, case)
         timings["recover"] = rec.time
-        faces = faces_stage(system, disc, self.post, rec, answer, normal_contact, mu if tangential else None,
+        post = scene.body.post
+        faces = faces_stage(system, disc, post, rec, answer, normal_contact, mu if tangential else None,
                             [c.pressure for c in scene.cracks], case)
 
         # linear: the factorization and solves a plain linear solve needs too (with the
@@ -443,17 +342,24 @@ class Pipeline:
         backend = Backend(qp_solver=o.qp_solver, linear_solver=red.factorization.backend, schur=red.method,
                           largest_dense=red.largest_dense, tangential=bool(tangential),
                           friction=tuple(float(f) if o.crack_model == "contact" else 0.0 for f in mu))
-        sol = Solution(
+        sol = scene.body.solution_type(
             scene=scene, element=o.element, crack_mesh=cmesh, disc=disc, gf=rec.gf, fields=rec.fields,
             profiles=faces.profiles, kkt=faces.kkt, qp=answer.qp, timings=timings,
             ndof={"total": disc.fes.ndof, "global": system.n, "contact": m},
             built=list(disc.built) + [built_line(answer.qp, m, o, disc)],
             options=backend.report(o), solve_options=o, backend=backend,
-            conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces, post=self.post,
+            conditioning=conditioning, kkt_sampled=faces.kkt_sampled, forces=faces.forces, post=post,
         )
         self.post_process(sol, loads)
-        self._pending = [r for r in self._pending if r() is not None and r().estimate_pending] + [weakref.ref(sol)]
+        self.keep_pending(sol)
         return sol
+
+    def keep_pending(self, sol) -> None:
+        """Remember `sol` while its error estimate is pending: it is computed before the loads' Parameters
+        change under it (`settle_estimates`, at the next load change)."""
+        self._pending = [r for r in self._pending if r() is not None and r().estimate_pending]
+        if sol.estimate_pending:
+            self._pending.append(weakref.ref(sol))
 
     def _reduce(self, system: CondensedSystem, options: SolveOptions, case: str) -> ContactReduction:
         """The reduction stage with its checks: a finite system, a regular factorization, a finite solve."""
@@ -474,7 +380,12 @@ class Pipeline:
 
     def post_process(self, sol: Solution, loads: Loads) -> None:
         """The tips' K_I, K_II, G and the error estimate of a solved `sol` (their times in sol.timings)."""
-        tips_stage(sol, loads, self.post)
+        tips_stage(sol, loads, sol.post)
+        if sol.solve_options is not None and sol.solve_options.estimate is False:
+            sol.no_estimate = "not asked for (estimate = False)"
+            return
         # computed when first asked for; the Parameters of `loads` change with the next load value,
         # so a pending estimate is settled before that (Pipeline.discretization)
-        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model, self.post))
+        sol.defer_estimate(functools.partial(estimate_stage, sol, loads, sol.crack_model, sol.post))
+        if sol.solve_options is not None and sol.solve_options.estimate:
+            sol.error_estimate  # noqa: B018 -- asked for: computed now, inside the solve

@@ -1,137 +1,78 @@
-"""The answer of one solve: `Solution`, what every stage of the pipeline hands to the user.
+"""The answer of one solve, whatever the body: `Solution`, and the crack fronts it reports (`Front`).
 
-It holds the scene, the mesh, the discretization and its GridFunction, the fields, the
-crack profiles, the KKT residuals, the tips' fracture parameters, the error estimate and
-the timings; `to_json_dict` is the `solve --json` contract. NGSolve users find NGSolve's
-names on it: `sol.gfu` (the GridFunction), `sol.fes` (its space), `sol.mesh`.
+Every solve returns a `Solution`: `PlanarSolution` for a 2D scene (ngcrack.planar.solution),
+`SolidSolution` for a 3D one (ngcrack.solid.output). Both carry the same names for what the
+dimensions share: the scene, the element, the GridFunction and its fields (`gf`, `u`, `sigma`),
+the mesh with its cracks (`crack_mesh`), the unknowns (`ndof`: total, global, contact), the
+seconds per stage (`timings`: "total", "mesh", "assemble", "linear", "contact", ...), the crack
+problem's answer (`contact`), its KKT residuals (`kkt`), the fracture parameters along every
+crack front (`fronts`: a 2D crack tip is a front of one point), the error estimate where there is
+one, and `to_json_dict()` (the `solve --json` record). Under mpiexec the distributed solve returns
+the solution on rank 0 (`is_root`) and None on the other ranks.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import ClassVar
 
-import ngsolve as ngs
 import numpy as np
 
-from .constraints import KKT_KEYS
-from .contact import QPResult
-from .discretization import Discretization, PostProcessing
 from .options import SolveOptions
 
-if TYPE_CHECKING:  # the 2D types (a 3D body brings its own scene, mesh and profiles)
-    from ..planar.geometry import CrackMesh
-    from ..planar.post import CrackProfile
-    from ..planar.scene import Scene
-
-
-@dataclass(frozen=True)
-class Backend:
-    """What a solve chose where its options left the choice open (typed, for the stages
-    after the solve and for the report): `qp_solver` the crack problem's solver,
-    `linear_solver` the sparse factorization's back end ("auto" resolved), `schur` the
-    Schur-complement method, `largest_dense` the largest dense block it formed,
-    `tangential` whether the crack problem kept the tangential jumps (friction applied),
-    `friction` each crack's Coulomb coefficient as applied (0 without contact)."""
-
-    qp_solver: str
-    linear_solver: str
-    schur: str
-    largest_dense: int
-    tangential: bool
-    friction: tuple[float, ...]
-
-    def report(self, options: SolveOptions) -> dict:
-        """The options and choices of a solve by name (`Solution.options`: what is printed and compared)."""
-        return {"qp_solver": self.qp_solver, "linear_solver": self.linear_solver, "schur": self.schur,
-                "largest_dense": self.largest_dense, "tip_h": options.tip_h, "crack_model": options.crack_model,
-                "order": options.order, "friction": list(self.friction), "friction_method": options.friction_method,
-                "tangential": self.tangential, "hp": options.hp or 0}
+__all__ = ["Backend", "Front", "Solution", "summary_line"]
 
 
 @dataclass
-class Solution:
-    """The answer of one solve.
+class Front:
+    """The fracture parameters at points along one crack's front (a 2D tip: a front of one point).
 
-    `u`, `sigma`, `rotation` are NGSolve CoefficientFunctions (u is P0 per triangle,
-    sigma the weakly symmetric 2x2 stress); `gf` is the full GridFunction. `profiles`
-    holds one CrackProfile per crack (with its open / stick / slip `state`), `qp` the QP's
-    answer (None without a crack; a friction.FrictionResult with friction).
-
-    `kkt`: the relative residuals of the discrete Signorini conditions where the QP's
-    constraints live (edge mid points for P0 jumps, edge end points for P1 jumps, crack
-    nodes for h1p1/h1p2), with the constrained values w = G j of the answer and the
-    discrete contact forces `forces` computed from the solved system
-    (`constraints.discrete_contact_forces`, `constraints.kkt_at_constraints`): round-off small for
-    crack_model "contact"; under "friction", the discrete Coulomb law's residual at the
-    same points (0 without friction). For "free" and "bonded" they measure the same
-    conditions on that model's answer: max_penetration > 0 where free faces
-    interpenetrate, max_tension > 0 where bonded faces pull on each other. `kkt_sampled`:
-    the same figures from the edge mid-point samples of the crack profiles (a diagnostic:
-    a P1 jump sampled on the edge where contact ends carries both a small opening and a
-    small pressure). No crack: all zero. `timings` in seconds, `ndof` counts (total,
-    global after condensation, contact), `built` lists what was built.
-
-    `solve_options` are the options the solve was asked for (`SolveOptions`), `backend`
-    what it chose (`Backend`); `options` names both for printing and comparing (and holds
-    what a loop around the solve reports: `adapt`). `no_estimate` says why a solve has no
-    error estimate ("" where it has one).
+    `crack` the crack's index; `points` (n, dimension) the front's points; `K_I`, `K_II`, `K_III`
+    the stress intensity factors there (K_III = 0 in 2D), `G` the energy release rate, `T` the
+    T-stress (NaN where not computed), `closed` whether the faces touch at the point (K_I is then
+    reported as 0); `label` names the front ("0,first": crack 0's first end in 2D; "crack 0" in 3D).
     """
 
-    scene: Scene
-    element: str
-    crack_mesh: CrackMesh
-    disc: Discretization
-    gf: ngs.GridFunction
-    fields: dict
-    profiles: list[CrackProfile]
-    kkt: dict
-    qp: QPResult | None
-    timings: dict
-    ndof: dict
-    built: list[str]
-    options: dict = field(default_factory=dict)
-    conditioning: dict = field(default_factory=dict)
-    #: K_I, K_II, G at every crack end inside the body (tips.py; the tip frame is in its docstring)
-    tips: list = field(default_factory=list)
-    kkt_sampled: dict = field(default_factory=lambda: dict.fromkeys(KKT_KEYS, 0.0))
-    forces: np.ndarray | None = None
-    #: with adapt=TOL: one row per refinement step (adapt.py), a pandas DataFrame
-    adapt_history: object = None
-    #: the options the solve was asked for, and what it chose where they left it open
-    solve_options: SolveOptions | None = None
-    backend: Backend | None = None
-    #: the error estimate once computed, why there is none, and the computation a solve
-    #: leaves pending (`error_estimate`, `no_estimate`)
-    _estimate: object = field(default=None, repr=False)
-    _no_estimate: str = field(default="", repr=False)
-    _pending_estimate: object = field(default=None, repr=False, compare=False)
-    #: the post-processing of the body's dimension that made the profiles and tips (the pipeline's)
-    post: PostProcessing | None = field(default=None, repr=False, compare=False)
+    crack: int
+    points: np.ndarray
+    K_I: np.ndarray
+    K_II: np.ndarray
+    K_III: np.ndarray
+    G: np.ndarray
+    closed: np.ndarray
+    T: np.ndarray | None = None
+    label: str = ""
 
-    def __repr__(self) -> str:
-        """A few lines: scene, element, sizes, KKT, the tips' K and the estimate if computed
-        (printing a solution never computes anything nor dumps its arrays)."""
-        nd = self.ndof
-        lines = [f"Solution(scene={self.scene.name!r}, element={self.element!r}, crack_model={self.crack_model!r}, "
-                 f"maxh={self.maxh:g})",
-                 f"  unknowns: {nd.get('total', 0):,} total, {nd.get('global', 0):,} global, "
-                 f"{nd.get('contact', 0):,} contact; {len(self.profiles)} crack(s); "
-                 f"KKT max {max(self.kkt.values(), default=0.0):.1e}"]
-        for t in self.tips:
-            lines.append(f"  tip {t.label}: K_I {t.K_I:.4g}, K_II {t.K_II:.4g}")
-        if self.estimate_pending:
-            lines.append("  error estimate: not computed yet (sol.error_estimate)")
-        elif self._estimate is not None:
-            lines.append(f"  error estimate: relative {self._estimate.relative:.2%}")
-        return "\n".join(lines)
+    def to_json_dict(self) -> dict:
+        """The front as the JSON record's `fronts[i]` (crack, points, K_I, K_II, K_III, G)."""
+        return {"crack": self.crack, "points": np.asarray(self.points).tolist(), "K_I": np.asarray(self.K_I).tolist(),
+                "K_II": np.asarray(self.K_II).tolist(), "K_III": np.asarray(self.K_III).tolist(),
+                "G": np.asarray(self.G).tolist()}
+
+
+class Solution:
+    """The answer of one solve of either dimension (module docstring); each kind fills in its fields.
+
+    The error estimate is shared machinery: a kind keeps `_estimate`, `_no_estimate` and
+    `_pending_estimate` (dataclass fields), and the solve either computes it or leaves it
+    pending (`defer_estimate`) until `error_estimate` is first read.
+    """
+
+    #: 2 (PlanarSolution) or 3 (SolidSolution)
+    dimension: ClassVar[int] = 0
+    #: the process that holds the answer: every serial solve, rank 0 of a distributed one (the
+    #: others get None from nc.solve)
+    is_root: ClassVar[bool] = True
+
+    #: the fracture parameters along every crack front inside the body (a list of Front)
+    fronts: list
 
     @property
     def error_estimate(self):
-        """The a posteriori estimate of the stress error (estimate.py), None where none exists.
+        """The a posteriori estimate of the stress error (the body's estimate), None where none exists.
 
-        Computed on first access (a run that does not ask for it skips its cost, about a
-        tenth of a small solve); `sol.timings["estimate"]` is its time from then on."""
+        Computed on first access unless the solve was asked for it (a run that does not ask
+        for it skips its cost); `sol.timings["estimate"]` is its time from then on."""
         if self._pending_estimate is not None:
             pending, self._pending_estimate = self._pending_estimate, None
             self._estimate = pending()
@@ -161,81 +102,38 @@ class Solution:
         """True while the error estimate is still to be computed."""
         return self._pending_estimate is not None
 
-    @property
-    def crack_model(self) -> str:
-        """The crack model the solve used ("contact" unless its options say otherwise)."""
-        return self.solve_options.crack_model if self.solve_options is not None else "contact"
-
-    @property
-    def friction_applied(self) -> bool:
-        """Whether the crack problem kept the tangential jumps, i.e. friction acted."""
-        return bool(self.backend is not None and self.backend.tangential)
-
-    @property
-    def mesh(self) -> ngs.Mesh:
-        """The NGSolve mesh (cracks as interior edges)."""
-        return self.crack_mesh.mesh
-
-    @property
-    def gfu(self) -> ngs.GridFunction:
-        """The GridFunction of every unknown (NGSolve's name; also `gf`)."""
-        return self.gf
-
-    @property
-    def fes(self) -> ngs.FESpace:
-        """The (compound) finite element space of `gfu`."""
-        return self.gf.space
-
-    @property
-    def u(self):
-        """The displacement field (a CoefficientFunction)."""
-        return self.fields["u"]
-
-    @property
-    def sigma(self):
-        """The stress field (a 2x2 CoefficientFunction)."""
-        return self.fields["sigma"]
-
-    @property
-    def rotation(self):
-        """The rotation field of the weakly symmetric elements (None for the others)."""
-        return self.fields.get("rotation")
-
-    @property
-    def maxh(self) -> float:
-        """The mesh size the solve was meshed with."""
-        return self.crack_mesh.maxh
-
-    def crack_profiles(self) -> list[CrackProfile]:
-        """Per crack: s, x, y, jumps and crack-face stresses at the edge mid points."""
-        return self.profiles
-
-    def save_vtk(self, path, **kwargs):
-        """Write the fields and the crack faces for ParaView (the post-processor's writer: ngcrack.planar.vtk.save_vtk in 2D)."""
-        return self.post.save_vtk(self, path, **kwargs)
-
     def to_json_dict(self) -> dict:
-        """The result as the `solve --json` dictionary (README, "Command line")."""
-        t = self.timings
-        return {
-            "scene": self.scene.name,
-            "element": self.element,
-            "maxh": float(self.maxh),
-            "nu": float(self.scene.material.nu),
-            "E": float(self.scene.material.E),
-            "ndof": {k: int(self.ndof[k]) for k in ("total", "global", "contact")},
-            "time_s": {k: float(t[k]) for k in ("total", "mesh", "assemble", "linear", "contact")},
-            "kkt": {k: float(self.kkt[k]) for k in KKT_KEYS},
-            "kkt_sampled": {k: float(self.kkt_sampled[k]) for k in KKT_KEYS},
-            "tips": [tip.to_dict() for tip in self.tips],
-            "cracks": [p.to_dict() for p in self.profiles],
-            **({"error_estimate": self.error_estimate.to_dict()} if self.error_estimate is not None else {}),
-            # each adaptive step: its unknowns, its relative estimate, and its seconds (solve,
-            # estimate and the refinement that made its mesh); time_s.total is the whole run
-            **({"adapt": [{"ndof": int(r.ndof), "estimate": float(r.estimate),
-                           "time_s": float(r.time_solve + r.time_estimate + r.time_refine)}
-                          for r in self.adapt_history.itertuples()]}
-               if self.adapt_history is not None else {}),
-            # under mpiexec: ranks, subdomains, preconditioner, active-set and CG steps, memory per rank
-            **({"distributed": self.options["distributed"]} if "distributed" in self.options else {}),
-        }
+        """The `solve --json` record (the JSON record of the body's dimension: docs, "The command line")."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Backend:
+    """What a solve chose where its options left the choice open (typed, for the stages
+    after the solve and for the report): `qp_solver` the crack problem's solver,
+    `linear_solver` the sparse factorization's back end ("auto" resolved), `schur` the
+    Schur-complement method, `largest_dense` the largest dense block it formed,
+    `tangential` whether the crack problem kept the tangential jumps (friction applied),
+    `friction` each crack's Coulomb coefficient as applied (0 without contact)."""
+
+    qp_solver: str
+    linear_solver: str
+    schur: str
+    largest_dense: int
+    tangential: bool
+    friction: tuple[float, ...]
+
+    def report(self, options: SolveOptions) -> dict:
+        """The options and choices of a solve by name (`Solution.options`: what is printed and compared)."""
+        return {"qp_solver": self.qp_solver, "linear_solver": self.linear_solver, "schur": self.schur,
+                "largest_dense": self.largest_dense, "tip_h": options.tip_h, "crack_model": options.crack_model,
+                "order": options.order, "friction": list(self.friction), "friction_method": options.friction_method,
+                "tangential": self.tangential, "hp": options.hp or 0}
+
+
+def summary_line(info: dict) -> str:
+    """The one line `ngcrack solve` prints after a distributed solve: ranks, subdomains, preconditioner, steps."""
+    steps = info["cg_steps"]
+    cg = f"{sum(steps)} CG steps ({', '.join(map(str, steps))} per active-set step)"
+    return (f"distributed over {info['ranks']} ranks ({info['subdomains']} subdomains), preconditioner "
+            f"{info['preconditioner'].split(':')[0]}: {info['active_set_steps']} active-set steps, {cg}")

@@ -31,77 +31,29 @@ the `[mpi]` extra.
 
 from __future__ import annotations
 
-import os
-
-from ..core.errors import InputError
-
-#: environment variables through which mpiexec (MPICH/hydra, Open MPI, Slurm's PMI) tells a
-#: process the size of its world, read without importing MPI
-SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MPI_LOCALNRANKS", "PMIX_SIZE")
-#: and its rank
-RANK_VARIABLES = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "MPI_LOCALRANKID", "PMIX_RANK")
-
-
-class MPIUnavailable(InputError):
-    """mpiexec started the process, but mpi4py or an MPI-enabled NGSolve is missing."""
-
-
-def world_size() -> int:
-    """The number of processes mpiexec started (1 outside mpiexec), from the environment."""
-    for name in SIZE_VARIABLES:
-        value = os.environ.get(name)
-        if value and value.isdigit():
-            return int(value)
-    return 1
-
-
-def world_rank() -> int:
-    """This process's rank under mpiexec (0 outside mpiexec), from the environment."""
-    for name in RANK_VARIABLES:
-        value = os.environ.get(name)
-        if value and value.isdigit():
-            return int(value)
-    return 0
-
-
-def refuse(message: str) -> None:
-    """Refuse a request that every rank finds alike with one line: InputError on rank 0, a quiet exit with the
-    same status (2) on the others."""
-    if world_rank() == 0:
-        raise InputError(message)
-    raise SystemExit(2)
-
-
-def require_mpi():
-    """mpi4py's COMM_WORLD, or MPIUnavailable with one line naming the `[mpi]` extra."""
-    try:
-        from mpi4py import MPI
-    except ImportError as exc:
-        raise MPIUnavailable("distributed solve: mpi4py is not installed; pip install 'ngcrack[mpi]' "
-                             "(mpi4py and mpich) to run under mpiexec") from exc
-    import netgen.config
-
-    if not getattr(netgen.config, "USE_MPI", False):
-        raise MPIUnavailable("distributed solve: this NGSolve was built without MPI (netgen.config.USE_MPI is "
-                             "False); pip install 'ngcrack[mpi]' next to the ngsolve wheel")
-    return MPI.COMM_WORLD
-
-
-def active() -> bool:
-    """Whether a solve should run distributed: more than one process under mpiexec."""
-    return world_size() > 1
-
-
-def summary_line(info: dict) -> str:
-    """The one line `ngcrack solve` prints after a distributed solve: ranks, subdomains, preconditioner, steps."""
-    steps = info["cg_steps"]
-    cg = f"{sum(steps)} CG steps ({', '.join(map(str, steps))} per active-set step)"
-    return (f"distributed over {info['ranks']} ranks ({info['subdomains']} subdomains), preconditioner "
-            f"{info['preconditioner'].split(':')[0]}: {info['active_set_steps']} active-set steps, {cg}")
+from ..core.solution import summary_line  # noqa: F401  (re-exported)
+from .world import (  # noqa: F401  (re-exported: the package's face)
+    RANK_VARIABLES,
+    SIZE_VARIABLES,
+    MPIUnavailable,
+    active,
+    refuse,
+    require_mpi,
+    world_rank,
+    world_size,
+)
 
 
 def solve(scene, options=None):
-    """The distributed solve (ngcrack.distributed.planar.solve); the Solution on rank 0, None elsewhere."""
+    """The distributed solve of a scene of either dimension (ngcrack.distributed.planar.solve,
+    ngcrack.distributed.solid.solve_scene); the Solution on rank 0, None elsewhere."""
+    if scene.dimension == 3:
+        from .solid import solve_scene
+
+        return solve_scene(scene, options)
     from .planar import solve as _solve
 
+    if options is not None and options.preconditioner is not None:
+        refuse(f"preconditioner = {options.preconditioner!r}: a 2D distributed solve preconditions with BDDC per rank "
+               "subdomain (the 3D one takes a choice)")
     return _solve(scene, options)

@@ -16,8 +16,9 @@ import numpy as np
 
 from ..core.contact import QPResult
 from ..core.friction import FrictionResult, coulomb_residual
-from ..core.solution import Backend, Solution
+from ..core.solution import Backend
 from ..core.stages import CrackAnswer, Recovered, SolveError, faces_stage
+from ..planar.solution import PlanarSolution as Solution
 from .gather import scatter_into
 from .mesh import MATCH_RTOL
 
@@ -63,7 +64,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
         raise SolveError(f"{case}: the local recovery gave non-finite values")
     rec = Recovered(y=y, gf=gf, fields=disc.fields(gf), time=0.0)
     answer = CrackAnswer(qp=qp, G=G, jn=jn, time=0.0)
-    faces = faces_stage(system, disc, pipe.post, rec, answer, normal_contact, mu if tangential else None,
+    faces = faces_stage(system, disc, scene.body.post, rec, answer, normal_contact, mu if tangential else None,
                         [c.pressure for c in scene.cracks], case)
     if qp is not None and faces.forces is not None:
         qp.multiplier = np.asarray(faces.forces)
@@ -88,7 +89,7 @@ def solution_on_rank0(pipe, scene, o, cmesh, gathered, timings: dict, info: dict
                                   f"preconditioner {info['preconditioner']}, {info['active_set_steps']} active-set "
                                   f"steps, CG steps {info['cg_steps']}"],
         options=report, solve_options=o, backend=backend, conditioning={}, kkt_sampled=faces.kkt_sampled,
-        forces=faces.forces, post=pipe.post,
+        forces=faces.forces, post=scene.body.post,
     )
     pipe.post_process(sol, loads)
     pipe._pending = [weakref.ref(sol)]
@@ -110,6 +111,11 @@ def friction_result(system, disc, cmesh, y: np.ndarray, G: np.ndarray, active: n
     lam_n = np.linalg.solve(G.T, r[system.contact[:nn]])
     lam_t = -np.linalg.solve(Gt.T, r[system.contact[nn:]])
     w, wt = G @ jn, Gt @ jt
+    # as the serial answer (friction._result): no contact force off the contact set (there the residual holds the
+    # Krylov solve's round-off only, and its largest value would set the force scale of the residuals)
+    held = np.zeros(len(lam_n), dtype=bool)
+    held[active] = True
+    lam_n = np.where(held, lam_n, 0.0)
     # the values the last step held at zero are zero (their round-off would read as open or moving faces)
     w[active] = 0.0
     wt[(slip[rows] == 0) & np.isin(rows, active)] = 0.0

@@ -24,12 +24,12 @@ from ..core.options import SolveOptions
 from ..planar import elements as _elements
 from ..planar.materials import compliance
 from ..planar.post import endpoint_map
-from . import MPIUnavailable, require_mpi
 from .bddc import default_for, owned, preconditioner
 from .friction import FrictionSets, friction_loop
 from .gather import gather_to_rank0
 from .krylov import Operator, condensed_rhs, held_rows, hold, pcg
 from .mesh import MATCH_RTOL, TooFewElements, distribute
+from .world import MPIUnavailable, require_mpi
 
 #: active-set steps before the iteration is declared cycling
 MAX_ACTIVE_SET_STEPS = 60

@@ -122,28 +122,28 @@ class FaceActiveSet:
                           if self.active[d].any()], len(self.free))
 
 
-def solve_scene(scene, *, preconditioner: str | None = None, **options):
-    """`nc.solve` / `ngcrack solve` of a 3D scene under mpiexec: the options of a serial 3D solve
-    (`solid.solve.OPTIONS`, checked by name before any work), the SolidSolution on rank 0, None elsewhere."""
-    from ..solid.solve import check_options
+def solve_scene(scene, options=None):
+    """`nc.solve` / `ngcrack solve` of a 3D scene under mpiexec: `options` a SolveOptions, checked for the 3D
+    body by `nc.solve` before any work; the SolidSolution on rank 0, None elsewhere."""
+    from ..core.options import SolveOptions
+    from ..solid.solve import solid_options
+    from ..solid.stages import check_request
+    from .world import refuse
 
-    try:
-        opts = check_options(options)
-    except ValueError:
-        from . import world_rank
-
-        if world_rank() == 0:
-            raise
-        raise SystemExit(2) from None
-    sizes = {k: options.get(k) for k in ("maxh", "crack_h", "front_h", "grading")}
-    return solve(scene, {**opts, **sizes}, preconditioner)
+    options = options if options is not None else SolveOptions()
+    opts = solid_options(options)
+    try:  # alike on every rank, before any work: rank 0 reports, the others leave quietly
+        check_request(scene, opts, options.max_dof)
+    except ValueError as exc:
+        refuse(str(exc))
+    return solve(scene, opts, options.preconditioner)
 
 
 def solve(scene, opts: dict, preconditioner_kind: str | None = None):
     """The distributed 3D solve (module docstring): the SolidSolution on rank 0, None on the others.
     `opts`: the checked options of `solid.solve.check_options` with the mesh sizes."""
-    from . import require_mpi
     from .planar import _fail
+    from .world import require_mpi
 
     comm = require_mpi()
     kind = preconditioner_kind or default_preconditioner(comm.size)

@@ -48,7 +48,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.memory import available_memory, memory_limits  # noqa: F401  (re-exported)
+from ..core.memory import (  # noqa: F401  (re-exported)
+    DEFAULT_MAX_DOF,
+    MEMORY_FRACTION,
+    available_memory,
+    check_max_dof,
+    memory_limits,
+)
+from ..core.memory import (
+    format_bytes as _bytes,
+)
 from .scene.types import MAX_SCALE, MIN_SIZE_RTOL
 
 #: netgen triangles per unit area at mesh size h: TRIANGLES_PER_AREA / h^2 (fitted; 4/sqrt(3) = 2.31 equilateral)
@@ -63,11 +72,6 @@ UNKNOWNS_PER_TRIANGLE = {
 }
 #: peak resident memory per unknown in bytes (BENCHMARKS.md: the largest measured at 1e6 unknowns)
 BYTES_PER_UNKNOWN = {"peers": 1100, "bdm": 1400, "tdnns": 1450, "h1p1": 4000, "h1p2": 4000}
-#: the default ceiling on the estimated unknowns of one solve (about 7 GB for the mixed elements);
-#: `max_dof=` / `--max-dof` replaces it
-DEFAULT_MAX_DOF = 5_000_000
-#: fraction of the machine's available memory a solve may plan to use
-MEMORY_FRACTION = 0.8
 #: netgen's default growth rate of the mesh size: the grading of a scene that gives none
 DEFAULT_GRADING = 0.3
 #: default sizes of a scene that gives none (`default_mesh_sizes`): maxh a tenth of the
@@ -94,15 +98,6 @@ class SizeEstimate:
     def describe(self) -> str:
         return (f"about {self.triangles:.3g} triangles, {self.unknowns:.3g} unknowns and "
                 f"{_bytes(self.memory)} of memory")
-
-
-def _bytes(n: float) -> str:
-    if n >= 1e15:
-        return f"{n:.2g} bytes"
-    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
-        if n >= size:
-            return f"{n / size:.3g} {unit}"
-    return f"{n / 1e3:.3g} kB"
 
 
 def default_mesh_sizes(scene) -> dict:
@@ -216,22 +211,6 @@ def estimate_size(scene, element: str, maxh=None, tip_h=None, crack_h=None, grad
         size = scene.holes[int(culprit[5:culprit.index("]")])].edge_h
     return SizeEstimate(triangles=tri, unknowns=dof, memory=dof * BYTES_PER_UNKNOWN[element], maxh=H,
                         culprit=culprit, size=size)
-
-
-def check_max_dof(max_dof) -> None:
-    """max_dof must be None or a whole number >= 1 (an integer, or a float like 1e4)."""
-    if max_dof is None:
-        return
-    ceiling = f"{DEFAULT_MAX_DOF:,}".replace(",", " ")
-    what = f"must be None (the default ceiling, {ceiling}) or a whole number of unknowns >= 1"
-    if isinstance(max_dof, (bool, np.bool_)) or not isinstance(max_dof, (int, float, np.integer, np.floating)):
-        raise InputError(f"max_dof = {max_dof!r}: {what}")
-    value = float(max_dof)
-    if not math.isfinite(value) or not value >= 1:
-        raise InputError(f"max_dof = {max_dof!r}: {what}")
-    if value != math.floor(value):
-        raise InputError(f"max_dof = {max_dof!r}: {what}; it is not a whole number (give "
-                          f"{math.floor(value):.0f} or {math.ceil(value):.0f})")
 
 
 def check_mesh_sizes(scene, maxh=None, tip_h=None, crack_h=None, grading=None) -> None:

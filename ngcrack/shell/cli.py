@@ -41,13 +41,14 @@ import traceback
 import warnings
 from contextlib import contextmanager
 
-from ..core.errors import InputError
 from .cli_errors import (
     EXIT_INPUT,
     EXIT_SOLVE,
     NotSolvedError,
     Terminated,
+    UsageError,
     _causes,
+    as_flags,
     check_finite,
     classify,
     one_line,
@@ -69,10 +70,6 @@ MIN_ADDRESS_SPACE = 2**30
 SOLVING = ("solve", "sweep", "paper", "grow", "stability", "hydrofrac")
 #: the files of `solve --vtk OUT`: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces)
 VTK_PARTS = (".vtu", "_cracks.vtu")
-
-
-class UsageError(InputError):
-    """Bad command-line input (exit code 2)."""
 
 
 def _check_sizes(scene, sizes: dict) -> None:
@@ -113,11 +110,24 @@ def cmd_scenes(args) -> int:
 
 
 def cmd_solve(args) -> int:
-    from .. import scenes
-    from ..planar.elements import ELEMENTS
+    """`ngcrack solve`: the outputs checked, one `nc.solve` of any scene, the outputs written together, its report."""
+    from ..core.solve import solve
 
-    if args.element is not None and args.element not in ELEMENTS:
-        raise UsageError(f"--element = {args.element!r}: allowed values are {', '.join(ELEMENTS)}")
+    outputs = _solve_outputs(args)
+    scene = _solve_scene(args)
+    with as_flags(SOLVE_FLAGS):
+        sol = solve(scene, options=_solve_options(args))  # every option checked by the scene's body before meshing
+    if sol is None:  # a rank > 0 of a distributed solve (mpiexec): rank 0 writes and prints
+        return 0
+    written = _write_outputs(sol, *outputs)
+    print("\n".join(sol.report_lines()))
+    for path in written:
+        print(f"wrote {path}")
+    return 0
+
+
+def _solve_outputs(args) -> tuple:
+    """--json, --plot, --vtk: each checked (folder, suffix, no two the same) before any work."""
     json_path = check_output(args.json, "--json")
     plot_path = check_output(args.plot, "--plot", ".png")
     vtk = check_output_stem(args.vtk, "--vtk", VTK_PARTS)
@@ -125,39 +135,46 @@ def cmd_solve(args) -> int:
         require("meshio", "--vtk")  # the crack faces' file: before the solve
     vtk_files = None if vtk is None else [vtk.with_name(vtk.name + part) for part in VTK_PARTS]
     check_distinct({"--json": json_path, "--plot": plot_path, "--vtk": vtk_files})
+    return json_path, plot_path, vtk, args.vtk
+
+
+def _solve_scene(args):
+    """The scene of `ngcrack solve` with --nu, --E, --friction applied, and the checks of the flags against it."""
+    from .. import scenes
+
     scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
-    if getattr(scene, "dimension", 2) == 3:  # a 3D body (ngcrack.solid)
-        from ..solid.cli import solve_command
-
-        return solve_command(scene, args, json_path)
-    _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h})
+    if args.plot is not None and "plot" not in scene.body.outputs:
+        raise UsageError(f"--plot: a figure of {scene.dimension}D scenes is not drawn; write --vtk files for ParaView")
+    _check_sizes(scene, {"--maxh": args.maxh, "--tip-h": args.tip_h, "--crack-h": args.crack_h,
+                         "--front-h": args.front_h})
     _check_friction(scene, args)
-    if args.hp:
-        from ..planar.tips import tip_labels
+    return scene
 
-        if not tip_labels(scene):
-            raise UsageError(f"--hp = {args.hp}: scene {scene.name!r} has no crack tip inside the body, so the hp "
-                             f"layers have nothing to refine towards; leave --hp out")
+
+#: the options of `ngcrack solve` that are flags of the same name (`front_h` is --front-h)
+SOLVE_FLAGS = ("element", "order", "maxh", "tip_h", "crack_h", "front_h", "qp_solver", "adapt", "hp", "max_dof",
+               "crack_model")
+
+
+def _solve_options(args):
+    """The SolveOptions of the flags given (the body of the scene refuses those it cannot take)."""
     from ..core.options import SolveOptions
-    from ..core.solve import solve
 
-    given = {k: v for k, v in (("qp_solver", args.qp_solver), ("order", args.order), ("adapt", args.adapt),
-                               ("hp", args.hp)) if v is not None}
-    if args.element is not None:
-        given["element"] = args.element
-    options = SolveOptions.of(maxh=args.maxh, tip_h=args.tip_h, crack_h=args.crack_h,
-                              crack_model=args.crack_model, max_dof=args.max_dof, **given)  # checked once, here
-    sol = solve(scene, options=options)
-    if sol is None:  # a rank > 0 of a distributed solve (mpiexec): rank 0 writes and prints
-        return 0
-    result = sol.to_json_dict()
-    check_finite(result)
+    given = {k: getattr(args, k) for k in SOLVE_FLAGS if getattr(args, k) is not None}
+    return SolveOptions.of(**given)
+
+
+def _write_outputs(sol, json_path, plot_path, vtk, given_vtk) -> list:
+    """The JSON record, the figure and the ParaView files, written to temporary names and moved into place
+    together: every file or none, existing ones untouched on failure or interrupt (files.Staged)."""
     from .files import Staged
 
-    with Staged() as staged:  # every file or none; existing ones untouched on failure
+    result = sol.to_json_dict()
+    check_finite(result)
+    with Staged() as staged:
         if json_path is not None:
             def write_json(tmp):
                 with open(tmp, "w") as fh:
@@ -167,50 +184,15 @@ def cmd_solve(args) -> int:
             from ..planar.plots import plot_solution
 
             staged.write(plot_path, lambda tmp: plot_solution(sol, tmp))
-        vtk_paths = [] if vtk is None else _stage_vtk(staged, sol, vtk, args.vtk)
-    k, t, n = result["kkt"], result["time_s"], result["ndof"]
-    print(f"{scene.name}: element {sol.element}, maxh {sol.maxh:g}, nu {scene.material.nu:g}, "
-          f"{n['total']} dofs ({n['global']} global, {n['contact']} contact), {t['total']:.2f} s")
-    if not options.hp:
-        from ..planar.sizing import describe_mesh_sizes
-
-        print(describe_mesh_sizes(scene, args.maxh, args.tip_h, args.crack_h))
-    ks = result["kkt_sampled"]
-    print(f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
-          f"complementarity {k['complementarity']:.1e}, friction {k['friction']:.1e}")
-    print(f"    at the edge mid points:   penetration {ks['max_penetration']:.1e}, tension {ks['max_tension']:.1e}, "
-          f"complementarity {ks['complementarity']:.1e} (a diagnostic)")
-    if sol.options.get("tangential"):
-        states = [s for c in result["cracks"] for s in c["state"]]
-        print(f"friction: {sol.qp.coulomb_iterations} Coulomb iterations; crack samples "
-              + ", ".join(f"{st} {states.count(st)}" for st in ("open", "stick", "slip")))
-    if sol.tips:
-        from ..planar.tips import format_table
-
-        print(format_table(sol.tips))
-    if sol.error_estimate is not None:
-        print(sol.error_estimate.line())
-    if "distributed" in result:
-        from ..distributed import summary_line
-
-        print(summary_line(result["distributed"]))
-    if sol.adapt_history is not None:
-        steps = ", ".join(f"{r.ndof}: {r.estimate:.2%}" for r in sol.adapt_history.itertuples())
-        reached = "reached" if sol.options["adapt"]["reached"] else "NOT reached (dof budget)"
-        print(f"adapt to {args.adapt:g}: {reached}; dofs and relative estimate per step: {steps}")
-    for path in (json_path, plot_path, *vtk_paths):
-        if path is not None:
-            print(f"wrote {path}")
-    return 0
+        vtk_paths = [] if vtk is None else _stage_vtk(staged, sol, vtk, given_vtk)
+    return [p for p in (json_path, plot_path, *vtk_paths) if p is not None]
 
 
 def _stage_vtk(staged, sol, stem, given) -> list:
     """ParaView: OUT.vtu (the body) and OUT_cracks.vtu (the crack faces), staged with the other outputs."""
-    from ..planar.vtk import save_vtk
-
     folder = staged.folder(stem.parent)
     try:
-        written = save_vtk(sol, folder / "out")
+        written = sol.save_vtk(folder / "out")
     except OSError as exc:
         raise PathError(f"--vtk = {str(given)!r}: the ParaView files could not be written "
                         f"({exc.strerror or exc}); nothing was written") from None
@@ -266,10 +248,12 @@ def cmd_sweep(args) -> int:
     if args.grading is not None and not 0 < args.grading <= 1:
         raise UsageError(f"--grading = {args.grading:g}: must lie in (0, 1]")
     _check_sizes(scene, {"--maxh": args.maxh, "--reference-maxh": args.reference_maxh, "--tip-h": args.tip_h,
-                         "--crack-h": args.crack_h})
+                         "--crack-h": args.crack_h, "--front-h": args.front_h})
     _check_friction(scene, args)
     from ..studies.sweeps import QUANTITIES, fitted_rates, sweep
 
+    if args.front_h is not None or scene.dimension == 3:  # a 3D scene sweeps its front size
+        return _sweep_fronts(args, scene, out, solve_options)
     before = len(open(out).read().splitlines()) - 1 if out.exists() and out.stat().st_size else 0
     adaptive = {}
     if args.adapt is not None:  # tolerances instead of mesh sizes; --maxh (one value) is the first mesh
@@ -301,6 +285,28 @@ def cmd_sweep(args) -> int:
                         + ["quantity", "rate_h", "rate_dof", "points"]].to_string(
                 index=False, float_format=lambda v: f"{v:.3g}"))
     print(f"wrote {out} ({after - before} new rows, {after} in the file)")
+    return 0
+
+
+def _sweep_fronts(args, scene, out, solve_options: dict) -> int:
+    """`ngcrack sweep` of a 3D scene: its front sizes (`nc.sweep(scene, front_h=[...])`), the table printed."""
+    from ..core.options import DEFAULT_ELEMENT
+    from ..studies.sweeps import sweep
+
+    given = {"maxh": args.maxh, "adapt": args.adapt, "reference_maxh": args.reference_maxh,
+             "reference_element": args.reference_element, "vtk": args.vtk, "dask": args.dask, "max_dof": args.max_dof}
+    given = {k: v for k, v in given.items() if v is not None}
+    if args.front_h is None and scene.dimension == 3:
+        raise UsageError(f"--front-h: scene {scene.name!r} is 3D: give the front mesh sizes to sweep")
+    solve_options = {k: v for k, v in solve_options.items() if k != "crack_model" or v != "contact"}
+    df = sweep(scene, elements=args.element or [DEFAULT_ELEMENT], nu=args.nu, friction=args.friction, out=out,
+               solve_options=solve_options, front_h=args.front_h, jobs=args.jobs, progress=not args.no_progress, **given)
+    cols = ["element", "order", "front_h", "nu", "ndof_total", "K_I_min", "K_I_max", "err_K_I", "err_K", "time_total",
+            "memory_peak_mb"]
+    with _pandas_display():
+        print(df[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    print(f"err_K_I, err_K: against the finest front_h of each element and nu (its own row: NaN); wrote {out} "
+          f"({len(df)} rows)")
     return 0
 
 
@@ -472,6 +478,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="measure every element against this element's reference (default: each its own)")
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
+    p.add_argument("--front-h", dest="front_h", nargs="+", type=_positive,
+                   help="a 3D scene's front mesh sizes to sweep (instead of --maxh)")
     p.add_argument("--grading", type=_positive, help="mesh grading in (0, 1]")
     p.add_argument("--qp-solver", dest="qp_solver", help="the crack QP's solver (default: solve's default)")
     p.add_argument("--crack-model", dest="crack_model", default="contact", help="contact (default), free or bonded")

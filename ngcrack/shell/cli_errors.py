@@ -16,10 +16,30 @@ Warnings are shown on one line each too.
 from __future__ import annotations
 
 import math
+import re
 import sys
+from contextlib import contextmanager
+
+from ..core.errors import InputError
 
 #: exit codes: bad input (the user's), anything else (a system that cannot be solved, or a fault of ngcrack)
 EXIT_INPUT, EXIT_SOLVE = 2, 3
+
+
+class UsageError(InputError):
+    """Bad command-line input (exit code 2)."""
+
+
+@contextmanager
+def as_flags(names):
+    """A refusal of an option that came from a flag names the flag (`element = 'x'` -> `--element = 'x'`)."""
+    try:
+        yield
+    except InputError as exc:
+        m = re.match(r"(\w+)( =|:)", str(exc))
+        if m is None or m.group(1) not in names:
+            raise
+        raise UsageError("--" + m.group(1).replace("_", "-") + str(exc)[len(m.group(1)):]) from None
 
 
 class NotSolvedError(RuntimeError):

@@ -1,10 +1,12 @@
 """What the stepping commands (`grow`, `hydrofrac`) share: their solve options and output checks, the finished
-steps kept and written if a signal stops the run, and every output written or none."""
+steps kept and written if a signal stops the run, every output written or none, and under mpiexec one rank
+that runs the command (`runs_here`)."""
 
 from __future__ import annotations
 
 import json
 import signal
+import sys
 import threading
 
 from ngcrack.shell.cli_errors import Terminated, check_finite
@@ -64,8 +66,29 @@ def write_all(result, data, scene, json_path, outputs, also=()) -> int:
     return 0
 
 
+def runs_here() -> bool:
+    """Whether this process runs a stepping command: yes without mpiexec; under `mpiexec -n N` (N > 1) on rank 0
+    alone, which says so once on stderr. The stepping commands are not distributed (their solves are serial): every
+    rank ran the whole job and wrote the same files. The other ranks end at once with status 0 after the input
+    checks (which refuse alike on every rank, rank 0 printing the line); mpiexec waits for rank 0 and returns its
+    status. Reads the rank from the environment: no MPI is started."""
+    from ngcrack.distributed import world_rank, world_size
+
+    size = world_size()
+    if size <= 1:
+        return True
+    if world_rank() != 0:
+        return False
+    print(f"ngcrack: note: this command is not distributed: rank 0 runs it alone, the other {size - 1} rank(s) have "
+          f"nothing to do (run it without mpiexec)", file=sys.stderr, flush=True)
+    return True
+
+
 def run_until_signal(work, finished: Finished):
-    """`work()`; a signal that stops it writes the finished steps and raises the interruption with their note."""
+    """`work()` on the rank that runs the command (`runs_here`; 0 elsewhere, nothing done); a signal that stops it
+    writes the finished steps and raises the interruption with their note."""
+    if not runs_here():
+        return 0
     try:
         return work()
     except BaseException as exc:

@@ -16,7 +16,6 @@ A scene is 3D when its ``[domain]`` is a box or a cylinder; ``nc.solve`` and
               integral with a q-function per front point)
 ``output``    SolidSolution: fields, crack summaries, the JSON record, VTK files
 ``solve``     solve_solid: the stages in one call
-``cli``       ``ngcrack solve`` on a 3D scene
 
 The condensed system is the 2D code's (``ngcrack.core.hybrid.condense``), which sees only the
 element's spaces and forms.

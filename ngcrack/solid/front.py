@@ -68,7 +68,7 @@ TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 3.0
 #: default penny: K_I within -1.8% and +0.2% of Sneddon's at 3 front_h, -0.7% and -0.1% at 1.6 a);
 #: the Fourier step (`_unsmooth`) restores the modes whose transfer is at least MIN_TRANSFER (on
 #: the penny at 1.6 a: the cos and sin of the angle, 0.84), so a K that varies faster along the
-#: front is smoothed there. BENCHMARKS section 19
+#: front is smoothed there. BENCHMARKS section 20
 BUMP_REACH = 1.6
 #: q's plateau: g = 1 for r < PLATEAU_FRACTION * R
 PLATEAU_FRACTION = 0.25

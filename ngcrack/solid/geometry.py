@@ -29,7 +29,7 @@ CURVE_ORDER = 2
 #: the body's mesh size near a crack, in its crack_h: netgen's grading alone lets the size grow
 #: from crack_h at the faces by `grading` per unit distance, and the body a crack radius off the
 #: crack then stays too coarse for order 1 (K_I 0.9-1% low on average on the default penny;
-#: BENCHMARKS section 19)
+#: BENCHMARKS section 20)
 NEAR_H_FACTOR = 1.25
 #: ... in the ball around the crack's centre of this many times its half size (its radius for a disc)
 NEAR_RADIUS = 2.0

@@ -23,10 +23,13 @@ import ngsolve as ngs
 import numpy as np
 
 from ..core.constraints import KKT_KEYS
+from ..core.solution import Solution, summary_line
 
 
 @dataclass
-class SolidSolution:
+class SolidSolution(Solution):
+    """The answer of one solve of a 3D scene (a kind of `ngcrack.core.solution.Solution`; module docstring)."""
+
     scene: object
     smesh: object
     disc: object
@@ -38,10 +41,19 @@ class SolidSolution:
     options: dict
     timings: dict = field(default_factory=dict)
     fronts: list = field(default_factory=list)
-    error_estimate: dict | None = None  # ngcrack.solid.estimate.prager_synge, with estimate=True
     #: a distributed solve's ranks, CG steps, preconditioner and memory per rank (ngcrack.distributed.solid)
     distributed: dict | None = None
+    #: the error estimate (ngcrack.solid.estimate.prager_synge: a dict) once computed, why there is none, and
+    #: the computation a solve leaves pending (`Solution.error_estimate`)
+    _estimate: object = field(default=None, repr=False)
+    _no_estimate: str = field(default="", repr=False)
+    _pending_estimate: object = field(default=None, repr=False, compare=False)
     dimension = 3
+
+    @property
+    def crack_mesh(self):
+        """The mesh with its cracks (a SolidMesh; also `smesh`), as a 2D solution's `crack_mesh`."""
+        return self.smesh
 
     @property
     def element(self) -> str:
@@ -139,6 +151,8 @@ class SolidSolution:
 
     # ------------------------------------------------------------------------ outputs
     def to_json_dict(self) -> dict:
+        """The `solve --json` record of a 3D scene (module docstring); a pending error estimate is computed first."""
+        estimate = self.error_estimate
         sizes = self.smesh.sizes
         t = self.timings
         return {
@@ -152,10 +166,33 @@ class SolidSolution:
             "contact_iterations": 0 if self.contact is None else int(self.contact.iterations),
             "fronts": [f.to_json_dict() for f in self.fronts],
             "cracks": self.crack_summaries(),
-            **({} if self.error_estimate is None else {"error_estimate": {
-                k: self.error_estimate[k] for k in ("total", "stress", "contact")}}),
+            **({} if estimate is None else {"error_estimate": {k: estimate[k] for k in ("total", "stress", "contact")}}),
             **({} if self.distributed is None else {"distributed": self.distributed}),
         }
+
+    def report_lines(self) -> list[str]:
+        """What `ngcrack solve` prints of a 3D solve: sizes and seconds, the KKT residuals, the estimate, each
+        crack's opening, sliding and closed fraction, each front's range of K_I, K_II and K_III."""
+        result = self.to_json_dict()
+        n, t, k = result["ndof"], result["time_s"], result["kkt"]
+        lines = [f"{self.scene.name} (3D): element {self.element} order {self.disc.order}, {n['total']} dofs "
+                 f"({n['global']} global, {n['contact']} contact), {t['total']:.2f} s ({t['contact']:.2f} s contact)",
+                 f"KKT at the constraint points: penetration {k['max_penetration']:.1e}, tension {k['max_tension']:.1e}, "
+                 f"complementarity {k['complementarity']:.1e}"]
+        if "error_estimate" in result:
+            e = result["error_estimate"]
+            lines.append(f"error estimate (Prager-Synge, stress in the energy norm): {e['total']:.4g} (crack term "
+                         f"{e['contact']:.2g}), {t['estimate']:.2f} s")
+        for c, crack in enumerate(result["cracks"]):
+            lines.append(f"crack {c}: max opening {crack['max_opening']:.4g}, max sliding {crack['max_sliding']:.4g}, "
+                         f"closed {crack['closed_fraction']:.1%} of area {crack['area']:.4g}")
+        for front in result["fronts"]:
+            lines.append(f"front {front['crack']} ({len(front['points'])} points): K_I {np.min(front['K_I']):.4g}.."
+                         f"{np.max(front['K_I']):.4g}, K_II {np.min(front['K_II']):.4g}..{np.max(front['K_II']):.4g}, "
+                         f"K_III {np.min(front['K_III']):.4g}..{np.max(front['K_III']):.4g}")
+        if "distributed" in result:
+            lines.append(summary_line(result["distributed"]))
+        return lines
 
     def save_vtk(self, path, subdivision: int = 0) -> list[Path]:
         """OUT.vtu (displacement, stress) and OUT_cracks.vtu (the crack faces: opening, sliding, closed).

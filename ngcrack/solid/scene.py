@@ -32,11 +32,12 @@ import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
-from ..planar.scene.fields import SceneError, check_keys, finite, is_number, positive, short, table
+from ..core.fields import SceneError, check_keys, finite, is_number, positive, short, table
+from ..core.scene import Scene
 
 DOMAIN_KINDS = ("box", "cylinder")
 SHAPES = ("disc", "ellipse", "polygon")
@@ -380,8 +381,10 @@ class Condition3:
 
 # -------------------------------------------------------------------------------- the scene
 @dataclass(frozen=True, eq=False)
-class SolidScene:
+class SolidScene(Scene, dimension=3):
     """A cracked 3D elastic body (module docstring). Build with :meth:`from_dict`."""
+
+    body_module: ClassVar[str] = "ngcrack.solid.stages"
 
     name: str
     description: str
@@ -394,8 +397,6 @@ class SolidScene:
     crack_h: float | None = None
     front_h: float | None = None
     grading: float | None = None
-
-    dimension = 3
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], name: str | None = None) -> SolidScene:
@@ -473,6 +474,12 @@ class SolidScene:
     # ------------------------------------------------------------------ sizes and changes
     @property
     def size(self) -> float:
+        """The body's diameter (the largest distance between two of its points)."""
+        return self.domain.size
+
+    @property
+    def diameter(self) -> float:
+        """The body's diameter, as a planar scene's `diameter` (`size`)."""
         return self.domain.size
 
     def mesh_sizes(self, maxh=None, crack_h=None, front_h=None, grading=None) -> dict[str, float]:

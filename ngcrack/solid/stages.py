@@ -1,7 +1,7 @@
 """A 3D body in the pipeline's stages: what `ngcrack.core.pipeline.Pipeline` asks of a 3D scene.
 
 `SOLID` (a `SolidBody`) gives the pipeline's stages the parts that depend on the body's
-dimension, as `ngcrack.core.pipeline.PLANAR` does for a plane body: the mesh key and the OCC
+dimension, as `ngcrack.planar.stages.PLANAR` does for a plane body: the mesh key and the OCC
 mesh (`solid.geometry`), the element and its key (`solid.element`, `solid.h1`), the
 loads' crack pressures and held means. `run_solid(pipeline, scene, options)` runs the stages on a 3D
 scene with the pipeline's caches:
@@ -19,6 +19,7 @@ scene with the pipeline's caches:
 
 from __future__ import annotations
 
+import functools
 import json
 import time
 
@@ -43,6 +44,25 @@ class SolidBody:
     """What the stages ask of a 3D body (module docstring)."""
 
     dimension = 3
+    #: the files `ngcrack solve` can write of its solutions besides the JSON record
+    outputs = ("vtk",)
+
+    @staticmethod
+    def solve(pipeline, scene: SolidScene, options, *, loads=None, warm_start=None, crack_mesh=None) -> SolidSolution:
+        """One solve of a checked request (a SolveOptions) through `pipeline`'s stages (`run_solid`)."""
+        from .options import solid_options
+
+        opts = solid_options(options)
+        if crack_mesh is None:
+            check_request(scene, opts, options.max_dof)
+        return run_solid(pipeline, scene, opts, crack_mesh)
+
+    @staticmethod
+    def check_options(scene: SolidScene, options) -> None:
+        """What a 3D scene cannot take of a SolveOptions, refused by name before any meshing (`solve.check_solid`)."""
+        from .options import check_solid
+
+        check_solid(scene, options)
 
     def mesh_key(self, scene: SolidScene, options: dict) -> tuple:
         """The domain, the cracks' geometry and the resolved mesh sizes."""
@@ -76,8 +96,16 @@ class SolidBody:
         return {}
 
 
+def check_request(scene: SolidScene, opts: dict, max_dof: int | None) -> None:
+    """The 3D size guard before any meshing (`solid.sizing.check_size`): the mesh sizes netgen can mesh, the
+    estimated unknowns under max_dof (default: the ceiling and the memory this process may still allocate)."""
+    from .sizing import check_size
+
+    check_size(scene, opts["element"], opts["order"], max_dof=max_dof, **{k: opts[k] for k in SIZES})
+
+
 #: the one 3D body
-SOLID = SolidBody()
+SOLID = BODY = SolidBody()
 
 
 def friction_stage(smesh: SolidMesh, disc, system, mu: list[float], linear_solver: str) -> SparseAnswer:
@@ -127,6 +155,7 @@ def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | Non
     sol = SolidSolution(scene=scene, smesh=smesh, disc=disc, system=system, y=answer.y, gf=gf,
                         contact=answer.result, G=answer.G, options=public, timings=timings)
     post_process(sol, options, loads)
+    pipeline.keep_pending(sol)
     timings["total"] = time.perf_counter() - t0
     return sol
 
@@ -139,9 +168,22 @@ def post_process(sol: SolidSolution, options: dict, loads: Loads) -> None:
         t0 = time.perf_counter()
         sol.fronts = front_parameters(sol, points=options["front_points"])
         sol.timings["fronts"] = time.perf_counter() - t0
-    if options.get("estimate"):
-        from .estimate import prager_synge
+    from .options import ESTIMATES
 
-        t0 = time.perf_counter()
-        sol.error_estimate = prager_synge(sol, loads)
-        sol.timings["estimate"] = time.perf_counter() - t0
+    if options.get("estimate") is False or options["element"] not in ESTIMATES:
+        sol.no_estimate = ("not asked for (estimate = False)" if options.get("estimate") is False else
+                           f"element {options['element']!r}: its stress C eps(u) is not equilibrated")
+        return
+    sol.defer_estimate(functools.partial(_estimate, sol, loads))  # when first asked for (Solution.error_estimate)
+    if options.get("estimate"):
+        sol.error_estimate  # noqa: B018 -- asked for: computed now, inside the solve
+
+
+def _estimate(sol: SolidSolution, loads: Loads) -> dict:
+    """The Prager-Synge estimate of a solved 3D scene (ngcrack.solid.estimate), its seconds in `sol.timings`."""
+    from .estimate import prager_synge
+
+    t0 = time.perf_counter()
+    estimate = prager_synge(sol, loads)
+    sol.timings["estimate"] = time.perf_counter() - t0
+    return estimate

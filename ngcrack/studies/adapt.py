@@ -30,7 +30,7 @@ from ..planar.geometry import CrackMesh, refine_crack_mesh
 #: Doerfler's bulk parameter: mark the fewest triangles that hold this share of eta^2
 DOERFLER_THETA = 0.5
 #: the budget of unknowns when none is given (a few seconds per step on 2 cores)
-DEFAULT_MAX_DOF = 200_000
+DEFAULT_BUDGET = 200_000
 #: at most this many refinement steps (each bisects a Doerfler set: the dof grow 1.2-2 times)
 MAX_STEPS = 40
 
@@ -111,7 +111,7 @@ def solve_adaptive(scene, options: SolveOptions | str, adapt: float | None = Non
     if adapt is None:
         raise InputError("adapt = None: give the relative error tolerance in (0, 1)")
     check_adapt_options(options, scene)
-    budget = DEFAULT_MAX_DOF if options.max_dof is None else options.max_dof
+    budget = DEFAULT_BUDGET if options.max_dof is None else options.max_dof
     step_options = options.replace(adapt=None)
     pipeline = pipeline if pipeline is not None else Pipeline()
     pipeline.check(scene, step_options, loads)  # the checks of Pipeline.run, the size guard on the first mesh

@@ -162,7 +162,7 @@ def locking_table(elements=ELEMENTS, nus=NUS, maxh: float = 0.1, paper_maxh: flo
 
 def scaled_scene(scene: Scene, E: float = 1.0, load: float = 1.0, size: float = 1.0) -> Scene:
     """The scene with E, all loads and all lengths multiplied by the given factors
-    (:meth:`Scene.scaled`: the displacements then scale with load * size / E)."""
+    (:meth:`~ngcrack.planar.scene.PlanarScene.scaled`: the displacements then scale with load * size / E)."""
     return scene.scaled(E=E, load=load, size=size)
 
 

@@ -24,6 +24,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.options import SolveOptions
 from ..core.pipeline import Pipeline, SolveError
+from ..core.scene import planar_only
 from ..core.solve import as_scene
 from ..planar.tips import effective_modulus
 
@@ -41,6 +42,7 @@ def crack_volume(sol, cracks=None) -> float:
     """The volume (area per unit thickness) between the faces of the given cracks (all
     by default): the sum over crack edges of the mid-point normal jump times the edge
     length (exact for jumps linear on each edge: P0 and P1 jumps, the default orders)."""
+    planar_only(sol.scene, "the crack volume")
     idx = range(len(sol.profiles)) if cracks is None else cracks
     return float(sum(np.sum(sol.profiles[k].normal_jump * sol.crack_mesh.cracks[k].length) for k in idx))
 
@@ -90,6 +92,7 @@ def solve_volume(scene, volume: float, *, cracks=None, options: SolveOptions | N
     Raises SolveError where no pressure reaches the volume (a bonded crack, say).
     """
     scene = as_scene(scene)
+    planar_only(scene, "volume control")
     if isinstance(volume, bool) or not isinstance(volume, (int, float)) or not math.isfinite(volume):
         raise InputError(f"volume = {volume!r}: must be a finite number (an area per unit thickness)")
     if not (isinstance(rtol, float) and 0 < rtol < 1):

@@ -6,7 +6,8 @@ inside the body whose end points may lie on the outer boundary.
 PDE (solved elsewhere): 2D linear elasticity, -div sigma = f, with unilateral
 contact on every crack, frictionless or with Coulomb friction (README, the introduction).
 
-A :class:`Scene` is plain, immutable data. It is validated completely when it is built,
+A :class:`PlanarScene` (a kind of :class:`ngcrack.core.scene.Scene`, which ``nc.Scene(...)`` makes
+from these fields) is plain, immutable data. It is validated completely when it is built,
 before any meshing, so no invalid Scene can exist: every bad field raises
 :class:`SceneError` (a ``ValueError``) with a one-line message naming the field and
 what is allowed. The package is pure geometry (its predicates and distances are
@@ -16,7 +17,6 @@ ngsolve nor netgen.
 Modules, lowest first (each imports only those above it):
 
 ``measures``  plane measures: diameter, area, distances (imports nothing of ngcrack)
-``fields``    SceneError and the coercions that name a bad field
 ``planar``    simple polylines, cracks inside the polygon and apart from each other
 ``types``     Material, BoundaryCondition, Crack and the allowed values
 ``holes``     Hole: polygons and circles inside the body
@@ -42,8 +42,8 @@ Geometric comparisons use the absolute tolerance ``GEOMETRY_RTOL * diameter`` wh
 ``diameter`` is the largest distance between two polygon vertices.
 """
 
-from .body import MAX_POLYGON_VERTICES, Scene
-from .fields import FrozenMap, SceneError
+from ...core.fields import FrozenMap, SceneError
+from .body import MAX_POLYGON_VERTICES, PlanarScene, Scene
 from .holes import CIRCLE_SEGMENTS, MAX_HOLES, Hole
 from .measures import Point, diameter, polygon_area
 from .points import MAX_POINTS, POINT_TYPES, PointCondition
@@ -86,6 +86,7 @@ __all__ = [
     "Part",
     "Point",
     "PointCondition",
+    "PlanarScene",
     "Scene",
     "SceneError",
     "diameter",

@@ -1,6 +1,6 @@
 """The Scene: one cracked 2D elastic body as plain, immutable, validated data.
 
-A :class:`Scene` holds the polygon and its edge labels, the cracks, the material, the
+A :class:`PlanarScene` holds the polygon and its edge labels, the cracks, the material, the
 loads, the supports and the optional mesh sizes. It is validated completely when it is
 built (``__post_init__``): the fields one by one (``fields``, ``types``), the polylines
 against each other (``planar``), then the supports against rigid motion (``topology``),
@@ -15,15 +15,14 @@ import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 if TYPE_CHECKING:
     import shapely
 
-from . import toml as _toml
-from .fields import (
+from ...core.fields import (
     FrozenMap,
     SceneError,
     check_keys,
@@ -35,6 +34,8 @@ from .fields import (
     short,
     unique,
 )
+from ...core.scene import Scene
+from . import toml as _toml
 from .holes import Hole, check_holes, check_not_on_holes, hole_ends
 from .measures import (
     Point,
@@ -70,7 +71,7 @@ from .types import (
     friction_coefficient,
 )
 
-__all__ = ["MAX_POLYGON_VERTICES", "Scene"]
+__all__ = ["MAX_POLYGON_VERTICES", "PlanarScene", "Scene"]
 
 
 #: The most vertices a polygon may have: validation is near-linear, netgen meshes a
@@ -174,7 +175,7 @@ def _with_on_every_crack(cracks, key: str, value) -> tuple:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Scene:
+class PlanarScene(Scene, dimension=2):
     """A cracked 2D elastic body: polygon, cracks, material, loads, supports, mesh sizes.
 
     Fields (all validated on construction; lists and tables are accepted and stored as
@@ -192,6 +193,8 @@ class Scene:
     ``[[point]]`` tables): their segments are inserted into ``polygon`` and ``labels``, a
     force is stored as a traction on its label in ``boundary`` (``points.py``).
     """
+
+    body_module: ClassVar[str] = "ngcrack.planar.stages"
 
     name: str
     polygon: tuple[tuple[float, float], ...]
@@ -458,13 +461,6 @@ class Scene:
         ``name``, if given, overrides ``d["name"]``; one of the two is required.
         """
         return _toml.scene_from_dict(cls, d, name)
-
-    @staticmethod
-    def solid_from_dict(d: Mapping[str, Any], name: str | None = None):
-        """A 3D scene (its ``[domain]`` is a box or a cylinder): ngcrack.solid.scene.SolidScene."""
-        from ...solid.scene import SolidScene
-
-        return SolidScene.from_dict(d, name)
 
     @classmethod
     def from_toml_string(cls, text: str, name: str | None = None,

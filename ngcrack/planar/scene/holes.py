@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from .fields import SceneError, check_keys, fmt, fmt_pt, pair, points, positive, short
+from ...core.fields import SceneError, check_keys, fmt, fmt_pt, pair, points, positive, short
 from .measures import Point, diameter, point_segment_distance, signed_area
 from .planar import MIN_GAP_RTOL, Walls, check_polyline_simple, pairs_within
 from .types import MAX_SCALE, MIN_SIZE_RTOL, RESERVED_LABEL_PREFIX

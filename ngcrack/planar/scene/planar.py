@@ -22,7 +22,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .fields import SceneError, fmt, fmt_pt
+from ...core.fields import SceneError, fmt, fmt_pt
 from .measures import Point, dist, in_region, point_segment_distance, point_segment_distances, segment_distances
 
 #: Narrowest gap of the body, relative to its diameter, that is accepted: two boundary

@@ -33,7 +33,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
-from .fields import SceneError, check_keys, fmt, fmt_pt, pair, positive, short
+from ...core.fields import SceneError, check_keys, fmt, fmt_pt, pair, positive, short
 from .measures import Point, dist, dot, point_segment_distance, sub
 from .planar import MIN_GAP_RTOL
 from .types import RESERVED_LABEL_PREFIX, BoundaryCondition

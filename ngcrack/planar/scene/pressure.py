@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .fields import SceneError, is_number, short
+from ...core.fields import SceneError, is_number, pressure_kind, short  # noqa: F401  (re-exported)
 
 __all__ = ["MAX_TABLE_POINTS", "Pressure", "check_pressure", "pressure_kind", "pressure_values",
            "pressure_to_toml"]
@@ -87,18 +87,6 @@ def check_pressure(v: Any, fld: str, length: float | None = None) -> Pressure:
     if rows[-1][0] == rows[0][0]:
         raise SceneError(f"{fld}: every row has s = {rows[0][0]:g}; give at least two distinct s")
     return tuple(rows)
-
-
-def pressure_kind(p: Pressure) -> Any:
-    """What the assembled load's form depends on: None, "uniform" (its value may change
-    without re-building the form), the table itself, or the callable's identity."""
-    if p is None:
-        return None
-    if isinstance(p, float):
-        return "uniform"
-    if isinstance(p, tuple):
-        return ("table", p)
-    return ("callable", id(p))
 
 
 def pressure_values(p: Pressure, s: Any) -> np.ndarray:

@@ -18,7 +18,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from .fields import SceneError, check_keys, short, table
+from ...core.fields import SceneError, check_keys, short, table
+from ...core.scene import Scene, dimension_of
 
 try:  # Python >= 3.11
     import tomllib
@@ -36,9 +37,8 @@ def scene_from_dict(cls, d: Mapping[str, Any], name: str | None = None):
     """A ``cls`` (the Scene type) from the TOML structure; ``name`` overrides ``d["name"]``."""
     if not isinstance(d, Mapping):
         raise SceneError(f"scene = {short(d)}: must be a table (the TOML document)")
-    dom = d.get("domain")
-    if isinstance(dom, Mapping) and any(k in dom for k in ("box", "cylinder", "step")):
-        return cls.solid_from_dict(d, name)  # a 3D body: its own scene type (ngcrack.solid.scene)
+    if dimension_of(d) == 3:  # a 3D body: its own kind (ngcrack.solid.scene)
+        return Scene.from_dict(d, name)
     check_keys(d, TOP_KEYS, "")
     if name is None:
         if "name" not in d:

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .fields import SceneError, fmt, fmt_pt, unique
+from ...core.fields import SceneError, fmt, fmt_pt, unique
 from .holes import hole_ends
 from .measures import (
     Point,

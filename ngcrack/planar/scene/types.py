@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .fields import (
+from ...core.fields import (
     FrozenMap,
     SceneError,
     check_keys,

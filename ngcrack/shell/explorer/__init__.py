@@ -10,7 +10,8 @@
 - `growth_view`: `explore_growth(result)`, a step slider over a crack-growth path.
 """
 
-from ...core.pipeline import ParameterLoads, geometry_key, load_structure
+from ...core.pipeline import ParameterLoads, load_structure
+from ...planar.stages import geometry_key
 from .figure import FIELDS, Drawing, draw, stress_values
 from .growth_view import explore_growth
 from .loads import scaled_loads

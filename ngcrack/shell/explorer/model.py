@@ -43,6 +43,7 @@ from ...core.constraints import CLOSED_RTOL, faces_closed
 from ...core.errors import InputError
 from ...core.options import CRACK_MODELS, SolveOptions
 from ...core.pipeline import Pipeline
+from ...core.scene import planar_only
 from ...planar.elements import ELEMENTS
 from ...planar.scene import Scene
 from ...scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
@@ -119,13 +120,15 @@ class Explorer:
             self.function = scene
         elif isinstance(scene, str) and scene in SCENE_FUNCTIONS:
             self.function = scene_function(scene)
-        elif isinstance(scene, str) and scene in _scene_names() and getattr(_load_scene(scene), "dimension", 2) == 2:
+        elif isinstance(scene, str) and scene in _scene_names():
             self.base = _load_scene(scene)
         elif isinstance(scene, Scene):
             self.base = scene
         else:
             raise InputError(f"scene = {scene!r}: a Scene, or one of the scene functions "
                               f"({', '.join(SCENE_FUNCTIONS)}) or built-in scenes ({', '.join(_scene_names())})")
+        if self.base is not None:
+            planar_only(self.base, "the explorer")
         #: the scene's name as given (a scene function's or built-in scene's name), for titles
         self.name = scene.name if isinstance(scene, (Scene, SceneFunction)) else scene
         self.solve_options = dict(solve_options or {})

@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from ...core.errors import InputError
+from ...core.scene import planar_only
 from .criteria import check_criterion, check_r_c
 from .fatigue import check_paris
 from .holes import check_at_hole
@@ -34,8 +35,7 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     from ngcrack.planar.tips import tip_labels
 
     check_criterion(criterion)
-    if getattr(scene, "dimension", 2) == 3:
-        raise InputError(f"scene {scene.name!r} is 3D: crack growth takes 2D scenes (3D growth is a later step)")
+    planar_only(scene, "crack growth")
 
     def number(v):
         return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
@@ -88,7 +88,15 @@ def check_growth_solve_options(scene, solve_options) -> None:
                              f"(scene.with_(friction=0)) or use crack_model 'contact'")
 
 
-def check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c, paris, R, at_hole, solve_options):
+def check_flag(value, name: str, what: str) -> bool:
+    """A switch of grow: True or False (a string such as 'yes' is refused, not read as true)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} = {value!r}: must be True or False ({what})")
+    return bool(value)
+
+
+def check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c, paris, R, at_hole, solve_options,
+                    estimate=False, frames=True):
     """grow's input checks, in order, before any work: (the scene, r_c, the Paris law or None, the hole crack)."""
     from ngcrack.core.solve import as_scene
     from ngcrack.planar.scene import Scene
@@ -104,6 +112,8 @@ def check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c, 
     r_c = check_r_c(r_c, criterion)
     fatigue = check_paris(paris, R)
     hole_crack = check_at_hole(at_hole, scene)
-    if not (isinstance(together, (int, float)) and 0 <= together < 1):
+    if isinstance(together, bool) or not (isinstance(together, (int, float)) and 0 <= together < 1):
         raise InputError(f"together = {together!r}: must be a number in [0, 1)")
+    check_flag(estimate, "estimate", "compute every step's error estimate")
+    check_flag(frames, "frames", "keep every step's deformed body for the animation")
     return scene, r_c, fatigue, hole_crack

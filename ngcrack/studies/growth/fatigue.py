@@ -37,8 +37,12 @@ MIN_INCREMENT = 0.1
 
 
 def check_paris(paris, R) -> tuple[float, float, float] | None:
-    """(C, m, dK_th) from `paris` (None: no fatigue), refusing bad input by name."""
+    """(C, m, dK_th) from `paris` (None: no fatigue), refusing bad input by name; R (the cycle's load ratio) only
+    with paris."""
     if paris is None:
+        if isinstance(R, bool) or not isinstance(R, (int, float, np.integer, np.floating)) or R != 0:
+            raise InputError(f"R = {R!r}: the load ratio of a fatigue cycle acts only with paris = (C, m); give paris "
+                             f"too, or remove R")
         return None
 
     def number(v):

@@ -47,6 +47,9 @@ def check_at_hole(at_hole, scene) -> float | None:
     if not ok or not 0 < at_hole <= 0.25 * scene.diameter:
         raise InputError(f"at_hole = {at_hole!r}: must be \"stop\" (a tip that reaches a hole stops there) or the "
                          f"length of the new crack that leaves the hole, a number in (0, {0.25 * scene.diameter:.4g}]")
+    if not scene.holes:
+        raise InputError(f"at_hole = {at_hole!r}: scene {scene.name!r} has no hole, so no tip can reach one; remove "
+                         f"at_hole (--at-hole)")
     return float(at_hole)
 
 

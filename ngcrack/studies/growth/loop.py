@@ -36,8 +36,9 @@ K_II = 0 at any angle, which says nothing of the direction). A trial whose new t
 closed (faces touching at the tip, or K_I <= 0) is not kept: the tip is tried again at half
 the kink, towards straight ahead; a tip still closed after MAX_TRIALS solves, or closed
 straight ahead, stops (`frozen`, with the reason) and the others grow on. When no tip is
-left to grow the run stops, naming why. A tip whose K_eq is below DRIVE_NOISE_RTOL of the
-run's largest has no driving force (the noise of a closed, stuck crack) and does not grow.
+left to grow the run stops, naming why. A tip whose K_eq is at the noise level of the
+computed K, measured on the load's scale at its crack (drive.py), or below DRIVE_NOISE_RTOL of
+the run's largest, has no driving force: it neither grows nor kinks.
 
 Why PLS is the default (measured on the wings of a 45-degree crack with mu = 0.3 under
 compression, da = a/10, bdm): the K_II at the tip of a new segment responds to its kink
@@ -76,10 +77,11 @@ from .criteria import (
     pls_predictor,
     secant_angle,
 )
+from .drive import noise_reasons
 from .fatigue import Cycles
 from .holes import HOLE_REASON, leave_holes
 from .paths import body_region, cut_through, extend_tip, extended_cracks, pieces, tip_direction
-from .solves import COST_PARTS, Solver, solve_step
+from .solves import COST_PARTS, Solver, on_rank_zero, solve_step
 
 #: tips whose load factor lies within this fraction of the smallest grow together
 GROW_TOGETHER_RTOL = 0.02
@@ -166,13 +168,17 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     `steps` steps, when no tip is left inside the body, or when none can grow.
     estimate: also compute every step's error estimate (the table's `error_estimate` column,
     empty otherwise; it costs about 5% of a step).
+    Under `mpiexec -n N` (N > 1) growth is not distributed: rank 0 grows and returns the result, the other
+    ranks return None after the same input checks (as `nc.solve` returns None there).
     """
     from .result import GrowthResult
 
     scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
-                                                    paris, R, at_hole, solve_options)
+                                                    paris, R, at_hole, solve_options, estimate, frames)
     da, steps = float(da), int(steps)
     options = Solver.of(scene, solve_options)
+    if not on_rank_zero():  # not distributed: under mpiexec rank 0 grows, the others return None at once
+        return None
     result = GrowthResult(scene=scene, element=options.options.element, criterion=criterion, da=da,
                           K_Ic=None if K_Ic is None else float(K_Ic), r_c=r_c, estimates=bool(estimate))
     t0 = time.perf_counter()
@@ -240,6 +246,8 @@ class _Run:
     K_ref: float | None = None
     #: the largest K_eq of the run so far: a K_eq below DRIVE_NOISE_RTOL of it is no drive
     K_top: float = 0.0
+    #: tip -> why the current step's load does not drive it (drive.py: its K_eq is noise)
+    undriven: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -263,12 +271,16 @@ class _Step:
 def _fracture_parameters(run: _Run) -> list[dict]:
     """The tips' values at the current solve, with each tip's load factor `lambda` (inf: no drive)."""
     values = tip_values(run.sol, run.criterion, run.r_c)
-    run.K_top = max([run.K_top] + [v["K_eq"] for v in values])
+    run.undriven = noise_reasons(run.sol, run.scene, values)
+    for v in values:
+        if v["label"] in run.undriven:  # noise: no kink either
+            v["theta"], v["K_II_kink"] = 0.0, 0.0
+    drive = [v["K_eq"] for v in values if v["K_eq"] > 0 and v["label"] not in run.undriven]
+    run.K_top = max([run.K_top] + drive)
     if run.K_ref is None:
-        drive = [v["K_eq"] for v in values if v["K_eq"] > 0]
         run.K_ref = max(drive) if drive else None
     for v in values:
-        driven = run.K_ref is not None and v["K_eq"] > DRIVE_NOISE_RTOL * run.K_top
+        driven = run.K_ref is not None and v["label"] not in run.undriven and v["K_eq"] > DRIVE_NOISE_RTOL * run.K_top
         v["lambda"] = load_factor(run.K_ref, v["K_eq"]) if driven else math.inf
     return values
 
@@ -387,7 +399,7 @@ def _next_step(run: _Run, values: list[dict], step: _Step) -> str | None:
     """Move the run on to the grown scene and its solve; the reason the run stops if no tip grew or
     none is left inside the body, else None."""
     if not step.grew:
-        reasons = "; ".join(run.frozen.values())
+        reasons = "; ".join([*run.frozen.values(), *(why for lab, why in run.undriven.items() if lab not in run.frozen)])
         return ("no tip can grow: " + reasons) if reasons else "no tip can grow: no tip has K_eq > 0"
     # a tip's previous kink predicts its next one (PLS) only once it grows from a grown segment
     run.grown_once.update({v["label"]: v["kink"] if v["label"] in run.grown_once else None

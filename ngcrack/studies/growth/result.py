@@ -119,6 +119,21 @@ class GrowthResult:
             self.final_cracks = [np.asarray(c, dtype=float) for c in cracks]
 
     # ------------------------------------------------------------------ views
+    def __repr__(self) -> str:
+        """A few lines: scene, criterion, da, the steps, the stop reason, the final tips (printing a result never
+        dumps its arrays: `summary()` gives the table, `table` the DataFrame)."""
+        lam = [s["load_factor"] for s in self.steps if s["load_factor"] is not None]
+        K_Ic = "relative load factors" if self.K_Ic is None else f"K_Ic {self.K_Ic:g}"
+        lines = [f"GrowthResult(scene={self.scene.name!r}, element={self.element!r}, criterion={self.criterion!r}, "
+                 f"da={self.da:g}, {K_Ic})",
+                 f"  {len(self.steps)} steps, {len(self.rows)} tip rows"
+                 + (f"; load factor {lam[0]:.4g} at step 0, {lam[-1]:.4g} at the last" if lam else "; no load factor"),
+                 f"  stopped: {self.stopped or '(running)'}"]
+        if self.steps:
+            tips = ", ".join(f"{t['crack']},{t['end']} at ({t['x']:.4g}, {t['y']:.4g})" for t in self.steps[-1]["tips"])
+            lines.append(f"  tips of the last step: {tips or 'none'}")
+        return "\n".join(lines)
+
     @property
     def table(self):
         import pandas as pd

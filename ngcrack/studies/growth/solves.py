@@ -75,3 +75,11 @@ def solve_step(scene, previous, solver: Solver):
     for part, keys in COST_PARTS.items():
         solver.spent[part] += sum(float(sol.timings.get(k, 0.0)) for k in keys)
     return sol
+
+
+def on_rank_zero() -> bool:
+    """Whether this process runs a growth: rank 0 under mpiexec, or no mpiexec. The growth's solves are serial (one
+    Pipeline), so growth is not distributed; read from the environment, no MPI started."""
+    from ngcrack.distributed import world_rank
+
+    return world_rank() == 0

@@ -38,6 +38,7 @@ import shapely
 from ...core.errors import InputError
 from ...core.options import SolveOptions
 from ...core.pipeline import Pipeline, SolveError
+from ...core.scene import planar_only
 from ...planar.scene import SceneError
 from ..growth.criteria import effective_K_I, mts_angle, mts_keq
 from ..growth.loop import KINK_NOISE_RTOL, MAX_DA_FRACTION, MAX_STEPS, tip_values
@@ -227,6 +228,7 @@ def hydrofrac(scene, rate: float, K_Ic: float, da: float, steps: int, *, crack: 
     from .result import HydrofracResult
 
     scene = as_scene(scene)
+    planar_only(scene, "hydraulic fracture")
     check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options)
     options = SolveOptions.of(**solve_options)
     options.check_for(scene)

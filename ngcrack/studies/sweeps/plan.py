@@ -35,8 +35,8 @@ def check_sweep(scene, elements=(DEFAULT_ELEMENT,), maxh=(0.2, 0.1, 0.05), nu=No
 
     if isinstance(scene, (str, Path)):
         scene = resolve(scene)
-    if getattr(scene, "dimension", 2) == 3:
-        raise InputError(f"scene {scene.name!r} is 3D: sweeps take 2D scenes (solve a 3D scene with nc.solve)")
+    if scene.dimension == 3:
+        raise InputError(f"scene {scene.name!r} is 3D: its sweep varies front_h (nc.sweep(scene, front_h=[...]))")
     crack_model = (solve_options or {}).get("crack_model")
     check_friction_applies(friction, crack_model)
     if friction is None:
@@ -73,8 +73,12 @@ def sweep(
     adapt: Iterable[float] | float | None = None,
     adapt_maxh: float | None = None,
     vtk=None,
+    front_h: Iterable[float] | float | None = None,
 ):
     """Run every (element, maxh, nu, friction) of `scene`; one row per run as a pandas DataFrame.
+
+    A 3D scene sweeps `front_h` instead of maxh (`ngcrack.studies.sweeps.fronts`: its rows hold K
+    along the fronts against the finest run's); the 2D-only arguments are refused for it by name.
 
     adapt: relative error tolerances in (0, 1) instead of mesh sizes: each run refines
     adaptively (solve(..., adapt=tol), from the mesh size adapt_maxh, default the
@@ -103,6 +107,14 @@ def sweep(
     """
     import pandas as pd
 
+    from ...scenes import resolve
+
+    scene = resolve(scene) if isinstance(scene, (str, Path)) else scene
+    if scene.dimension == 3 or front_h is not None:
+        return _sweep_3d(scene, elements, maxh, nu, front_h, friction=friction, out=out, progress=progress,
+                         solve_options=solve_options, jobs=jobs, dask=dask, max_dof=max_dof, adapt=adapt,
+                         adapt_maxh=adapt_maxh, reference_maxh=reference_maxh, reference_element=reference_element,
+                         vtk=vtk)
     grid = check_sweep(scene, elements, maxh, nu, friction=friction, reference_maxh=reference_maxh,
                        reference_element=reference_element, jobs=jobs, solve_options=solve_options,
                        max_dof=max_dof, adapt=adapt, adapt_maxh=adapt_maxh)
@@ -159,6 +171,26 @@ def sweep(
     if vtk is not None:
         _write_vtk_collection(grid, df)
     return df
+
+
+def _sweep_3d(scene, elements, maxh, nu, front_h, *, jobs, **given):
+    """A 3D scene's sweep (`fronts.sweep_fronts`), the 2D-only arguments refused by name before any run."""
+    from .fronts import PLANAR_SWEEP_ONLY, sweep_fronts
+
+    if scene.dimension != 3:
+        raise InputError(f"front_h: the size axis of 3D scenes; scene {scene.name!r} is 2D: sweep maxh (and tip_h in "
+                         "solve_options)")
+    if front_h is None:
+        raise InputError(f"front_h: scene {scene.name!r} is 3D: give the front mesh sizes to sweep, front_h=[...]")
+    if jobs != 1:
+        raise InputError(f"jobs = {jobs!r}: a 3D sweep runs in this process (jobs = 1)")
+    defaults = {"maxh": (0.2, 0.1, 0.05)}
+    for name, value in (("maxh", maxh), *((k, given[k]) for k in PLANAR_SWEEP_ONLY if k in given)):
+        if value is not None and value != defaults.get(name):
+            instead = f": use {PLANAR_SWEEP_ONLY[name]}" if PLANAR_SWEEP_ONLY[name] else ""
+            raise InputError(f"{name}: a sweep argument of 2D scenes; scene {scene.name!r} is 3D{instead}")
+    return sweep_fronts(scene, elements, front_h, nu, friction=given["friction"], out=given["out"],
+                        solve_options=given["solve_options"], progress=given["progress"])
 
 
 def _write_vtk_collection(grid: _Grid, df) -> None:

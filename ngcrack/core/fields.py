@@ -1,4 +1,4 @@
-"""Reading one field of a scene: numbers, points, tables, each refused by name.
+"""Reading one field of a scene (of either dimension): numbers, points, tables, each refused by name.
 
 Every check of the scene package reports a bad value the same way: a
 :class:`SceneError` (a ``ValueError``) whose one-line message starts with the field as
@@ -15,10 +15,12 @@ from typing import Any
 
 import numpy as np
 
-from ...core.errors import InputError
-from .measures import Point
+from .errors import InputError
 
-__all__ = ["FrozenMap", "SceneError"]
+#: a point of the plane
+Point = tuple[float, float]
+
+__all__ = ["FrozenMap", "SceneError", "pressure_kind"]
 
 
 class SceneError(InputError):
@@ -120,3 +122,16 @@ class FrozenMap(Mapping):
 
     def __repr__(self) -> str:
         return f"FrozenMap({self._d!r})"
+
+
+def pressure_kind(p: Any) -> Any:
+    """What an assembled load form depends on of a crack-face pressure (None, a number, a table
+    of (s, p) rows or a callable): None, "uniform" (its value may change without re-building
+    the form), the table itself, or the callable's identity."""
+    if p is None:
+        return None
+    if isinstance(p, float):
+        return "uniform"
+    if isinstance(p, tuple):
+        return ("table", p)
+    return ("callable", id(p))

@@ -1,0 +1,68 @@
+"""The world of a distributed solve: how many processes mpiexec started, which one this is, and MPI itself.
+
+Read from the environment without importing MPI (`world_size`, `world_rank`, `active`), so that a
+serial run pays nothing; `require_mpi` imports mpi4py and checks NGSolve's MPI build; `refuse`
+reports a request every rank finds alike once, on rank 0.
+"""
+
+from __future__ import annotations
+
+import os
+
+from ..core.errors import InputError
+
+#: environment variables through which mpiexec (MPICH/hydra, Open MPI, Slurm's PMI) tells a
+#: process the size of its world, read without importing MPI
+SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MPI_LOCALNRANKS", "PMIX_SIZE")
+#: and its rank
+RANK_VARIABLES = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "MPI_LOCALRANKID", "PMIX_RANK")
+
+
+class MPIUnavailable(InputError):
+    """mpiexec started the process, but mpi4py or an MPI-enabled NGSolve is missing."""
+
+
+def world_size() -> int:
+    """The number of processes mpiexec started (1 outside mpiexec), from the environment."""
+    for name in SIZE_VARIABLES:
+        value = os.environ.get(name)
+        if value and value.isdigit():
+            return int(value)
+    return 1
+
+
+def world_rank() -> int:
+    """This process's rank under mpiexec (0 outside mpiexec), from the environment."""
+    for name in RANK_VARIABLES:
+        value = os.environ.get(name)
+        if value and value.isdigit():
+            return int(value)
+    return 0
+
+
+def refuse(message: str) -> None:
+    """Refuse a request that every rank finds alike with one line: InputError on rank 0, a quiet exit with the
+    same status (2) on the others."""
+    if world_rank() == 0:
+        raise InputError(message)
+    raise SystemExit(2)
+
+
+def require_mpi():
+    """mpi4py's COMM_WORLD, or MPIUnavailable with one line naming the `[mpi]` extra."""
+    try:
+        from mpi4py import MPI
+    except ImportError as exc:
+        raise MPIUnavailable("distributed solve: mpi4py is not installed; pip install 'ngcrack[mpi]' "
+                             "(mpi4py and mpich) to run under mpiexec") from exc
+    import netgen.config
+
+    if not getattr(netgen.config, "USE_MPI", False):
+        raise MPIUnavailable("distributed solve: this NGSolve was built without MPI (netgen.config.USE_MPI is "
+                             "False); pip install 'ngcrack[mpi]' next to the ngsolve wheel")
+    return MPI.COMM_WORLD
+
+
+def active() -> bool:
+    """Whether a solve should run distributed: more than one process under mpiexec."""
+    return world_size() > 1
