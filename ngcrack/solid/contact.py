@@ -1,4 +1,4 @@
-"""Unilateral contact on a sparse system: a primal-dual active set, no dense Schur complement.
+"""Unilateral contact on a sparse system: a primal-dual active set on the crack unknowns' Schur complement.
 
 The problem (any dimension: the solver sees a sparse matrix, a load and the indices of
 the constrained unknowns, nothing of a mesh):
