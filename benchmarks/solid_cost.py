@@ -21,7 +21,9 @@ squares of log |error| on log front_h over the sizes run).
 of BENCHMARKS section 20 each: "none" (the mesh of netgen's grading alone, the bump of
 3 front_h, one sparse factorization per active set), "contact" (the active set on the
 Schur complement), "mesh" (that and the body's size near the crack, geometry.NEAR_*),
-"all" (that and the bump of the front's reach, front.BUMP_REACH: the defaults).
+"all" (that and the front integral over the front's reach: the bump along the front at
+least 1.6 of it, front.BUMP_REACH, and the tube at 0.8 of it whatever front_h,
+front.CLOSED_TUBE_REACH: the defaults).
 
     python benchmarks/solid_cost.py                                  # front_h = 0.3, 0.2, 0.15; all levers
     python benchmarks/solid_cost.py --front-h 0.2 --levers none contact mesh all
@@ -63,7 +65,7 @@ def run_level(front_h: float, order: int, levers: str, load: float, estimate: bo
     if levers in ("none", "contact"):
         geometry.NEAR_RADIUS = 0.0
     if levers != "all":
-        front_module.BUMP_REACH = 0.0
+        front_module.BUMP_REACH = front_module.CLOSED_TUBE_REACH = 0.0
     factorize = [0.0]
     original = schur.schur_complement
 
