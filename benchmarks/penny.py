@@ -7,8 +7,9 @@ level runs in its own process so that its peak memory is its own. Per level:
 
 - unknowns: total, condensed (global), crack (contact) unknowns;
 - CPU seconds and peak resident memory after each stage: mesh, assemble (element
-  forms, condensed), condense (the sparse system), contact (the sparse active set: one
-  factorization per active set), fronts (the interaction integral);
+  forms, condensed), condense (the sparse system), contact (`solid.contact.solve_contact`'s
+  default: one sparse factorization and the active set on the crack's Schur complement; the
+  split into the two: benchmarks/solid_cost.py), fronts (the interaction integral);
 - the same penny with the load reversed: the contact stage closes every face (2 active
   sets), and its share of the solve's CPU;
 - accuracy: the centre opening and K_I at every front point against Sneddon's closed

@@ -88,13 +88,13 @@ def no_mesh(monkeypatch):
 
 #: (keywords of check_size on the built-in penny, the start of the one-line refusal, a fragment of it)
 REFUSED = [
-    (dict(front_h=0.005), "front_h = 0.005: scene 'penny', element 'tdnns' would need about 2.34e+05 tetrahedra, "
-     "1.15e+07 unknowns", "exceeds the default ceiling of 5000000 unknowns; use a larger front_h"),
-    (dict(max_dof=1000), "front_h = 0.15: scene 'penny'", "exceeds max_dof of 1000 unknowns"),
+    (dict(front_h=0.005), "front_h = 0.005: scene 'penny', element 'tdnns' would need about 2.33e+05 tetrahedra, "
+     "1.14e+07 unknowns", "exceeds the default ceiling of 5000000 unknowns; use a larger front_h"),
+    (dict(max_dof=1000), "front_h = 0.2: scene 'penny'", "exceeds max_dof of 1000 unknowns"),
     (dict(crack_h=0.001, front_h=0.001), "crack_h = 0.001: scene 'penny'", "use a larger crack_h"),
     (dict(maxh=0.05), "maxh = 0.05: scene 'penny'", "use a larger maxh"),
     (dict(grading=5), "grading = 5: must lie in (0, 1]", "netgen gives up"),
-    (dict(grading=1e-4), "front_h = 0.15", "tetrahedra"),
+    (dict(grading=1e-4), "front_h = 0.2", "tetrahedra"),
     (dict(maxh=1e-300), "maxh = 1e-300: below the smallest mesh size", "give maxh >= 3.46e-05"),
     (dict(front_h=float("nan")), "front_h = nan: must be a finite number > 0", ""),
     (dict(front_h=True), "front_h = True: must be a finite number > 0", ""),
@@ -113,8 +113,8 @@ def test_refused_in_one_line_before_meshing(no_mesh, kw, start, fragment):
 def test_accepted_and_the_memory_limit(no_mesh, monkeypatch):
     penny = nc.scenes.load("penny")
     est = sizing.check_size(penny, max_dof=10 ** 8, front_h=0.005)  # an explicit ceiling: the caller takes it on
-    assert est.culprit == "front_h" and est.unknowns == pytest.approx(1.15e7, rel=0.01)
+    assert est.culprit == "front_h" and est.unknowns == pytest.approx(1.14e7, rel=0.01)
     monkeypatch.setattr(sizing, "available_memory", lambda: 2e9)
     monkeypatch.setattr(sizing, "memory_limits", lambda: {"machine": 2e9})
-    with pytest.raises(InputError, match=r"^front_h = 0.15: .* 2.96 GB of memory; this machine has 2 GB available"):
-        sizing.check_size(penny)  # the built-in penny: 9.0e3 tetrahedra (netgen 9,321), 4.4e5 unknowns
+    with pytest.raises(InputError, match=r"^front_h = 0.2: .* 2.25 GB of memory; this machine has 2 GB available"):
+        sizing.check_size(penny)  # the built-in penny: 6.5e3 tetrahedra (netgen 8,553), 3.2e5 unknowns

@@ -1,4 +1,4 @@
-"""Unilateral contact on a sparse system: a primal-dual active set, no dense Schur complement.
+"""Unilateral contact on a sparse system: a primal-dual active set on the crack unknowns' Schur complement.
 
 The problem (any dimension: the solver sees a sparse matrix, a load and the indices of
 the constrained unknowns, nothing of a mesh):
@@ -13,11 +13,20 @@ constraints are bounds, x_c >= 0, and the KKT conditions read
     (K_w x - F_w)_c = lam >= 0,  x_c >= 0,  lam x_c = 0,  (K_w x - F_w)_r = 0,
 
 K_w = T^T K T, F_w = T^T F. The primal-dual active set method (Hintermueller, Ito and
-Kunisch: a semismooth Newton method) guesses the closed points A, solves K_w on the
-other unknowns with x_A = 0 (one sparse factorization per active set), reads lam from
-the residual and updates A = {i : lam_i - c_i x_i > 0} (c_i the diagonal of K_w) until A
-repeats. Nothing of size m^2 (m the constrained unknowns) is ever formed: time and
-memory are those of the sparse factorizations.
+Kunisch: a semismooth Newton method) guesses the closed points A, solves with x_A = 0,
+reads lam from the residual and updates A = {i : lam_i - c_i x_i > 0} (c the diagonal of
+the matrix) until A repeats. Two ways (`method`):
+
+- "schur" (the default while m <= SCHUR_MAX_M): one sparse factorization of K_w with the
+  crack unknowns last, which leaves the dense Schur complement S = K_cc - K_cr K_rr^-1 K_rc
+  on them (MKL PARDISO's Schur option, `ngcrack.schur.schur_complement`, as the 2D contact
+  stage does); the active set then iterates on S alone (one dense Cholesky factorization
+  of S's free block per active set: m^3/3 flops, milliseconds at m = 1e3), and the rest
+  is recovered with one solve. An active-set change costs a small dense solve, not a
+  refactorization; the sparse factorization is the one any linear solve of the body needs
+  (timed apart as "factorize").
+- "sparse": one sparse factorization of K_w's free unknowns per active set, nothing of
+  size m^2 formed (for m above SCHUR_MAX_M, where S would not fit).
 
 The answer is certified as in 2D (ngcrack.core.constraints): the contact forces are taken
 from the residual of K y = F at the constrained rows (`discrete_contact_forces`), not
@@ -27,6 +36,7 @@ complementarity) are relative to the largest jump and force.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -39,6 +49,13 @@ from ..core.schur import Factorization
 
 #: at most this many active-set steps
 MAX_ITERATIONS = 60
+#: method "auto" forms the dense Schur complement on the crack unknowns up to this many of them
+#: (its m^2 doubles: 288 MB at 6000)
+SCHUR_MAX_M = 6000
+#: the contact solve's methods (module docstring)
+METHODS = ("auto", "schur", "sparse")
+#: iterative refinement steps of the "schur" method's solves (at most)
+REFINEMENTS = 4
 
 
 @dataclass
@@ -53,6 +70,7 @@ class ContactResult:
     kkt: dict
     timings: dict = field(default_factory=dict)
     factorizations: int = 0
+    method: str = "sparse"  # "schur" or "sparse" (module docstring)
 
 
 def _transform(K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, G) -> tuple[sp.csr_matrix, np.ndarray, sp.csr_matrix]:
@@ -91,20 +109,136 @@ def _refined(fac: Factorization, K: sp.csr_matrix, b: np.ndarray, steps: int = 3
     return x
 
 
+def _initial(active, m: int) -> np.ndarray:
+    A = np.zeros(m, dtype=bool) if active is None else np.asarray(active, dtype=bool).copy()
+    if A.shape != (m,):
+        raise ValueError(f"active: a boolean array of {m} entries (one per constraint point) was expected")
+    return A
+
+
+def _inverse(G, m: int) -> sp.csr_matrix:
+    """G^-1 as a scipy CSR matrix (the identity for G None)."""
+    if G is None:
+        return sp.identity(m, format="csr")
+    from ..core.constraints import _inverse_map
+
+    Ginv = _inverse_map(G, m)
+    return sp.csr_matrix(to_scipy(Ginv)) if Ginv is not None else sp.identity(m, format="csr")
+
+
+class _BlockSolver:
+    """Solves with the constrained system in the variables x (x_c = w = G y_c, the rest y_r), the
+    crack's closed values held at zero, through the partial factorization of K_rr and the dense
+    Schur complement in w, S_w = G^-T S G^-1 (the "schur" method). K itself is not transformed:
+    only its crack rows K_cr and the small G^-1 are (no copy of the body's matrix is made)."""
+
+    def __init__(self, K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, rest: np.ndarray, data, Ginv):
+        self.K, self.F, self.contact, self.rest, self.data, self.Ginv = K, F, contact, rest, data, Ginv
+        self.K_cr = K[contact][:, rest].tocsr()
+        self.K_rc = self.K_cr.T.tocsr()
+        GS = np.asarray((Ginv.T @ data.S).T)  # S G^-1 (S symmetric)
+        self.S = np.asarray(Ginv.T @ GS)
+        self.S = 0.5 * (self.S + self.S.T)
+
+    def solve(self, r_r: np.ndarray, r_c: np.ndarray, free: np.ndarray, chol) -> tuple[np.ndarray, np.ndarray]:
+        """(d_r, d_c) with the free rows of the constrained system solved for the residual (r_r, r_c)."""
+        import scipy.linalg as la
+
+        fac = self.data.factorization
+        z = fac.solve(r_r)
+        d_c = np.zeros(len(self.contact))
+        if free.any():
+            d_c[free] = la.cho_solve(chol, (r_c - self.Ginv.T @ (self.K_cr @ z))[free])
+            z = z - fac.solve(self.K_rc @ (self.Ginv @ d_c))
+        return z, d_c
+
+    def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """F - K y at the rest's rows and, in w's rows, G^-T (F - K y)_c."""
+        r = self.F - self.K @ y
+        return r[self.rest], np.asarray(self.Ginv.T @ r[self.contact])
+
+    def refined(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(y, w) with the closed values w_A = 0 solving the other rows, refined (up to REFINEMENTS
+        steps while the residual halves): the dense S of a stiff body (nu near 1/2) carries the
+        partial factorization's rounding, and the certificate reads the forces from the residual
+        (as `_refined` for the sparse method)."""
+        import scipy.linalg as la
+
+        free = ~A
+        chol = la.cho_factor(self.S[np.ix_(free, free)]) if free.any() else None
+        n, m = len(self.F), len(self.contact)
+        y, w = np.zeros(n), np.zeros(m)
+        r_r, r_c = self.F[self.rest].copy(), np.asarray(self.Ginv.T @ self.F[self.contact])
+        norm = np.inf
+        for _ in range(REFINEMENTS + 1):
+            d_r, d_c = self.solve(r_r, r_c, free, chol)
+            y_new, w_new = y.copy(), w + d_c
+            y_new[self.rest] += d_r
+            y_new[self.contact] = self.Ginv @ w_new
+            nr_r, nr_c = self.residual(y_new)
+            norm_new = math.hypot(np.linalg.norm(nr_r), np.linalg.norm(nr_c[free]))
+            if not norm_new < 0.5 * norm:
+                break
+            y, w, r_r, r_c, norm = y_new, w_new, nr_r, nr_c, norm_new
+            if norm == 0.0:
+                break
+        return y, w
+
+
+def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t0: float) -> ContactResult:
+    """The "schur" method (module docstring): one partial factorization, the active set on S."""
+    from ..core.schur import schur_complement
+
+    n = K.shape[0]
+    rest = np.setdiff1d(np.arange(n), contact)
+    t1 = time.perf_counter()
+    data = schur_complement(K, F, rest, contact, linear_solver=linear_solver)
+    t2 = time.perf_counter()
+    block = _BlockSolver(K, F, contact, rest, data, _inverse(G, len(contact)))
+    c = np.diag(block.S).copy()
+    if np.any(c <= 0):
+        raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
+    seen = set()
+    for it in range(1, max_iterations + 1):
+        y, w = block.refined(A)
+        lam = -block.residual(y)[1]
+        new = lam - c * w > 0
+        if np.array_equal(new, A):
+            break
+        key = new.tobytes()
+        if key in seen:
+            raise ContactSolverError(f"the active-set method cycles after {it} steps")
+        seen.add(key)
+        A = new
+    else:
+        raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
+    t3 = time.perf_counter()
+    lam, bound = discrete_contact_forces(K, F, y, contact, G)
+    kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if len(w) else 0.0, jump_scale=float(np.max(np.abs(y))),
+                             force_scale=float(np.max(np.abs(F))), lam_bound=bound)
+    t4 = time.perf_counter()
+    timings = {"setup": t1 - t0, "factorize": t2 - t1, "factorizations": t2 - t1, "active_set": t3 - t2,
+               "certificate": t4 - t3, "total": t4 - t0}
+    return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=1, method="schur")
+
+
 def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *, linear_solver: str = "auto",
-                  active=None, max_iterations: int = MAX_ITERATIONS) -> ContactResult:
-    """Solve the constrained problem (module docstring); `active`: an initial guess of the closed points."""
+                  active=None, max_iterations: int = MAX_ITERATIONS, method: str = "auto") -> ContactResult:
+    """Solve the constrained problem (module docstring); `active`: an initial guess of the closed points;
+    `method`: "schur", "sparse" or "auto" (schur up to SCHUR_MAX_M constrained unknowns)."""
+    if method not in METHODS:
+        raise ValueError(f"method = {method!r}: allowed values are {', '.join(METHODS)}")
     t0 = time.perf_counter()
     K = sp.csr_matrix(K)
     contact = np.asarray(contact, dtype=int)
     n, m = K.shape[0], len(contact)
+    A = _initial(active, m)
+    if method == "schur" or (method == "auto" and 0 < m <= SCHUR_MAX_M):
+        return _solve_schur(K, F, contact, G, A, linear_solver, max_iterations, t0)
     Kw, Fw, T = _transform(K, F, contact, G)
     diag = Kw.diagonal()[contact]
     if np.any(diag <= 0):
         raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
-    A = np.zeros(m, dtype=bool) if active is None else np.asarray(active, dtype=bool).copy()
-    if A.shape != (m,):
-        raise ValueError(f"active: a boolean array of {m} entries (one per constraint point) was expected")
     t_setup = time.perf_counter() - t0
     t_fact = 0.0
     x = np.zeros(n)
@@ -135,4 +269,4 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
     kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if m else 0.0, jump_scale=float(np.max(np.abs(y))),
                              force_scale=float(np.max(np.abs(F))), lam_bound=bound)
     timings = {"setup": t_setup, "factorizations": t_fact, "total": time.perf_counter() - t0}
-    return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=it)
+    return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=it, method="sparse")

@@ -34,6 +34,13 @@ The step's answer updates the sets: stick where |xi| <= g, slip elsewhere; close
 lam_n - c_n w > 0. It ends when the sets repeat and the slip law, the bound
 g = mu omega lam_f and the equations hold to round-off.
 
+Reduced to the crack (`method` "schur", the default while the crack's normal and tangential
+unknowns number at most contact.SCHUR_MAX_M): one sparse factorization of K with those
+unknowns last leaves their dense Schur complement S (MKL PARDISO's Schur option), the same
+Newton method runs on S (each step a factorization of the small reduced matrix, not of the
+body's), and the rest is recovered with one solve. The certificate is then computed on the
+whole system. "sparse": every step factorizes the whole system.
+
 The certificate is computed afterwards from the system itself: the normal forces from
 the residual at the constraints (`constraints.discrete_contact_forces`), the friction
 forces at the slipping points set to g s/|s| exactly (on the cone's edge), and the
@@ -52,7 +59,7 @@ import scipy.sparse as sp
 
 from ..core.constraints import KKT_ZERO_RTOL, ContactSolverError, discrete_contact_forces, kkt_at_constraints
 from ..core.schur import Factorization
-from .contact import MAX_ITERATIONS, _transform
+from .contact import MAX_ITERATIONS, SCHUR_MAX_M, _transform
 
 #: the slip law must hold to this fraction of the largest normal force at the end
 NEWTON_RTOL = 1e-13
@@ -65,6 +72,9 @@ STICK_REGULARIZATION = 1e-8
 STICK_RCOND = 1e-10
 #: the most solves of the iterated regularisation per Newton step
 MAX_REFINEMENTS = 30
+#: the reduced ("schur") method corrects its load by the whole system's residual at most this many
+#: times, until that residual at the crack's rows matches the reduced one to DEFECT_RTOL of the load
+DEFECT_CORRECTIONS, DEFECT_RTOL = 3, 1e-15
 #: c in xi = lam_t + c s, relative to the slip's stiffness scale (K's diagonal over B's rows)
 COMPLEMENTARITY_SCALE = 1.0
 
@@ -126,8 +136,16 @@ def coulomb_residuals(lam_n, w, slip, lam_t, bound, stationarity: float, jump_sc
 
 
 def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points: FrictionPoints, *,
-                   linear_solver: str = "auto", max_iterations: int = MAX_ITERATIONS) -> FrictionResult:
-    """Solve the frictional contact problem of the module docstring by the sparse semismooth Newton method."""
+                   linear_solver: str = "auto", max_iterations: int = MAX_ITERATIONS, method: str = "auto",
+                   _reduced: dict | None = None) -> FrictionResult:
+    """Solve the frictional contact problem of the module docstring by the semismooth Newton method,
+    on the Schur complement of the crack's unknowns (`method` "schur"; "auto": while they number at
+    most SCHUR_MAX_M) or on the whole sparse system ("sparse")."""
+    if method not in ("auto", "schur", "sparse"):
+        raise ValueError(f"method = {method!r}: allowed values are auto, schur, sparse")
+    crack = np.union1d(np.asarray(contact, dtype=int), np.unique(sp.csr_matrix(points.B).indices))
+    if method == "schur" or (method == "auto" and len(crack) <= SCHUR_MAX_M):
+        return _solve_reduced(K, F, np.asarray(contact, dtype=int), G, points, crack, linear_solver, max_iterations)
     t0 = time.perf_counter()
     K = sp.csr_matrix(K)
     contact = np.asarray(contact, dtype=int)
@@ -138,11 +156,10 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
     diag = Kw.diagonal()[contact]
     if np.any(diag <= 0):
         raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
-    # c: the slip's stiffness scale (force per unit slip), from K's diagonal on the slip's unknowns
-    cols = np.unique(B.indices)
-    row_sq = np.asarray(B.multiply(B).sum(axis=1)).ravel()
-    c = float(np.median(Kw.diagonal()[cols]) / max(np.median(row_sq[row_sq > 0]), 1e-300)) if len(cols) else 1.0
-    c *= COMPLEMENTARITY_SCALE
+    if _reduced is not None:  # the whole system's scale (S's diagonal is smaller than K's)
+        c = _reduced["c"]
+    else:
+        c = slip_stiffness(Kw, B)
     A = np.zeros(m, dtype=bool)
     stick = np.zeros(nq, dtype=bool)
     lam_t = np.zeros((nq, 2))
@@ -195,7 +212,7 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
             # regularisation: the same factorization, the exact constrained x in the limit)
             delta = STICK_REGULARIZATION / c
             M = sp.bmat([[Kf, BS.T], [BS, -delta * sp.identity(ns)]], format="csr") if ns else sp.csr_matrix(Kf)
-            fac = Factorization(M, linear_solver, definite=False)
+            fac = _DenseLU(M) if _reduced is not None else Factorization(M, linear_solver, definite=False)
             mult = np.zeros(ns)
             for _ in range(MAX_REFINEMENTS):
                 sol = fac.solve(np.concatenate([rhs, -delta * mult]))
@@ -205,7 +222,8 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
                 if moved <= 1e-15 * max(float(np.max(np.abs(mult), initial=0.0)), 1e-300):
                     break
         else:
-            x_f, mult = Factorization(sp.csr_matrix(Kf), linear_solver).solve(rhs), np.zeros(0)
+            fac = _DenseLU(Kf) if _reduced is not None else Factorization(sp.csr_matrix(Kf), linear_solver)
+            x_f, mult = fac.solve(rhs), np.zeros(0)
         t_fact += time.perf_counter() - t1
         x[:] = 0.0
         x[fidx] = x_f
@@ -242,6 +260,74 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
                                  f"(last: {history[-1]})")
     result = certificate(K, F, T @ x, x[contact], contact, G, points, A, stick & (g > 0), g, iterations)
     result.timings = {"factorizations": t_fact, "total": time.perf_counter() - t0}
+    return result
+
+
+def slip_stiffness(Kw: sp.csr_matrix, B: sp.csr_matrix) -> float:
+    """c in xi = lam_t + c s: K's diagonal on the slip's unknowns over B's rows (times COMPLEMENTARITY_SCALE)."""
+    cols = np.unique(B.indices)
+    row_sq = np.asarray(B.multiply(B).sum(axis=1)).ravel()
+    c = float(np.median(Kw.diagonal()[cols]) / max(np.median(row_sq[row_sq > 0]), 1e-300)) if len(cols) else 1.0
+    return c * COMPLEMENTARITY_SCALE
+
+
+class _DenseLU:
+    """A dense LU factorization with solves (the reduced method's small matrices)."""
+
+    def __init__(self, M):
+        import scipy.linalg as la
+
+        self._lu = la.lu_factor(M.toarray() if sp.issparse(M) else np.asarray(M), check_finite=False)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        import scipy.linalg as la
+
+        return la.lu_solve(self._lu, b, check_finite=False)
+
+
+def _solve_reduced(K, F, contact, G, points: FrictionPoints, crack: np.ndarray, linear_solver: str,
+                   max_iterations: int) -> FrictionResult:
+    """The "schur" method (module docstring): the Newton method on S of the crack's unknowns `crack`
+    (the normal jumps and the slips' unknowns), the rest recovered, the certificate on the whole system."""
+    import dataclasses
+
+    from ..core.schur import schur_complement
+
+    t0 = time.perf_counter()
+    K = sp.csr_matrix(K)
+    n = K.shape[0]
+    rest = np.setdiff1d(np.arange(n), crack)
+    data = schur_complement(K, F, rest, crack, linear_solver=linear_solver)
+    t1 = time.perf_counter()
+    at = np.searchsorted(crack, contact)
+    c = slip_stiffness(K, sp.csr_matrix(points.B))  # T leaves the slip's unknowns alone: K_w's diagonal there is K's
+    reduced = dataclasses.replace(points, B=sp.csr_matrix(points.B)[:, crack])
+    K_rc = K[rest][:, crack]
+    K_c = K[crack]
+    b = data.b.copy()
+    S = sp.csr_matrix(data.S)
+    scale = float(np.max(np.abs(F))) or 1.0
+    newton = 0.0
+    for _ in range(DEFECT_CORRECTIONS + 1):
+        t = time.perf_counter()
+        inner = solve_friction(S, b, at, G, reduced, linear_solver=linear_solver, max_iterations=max_iterations,
+                               method="sparse", _reduced={"c": c})
+        newton += time.perf_counter() - t
+        y = np.zeros(n)
+        y[crack] = inner.y
+        y[rest] = data.x0 - data.factorization.solve(K_rc @ inner.y)
+        r = F[rest] - K[rest] @ y  # one step of iterative refinement of the rest (the crack's unknowns held)
+        y[rest] += data.factorization.solve(r)
+        # defect correction: S and b carry the partial factorization's rounding; the crack rows'
+        # residual of the whole system is the reduced problem's once b absorbs the difference
+        defect = (K_c @ y - F[crack]) - (S @ inner.y - b)
+        if np.max(np.abs(defect)) <= DEFECT_RTOL * scale:
+            break
+        b -= defect
+    t2 = time.perf_counter()
+    result = certificate(K, F, y, inner.w, contact, G, points, inner.active, inner.stick, inner.bound, inner.iterations)
+    result.timings = {"factorize": t1 - t0, "newton": newton, "recover": t2 - t1 - newton, "factorizations": t1 - t0,
+                      "reduced_unknowns": float(len(crack)), "total": time.perf_counter() - t0}
     return result
 
 

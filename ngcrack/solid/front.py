@@ -62,6 +62,20 @@ from .face_pressure import face_pressure
 
 #: the tube radius R and the half-width L along the front, in front_h (the mesh size at the front)
 TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 3.0
+#: along a closed front the bump's half-width is at least this many times the front's least reach
+#: (the penny's radius; b^2/a on an ellipse): the pointwise K of an order-1 mesh scatters by about
+#: 1% from point to point, which a bump of 3 front_h passes on and a wider one averages out (the
+#: default penny: K_I within -1.8% and +0.2% of Sneddon's at 3 front_h, -0.7% and -0.1% at 1.6 a);
+#: the Fourier step (`_unsmooth`) restores the modes whose transfer is at least MIN_TRANSFER (on
+#: the penny at 1.6 a: the cos and sin of the angle, 0.84), so a K that varies faster along the
+#: front is smoothed there. BENCHMARKS section 20
+BUMP_REACH = 1.6
+#: on a closed front the tube's radius is this fraction of the reach (at most REACH_FRACTION, which
+#: still caps it point by point) whatever front_h: a tube of
+#: TUBE_RADIUS_H front_h shrinks with the mesh, so that the integral saw the same few elements
+#: across the tube at every size and order 1 stalled (the penny's K_I 0.9% low on average at
+#: front_h = 0.15a and 0.1a; 0.48% and 0.36% with the tube at 0.8a). BENCHMARKS section 20
+CLOSED_TUBE_REACH = 0.8
 #: q's plateau: g = 1 for r < PLATEAU_FRACTION * R
 PLATEAU_FRACTION = 0.25
 #: the tube radius at a front point is at most this fraction of the front's reach there (the
@@ -320,6 +334,10 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
     e_prime = E / (1 - nu * nu)
     h = sol.smesh.sizes["front_h"]
     R, L = TUBE_RADIUS_H * h, HALF_WIDTH_H * h
+    if geom.periodic:  # a closed front: the bump at least BUMP_REACH of the front's least reach, the tube
+        reach = geom.reach(np.linspace(0.0, 2 * np.pi, 256))  # as wide as the reach allows (REACH_FRACTION)
+        L = max(L, BUMP_REACH * float(np.min(reach)))
+        R = max(R, CLOSED_TUBE_REACH * float(np.max(reach)))
     phi_i, s_i = geom.stations(h, L, R, n_points)
     n = len(phi_i)
     if n == 0:

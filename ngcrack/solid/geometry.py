@@ -3,8 +3,9 @@
 The body (a box or a cylinder) and each crack's plane face are glued (``Glue``): the
 crack becomes a set of interior mesh faces with a tetrahedron on each side, named
 ``crack<i>`` as a boundary region, and its front an edge region ``front<i>``. Local sizes:
-``crack_h`` on the crack face, ``front_h`` on its front edges, ``maxh`` and ``grading``
-elsewhere. The mesh is curved to second order (``mesh.Curve(2)``): on a disc meshed with
+``crack_h`` on the crack face, ``front_h`` on its front edges, NEAR_H_FACTOR ``crack_h`` in
+the ball of NEAR_RADIUS half sizes around each crack (netgen's local size restrictions,
+`meshing_parameters`), ``maxh`` and ``grading`` elsewhere. The mesh is curved to second order (``mesh.Curve(2)``): on a disc meshed with
 flat facets the crack's area is about 1% short; curved, it is exact to about 1e-6.
 
 A :class:`SolidMesh` records per crack its surface elements, the mesh faces they are,
@@ -25,6 +26,17 @@ from .scene import Box, PlanarCrack, SolidScene
 
 #: the polynomial order of the curved geometry
 CURVE_ORDER = 2
+#: the body's mesh size near a crack, in its crack_h: netgen's grading alone lets the size grow
+#: from crack_h at the faces by `grading` per unit distance, and the body a crack radius off the
+#: crack then stays too coarse for order 1 (K_I 0.9-1% low on average on the default penny;
+#: BENCHMARKS section 20)
+NEAR_H_FACTOR = 1.25
+#: ... but not below this fraction of the crack's size: what the body needs there is the crack's
+#: scale, not the front's (a finer crack_h would otherwise fill the ball: 18,234 tetrahedra at
+#: front_h = 0.15a against 8,553 at 0.2a)
+NEAR_H_FLOOR_RTOL = 0.25
+#: ... in the ball around the crack's centre of this many times its half size (its radius for a disc)
+NEAR_RADIUS = 2.0
 
 
 class MeshError(RuntimeError):
@@ -127,13 +139,35 @@ def occ_geometry(scene: SolidScene, sizes: dict):
     return occ.OCCGeometry(occ.Glue(parts) if len(parts) > 1 else parts[0])
 
 
+def near_points(crack: PlanarCrack, h: float, radius: float) -> np.ndarray:
+    """Points h apart filling the ball of `radius` around the crack's centre."""
+    axis = np.arange(-radius, radius + 0.5 * h, h)
+    grid = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
+    return crack.center + grid[np.linalg.norm(grid, axis=1) <= radius]
+
+
+def meshing_parameters(scene: SolidScene, sizes: dict):
+    """netgen's meshing parameters: maxh and grading, and the body's size near every crack
+    (NEAR_H_FACTOR crack_h, at least NEAR_H_FLOOR_RTOL of its size, in the ball of NEAR_RADIUS half
+    sizes around it) as local restrictions."""
+    from netgen.meshing import MeshingParameters
+
+    mp = MeshingParameters(maxh=sizes["maxh"], grading=sizes["grading"])
+    for c in scene.cracks:
+        h = min(max(NEAR_H_FACTOR * sizes["crack_h"], NEAR_H_FLOOR_RTOL * c.size), sizes["maxh"])
+        if NEAR_RADIUS > 0:
+            for p in near_points(c, h, NEAR_RADIUS * 0.5 * c.size):
+                mp.RestrictH(float(p[0]), float(p[1]), float(p[2]), h)
+    return mp
+
+
 def make_mesh(scene: SolidScene, maxh=None, crack_h=None, front_h=None, grading=None,
               curve: int = CURVE_ORDER) -> SolidMesh:
     """Mesh the scene (sizes: the arguments, else the scene's [mesh], else the defaults)."""
 
     sizes = scene.mesh_sizes(maxh, crack_h, front_h, grading)
     t0 = time.perf_counter()
-    ngmesh = occ_geometry(scene, sizes).GenerateMesh(maxh=sizes["maxh"], grading=sizes["grading"])
+    ngmesh = occ_geometry(scene, sizes).GenerateMesh(mp=meshing_parameters(scene, sizes))
     mesh = ngs.Mesh(ngmesh)
     if curve:
         mesh.Curve(curve)
