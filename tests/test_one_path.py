@@ -152,3 +152,17 @@ def test_a_3d_solve_writes_its_outputs_together_or_not_at_all(tmp_path, monkeypa
     err = capsys.readouterr().err
     assert code == 2 and "--vtk" in err and "nothing was written" in err
     assert old.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["out.json", "tiny.toml"]
+
+
+def test_the_command_line_skips_the_estimate_when_told(tmp_path, capsys):
+    import json
+
+    from ngcrack.shell.cli import main
+
+    out = tmp_path / "g.json"
+    assert main(["solve", "griffith", "--maxh", "4", "--no-estimate", "--json", str(out)]) == 0
+    record = json.loads(out.read_text())
+    assert "error_estimate" not in record and record["tips"]
+    assert "error estimate" not in capsys.readouterr().out
+    assert main(["solve", "griffith", "--maxh", "4", "--no-estimate", "--adapt", "0.1"]) == 2
+    assert "--no-estimate = False: adapt refines" in capsys.readouterr().err

@@ -177,6 +177,9 @@ class SolveOptions:
             if not is_number(a) or not (math.isfinite(float(a)) and 0 < float(a) < 1):
                 raise InputError(f"adapt = {a!r}: the relative error tolerance must lie in (0, 1)")
             set_(self, "adapt", float(a))
+            if self.estimate is False:
+                raise InputError("estimate = False: adapt refines where the error estimate is largest; leave the "
+                                 "estimate on (None or True) or give no adapt")
 
     @classmethod
     def of(cls, options: SolveOptions | None = None, **changes: Any) -> SolveOptions:

@@ -115,7 +115,7 @@ def cmd_solve(args) -> int:
 
     outputs = _solve_outputs(args)
     scene = _solve_scene(args)
-    with as_flags(SOLVE_FLAGS):
+    with as_flags({**{k: "--" + k.replace("_", "-") for k in SOLVE_FLAGS}, "estimate": "--no-estimate"}):
         sol = solve(scene, options=_solve_options(args))  # every option checked by the scene's body before meshing
     if sol is None:  # a rank > 0 of a distributed solve (mpiexec): rank 0 writes and prints
         return 0
@@ -156,7 +156,7 @@ def _solve_scene(args):
 
 #: the options of `ngcrack solve` that are flags of the same name (`front_h` is --front-h)
 SOLVE_FLAGS = ("element", "order", "maxh", "tip_h", "crack_h", "front_h", "qp_solver", "adapt", "hp", "max_dof",
-               "crack_model")
+               "crack_model", "estimate")
 
 
 def _solve_options(args):
@@ -452,6 +452,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", help="write a PNG with isolines of sigma_nu and the deformed body")
     p.add_argument("--vtk", metavar="OUT", help="write ParaView files: OUT.vtu (mesh and fields), OUT_cracks.vtu (crack faces)")
     p.add_argument("--max-dof", dest="max_dof", type=_count, help=MAX_DOF_HELP)
+    p.add_argument("--no-estimate", dest="estimate", action="store_false", default=None,
+                   help="skip the error estimate (about a third of a 3D solve's CPU); the JSON then has no error_estimate")
     p.set_defaults(func=cmd_solve)
 
     def parallel(p):

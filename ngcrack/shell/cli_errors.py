@@ -39,7 +39,8 @@ def as_flags(names):
         m = re.match(r"(\w+)( =|:)", str(exc))
         if m is None or m.group(1) not in names:
             raise
-        raise UsageError("--" + m.group(1).replace("_", "-") + str(exc)[len(m.group(1)):]) from None
+        flag = names[m.group(1)] if isinstance(names, dict) else "--" + m.group(1).replace("_", "-")
+        raise UsageError(flag + str(exc)[len(m.group(1)):]) from None
 
 
 class NotSolvedError(RuntimeError):
