@@ -166,3 +166,22 @@ def test_the_command_line_skips_the_estimate_when_told(tmp_path, capsys):
     assert "error estimate" not in capsys.readouterr().out
     assert main(["solve", "griffith", "--maxh", "4", "--no-estimate", "--adapt", "0.1"]) == 2
     assert "--no-estimate = False: adapt refines" in capsys.readouterr().err
+
+
+def _penny(change):
+    d = coarse3d.coarse_penny()
+    change(d)
+    return d
+
+
+@pytest.mark.parametrize(("change", "field"), [
+    (lambda d: d["crack"][0].update(radius=1e-300), "crack[0]: its smallest size 1e-300"),
+    (lambda d: d["crack"].__setitem__(0, {"shape": "ellipse", "center": [0, 0, 0], "normal": [0, 0, 1],
+                                          "semi_axes": [1.0, 1e-9], "major_axis": [1, 0, 0]}), "crack[0]: its smallest size 1e-09"),
+    (lambda d: d["material"].update(E=1e300), "material.E = 1e+300: out of range"),
+    (lambda d: d["boundary"]["zmax"].update(value=[0, 0, 1e300]), "boundary.zmax.value = .0, 0, 1e.300.: out of range"),
+    (lambda d: d.update(load={"body_force": [0, 0, 1e300]}), "load.body_force = .0, 0, 1e.300.: out of range"),
+])
+def test_3d_scene_values_beyond_double_precision_are_refused_when_the_scene_is_read(change, field):
+    with pytest.raises(nc.SceneError, match=field):
+        nc.Scene.from_dict(_penny(change))

@@ -20,7 +20,20 @@ from .errors import InputError
 #: a point of the plane
 Point = tuple[float, float]
 
-__all__ = ["FrozenMap", "SceneError", "pressure_kind"]
+__all__ = ["MAX_SCALE", "MIN_SIZE_RTOL", "FrozenMap", "SceneError", "check_scale", "pressure_kind"]
+
+#: Scales a scene may hold, relative to its body: E, and every load as a strain (a
+#: traction over E, a body force times the diameter over E, a displacement over the
+#: diameter), and every length over the diameter, must lie between ``1 / MAX_SCALE`` and
+#: ``MAX_SCALE`` (or be zero): beyond, products of two of them leave double precision.
+MAX_SCALE = 1e150
+
+#: The smallest mesh size (maxh, crack_h, tip_h, front_h) relative to the body's diameter. Netgen
+#: meshes griffith's graded tip in under a second down to 2e-8 of the diameter, fails at
+#: 1e-8, hangs at 4.5e-9 and crashes the interpreter below (measured); this keeps a factor
+#: 20 from the failure.
+MIN_SIZE_RTOL = 1e-6
+
 
 
 class SceneError(InputError):
@@ -135,3 +148,15 @@ def pressure_kind(p: Any) -> Any:
     if isinstance(p, tuple):
         return ("table", p)
     return ("callable", id(p))
+
+
+def check_scale(values: Any, scale: float, fld: str, what: str) -> None:
+    """Refuse a value whose nonzero components, in size or times `scale` (as `what`: a strain, a length
+    over the body's), leave the range 1/MAX_SCALE .. MAX_SCALE (beyond, products leave double precision)."""
+    vals = np.atleast_1d(np.asarray(values, dtype=float))
+    shown = fmt(vals[0]) if np.ndim(values) == 0 else "[" + ", ".join(fmt(v) for v in vals) + "]"
+    for c in vals:
+        if c != 0.0 and not (1.0 / MAX_SCALE <= abs(c) * scale <= MAX_SCALE and 1.0 / MAX_SCALE <= abs(c) <= MAX_SCALE):
+            raise SceneError(f"{fld} = {shown}: out of range ({what} is {abs(c) * scale:.3g}); "
+                             f"each component must be 0 or, in size and as {what}, lie between {1.0 / MAX_SCALE:g} "
+                             f"and {MAX_SCALE:g} (change the units)")

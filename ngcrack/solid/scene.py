@@ -36,7 +36,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..core.fields import SceneError, check_keys, finite, is_number, positive, short, table
+from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, is_number, positive, short, table
 from ..core.scene import Scene
 
 DOMAIN_KINDS = ("box", "cylinder")
@@ -434,7 +434,9 @@ class SolidScene(Scene, dimension=3):
         return scene
 
     def check(self) -> None:
-        """The cracks inside the body and apart; the supports holding every rigid motion."""
+        """Scales double precision holds, the cracks inside the body and apart; the supports holding every
+        rigid motion."""
+        self._check_scales()
         for i, c in enumerate(self.cracks):
             gap = CLEARANCE_RTOL * c.size
             clear = self.domain.clearance(c.outline(256))
@@ -452,6 +454,26 @@ class SolidScene(Scene, dimension=3):
                     raise SceneError(f"crack[{i}]: touches or comes too close to crack[{j}] (distance {dist:.3g}, "
                                      f"at least {gap:.3g} needed); cracks must stay apart")
         self._check_held()
+
+    def _check_scales(self) -> None:
+        """E, every load as a strain and every crack's size over the body's within MAX_SCALE, and each crack
+        larger than the smallest mesh size netgen meshes (MIN_SIZE_RTOL of the body's diameter)."""
+        E, d = self.material.E, self.size
+        check_scale(E, 1.0, "material.E", "E")
+        for label, cond in self.boundary.items():
+            if cond.value is not None:
+                to_strain = 1.0 / E if cond.type == "traction" else 1.0 / d
+                check_scale(cond.value, to_strain, f"boundary.{label}.value", "a traction over E" if
+                            cond.type == "traction" else "a displacement over the diameter")
+        if self.body_force is not None:
+            check_scale(self.body_force, d / E, "load.body_force", "a body force times the diameter over E")
+        for i, c in enumerate(self.cracks):
+            if c.pressure:
+                check_scale(c.pressure, 1.0 / E, f"crack[{i}].pressure", "a pressure over E")
+            smallest = min((a for a in c.semi_axes if a > 0), default=c.size)
+            if smallest < MIN_SIZE_RTOL * d:
+                raise SceneError(f"crack[{i}]: its smallest size {smallest:.3g} is below {MIN_SIZE_RTOL:g} of the body's "
+                                 f"diameter {d:.3g}, the smallest length netgen meshes; give a larger crack")
 
     def _check_held(self) -> None:
         rows = []

@@ -82,17 +82,7 @@ MAX_CRACK_POINTS = 1500
 #: points (each crack point is a vertex of both faces).
 MAX_BOUNDARY_POINTS = 6000
 
-#: Scales a scene may hold, relative to its body: E, and every load as a strain (a
-#: traction over E, a body force times the diameter over E, a displacement over the
-#: diameter), and every length over the diameter, must lie between ``1 / MAX_SCALE`` and
-#: ``MAX_SCALE`` (or be zero): beyond, products of two of them leave double precision.
-MAX_SCALE = 1e150
-
-#: The smallest mesh size (maxh, crack_h, tip_h) relative to the body's diameter. Netgen
-#: meshes griffith's graded tip in under a second down to 2e-8 of the diameter, fails at
-#: 1e-8, hangs at 4.5e-9 and crashes the interpreter below (measured); this keeps a factor
-#: 20 from the failure.
-MIN_SIZE_RTOL = 1e-6
+from ...core.fields import MAX_SCALE, MIN_SIZE_RTOL  # noqa: E402,F401  (re-exported: the scales of either body)
 
 #: Boundary labels starting with this are the mesher's own (the crack segments'); a
 #: scene may not use them.
