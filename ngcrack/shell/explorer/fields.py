@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...core.constraints import CLOSED_RTOL
 from ...planar.plots import crack_faces  # noqa: F401  (the faces are drawn by plots.plot_solution too)
 
 #: stress fields the figure can show: the crack-normal stress (sigma nu).nu and von Mises
@@ -191,3 +192,35 @@ def load_magnitude(scene) -> float:
     if scene.body_force is not None:
         mags.append(float(np.hypot(*scene.body_force)))
     return max(mags, default=0.0) or 0.0
+
+
+def contact_length(sol) -> float:
+    """Total length of the crack edges whose faces touch: the edges whose state is not "open"
+    (stick or slip: `CrackProfile.state`, the per-edge states the figure shades, which also
+    count a pressed edge with a small positive jump as closed); faces that pass through each
+    other (crack model free) are not."""
+    profiles = sol.crack_profiles()
+    total = 0.0
+    for p, crack in zip(profiles, sol.crack_mesh.cracks):
+        jn = np.asarray(p.normal_jump, dtype=float)
+        W = float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0))
+        touching = (np.asarray(p.state) != "open") & (jn >= -CLOSED_RTOL * W)
+        total += float(np.sum(crack.length[touching]))
+    return total
+
+
+def overlap_length(sol) -> float:
+    """Total length of the crack edges whose faces pass through each other (opening below
+    -CLOSED_RTOL times the crack's largest jump: only without the contact condition)."""
+    return _length_where(sol, lambda jn, W: jn < -CLOSED_RTOL * W)
+
+
+def _length_where(sol, test) -> float:
+    profiles = sol.crack_profiles()
+    if not profiles:
+        return 0.0
+    total = 0.0
+    for p, crack in zip(profiles, sol.crack_mesh.cracks):
+        W = float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0))
+        total += float(np.sum(crack.length[test(np.asarray(p.normal_jump, dtype=float), W)]))
+    return total

@@ -543,8 +543,8 @@ def _pixels_per_unit(ax, poly: np.ndarray) -> float:
 
 def _touching_length(sol, profiles) -> tuple[float, float]:
     """(length of the crack edges whose faces touch by their state, stick or slip; the cracks'
-    whole length): the readout's contact length (model.contact_length), for the zoom's words."""
-    from .model import contact_length
+    whole length): the readout's contact length (fields.contact_length), for the zoom's words."""
+    from .fields import contact_length
 
     total = float(sum(np.sum(c.length) for c in sol.crack_mesh.cracks))
     return (contact_length(sol) if profiles else 0.0), total

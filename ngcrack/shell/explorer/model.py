@@ -39,7 +39,6 @@ from typing import Any
 
 import numpy as np
 
-from ...core.constraints import CLOSED_RTOL
 from ...core.errors import InputError
 from ...core.options import CRACK_MODELS, SolveOptions
 from ...core.pipeline import Pipeline
@@ -49,6 +48,7 @@ from ...scenes import SCENE_FUNCTIONS, SceneFunction, scene_function
 from ...scenes import load as _load_scene
 from ...scenes import names as _scene_names
 from .controls import FIXED, SCALES, ControlRefused, Range, check_choice, e_range, mesh_size_range, pressure_range
+from .fields import contact_length, overlap_length
 from .figure import FIELDS
 from .loads import scaled_loads
 from .messages import refusal
@@ -387,38 +387,6 @@ class Explorer:
             "crack_length": float(sum(np.sum(c.length) for c in sol.crack_mesh.cracks)),
         }
 
-
-
-def contact_length(sol) -> float:
-    """Total length of the crack edges whose faces touch: the edges whose state is not "open"
-    (stick or slip: `CrackProfile.state`, the per-edge states the figure shades, which also
-    count a pressed edge with a small positive jump as closed); faces that pass through each
-    other (crack model free) are not."""
-    profiles = sol.crack_profiles()
-    total = 0.0
-    for p, crack in zip(profiles, sol.crack_mesh.cracks):
-        jn = np.asarray(p.normal_jump, dtype=float)
-        W = float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0))
-        touching = (np.asarray(p.state) != "open") & (jn >= -CLOSED_RTOL * W)
-        total += float(np.sum(crack.length[touching]))
-    return total
-
-
-def overlap_length(sol) -> float:
-    """Total length of the crack edges whose faces pass through each other (opening below
-    -CLOSED_RTOL times the crack's largest jump: only without the contact condition)."""
-    return _length_where(sol, lambda jn, W: jn < -CLOSED_RTOL * W)
-
-
-def _length_where(sol, test) -> float:
-    profiles = sol.crack_profiles()
-    if not profiles:
-        return 0.0
-    total = 0.0
-    for p, crack in zip(profiles, sol.crack_mesh.cracks):
-        W = float(np.max(np.hypot(p.normal_jump, p.tangential_jump), initial=0.0))
-        total += float(np.sum(crack.length[test(np.asarray(p.normal_jump, dtype=float), W)]))
-    return total
 
 
 class Study(Explorer):

@@ -350,7 +350,7 @@ def explore_solid(scene, *, webgui: bool = False, order: int = 1, **controls: An
         refresh()
 
     def show3d(on: bool) -> None:
-        from .widget import display_webgui
+        from .webgui import display_webgui
 
         view.clear_output()
         if not on or model.solution is None:

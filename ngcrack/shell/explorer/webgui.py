@@ -83,3 +83,22 @@ def webgui_scene(sol, scale: float, clim, name: str) -> dict:
                      else f"{name}: ") + (f"displacements × {scale:.3g}, " if scale else "") + \
         "black lines: the crack faces"
     return kw
+
+
+def display_webgui(scene, height: str = "420px") -> None:
+    """Display a webgui scene made with ``ngsolve.webgui.Draw(..., show=False)`` (a 2D field, or
+    ``ngcrack.solid.view.webgui_scene(sol).draw(show=False)``): in webgui_jupyter_widgets' widget
+    where it is installed (its JavaScript ships with it: the view works offline, in JupyterLab
+    as in the classic notebook), else through the scene's own ``Draw`` (which loads its
+    JavaScript from a CDN, and shows an empty space without the network)."""
+    from IPython.display import display
+
+    try:
+        import ipywidgets
+        from webgui_jupyter_widgets import WebGuiWidget
+    except ImportError:
+        scene.Draw()
+        return
+    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height=height))
+    widget.value = scene.GetData()
+    display(widget)

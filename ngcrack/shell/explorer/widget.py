@@ -35,6 +35,7 @@ from .controls import CRACK_MODEL_HELP, CRACK_MODEL_LABELS, HELP, LABELS, SCALES
 from .figure import FIELDS, Drawing
 from .messages import GLOSSARY, WEBGUI_PACKAGES, WIDGET_PACKAGES, ArgumentError, MissingExtraError, require_extras  # noqa: F401
 from .model import Explorer, _one_line
+from .webgui import display_webgui
 
 #: the page's style: the busy figure greyed, the refusals red
 STYLE = """<style>
@@ -392,20 +393,3 @@ def show_webgui(cf, name: str, mesh, deformation=None, objects=None, settings=No
     display_webgui(Draw(cf, mesh, name, show=False, **kw))
 
 
-def display_webgui(scene, height: str = "420px") -> None:
-    """Display a webgui scene made with ``ngsolve.webgui.Draw(..., show=False)`` (a 2D field, or
-    ``ngcrack.solid.view.webgui_scene(sol).draw(show=False)``): in webgui_jupyter_widgets' widget
-    where it is installed (its JavaScript ships with it: the view works offline, in JupyterLab
-    as in the classic notebook), else through the scene's own ``Draw`` (which loads its
-    JavaScript from a CDN, and shows an empty space without the network)."""
-    from IPython.display import display
-
-    try:
-        import ipywidgets
-        from webgui_jupyter_widgets import WebGuiWidget
-    except ImportError:
-        scene.Draw()
-        return
-    widget = WebGuiWidget(layout=ipywidgets.Layout(width="100%", height=height))
-    widget.value = scene.GetData()
-    display(widget)
