@@ -55,6 +55,8 @@ def test_kgd_closed_form_at_every_step():
         for tip in step["tips"]:
             assert abs(tip["K_I"] / K_IC - 1) < 1e-3 and tip["kink_deg"] == 0.0
     assert np.allclose(result.final.cracks[0].points, [[-1.3, 0.0], [1.3, 0.0]], rtol=0, atol=1e-12)
+    shown = repr(result).splitlines()  # a few lines, never the profiles
+    assert len(shown) == 3 and shown[1].startswith("  4 steps: half-length 1 -> 1.3") and len(repr(result)) < 400
 
 
 def test_in_situ_compression_adds_to_the_pressure():

@@ -44,6 +44,20 @@ class HydrofracResult:
     stopped: str = ""
     final: object = None
 
+    def __repr__(self) -> str:
+        """A few lines: scene, model, rate and toughness, the steps' reach, the stop reason (printing a result
+        never dumps its profiles: `table` is the DataFrame, `to_json_dict()` the record)."""
+        fluid = "" if self.viscosity is None else f", viscosity={self.viscosity:g}, leakoff={self.leakoff:g}"
+        K_m = "" if self.K_m is None else f", K_m={self.K_m:.3g}"
+        lines = [f"HydrofracResult(scene={self.scene.name!r}, model={self.model!r}, rate={self.rate:g}, "
+                 f"K_Ic={self.K_Ic:g}, da={self.da:g}{fluid}{K_m})"]
+        if self.steps:
+            first, last = self.steps[0], self.steps[-1]
+            lines.append(f"  {len(self.steps)} steps: half-length {first['half_length']:.4g} -> {last['half_length']:.4g}, "
+                         f"time {first['time']:.4g} -> {last['time']:.4g}, pressure {last['pressure']:.4g} at the last")
+        lines.append(f"  stopped: {self.stopped or '(running)'}")
+        return "\n".join(lines)
+
     def add(self, row: dict, frame: dict, scene) -> None:
         self.steps.append(row)
         self.frames.append(frame)
