@@ -8,6 +8,7 @@ module still gives).
 
 import warnings
 
+from .core.constraints import CLOSED_RTOL
 from .shell.explorer import (
     FIELDS,
     LEVELS,
@@ -23,7 +24,6 @@ from .shell.explorer import (
     stress_values,
 )
 from .shell.explorer.figure import DEFORMED_FRACTION, FIGURE_DPI, FIGURE_SIZE, PROFILE_FLOOR, STATE_COLORS
-from .shell.explorer.model import CLOSED_RTOL
 
 warnings.warn("ngcrack.interactive is now ngcrack.shell.explorer (nc.explore, nc.Explorer); import ngcrack.shell.explorer",
               DeprecationWarning, stacklevel=2)
