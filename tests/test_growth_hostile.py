@@ -30,7 +30,7 @@ CASES = [
     ({"frames": "no"}, "frames = 'no'"),
     ({"R": 0.5}, "R = 0.5: the load ratio of a fatigue cycle acts only with paris"), ({"R": "x"}, "R = 'x'"),
     ({"R": math.nan}, "R = nan"), ({"R": True}, "R = True"),
-    ({"at_hole": 0.5}, "at_hole = 0.5: scene 'inclined-tension' has no hole"),
+    ({"at_hole": 0.5}, "at_hole = 0.5: scene 'inclined-tension-30deg' has no hole"),
     ({"together": True}, "together = True"),
 ]
 
