@@ -344,3 +344,12 @@ def test_every_error_of_the_input_is_an_input_error():
     for bad in ({"element": "foo"}, {"maxh": -1.0}, {"qp_solver": "foo"}, {"friction_method": "foo"}):
         with pytest.raises(nc.InputError):
             nc.SolveOptions.of(**bad)
+
+
+def test_a_point_force_beyond_double_precision_is_refused_when_the_scene_is_read():
+    import ngcrack as nc
+
+    d = nc.scenes.load("three-point-bend").to_dict()
+    d["point"][-1]["value"] = [0.0, -1e300]
+    with pytest.raises(nc.SceneError, match=r"point\[2\]\.value = \[0, -1e\+300\]: out of range"):
+        nc.Scene.from_dict(d)

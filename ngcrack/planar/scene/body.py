@@ -312,6 +312,9 @@ class PlanarScene(Scene, dimension=2):
                              f"[boundary.<label>] tables")
         allowed = self.boundary_labels
         conds = force_conditions(pconds, bnd)
+        for k, pc in enumerate(pconds):  # a point force, as the traction on its segment over E
+            if pc.type == "force":
+                check_load(pc.value, 1.0 / (E * pc.width), f"point[{k}].value", "the force over its width and E")
         for lab, cond in bnd.items():
             if lab in conds:
                 continue
