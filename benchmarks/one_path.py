@@ -28,6 +28,7 @@ import json, time, numpy as np, ngcrack as nc
 t0 = time.process_time()
 sol = nc.solve({scene!r}, **{options!r})
 cpu = time.process_time() - t0
+print("FROM", nc.__file__)
 if sol is not None:
     fronts = getattr(sol, "fronts", None)  # (a 2D solution of the former path has its tips only)
     K = [float(k) for f in fronts for k in np.atleast_1d(f.K_I)] if fronts else [float(t.K_I) for t in sol.tips]
@@ -50,20 +51,24 @@ def run(checkout: pathlib.Path, scene: str, options: dict, ranks: int) -> dict:
     import time
 
     t0 = time.perf_counter()
-    out = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=1800)
+    # run in the checkout itself: `python -c` puts the working folder first on sys.path, before PYTHONPATH
+    out = subprocess.run(cmd, env=env, cwd=checkout, capture_output=True, text=True, timeout=1800)
     wall = time.perf_counter() - t0
     line = next((x for x in out.stdout.splitlines() if x.startswith("RESULT")), None)
     if line is None:
         raise RuntimeError(f"{checkout}: {scene} failed:\n{out.stderr[-2000:]}")
     result = json.loads(line[len("RESULT"):])
+    where = next((x for x in out.stdout.splitlines() if x.startswith("FROM")), "")
+    if str(checkout) not in where:
+        raise RuntimeError(f"{checkout}: ngcrack was imported from elsewhere ({where})")
     result["wall"] = wall
     return result
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--before", required=True, type=pathlib.Path)
-    p.add_argument("--after", default=ROOT, type=pathlib.Path)
+    p.add_argument("--before", required=True, type=lambda v: pathlib.Path(v).resolve())
+    p.add_argument("--after", default=ROOT, type=lambda v: pathlib.Path(v).resolve())
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--cases", nargs="+", default=list(CASES))
     args = p.parse_args()
