@@ -178,3 +178,34 @@ def pressure_range(scene) -> Range:
 
 #: the pressure slider spans this many times the scene's largest traction
 PRESSURE_SPAN = 2.0
+
+
+def wire_steps(slider, box, status, last: int, show) -> None:
+    """Tie a step slider and a typed step box together (a step view's controls): moving the slider
+    shows its step and sets the box; a typed step in 0..`last` moves the slider; any other typed
+    value is refused in one line in `status` and the box goes back to the step shown. Shows the
+    slider's step at once."""
+    syncing = [False]  # the box set from the slider: not a value the user typed
+
+    def typed(value) -> None:
+        if syncing[0]:
+            return
+        if isinstance(value, int) and 0 <= value <= last:
+            slider.value = value  # (the slider shows it)
+            return
+        syncing[0] = True
+        box.value = slider.value  # refused: the box goes back to the step shown
+        syncing[0] = False
+        status.value = (f"<span style='color:#b00020'>&#9888; Step {value} is out of range: choose a step from 0 "
+                        f"to {last}. The step box is back to {slider.value}.</span>")
+
+    def moved(n: int) -> None:
+        syncing[0] = True
+        box.value = n
+        syncing[0] = False
+        show(n)
+
+    slider.observe(lambda change: moved(change["new"]), names="value")
+    box.observe(lambda change: typed(change["new"]), names="value")
+    show(slider.value)
+

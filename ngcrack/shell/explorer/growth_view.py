@@ -22,6 +22,7 @@ from ...core.errors import InputError
 from ...planar.plots import tip_names
 from ...studies.growth.figures import draw_frame, draw_load_factors, frame_view
 from ...studies.growth.result import GrowthResult
+from .controls import wire_steps
 from .messages import ArgumentError, require_extras
 
 #: figure size in inches and resolution of a step's picture
@@ -112,7 +113,6 @@ def explore_growth(result: GrowthResult, **kwargs: Any):
     readout = w.HTML()
     status = w.HTML()
     status.add_class("ngcrack-status")
-    syncing = [False]
 
     def show(n: int) -> None:
         try:
@@ -124,25 +124,5 @@ def explore_growth(result: GrowthResult, **kwargs: Any):
                             f"step.</span><div style='color:#666; font-size:11px'>details: "
                             f"{html.escape(str(exc).splitlines()[0] if str(exc) else type(exc).__name__)}</div>")
 
-    def typed(value) -> None:
-        if syncing[0]:
-            return
-        if isinstance(value, int) and 0 <= value <= last:
-            slider.value = value  # (the slider shows it)
-            return
-        syncing[0] = True
-        box.value = slider.value  # refused: the box goes back to the step shown
-        syncing[0] = False
-        status.value = (f"<span style='color:#b00020'>&#9888; Step {value} is out of range: choose a step from 0 "
-                        f"to {last}. The step box is back to {slider.value}.</span>")
-
-    def moved(n: int) -> None:
-        syncing[0] = True
-        box.value = n
-        syncing[0] = False
-        show(n)
-
-    slider.observe(lambda change: moved(change["new"]), names="value")
-    box.observe(lambda change: typed(change["new"]), names="value")
-    show(slider.value)
+    wire_steps(slider, box, status, last, show)
     return w.VBox([w.HBox([slider, box]), status, image, readout])

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from .controls import wire_steps
 from .messages import ArgumentError, require_extras
 
 #: figure size in inches and resolution of a step's picture
@@ -177,7 +178,6 @@ def explore_hydrofrac(result, **kwargs: Any):
     image.add_class("ngcrack-hydrofrac-figure")
     readout, status = w.HTML(), w.HTML()
     status.add_class("ngcrack-status")
-    syncing = [False]
 
     def show(n: int) -> None:
         try:
@@ -189,25 +189,5 @@ def explore_hydrofrac(result, **kwargs: Any):
             status.value = ("<span style='color:#b00020'>&#9888; The step could not be drawn: choose another "
                             f"step.</span><div style='color:#666; font-size:11px'>details: {html.escape(detail)}</div>")
 
-    def typed(value) -> None:
-        if syncing[0]:
-            return
-        if isinstance(value, int) and 0 <= value <= last:
-            slider.value = value
-            return
-        syncing[0] = True
-        box.value = slider.value  # refused: the box goes back to the step shown
-        syncing[0] = False
-        status.value = (f"<span style='color:#b00020'>&#9888; Step {value} is out of range: choose a step from 0 "
-                        f"to {last}. The step box is back to {slider.value}.</span>")
-
-    def moved(n: int) -> None:
-        syncing[0] = True
-        box.value = n
-        syncing[0] = False
-        show(n)
-
-    slider.observe(lambda change: moved(change["new"]), names="value")
-    box.observe(lambda change: typed(change["new"]), names="value")
-    show(slider.value)
+    wire_steps(slider, box, status, last, show)
     return w.VBox([w.HBox([slider, box]), status, image, readout])
