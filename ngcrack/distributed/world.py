@@ -22,22 +22,23 @@ class MPIUnavailable(InputError):
     """mpiexec started the process, but mpi4py or an MPI-enabled NGSolve is missing."""
 
 
-def world_size() -> int:
-    """The number of processes mpiexec started (1 outside mpiexec), from the environment."""
-    for name in SIZE_VARIABLES:
+def _from_environment(names: tuple[str, ...], default: int) -> int:
+    """The first of `names` set to a whole number in the environment, else `default`."""
+    for name in names:
         value = os.environ.get(name)
         if value and value.isdigit():
             return int(value)
-    return 1
+    return default
+
+
+def world_size() -> int:
+    """The number of processes mpiexec started (1 outside mpiexec), from the environment."""
+    return _from_environment(SIZE_VARIABLES, 1)
 
 
 def world_rank() -> int:
     """This process's rank under mpiexec (0 outside mpiexec), from the environment."""
-    for name in RANK_VARIABLES:
-        value = os.environ.get(name)
-        if value and value.isdigit():
-            return int(value)
-    return 0
+    return _from_environment(RANK_VARIABLES, 0)
 
 
 def refuse(message: str) -> None:
