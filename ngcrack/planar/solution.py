@@ -170,10 +170,10 @@ class PlanarSolution(Solution):
         """Write the fields and the crack faces for ParaView (the post-processor's writer: ngcrack.planar.vtk.save_vtk in 2D)."""
         return self.post.save_vtk(self, path, **kwargs)
 
-    def report_lines(self) -> list[str]:
+    def report_lines(self, result: dict | None = None) -> list[str]:
         """What `ngcrack solve` prints of a 2D solve: sizes and seconds, the mesh sizes, the KKT residuals,
         friction, the tips' K, the error estimate, a distributed or adaptive run's record."""
-        result = self.to_json_dict()
+        result = result if result is not None else self.to_json_dict()  # (the record, when already made)
         scene, o = self.scene, self.solve_options
         k, t, n, ks = result["kkt"], result["time_s"], result["ndof"], result["kkt_sampled"]
         lines = [f"{scene.name}: element {self.element}, maxh {self.maxh:g}, nu {scene.material.nu:g}, "

@@ -119,8 +119,9 @@ def cmd_solve(args) -> int:
         sol = solve(scene, options=_solve_options(args))  # every option checked by the scene's body before meshing
     if sol is None:  # a rank > 0 of a distributed solve (mpiexec): rank 0 writes and prints
         return 0
-    written = _write_outputs(sol, *outputs)
-    print("\n".join(sol.report_lines()))
+    result = sol.to_json_dict()
+    written = _write_outputs(sol, result, *outputs)
+    print("\n".join(sol.report_lines(result)))
     for path in written:
         print(f"wrote {path}")
     return 0
@@ -167,12 +168,11 @@ def _solve_options(args):
     return SolveOptions.of(**given)
 
 
-def _write_outputs(sol, json_path, plot_path, vtk, given_vtk) -> list:
+def _write_outputs(sol, result: dict, json_path, plot_path, vtk, given_vtk) -> list:
     """The JSON record, the figure and the ParaView files, written to temporary names and moved into place
     together: every file or none, existing ones untouched on failure or interrupt (files.Staged)."""
     from .files import Staged
 
-    result = sol.to_json_dict()
     check_finite(result)
     with Staged() as staged:
         if json_path is not None:

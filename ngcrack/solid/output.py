@@ -170,10 +170,10 @@ class SolidSolution(Solution):
             **({} if self.distributed is None else {"distributed": self.distributed}),
         }
 
-    def report_lines(self) -> list[str]:
+    def report_lines(self, result: dict | None = None) -> list[str]:
         """What `ngcrack solve` prints of a 3D solve: sizes and seconds, the KKT residuals, the estimate, each
         crack's opening, sliding and closed fraction, each front's range of K_I, K_II and K_III."""
-        result = self.to_json_dict()
+        result = result if result is not None else self.to_json_dict()  # (the record, when already made)
         n, t, k = result["ndof"], result["time_s"], result["kkt"]
         lines = [f"{self.scene.name} (3D): element {self.element} order {self.disc.order}, {n['total']} dofs "
                  f"({n['global']} global, {n['contact']} contact), {t['total']:.2f} s ({t['contact']:.2f} s contact)",
