@@ -5,7 +5,7 @@
 Cases (order 1 TDNNS; `ngcrack.scenes.coarse3d`): `inclined-MU`, the inclined penny pressed
 shut (509 tetrahedra) with friction MU; `bent-MU`, the penny across the bent beam (half the
 crack open) with friction MU. Every run is its own process: N = 1 is the serial solve
-(`solid.friction`: a semismooth Newton method, one sparse LU per step), N > 1 runs under
+(`core.sparse_friction`: a semismooth Newton method, one sparse LU per step), N > 1 runs under
 `mpiexec -n N` (`distributed.solid_friction`: Newton steps by projected CG, preconditioned
 by the default distributed 3D preconditioner). Printed per run: global unknowns, Newton
 steps, CG steps per step (to 1e-12), the closed / sticking / slipping points, the seconds of

@@ -7,7 +7,7 @@ level runs in its own process so that its peak memory is its own. Per level:
 
 - unknowns: total, condensed (global), crack (contact) unknowns;
 - CPU seconds and peak resident memory after each stage: mesh, assemble (element
-  forms, condensed), condense (the sparse system), contact (`solid.contact.solve_contact`'s
+  forms, condensed), condense (the sparse system), contact (`core.sparse_contact.solve_contact`'s
   default: one sparse factorization and the active set on the crack's Schur complement; the
   split into the two: benchmarks/solid_cost.py), fronts (the interaction integral);
 - the same penny with the load reversed: the contact stage closes every face (2 active
@@ -44,7 +44,7 @@ def run_level(front_h: float, order: int, reverse: bool) -> dict:
 
     import ngcrack as nc
     from ngcrack.core.hybrid import condense
-    from ngcrack.solid.contact import solve_contact
+    from ngcrack.core.sparse_contact import solve_contact
     from ngcrack.solid.element import build
     from ngcrack.solid.front import front_parameters
     from ngcrack.solid.geometry import make_mesh

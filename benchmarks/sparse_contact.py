@@ -1,6 +1,6 @@
 """The sparse active set against the number of constrained unknowns (no mesh, no dense Schur complement).
 
-`ngcrack.solid.contact.solve_contact` sees a sparse SPD matrix, a load and the indices
+`ngcrack.core.sparse_contact.solve_contact` sees a sparse SPD matrix, a load and the indices
 of the constrained unknowns. Here: the 7-point Laplacian of an N x N x NZ grid (a
 stand-in for a condensed 3D system; n = N^2 NZ unknowns), the constrained unknowns its
 middle plane (m = N^2) held at x >= 0 under a load that pushes half of the plane down
@@ -28,7 +28,7 @@ def run(N: int, NZ: int) -> dict:
     import numpy as np
     import scipy.sparse as sp
 
-    from ngcrack.solid.contact import solve_contact
+    from ngcrack.core.sparse_contact import solve_contact
 
     def lap(k):
         return sp.diags([-np.ones(k - 1), 2.0 * np.ones(k), -np.ones(k - 1)], [-1, 0, 1])

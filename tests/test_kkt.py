@@ -92,7 +92,7 @@ def test_kkt_formula_sees_each_violation():
 def test_a_wrong_contact_state_shows(monkeypatch):
     """kkt is not vacuous: hold one open point of griffith closed and the tension shows."""
     import ngcrack.core.contact as contact
-    import ngcrack.core.stages as stages  # the crack stage calls the QP
+    import ngcrack.core.crack_problem as problems  # the crack problem's dense strategy calls the QP
     true_qp = contact.solve_qp
 
     def wrong_qp(*args, **kwargs):
@@ -104,7 +104,7 @@ def test_a_wrong_contact_state_shows(monkeypatch):
         r.j = np.linalg.solve(G, r.w) if G is not None else r.w.copy()
         return r
 
-    monkeypatch.setattr(stages, "solve_qp", wrong_qp)
+    monkeypatch.setattr(problems, "solve_qp", wrong_qp)
     sol = nc.solve(nc.scenes.load("griffith"), element="bdm", maxh=2.0)
     print(f"[kkt] griffith bdm with one open point held shut: {sol.kkt}")
     assert sol.kkt["max_tension"] >= 0.1

@@ -20,10 +20,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("core", "planar", "studies", "shell", "planar.materials", "core.memory", "core.parallel", "planar.quadrature",
                         "core.csr", "core.schur", "core.constraints", "core.contact",
-                     "shell.files", "core.errors", "shell.extras", "core.element_names", "solid", "solid.contact", "solid.friction")),
+                     "shell.files", "core.errors", "shell.extras", "core.element_names", "solid", "core.sparse_contact", "core.sparse_friction")),
     ("scene", ("core.fields", "core.scene", "planar.scene", "scenes", "studies.references", "planar.sizing", "planar.path_sizes", "solid.scene")),
     ("mesh", ("planar.crack_sides", "planar.crack_loads", "planar.geometry", "solid.geometry")),
-    ("discretization", ("core.discretization", "planar.elements", "core.hybrid", "core.friction", "core.friction_setup",
+    ("discretization", ("core.discretization", "planar.elements", "core.hybrid", "core.friction", "core.friction_setup", "core.crack_problem",
                         "planar.held_means", "solid.element", "solid.friction_points",
                         "solid.h1")),
     ("post-processing", ("planar.post", "planar.post2d", "planar.tips", "planar.tstress", "planar.local_fields", "planar.estimate",
@@ -211,7 +211,7 @@ TWO_D = ("planar.scene", "scenes", "studies.references", "planar.sizing", "plana
 #: condensed system and the reduction, the crack problem (QP, friction), the KKT residuals,
 #: the stages, the options and the solution
 DIMENSION_FREE = ("core.errors", "core.memory", "core.parallel", "shell.files", "core.csr", "core.constraints", "core.contact",
-                  "core.schur", "core.element_names", "core.discretization", "core.hybrid", "core.friction", "core.friction_setup",
+                  "core.schur", "core.crack_problem", "core.sparse_contact", "core.sparse_friction", "core.element_names", "core.discretization", "core.hybrid", "core.friction", "core.friction_setup",
                   "core.stages", "core.options", "core.solution")
 
 class _WithoutTypeChecking:
@@ -276,7 +276,6 @@ def test_no_merge_conflict_markers_are_left():
 CORE_SEAMS = {
     "core.options": {"planar.path_sizes"},  # path_grading, a planar option, is still coerced by SolveOptions
     "core.solve": {"distributed", "scenes", "studies.adapt"},  # the front door: names, mpiexec, adapt=TOL
-    "core.stages": {"solid.contact"},  # the sparse active-set strategy still lives with the solid body
 }
 #: what the solid body takes from the planar one at run time: the same NGSolve spaces and
 #: Williams fields, the facet helpers and the TOML writer (to move to the core, never to grow)

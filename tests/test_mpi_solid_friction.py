@@ -1,7 +1,7 @@
 """Coulomb friction on a 3D crack under `mpiexec -n 2` (and 3) against the serial 3D solve.
 
 The distributed crack problem (ngcrack.distributed.solid_friction: Newton steps by projected
-CG) and the serial one (ngcrack.solid.friction: a semismooth Newton method with sparse LU)
+CG) and the serial one (ngcrack.core.sparse_friction: a semismooth Newton method with sparse LU)
 solve the same discrete law at the same friction points. Asserted against the serial solve
 on the same mesh in the same run: the normal jumps and the slips at every point to 1e-8 of
 their largest, the same open / stick / slip sets, K_I, K_II, K_III to 1e-8 of their largest,

@@ -137,7 +137,7 @@ def _coulomb_kkt(K, F, contact, G, points, res):
 
 
 def test_sparse_coulomb_solver_meets_the_cone_conditions():
-    from ngcrack.solid.friction import FrictionPoints, solve_friction
+    from ngcrack.core.sparse_friction import FrictionPoints, solve_friction
 
     rng = np.random.default_rng(3)
     n = 120

@@ -1,7 +1,9 @@
 """The stages of a solve after the reduction, each a function with a typed result.
 
-    crack problem (`crack_stage` -> CrackAnswer): the QP, or the problem with Coulomb
-        friction, on the crack unknowns; jn = 0 without contact
+    crack problem (`crack_stage` -> CrackAnswer, `sparse_contact_stage` -> SparseAnswer): the
+        crack problem posed once (`crack_problem.ContactProblem`) and solved by the strategy
+        its size and the communicator choose (`crack_problem.choose_strategy`); jn = 0
+        without contact
     recovery (`recovery_stage` -> Recovered): every unknown from jn, the fields
     crack faces (`faces_stage` -> CrackFaces): the crack profiles, the KKT residuals at the
         constraint points and at the profiles' samples, the consistent tractions
@@ -24,11 +26,12 @@ from typing import TYPE_CHECKING
 import ngsolve as ngs
 import numpy as np
 
+from . import crack_problem as problems
 from .constraints import discrete_contact_forces, kkt_at_constraints
-from .contact import QPResult, solve_qp, warm_start_data
+from .contact import QPResult
 from .discretization import Discretization, Loads, PostProcessing
 from .errors import InputError
-from .friction import FrictionResult, solve_crack_problem
+from .friction import FrictionResult
 from .friction_setup import crack_problem
 from .hybrid import CondensedSystem, ContactReduction
 from .options import SolveOptions
@@ -78,29 +81,39 @@ class CrackFaces:
 
 def crack_stage(red: ContactReduction, disc: Discretization, cmesh: CrackMesh, contact: np.ndarray,
                 options: SolveOptions, tangential: bool, friction: list[float], warm_start=None) -> CrackAnswer:
-    """The crack problem on the reduction: the QP (warm-started), or with `tangential` the
-    problem with Coulomb friction; a bonded or free crack (or none) gives jn = 0."""
+    """The crack problem on the reduction (`crack_problem.ContactProblem`), solved by its strategy: the
+    dense QP (warm-started) or, with `tangential`, the problem with Coulomb friction on S; above the
+    dense strategy's size the sparse active set (its answer recorded as a QPResult). A bonded or
+    free crack (or none) gives jn = 0."""
     t0 = time.perf_counter()
     o, m = options, len(red.system.contact)
     qp, G = None, None
     if len(contact):
         G = disc.constraint_map()
     if m and o.crack_model == "contact":
-        if tangential:
-            qp = solve_crack_problem(crack_problem(red, disc, cmesh, G, friction), solver=o.qp_solver,
-                                     solver_options=o.qp_options, method=o.friction_method)
-            jn = qp.z
+        system = red.system
+        problem = problems.ContactProblem(K=system.K_csr, F=system.F, contact=system.contact, G=G, reduction=red,
+                                          coulomb=crack_problem(red, disc, cmesh, G, friction) if tangential else None)
+        choice = problems.SolverChoice(qp_solver=o.qp_solver, qp_options=o.qp_options, friction_method=o.friction_method,
+                                       linear_solver=o.linear_solver, warm_start=warm_start)
+        positions = None if tangential else disc.constraint_positions()
+        strategy = problem.strategy()
+        if strategy == "sparse":
+            qp = _as_qp(problems.solve(problem, strategy, choice), system.contact, positions)
         else:
-            positions = disc.constraint_positions()
-            initial_active, initial_guess = warm_start_data(warm_start, *positions)
-            qp = dataclasses.replace(
-                solve_qp(red.S, red.b, G=G, solver=o.qp_solver, solver_options=o.qp_options,
-                         initial_active=initial_active, initial_guess=initial_guess),
-                crack=positions[0], s=positions[1])
-            jn = qp.j
+            qp = problems.solve(problem, strategy, choice, positions)
+        jn = problems.crack_unknowns(qp, system.contact)
     else:  # no crack, or a bonded crack: jn = 0
         jn = np.zeros(m)
     return CrackAnswer(qp=qp, G=G, jn=jn, time=time.perf_counter() - t0)
+
+
+def _as_qp(result, contact: np.ndarray, positions) -> QPResult:
+    """The sparse strategy's answer on a reduction's system as the QP's record: j = y at the crack
+    unknowns, w = G j, the forces read from the residual, its KKT residuals."""
+    return QPResult(j=np.asarray(result.y)[contact], w=np.asarray(result.w), multiplier=np.asarray(result.lam),
+                    active=np.flatnonzero(result.active), solver="sparse active set", iterations=result.iterations,
+                    kkt=dict(result.kkt), time_s=float(result.timings.get("total", 0.0)), crack=positions[0], s=positions[1])
 
 
 def recovery_stage(red: ContactReduction, system: CondensedSystem, disc: Discretization, jn: np.ndarray,
@@ -207,11 +220,12 @@ class SparseAnswer:
 
 
 def sparse_contact_stage(system: CondensedSystem, disc: Discretization, crack_model: str,
-                         linear_solver: str) -> SparseAnswer:
-    """The contact problem on the sparse condensed system (`ngcrack.solid.contact.solve_contact`:
-    an active set with one sparse factorization per step, no dense Schur complement), or one
-    linear solve for a free crack or none."""
-    from ..solid.contact import solve_contact
+                         linear_solver: str, qp_solver: str = "pdas", points=None) -> SparseAnswer:
+    """The crack problem on the sparse condensed system (`crack_problem.ContactProblem`, no reduction
+    formed before it), solved by the strategy its size chooses: "dense" (one partial factorization,
+    the crack QP on the dense Schur complement) or "sparse" (`sparse_contact`: one sparse
+    factorization per active set); with `points` (friction points) the problem with Coulomb
+    friction (`sparse_friction`). A free crack or none: one linear solve."""
     from .schur import Factorization
 
     G = disc.constraint_map() if disc.has_crack else None
@@ -219,7 +233,8 @@ def sparse_contact_stage(system: CondensedSystem, disc: Discretization, crack_mo
     if not disc.has_crack or crack_model == "free":
         y = Factorization(system.K, linear_solver).solve(system.F)
         return SparseAnswer(y=y, result=None, G=G, time_linear=time.perf_counter() - t0, time_contact=0.0)
-    result = solve_contact(system.K, system.F, system.contact, G, linear_solver=linear_solver)
+    problem = problems.ContactProblem(K=system.K, F=system.F, contact=system.contact, G=G, points=points)
+    result = problems.solve(problem, choice=problems.SolverChoice(qp_solver=qp_solver, linear_solver=linear_solver))
     return SparseAnswer(y=result.y, result=result, G=G, time_linear=0.0, time_contact=time.perf_counter() - t0)
 
 

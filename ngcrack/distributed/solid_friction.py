@@ -1,6 +1,6 @@
 """Coulomb friction on 3D crack faces in the distributed solve: the serial law, Newton steps by CG.
 
-The law is the serial one (`solid.friction`): friction points q on the crack faces, their
+The law is the serial one (`core.sparse_friction`): friction points q on the crack faces, their
 slips s_q = B_q y (2-vectors in the crack's plane; B from `solid.friction_points`, made on
 rank 0's serial system), the bound g_q = mu omega_q lam_f (lam_f the normal force of the
 point's face), the friction force lam_t,q in the Coulomb cone, along the slip where the
@@ -39,7 +39,7 @@ from dataclasses import dataclass, field, fields
 import ngsolve as ngs
 import numpy as np
 
-from ..solid.friction import STICK_RCOND
+from ..core.sparse_friction import STICK_RCOND
 from .friction import force_residual
 from .krylov import _DEBUG, Operator, hold, pcg
 

@@ -18,8 +18,8 @@ import scipy.sparse.linalg as spla
 
 from ..core.constraints import discrete_contact_forces, kkt_at_constraints
 from ..core.stages import SolveError
-from ..solid.contact import ContactResult
-from ..solid.friction import certificate
+from ..core.sparse_contact import ContactResult
+from ..core.sparse_friction import certificate
 from ..solid.output import SolidSolution
 from .assemble0 import reduced_unknowns
 from .mesh import MATCH_RTOL
@@ -47,7 +47,7 @@ def solution_on_rank0(pipe, scene, opts: dict, smesh, gathered, timings: dict, i
                       t_start: float, friction=None) -> SolidSolution:
     """The SolidSolution from the gathered unknowns (module docstring); `friction`: (the serial FrictionPoints,
     the last `solid_friction.PointState`) of a frictional solve, certified as the serial one
-    (`solid.friction.certificate`)."""
+    (`core.sparse_friction.certificate`)."""
     from ..solid.stages import SIZES, post_process
 
     t0 = time.perf_counter()

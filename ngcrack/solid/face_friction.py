@@ -4,7 +4,7 @@ With a traction t on the crack faces the domain integrals gain a face integral (
 pressure's, ngcrack.solid.face_pressure): I_m += - int t+ . d[u^m]/dx_1 q dA over the
 crack's plane, t+ the traction on the + face and [u^m] the auxiliary jump (traction-free
 faces: no term in the auxiliary stresses). The friction forces of a frictional solve
-(ngcrack.solid.friction) are point forces at the friction points (lam_t,q: minus the + face's
+(ngcrack.core.sparse_friction) are point forces at the friction points (lam_t,q: minus the + face's
 friction traction integrated against its point). Each face's forces are spread over it as
 a uniform traction t+ = -(sum of its lam_t) / area and the term is integrated with
 NGSolve's rule on the crack faces (at the points themselves, the faces along a curved

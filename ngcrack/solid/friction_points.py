@@ -7,7 +7,7 @@ friction points at a quadrature rule of degree 2k (k the element order: 3, 6, 12
 positive weights omega summing to 1 on the face): their slips outnumber the jump's
 functions on the face and its edges, so that all its points sticking leaves no slip on
 it. The sticking points' constraints are then redundant (the method of
-ngcrack.solid.friction regularises their block by round-off). B maps the condensed unknowns y to the slips,
+ngcrack.core.sparse_friction regularises their block by round-off). B maps the condensed unknowns y to the slips,
 two rows per point in its crack's plane basis (e_a, e_b): exactly (the covariant shape
 functions of the tetrahedron at the mapped point), block-sparse, built without a solve.
 
@@ -22,7 +22,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from .friction import FrictionPoints
+from ..core.sparse_friction import FrictionPoints
 
 #: each face's friction points: NGSolve's triangle rule of this degree times the element order
 #: (3, 6 and 12 points at orders 1, 2, 3: positive weights; two slips per point are at least

@@ -9,11 +9,13 @@ scene with the pipeline's caches:
     scene -> mesh (Pipeline.mesh) -> forms, the loads as NGSolve Parameters
           (Pipeline.discretization: a new load value re-assembles the load vector only)
           -> condensed system (Pipeline.system: a new load rebuilds F only)
-          -> contact (stages.sparse_contact_stage: one sparse factorization with the crack
-             unknowns last, the active set on their dense Schur complement; with friction
-             `friction_stage`: the semismooth Newton method on the Coulomb cone, likewise
-             reduced to the crack; the factorization timed as "linear", the rest as
-             "contact") -> SolidSolution -> the fronts' K_I, K_II, K_III, G
+          -> crack problem (stages.sparse_contact_stage: the crack problem posed once,
+             `core.crack_problem`, its strategy chosen by size: "dense", one sparse
+             factorization with the crack unknowns last and the crack QP on their dense
+             Schur complement, or "sparse" above `core.sparse_contact.SCHUR_MAX_M`; with
+             friction `friction_stage`: the semismooth Newton method on the Coulomb cone,
+             likewise reduced to the crack; the factorization timed as "linear", the rest
+             as "contact") -> SolidSolution -> the fronts' K_I, K_II, K_III, G
           (and, asked for, the error estimate: `solid.estimate`)
 
 `options` is the checked dict of `solid.solve.check_options` with the mesh sizes.
@@ -21,6 +23,7 @@ scene with the pipeline's caches:
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import time
@@ -111,19 +114,19 @@ SOLID = BODY = SolidBody()
 
 
 def friction_stage(smesh: SolidMesh, disc, system, mu: list[float], linear_solver: str) -> SparseAnswer:
-    """The crack problem with Coulomb friction on the sparse system (`solid.friction.solve_friction`
-    at the friction points of `solid.friction_points`), its forces in the element's force unit."""
-    from .friction import solve_friction
+    """The crack problem with Coulomb friction on the sparse system (`stages.sparse_contact_stage` with the
+    friction points of `solid.friction_points`), its forces in the element's force unit."""
     from .friction_points import friction_points
 
-    G = disc.constraint_map()
     t0 = time.perf_counter()
     points = friction_points(smesh, disc, system, mu)
-    result = solve_friction(system.K, system.F, system.contact, G, points, linear_solver=linear_solver)
+    t_points = time.perf_counter() - t0
+    answer = sparse_contact_stage(system, disc, "contact", linear_solver, points=points)
+    result = answer.result
     for name in ("lam", "lam_t", "bound"):  # the system is in units of E (element.build)
         setattr(result, name, getattr(result, name) * disc.force_unit)
     result.points = points
-    return SparseAnswer(y=result.y, result=result, G=G, time_linear=0.0, time_contact=time.perf_counter() - t0)
+    return dataclasses.replace(answer, time_contact=answer.time_contact + t_points)
 
 
 def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | None = None) -> SolidSolution:
@@ -144,7 +147,8 @@ def run_solid(pipeline, scene: SolidScene, options: dict, smesh: SolidMesh | Non
     if disc.has_crack and options["crack_model"] == "contact" and any(m > 0 for m in mu):
         answer = friction_stage(smesh, disc, system, mu, options["linear_solver"])
     else:
-        answer = sparse_contact_stage(system, disc, options["crack_model"], options["linear_solver"])
+        answer = sparse_contact_stage(system, disc, options["crack_model"], options["linear_solver"],
+                                      qp_solver=options.get("qp_solver") or "pdas")
         if answer.result is not None:  # the system is in the element's force unit (solid.element.build)
             answer.result.lam = answer.result.lam * disc.force_unit
     timings.update(linear=answer.time_linear, contact=answer.time_contact)

@@ -57,9 +57,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..core.constraints import KKT_ZERO_RTOL, ContactSolverError, discrete_contact_forces, kkt_at_constraints
-from ..core.schur import Factorization
-from .contact import MAX_ITERATIONS, SCHUR_MAX_M, _transform
+from .constraints import KKT_ZERO_RTOL, ContactSolverError, discrete_contact_forces, kkt_at_constraints
+from .schur import Factorization
+from .sparse_contact import MAX_ITERATIONS, SCHUR_MAX_M, _transform
 
 #: the slip law must hold to this fraction of the largest normal force at the end
 NEWTON_RTOL = 1e-13
@@ -291,7 +291,7 @@ def _solve_reduced(K, F, contact, G, points: FrictionPoints, crack: np.ndarray, 
     (the normal jumps and the slips' unknowns), the rest recovered, the certificate on the whole system."""
     import dataclasses
 
-    from ..core.schur import schur_complement
+    from .schur import schur_complement
 
     t0 = time.perf_counter()
     K = sp.csr_matrix(K)

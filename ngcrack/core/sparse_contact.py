@@ -17,14 +17,16 @@ Kunisch: a semismooth Newton method) guesses the closed points A, solves with x_
 reads lam from the residual and updates A = {i : lam_i - c_i x_i > 0} (c the diagonal of
 the matrix) until A repeats. Two ways (`method`):
 
-- "schur" (the default while m <= SCHUR_MAX_M): one sparse factorization of K_w with the
+- "schur" (the default while m <= SCHUR_MAX_M): one sparse factorization of K with the
   crack unknowns last, which leaves the dense Schur complement S = K_cc - K_cr K_rr^-1 K_rc
-  on them (MKL PARDISO's Schur option, `ngcrack.schur.schur_complement`, as the 2D contact
-  stage does); the active set then iterates on S alone (one dense Cholesky factorization
-  of S's free block per active set: m^3/3 flops, milliseconds at m = 1e3), and the rest
-  is recovered with one solve. An active-set change costs a small dense solve, not a
-  refactorization; the sparse factorization is the one any linear solve of the body needs
-  (timed apart as "factorize").
+  on them (MKL PARDISO's Schur option, `ngcrack.core.schur.schur_complement`); the active set
+  is found by the crack QP's solver on S (`ngcrack.core.contact.solve_qp`: pdas, or uzawa or a
+  cvxpy solver polished by pdas), the one solver of the dense strategy in every dimension;
+  the answer y is then solved on the whole system with the closed values held at zero
+  (iterative refinement through the partial factorization and S) and the active set checked
+  on it by the primal-dual rule below (a step more where the two disagree). An active-set
+  change costs a small dense solve, not a refactorization; the sparse factorization is the
+  one any linear solve of the body needs (timed apart as "factorize").
 - "sparse": one sparse factorization of K_w's free unknowns per active set, nothing of
   size m^2 formed (for m above SCHUR_MAX_M, where S would not fit).
 
@@ -43,9 +45,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..core.constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
-from ..core.csr import to_scipy
-from ..core.schur import Factorization
+from .constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
+from .csr import to_scipy
+from .schur import Factorization
 
 #: at most this many active-set steps
 MAX_ITERATIONS = 60
@@ -78,7 +80,7 @@ def _transform(K: sp.csr_matrix, F: np.ndarray, contact: np.ndarray, G) -> tuple
     if G is None:
         T = sp.identity(n, format="csr")
         return K, F, T
-    from ..core.constraints import _inverse_map
+    from .constraints import _inverse_map
 
     Ginv = _inverse_map(G, len(contact))
     Ginv = sp.csr_matrix(to_scipy(Ginv)) if Ginv is not None else sp.identity(len(contact), format="csr")
@@ -120,7 +122,7 @@ def _inverse(G, m: int) -> sp.csr_matrix:
     """G^-1 as a scipy CSR matrix (the identity for G None)."""
     if G is None:
         return sp.identity(m, format="csr")
-    from ..core.constraints import _inverse_map
+    from .constraints import _inverse_map
 
     Ginv = _inverse_map(G, m)
     return sp.csr_matrix(to_scipy(Ginv)) if Ginv is not None else sp.identity(m, format="csr")
@@ -185,9 +187,11 @@ class _BlockSolver:
         return y, w
 
 
-def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t0: float) -> ContactResult:
-    """The "schur" method (module docstring): one partial factorization, the active set on S."""
-    from ..core.schur import schur_complement
+def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t0: float, qp_solver: str = "pdas",
+                 qp_options: dict | None = None) -> ContactResult:
+    """The "schur" method (module docstring): one partial factorization, the crack QP on S, the answer on the whole system."""
+    from .contact import solve_qp
+    from .schur import schur_complement
 
     n = K.shape[0]
     rest = np.setdiff1d(np.arange(n), contact)
@@ -198,8 +202,11 @@ def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t
     c = np.diag(block.S).copy()
     if np.any(c <= 0):
         raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
+    qp = solve_qp(data.S, data.b, G=G, solver=qp_solver, solver_options=qp_options, initial_active=A if A.any() else None)
+    A = np.zeros(len(contact), dtype=bool)
+    A[qp.active] = True
     seen = set()
-    for it in range(1, max_iterations + 1):
+    for it in range(1, max_iterations + 1):  # the QP's active set checked on the whole system's answer
         y, w = block.refined(A)
         lam = -block.residual(y)[1]
         new = lam - c * w > 0
@@ -217,7 +224,7 @@ def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t
     t4 = time.perf_counter()
     timings = {"setup": t1 - t0, "factorize": t2 - t1, "factorizations": t2 - t1, "active_set": t3 - t2,
                "certificate": t4 - t3, "total": t4 - t0}
-    return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=1, method="schur")
+    return ContactResult(y, w, lam, A, qp.iterations + it - 1, kkt, timings, factorizations=1, method="schur")
 
 
 def _certificate(K, F, y, w, contact, G) -> tuple[np.ndarray, dict]:
@@ -230,9 +237,11 @@ def _certificate(K, F, y, w, contact, G) -> tuple[np.ndarray, dict]:
 
 
 def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *, linear_solver: str = "auto",
-                  active=None, max_iterations: int = MAX_ITERATIONS, method: str = "auto") -> ContactResult:
+                  active=None, max_iterations: int = MAX_ITERATIONS, method: str = "auto", qp_solver: str = "pdas",
+                  qp_options: dict | None = None) -> ContactResult:
     """Solve the constrained problem (module docstring); `active`: an initial guess of the closed points;
-    `method`: "schur", "sparse" or "auto" (schur up to SCHUR_MAX_M constrained unknowns)."""
+    `method`: "schur", "sparse" or "auto" (schur up to SCHUR_MAX_M constrained unknowns); `qp_solver` and
+    `qp_options`: the crack QP's solver of the "schur" method (`ngcrack.core.contact.solve_qp`)."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r}: allowed values are {', '.join(METHODS)}")
     t0 = time.perf_counter()
@@ -241,7 +250,7 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
     n, m = K.shape[0], len(contact)
     A = _initial(active, m)
     if method == "schur" or (method == "auto" and 0 < m <= SCHUR_MAX_M):
-        return _solve_schur(K, F, contact, G, A, linear_solver, max_iterations, t0)
+        return _solve_schur(K, F, contact, G, A, linear_solver, max_iterations, t0, qp_solver, qp_options)
     Kw, Fw, T = _transform(K, F, contact, G)
     diag = Kw.diagonal()[contact]
     if np.any(diag <= 0):
