@@ -55,9 +55,9 @@ def run_level(front_h: float, order: int, levers: str, load: float, estimate: bo
     import ngcrack as nc
     from ngcrack.core import schur
     from ngcrack.core.hybrid import condense
+    from ngcrack.core.sparse_contact import solve_contact
     from ngcrack.solid import front as front_module
     from ngcrack.solid import geometry
-    from ngcrack.core.sparse_contact import solve_contact
     from ngcrack.solid.element import build
     from ngcrack.solid.output import SolidSolution
     from ngcrack.solid.solve import scene_loads

@@ -211,7 +211,8 @@ TWO_D = ("planar.scene", "scenes", "studies.references", "planar.sizing", "plana
 #: condensed system and the reduction, the crack problem (QP, friction), the KKT residuals,
 #: the stages, the options and the solution
 DIMENSION_FREE = ("core.errors", "core.memory", "core.parallel", "shell.files", "core.csr", "core.constraints", "core.contact",
-                  "core.schur", "core.crack_problem", "core.sparse_contact", "core.sparse_friction", "core.element_names", "core.discretization", "core.hybrid", "core.friction", "core.friction_setup",
+                  "core.schur", "core.crack_problem", "core.sparse_contact", "core.sparse_friction",
+                  "core.element_names", "core.discretization", "core.hybrid", "core.friction", "core.friction_setup",
                   "core.stages", "core.options", "core.solution")
 
 class _WithoutTypeChecking:

@@ -17,8 +17,8 @@ import pytest
 import scipy.sparse as sp
 
 import ngcrack as nc
-from ngcrack.scenes.coarse3d import coarse_penny
 from ngcrack.core.sparse_contact import solve_contact
+from ngcrack.scenes.coarse3d import coarse_penny
 from ngcrack.solid.scene import SolidScene
 
 PENNY = coarse_penny()

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.scenes.coarse3d import inclined_penny
 from ngcrack.core.sparse_contact import solve_contact
 from ngcrack.core.sparse_friction import solve_friction
+from ngcrack.scenes.coarse3d import inclined_penny
 from ngcrack.solid.friction_points import friction_points
 from ngcrack.solid.geometry import make_mesh
 from ngcrack.solid.scene import SolidScene

@@ -18,7 +18,6 @@ one is `ngcrack.planar.post2d.PLANE`).
 
 from __future__ import annotations
 
-import dataclasses
 import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING

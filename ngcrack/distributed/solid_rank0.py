@@ -17,9 +17,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..core.constraints import discrete_contact_forces, kkt_at_constraints
-from ..core.stages import SolveError
 from ..core.sparse_contact import ContactResult
 from ..core.sparse_friction import certificate
+from ..core.stages import SolveError
 from ..solid.output import SolidSolution
 from .assemble0 import reduced_unknowns
 from .mesh import MATCH_RTOL
