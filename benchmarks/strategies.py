@@ -41,7 +41,7 @@ def _force_sparse() -> None:
     """Set every Schur threshold this checkout has to 0 (the sparse strategy for any crack)."""
     import importlib
 
-    for name in ("ngcrack.core.crack_problem", "ngcrack.core.sparse_contact", "ngcrack.solid.contact", "ngcrack.solid.friction"):
+    for name in ("ngcrack.core.constraints", "ngcrack.solid.contact", "ngcrack.solid.friction"):
         try:
             mod = importlib.import_module(name)
         except ImportError:

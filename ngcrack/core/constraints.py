@@ -42,6 +42,10 @@ def faces_closed(normal_jump, scale: float) -> np.ndarray:
 #: it the solve refuses the answer (ContactSolverError); the native solvers reach round-off
 #: (contact.KKT_TOL, 1e-9, counts as exact), an iterative cvxpy solver at its default tolerances 1e-8..1e-7
 ACCEPT_KKT = 1e-6
+#: the most crack unknowns whose dense Schur complement a solve forms (its m^2 doubles: 288 MB at 6000):
+#: up to it the crack problem takes the dense strategy, above it the sparse active set on the
+#: factorized system (`crack_problem.choose_strategy`; read when asked, so that a test may lower it)
+SCHUR_MAX_M = 6000
 #: G is inverted as a sparse matrix when at most this fraction of its entries is nonzero
 G_SPARSE_FILL = 0.1
 

@@ -16,11 +16,11 @@ unknowns and the ranks of the communicator, never from the dimension:
 - "dense": the Schur complement S on the crack unknowns and the crack QP on it
   (`contact.solve_qp`: pdas, uzawa or a cvxpy solver); with friction the Coulomb problem
   on S (`friction.solve_crack_problem`, or the semismooth Newton method of
-  `sparse_friction` reduced to the crack). Up to SCHUR_MAX_M crack unknowns (S has m^2
+  `sparse_friction` reduced to the crack). Up to constraints.SCHUR_MAX_M crack unknowns (S has m^2
   entries: 288 MB at 6000).
 - "sparse": the primal-dual active set on the factorized condensed system, one sparse
   factorization per active set, nothing of size m^2 (`sparse_contact`, `sparse_friction`
-  method "sparse"): above SCHUR_MAX_M crack unknowns. The 2D problem with friction is
+  method "sparse"): above constraints.SCHUR_MAX_M crack unknowns. The 2D problem with friction is
   posed on S and takes the dense strategy at every size.
 - "krylov": the projected conjugate gradients over MPI ranks (`ngcrack.distributed`: each
   active-set step one constrained solve by BDDC-preconditioned CG): whenever the
@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import sparse_contact
+from . import constraints
 from .contact import QPResult, solve_qp, warm_start_data
 from .errors import InputError
 from .friction import CrackProblem, FrictionResult, solve_crack_problem
@@ -58,8 +58,8 @@ STRATEGIES = {
 
 
 def dense_max() -> int:
-    """The most crack unknowns the dense strategy takes (`sparse_contact.SCHUR_MAX_M`, read when asked)."""
-    return sparse_contact.SCHUR_MAX_M
+    """The most crack unknowns the dense strategy takes (`constraints.SCHUR_MAX_M`, read when asked)."""
+    return constraints.SCHUR_MAX_M
 
 
 def choose_strategy(m: int, ranks: int = 1, frictional_on_schur: bool = False) -> str:
@@ -139,12 +139,15 @@ def solve(problem: ContactProblem, strategy: str | None = None, choice: SolverCh
         raise InputError("strategy = 'sparse': the 2D problem with friction is posed on the Schur complement "
                          "(strategy 'dense')")
     method = "schur" if strategy == "dense" else "sparse"
+    K = problem.K.to_scipy() if hasattr(problem.K, "to_scipy") else problem.K  # a csr.CSR (the 2D system) as scipy's
     if problem.points is not None:
         from .sparse_friction import solve_friction
 
-        return solve_friction(problem.K, problem.F, problem.contact, problem.G, problem.points,
+        return solve_friction(K, problem.F, problem.contact, problem.G, problem.points,
                               linear_solver=c.linear_solver, method=method)
-    return sparse_contact.solve_contact(problem.K, problem.F, problem.contact, problem.G, linear_solver=c.linear_solver,
+    from .sparse_contact import solve_contact  # (scipy.sparse: loaded by the sparse strategies only)
+
+    return solve_contact(K, problem.F, problem.contact, problem.G, linear_solver=c.linear_solver,
                                         method=method, qp_solver=c.qp_solver, qp_options=c.qp_options)
 
 

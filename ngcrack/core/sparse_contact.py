@@ -17,7 +17,7 @@ Kunisch: a semismooth Newton method) guesses the closed points A, solves with x_
 reads lam from the residual and updates A = {i : lam_i - c_i x_i > 0} (c the diagonal of
 the matrix) until A repeats. Two ways (`method`):
 
-- "schur" (the default while m <= SCHUR_MAX_M): one sparse factorization of K with the
+- "schur" (the default while m <= constraints.SCHUR_MAX_M): one sparse factorization of K with the
   crack unknowns last, which leaves the dense Schur complement S = K_cc - K_cr K_rr^-1 K_rc
   on them (MKL PARDISO's Schur option, `ngcrack.core.schur.schur_complement`); the active set
   is found by the crack QP's solver on S (`ngcrack.core.contact.solve_qp`: pdas, or uzawa or a
@@ -28,7 +28,7 @@ the matrix) until A repeats. Two ways (`method`):
   change costs a small dense solve, not a refactorization; the sparse factorization is the
   one any linear solve of the body needs (timed apart as "factorize").
 - "sparse": one sparse factorization of K_w's free unknowns per active set, nothing of
-  size m^2 formed (for m above SCHUR_MAX_M, where S would not fit).
+  size m^2 formed (for m above constraints.SCHUR_MAX_M, where S would not fit).
 
 The answer is certified as in 2D (ngcrack.core.constraints): the contact forces are taken
 from the residual of K y = F at the constrained rows (`discrete_contact_forces`), not
@@ -45,15 +45,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from . import constraints
 from .constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
 from .csr import to_scipy
 from .schur import Factorization
 
 #: at most this many active-set steps
 MAX_ITERATIONS = 60
-#: method "auto" forms the dense Schur complement on the crack unknowns up to this many of them
-#: (its m^2 doubles: 288 MB at 6000)
-SCHUR_MAX_M = 6000
 #: the contact solve's methods (module docstring)
 METHODS = ("auto", "schur", "sparse")
 #: iterative refinement steps of the "schur" method's solves (at most)
@@ -240,7 +238,7 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
                   active=None, max_iterations: int = MAX_ITERATIONS, method: str = "auto", qp_solver: str = "pdas",
                   qp_options: dict | None = None) -> ContactResult:
     """Solve the constrained problem (module docstring); `active`: an initial guess of the closed points;
-    `method`: "schur", "sparse" or "auto" (schur up to SCHUR_MAX_M constrained unknowns); `qp_solver` and
+    `method`: "schur", "sparse" or "auto" (schur up to constraints.SCHUR_MAX_M constrained unknowns); `qp_solver` and
     `qp_options`: the crack QP's solver of the "schur" method (`ngcrack.core.contact.solve_qp`)."""
     if method not in METHODS:
         raise ValueError(f"method = {method!r}: allowed values are {', '.join(METHODS)}")
@@ -249,7 +247,7 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
     contact = np.asarray(contact, dtype=int)
     n, m = K.shape[0], len(contact)
     A = _initial(active, m)
-    if method == "schur" or (method == "auto" and 0 < m <= SCHUR_MAX_M):
+    if method == "schur" or (method == "auto" and 0 < m <= constraints.SCHUR_MAX_M):
         return _solve_schur(K, F, contact, G, A, linear_solver, max_iterations, t0, qp_solver, qp_options)
     Kw, Fw, T = _transform(K, F, contact, G)
     diag = Kw.diagonal()[contact]

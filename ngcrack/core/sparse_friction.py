@@ -35,7 +35,7 @@ lam_n - c_n w > 0. It ends when the sets repeat and the slip law, the bound
 g = mu omega lam_f and the equations hold to round-off.
 
 Reduced to the crack (`method` "schur", the default while the crack's normal and tangential
-unknowns number at most contact.SCHUR_MAX_M): one sparse factorization of K with those
+unknowns number at most constraints.SCHUR_MAX_M): one sparse factorization of K with those
 unknowns last leaves their dense Schur complement S (MKL PARDISO's Schur option), the same
 Newton method runs on S (each step a factorization of the small reduced matrix, not of the
 body's), and the rest is recovered with one solve. The certificate is then computed on the
@@ -57,9 +57,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from . import constraints
 from .constraints import KKT_ZERO_RTOL, ContactSolverError, discrete_contact_forces, kkt_at_constraints
 from .schur import Factorization
-from .sparse_contact import MAX_ITERATIONS, SCHUR_MAX_M, _transform
+from .sparse_contact import MAX_ITERATIONS, _transform
 
 #: the slip law must hold to this fraction of the largest normal force at the end
 NEWTON_RTOL = 1e-13
@@ -140,11 +141,11 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
                    _reduced: dict | None = None) -> FrictionResult:
     """Solve the frictional contact problem of the module docstring by the semismooth Newton method,
     on the Schur complement of the crack's unknowns (`method` "schur"; "auto": while they number at
-    most SCHUR_MAX_M) or on the whole sparse system ("sparse")."""
+    most constraints.SCHUR_MAX_M) or on the whole sparse system ("sparse")."""
     if method not in ("auto", "schur", "sparse"):
         raise ValueError(f"method = {method!r}: allowed values are auto, schur, sparse")
     crack = np.union1d(np.asarray(contact, dtype=int), np.unique(sp.csr_matrix(points.B).indices))
-    if method == "schur" or (method == "auto" and len(crack) <= SCHUR_MAX_M):
+    if method == "schur" or (method == "auto" and len(crack) <= constraints.SCHUR_MAX_M):
         return _solve_reduced(K, F, np.asarray(contact, dtype=int), G, points, crack, linear_solver, max_iterations)
     t0 = time.perf_counter()
     K = sp.csr_matrix(K)

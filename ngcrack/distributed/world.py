@@ -65,5 +65,8 @@ def require_mpi():
 
 
 def active() -> bool:
-    """Whether a solve should run distributed: more than one process under mpiexec."""
-    return world_size() > 1
+    """Whether a solve should run distributed: the crack problem's strategy for this communicator is
+    the projected Krylov one (`core.crack_problem.choose_strategy`: more than one process under mpiexec)."""
+    from ..core.crack_problem import choose_strategy
+
+    return choose_strategy(0, world_size()) == "krylov"

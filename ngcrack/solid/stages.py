@@ -12,7 +12,7 @@ scene with the pipeline's caches:
           -> crack problem (stages.sparse_contact_stage: the crack problem posed once,
              `core.crack_problem`, its strategy chosen by size: "dense", one sparse
              factorization with the crack unknowns last and the crack QP on their dense
-             Schur complement, or "sparse" above `core.sparse_contact.SCHUR_MAX_M`; with
+             Schur complement, or "sparse" above `core.constraints.SCHUR_MAX_M`; with
              friction `friction_stage`: the semismooth Newton method on the Coulomb cone,
              likewise reduced to the crack; the factorization timed as "linear", the rest
              as "contact") -> SolidSolution -> the fronts' K_I, K_II, K_III, G
