@@ -55,6 +55,8 @@ def test_dense_and_sparse_agree_in_2d(monkeypatch):
     monkeypatch.setattr(constraints, "SCHUR_MAX_M", 0)
     sparse = nc.solve(scene)
     assert sparse.qp.solver == "sparse active set" and dense.qp.solver == "pdas"
+    m = len(dense.qp.j)  # the sparse strategy forms no dense Schur complement (its m^2 entries)
+    assert sparse.backend.largest_dense == 0 and dense.backend.largest_dense == m * m
     assert len(dense.qp.active) > 0 and np.array_equal(dense.qp.active, sparse.qp.active)
     assert _rel(dense.qp.j, sparse.qp.j) <= AGREE
     K = [np.array([[t.K_I, t.K_II] for t in s.tips]) for s in (dense, sparse)]

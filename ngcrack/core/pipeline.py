@@ -49,6 +49,7 @@ from .scene import Scene
 
 if TYPE_CHECKING:  # a planar body's mesh (a 3D body's is its own)
     from ..planar.geometry import CrackMesh
+from .crack_problem import choose_strategy
 from .discretization import Discretization, Loads
 from .hybrid import CondensedSystem, ContactReduction, condense, reduce_to_contact
 from .options import SolveOptions
@@ -264,13 +265,16 @@ class Pipeline:
         return system
 
     def reduction(self, system: CondensedSystem, options: SolveOptions) -> ContactReduction:
-        """The factorization of K_rr and the Schur complement on the crack unknowns, cached per layout."""
-        key = (options.reduction_key, len(system.contact), system.n_normal)
+        """The factorization of K_rr and the Schur complement on the crack unknowns, cached per layout (no
+        Schur complement where the crack problem's strategy is the sparse one: `crack_problem.choose_strategy`)."""
+        linear_solver, schur = options.reduction_key
+        if schur is not False and system.n_normal is None and choose_strategy(len(system.contact)) == "sparse":
+            schur = False
+        key = ((linear_solver, schur), len(system.contact), system.n_normal)
         cached = self._reductions.get(key)
         if cached is not None and cached.system.K_csr is system.K_csr and np.array_equal(cached.system.contact, system.contact):
             self.redone.append("one solve (factorization and S reused)")
             return cached.with_load(system)
-        linear_solver, schur = options.reduction_key
         red = reduce_to_contact(system, linear_solver=linear_solver, schur=schur)
         self._reductions[key] = red
         self.counts["factorize"] += 1
