@@ -43,8 +43,6 @@ from ..core.parallel import task_manager
 from ..planar.elements.tdnns import ORDERS, tdnns_order, tdnns_spaces, tdnns_terms  # noqa: F401  (ORDERS: the 3D orders too)
 from .geometry import SolidMesh
 
-ELEMENTS = ("tdnns", "h1p2")
-
 
 def compliance(E: float, nu: float) -> Callable:
     """sigma -> A sigma = ((1 + nu) sigma - nu tr(sigma) I) / E for a 3x3 CoefficientFunction."""

@@ -97,7 +97,6 @@ CLOSED_STRAIGHT = math.radians(1.0)
 #: the most trial solves per step (PLS trials, and new tips that came out closed; the last one is the
 #: next step's solve); a tip still closed after them stops, and one more solve grows the others
 MAX_TRIALS = 4
-PLS_MAX_TRIALS = MAX_TRIALS
 #: PLS: the largest change of the angle between two trials (radians)
 PLS_MAX_STEP = math.radians(30.0)
 #: |K_II| at most this fraction of K_eq is noise of the computed K (measured: 5e-4 on the
