@@ -1,7 +1,7 @@
 """Coulomb friction on 3D crack faces: a sparse semismooth Newton method, no dense matrix.
 
 The problem (dimension-free: a sparse matrix, a load, the normal constraints of
-`contact.solve_contact` and the slip at friction points, nothing of a mesh):
+`sparse_contact.solve_contact` and the slip at friction points, nothing of a mesh):
 
     minimise 0.5 y'Ky - F'y + sum_q g_q |s_q|   subject to   w = G y_c >= 0,
 
@@ -21,7 +21,7 @@ force is on the cone's edge along the slip.
 The method: a primal-dual active set / semismooth Newton method on the complementarity
 function max(g, |xi|) lam_t - g xi = 0, xi = lam_t + c s (Hueber, Stadler and Wohlmuth
 2008), with g updated from the current normal forces at every step. Each step fixes the
-closed constraints (x_A = 0, as in `contact.solve_contact`), the sticking points (s_q = 0,
+closed constraints (x_A = 0, as in `sparse_contact.solve_contact`), the sticking points (s_q = 0,
 their forces the multipliers of a saddle-point system) and the slipping ones, whose
 linearised law, taken along the predicted direction xi/|xi|,
 

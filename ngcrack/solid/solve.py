@@ -4,9 +4,9 @@ The options are checked here, before any meshing; the solve then runs through th
 stages of an `ngcrack.core.pipeline.Pipeline` (`stages.run_solid`), cached as in 2D:
 scene -> mesh (geometry.make_mesh) -> hybridized TDNNS with the crack's jumps
 (element.build) -> the condensed sparse system (ngcrack.core.hybrid.condense, shared with 2D)
--> the contact problem on it (contact.solve_contact: a primal-dual active set with one
-sparse factorization per active set; with friction, friction.solve_friction: a sparse
-semismooth Newton method on the Coulomb cone) -> the fields, the crack summaries and the front's
+-> the crack problem on it (ngcrack.core.crack_problem: the dense or the sparse strategy by
+its size; with friction, core.sparse_friction.solve_friction: a semismooth Newton method
+on the Coulomb cone) -> the fields, the crack summaries and the front's
 fracture parameters (front.front_parameters). `nc.solve` sends a 3D scene here.
 """
 
