@@ -2,8 +2,8 @@
 
 Each case is one solve; its record holds the crack unknowns (2D: the QP's j, or z with
 friction; 3D: the normal jumps), the fracture parameters (2D tips' K_I, K_II; 3D fronts'
-K_I, K_II, K_III), the KKT residuals and the seconds of the whole solve and of its crack
-problem (`timings["contact"]`). Cases:
+K_I, K_II, K_III), the KKT residuals, the CPU seconds of the whole solve (rank 0's under
+mpiexec; imports excluded) and the seconds of its crack problem (`timings["contact"]`). Cases:
 
     griffith          2D, dense Schur + pdas
     paper-1-<solver>  2D paper-1 with qp_solver pdas, uzawa, clarabel
@@ -65,7 +65,7 @@ def run_case(case: str) -> dict | None:
 
     if case.endswith("-sparse"):
         _force_sparse()
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     if case in ("griffith", "mpi-griffith"):
         sol = nc.solve(nc.scenes.load("griffith"))
     elif case.startswith("paper-1-"):
@@ -74,7 +74,7 @@ def run_case(case: str) -> dict | None:
         sol = nc.solve(nc.scenes.load("inclined-compression").with_(friction=0.3))
     else:
         sol = nc.solve(_scene3d(case))
-    seconds = time.perf_counter() - t0
+    seconds = time.process_time() - t0
     if sol is None:
         return None
     if getattr(sol, "fronts", None) and hasattr(sol, "normal_jumps") and getattr(sol, "smesh", None) is not None:
@@ -85,7 +85,7 @@ def run_case(case: str) -> dict | None:
         unknowns = np.asarray(getattr(qp, "z", qp.j), dtype=float)
         K = [np.array([t.K_I, t.K_II]) for t in sol.tips]
     return {"unknowns": unknowns.tolist(), "K": (np.concatenate(K) if K else np.zeros(0)).tolist(), "kkt": {k: float(v) for k, v in sol.kkt.items()},
-            "seconds": seconds, "contact": float(sol.timings.get("contact", 0.0))}
+            "seconds": seconds, "contact": float(sol.timings.get("contact", 0.0)), "from": os.path.abspath(nc.__file__)}
 
 
 def _mpiexec() -> str:
@@ -107,6 +107,8 @@ def record(root: str, cases=CASES) -> dict:
         with open(target) as f:
             out[case] = json.load(f)
         os.remove(target)
+        if not out[case]["from"].startswith(os.path.abspath(root) + os.sep):  # the checkout asked for, not another
+            raise RuntimeError(f"{case}: ngcrack was imported from {out[case]['from']}, not from {root}")
     return out
 
 
@@ -129,7 +131,7 @@ def differences(a: dict, b: dict) -> dict:
 
 
 def table(before: dict, after: dict) -> str:
-    lines = ["| case | solve s before | solve s after | contact s before | contact s after | max rel diff jumps | max rel diff K | KKT after |",
+    lines = ["| case | solve CPU s before | solve CPU s after | contact s before | contact s after | rel diff jumps | rel diff K | KKT after |",
              "|---|---|---|---|---|---|---|---|"]
     for case, d in differences(before, after).items():
         b, a = before[case], after[case]

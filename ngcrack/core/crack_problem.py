@@ -34,7 +34,6 @@ residuals relative to the largest jump and force), in the solve's stages.
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -174,10 +173,3 @@ def crack_unknowns(result, contact: np.ndarray) -> np.ndarray:
         return result.j
     return np.asarray(result.y)[np.asarray(contact, dtype=int)]
 
-
-def timed(problem: ContactProblem, strategy: str | None = None, choice: SolverChoice | None = None,
-          positions=None):
-    """(answer, seconds) of `solve`."""
-    t0 = time.perf_counter()
-    answer = solve(problem, strategy, choice, positions)
-    return answer, time.perf_counter() - t0
