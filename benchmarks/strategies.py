@@ -156,6 +156,7 @@ def main(argv=None) -> int:
     p.add_argument("--before", metavar="CHECKOUT")
     p.add_argument("--cases", nargs="*", default=list(CASES))
     p.add_argument("--root", help="the checkout --record solves with (default: this one)")
+    p.add_argument("--repeats", type=int, default=REPEATS, help="runs of each case per checkout (the fastest counts)")
     args = p.parse_args(argv)
     if args.one:
         rec = run_case(args.one[0])
@@ -175,7 +176,7 @@ def main(argv=None) -> int:
         return 0
     if args.before:
         runs_b, runs_a = [], []
-        for _ in range(REPEATS):  # interleaved: the machine's load falls on both alike
+        for _ in range(args.repeats):  # interleaved: the machine's load falls on both alike
             runs_b.append(record(os.path.abspath(args.before), args.cases))
             runs_a.append(record(here, args.cases))
         print(table(_fastest(runs_b), _fastest(runs_a)))

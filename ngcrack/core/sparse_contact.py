@@ -218,16 +218,17 @@ def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t
     else:
         raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
     t3 = time.perf_counter()
-    lam, kkt = _certificate(K, F, y, w, contact, G)
+    lam, kkt = certificate(K, F, y, w, contact, G)
     t4 = time.perf_counter()
     timings = {"setup": t1 - t0, "factorize": t2 - t1, "factorizations": t2 - t1, "active_set": t3 - t2,
                "certificate": t4 - t3, "total": t4 - t0}
     return ContactResult(y, w, lam, A, qp.iterations + it - 1, kkt, timings, factorizations=1, method="schur")
 
 
-def _certificate(K, F, y, w, contact, G) -> tuple[np.ndarray, dict]:
-    """The contact forces read from the whole system's residual and the KKT residuals of an answer
-    (either method's): relative to its largest jump, displacement and load."""
+def certificate(K, F, y, w, contact, G) -> tuple[np.ndarray, dict]:
+    """The contact forces read from the whole system's residual and the KKT residuals of an answer y
+    with constraint values w (any strategy's: dense, sparse, or the distributed Krylov one gathered on
+    rank 0): relative to its largest jump, displacement and load."""
     lam, bound = discrete_contact_forces(K, F, y, contact, G)
     kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if len(w) else 0.0, jump_scale=float(np.max(np.abs(y))),
                              force_scale=float(np.max(np.abs(F))), lam_bound=bound)
@@ -279,6 +280,6 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
         raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
     y = T @ x
     w = x[contact]
-    lam, kkt = _certificate(K, F, y, w, contact, G)
+    lam, kkt = certificate(K, F, y, w, contact, G)
     timings = {"setup": t_setup, "factorizations": t_fact, "total": time.perf_counter() - t0}
     return ContactResult(y, w, lam, A, it, kkt, timings, factorizations=it, method="sparse")

@@ -16,8 +16,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..core.constraints import discrete_contact_forces, kkt_at_constraints
 from ..core.sparse_contact import ContactResult
+from ..core.sparse_contact import certificate as contact_certificate
 from ..core.sparse_friction import certificate
 from ..core.stages import SolveError
 from ..solid.output import SolidSolution
@@ -69,10 +69,7 @@ def solution_on_rank0(pipe, scene, opts: dict, smesh, gathered, timings: dict, i
         w = G @ y[system.contact]
         w[active] = 0.0  # the values the last step held at zero are zero (their round-off would read as open)
         y[system.contact] = spla.spsolve(sp.csc_matrix(G), w)
-        lam, bound = discrete_contact_forces(system.K, system.F, y, system.contact, G)
-        m = len(system.contact)
-        kkt = kkt_at_constraints(w, lam, float(np.max(np.abs(w))) if m else 0.0, jump_scale=float(np.max(np.abs(y))),
-                                 force_scale=float(np.max(np.abs(system.F))), lam_bound=bound)
+        lam, kkt = contact_certificate(system.K, system.F, y, w, system.contact, G)
         contact = ContactResult(y, w, lam * disc.force_unit, active, info["active_set_steps"], kkt)
         if friction is not None:
             points, state = friction
