@@ -539,6 +539,8 @@ def main(argv=None) -> int:
     args.on_interrupt = None  # a command may set it: signum -> the note of what it wrote, called once
 
     def farewell(signum: int) -> str:  # the watcher ends the process (the main thread is in a long C call)
+        if not _first_rank():  # under mpiexec rank 0 says it, once
+            return ""
         note = None
         if args.on_interrupt is not None:
             try:
@@ -549,30 +551,41 @@ def main(argv=None) -> int:
 
     with Interrupts(farewell) as interrupts:
         try:
-            code = args.func(args)
-            check_interrupt()  # a signal swallowed on the way (a library turned it into nothing)
-            sys.stdout.flush()  # a closed pipe shows here, inside the handling below
-            return code
-        except KeyboardInterrupt as exc:
-            signum = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
-            return _interrupted(args, interrupts, signum, exc)
-        except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
-            try:
-                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-            except (OSError, ValueError, AttributeError):
-                pass
-            return 128 + signal.SIGPIPE
-        except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
-            if interrupts.signum is not None:  # the signal came back as a library's exception
-                return _interrupted(args, interrupts, interrupts.signum, exc)
-            code, message = classify(exc, args.command)
-            if debug:
-                traceback.print_exc()
-            if code != EXIT_INPUT or _first_rank():  # bad input: every rank of mpiexec finds it alike, one line
-                print(f"ngcrack: error: {message}", file=sys.stderr)
-            return code
+            code = _run(args, interrupts, debug)
+            from ..distributed.world import same_exit
+
+            return same_exit(code)  # under mpiexec every rank ends as rank 0 did
+        except KeyboardInterrupt as exc:  # a rank of mpiexec waiting for rank 0's end: quietly, rank 0 says it
+            return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
         finally:
             warnings.showwarning = shown
+
+
+def _run(args, interrupts: Interrupts, debug: bool) -> int:
+    """The command of `args`, every error and interruption turned into one line and an exit code."""
+    try:
+        code = args.func(args)
+        check_interrupt()  # a signal swallowed on the way (a library turned it into nothing)
+        sys.stdout.flush()  # a closed pipe shows here, inside the handling below
+        return code
+    except KeyboardInterrupt as exc:
+        signum = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
+        return _interrupted(args, interrupts, signum, exc)
+    except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 128 + signal.SIGPIPE
+    except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
+        if interrupts.signum is not None:  # the signal came back as a library's exception
+            return _interrupted(args, interrupts, interrupts.signum, exc)
+        code, message = classify(exc, args.command)
+        if debug:
+            traceback.print_exc()
+        if code != EXIT_INPUT or _first_rank():  # bad input: every rank of mpiexec finds it alike, one line
+            print(f"ngcrack: error: {message}", file=sys.stderr)
+        return code
 
 
 def _first_rank() -> bool:
@@ -584,7 +597,8 @@ def _first_rank() -> bool:
 
 def _interrupted(args, interrupts, signum: int, exc: BaseException) -> int:
     note = getattr(exc, "note", None)
-    print(interrupted_line(args.command, signum, note), file=sys.stderr)
+    if _first_rank():  # under mpiexec every rank is interrupted; rank 0 says it, once
+        print(interrupted_line(args.command, signum, note), file=sys.stderr)
     interrupts.handled()
     return 128 + signum
 

@@ -21,6 +21,7 @@ import sys
 from contextlib import contextmanager
 
 from ..core.errors import InputError
+from .files import Terminated  # noqa: F401 -- the commands' name for it
 
 #: exit codes: bad input (the user's), anything else (a system that cannot be solved, or a fault of ngcrack)
 EXIT_INPUT, EXIT_SOLVE = 2, 3
@@ -104,10 +105,6 @@ def classify(exc: BaseException, command: str | None = None) -> tuple[int, str]:
 def one_line_warning(message, category, filename, lineno, file=None, line=None):
     """`warnings.showwarning` for the command line: the warning as one line on stderr."""
     print(f"ngcrack: warning: {one_line(message)}", file=sys.stderr if file is None else file)
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
 
 
 def check_finite(obj) -> None:
