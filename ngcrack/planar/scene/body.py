@@ -54,7 +54,13 @@ from .planar import (
     check_polyline_simple,
 )
 from .points import (
-    PointCondition, coerce_points, force_conditions, from_tractions, insert_points, strip_points, warn_held_mouths,
+    PointCondition,
+    coerce_points,
+    force_conditions,
+    from_tractions,
+    insert_points,
+    strip_points,
+    warn_held_mouths,
 )
 from .pressure import check_pressure
 from .topology import Part, check_held, parts
