@@ -2,11 +2,13 @@
 
 One problem, posed once, solved by the dense strategy (the Schur complement and the crack QP
 on it) and by the sparse one (the active set on the factorized system, forced by lowering the
-dense strategy's threshold to 0): the crack unknowns and the fracture parameters agree to
-1e-10 (measured 1e-12 and below), the active sets are the same, both answers' KKT residuals are
-round-off; in 2D (inclined-compression, whose crack closes) and in 3D (the bent coarse penny,
-half closed, and the inclined penny pressed shut with Coulomb friction 0.3). The choice rule
-is by size and ranks, not by dimension.
+dense strategy's threshold to 0): the fracture parameters agree to 1e-10 (measured 5.6e-12 in
+2D, 1.2e-12 in 3D), the active sets are the same, both answers' KKT residuals are round-off;
+in 2D (paper-2: 4 of its 40 constraint values closed) and in 3D (the bent coarse penny, half
+closed, and the inclined penny pressed shut with Coulomb friction 0.3). The crack unknowns agree
+to 1e-10 in 3D and to 1e-7 in 2D (measured 7.3e-9): the 2D dense strategy takes the QP's j on S
+as it is, where the 3D one solves the answer again on the whole system (refined), and S carries
+the partial factorization's rounding. The choice rule is by size and ranks, not by dimension.
 """
 
 from __future__ import annotations
@@ -24,6 +26,8 @@ from ngcrack.solid.solve import solve_solid
 
 #: the strategies' answers on the same problem agree to this (relative to the largest value)
 AGREE = 1e-10
+#: the 2D crack unknowns agree to this (module docstring)
+AGREE_2D_JUMPS = 1e-7
 #: and each answer's KKT residuals are at most this
 KKT_ROUND_OFF = 1e-10
 
@@ -50,15 +54,15 @@ def test_krylov_and_unknown_strategies_are_refused_by_name():
 
 
 def test_dense_and_sparse_agree_in_2d(monkeypatch):
-    scene = nc.scenes.load("inclined-compression")
+    scene = nc.scenes.load("paper-2")
     dense = nc.solve(scene)
     monkeypatch.setattr(constraints, "SCHUR_MAX_M", 0)
     sparse = nc.solve(scene)
     assert sparse.qp.solver == "sparse active set" and dense.qp.solver == "pdas"
     m = len(dense.qp.j)  # the sparse strategy forms no dense Schur complement (its m^2 entries)
     assert sparse.backend.largest_dense == 0 and dense.backend.largest_dense == m * m
-    assert len(dense.qp.active) > 0 and np.array_equal(dense.qp.active, sparse.qp.active)
-    assert _rel(dense.qp.j, sparse.qp.j) <= AGREE
+    assert 0 < len(dense.qp.active) < m and np.array_equal(dense.qp.active, sparse.qp.active)
+    assert _rel(dense.qp.j, sparse.qp.j) <= AGREE_2D_JUMPS
     K = [np.array([[t.K_I, t.K_II] for t in s.tips]) for s in (dense, sparse)]
     assert _rel(*K) <= AGREE
     assert max(max(s.kkt.values()) for s in (dense, sparse)) <= KKT_ROUND_OFF
