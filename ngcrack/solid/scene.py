@@ -11,7 +11,7 @@ Domain
     ``cylinder = {center, axis, radius, height}``: ``center`` is the centre of the
     cylinder (mid-height on the axis); faces ``bottom`` (at center - height/2 axis),
     ``top`` and ``side``.
-Cracks (``[[crack]]``), each a plane set strictly inside the body:
+Cracks (``[[crack]]``), each a plane set inside the body or crossing its free faces:
     ``shape = "disc"`` with ``center``, ``normal``, ``radius``;
     ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and
     ``major_axis`` (projected into the crack plane; the semi-axis a lies along it);
@@ -19,8 +19,10 @@ Cracks (``[[crack]]``), each a plane set strictly inside the body:
     normal follows the right-hand rule of the point order). ``friction`` >= 0;
     ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart.
     The normal nu points into the ``+`` face; the jump is [u] = u+ - u-.
-Cracks stay apart from each other and from the boundary (a clearance of
-``CLEARANCE_RTOL`` times the crack's size); a crack reaching a face is a later step.
+Cracks stay apart from each other and from the faces (a clearance of ``CLEARANCE_RTOL`` times the
+crack's size), or cross free faces by as much: the crack is then its part inside the body, its
+front the part of its outline inside (``ngcrack.solid.surface``): a semi-elliptical surface crack
+is an ellipse centred on a face, a corner crack a quarter of one centred on an edge.
 Boundary conditions by face label: ``clamped``, ``displacement`` (value = [ux, uy, uz]),
 ``roller`` (u.n = 0) or ``traction`` (value = [gx, gy, gz]); unnamed faces are free.
 The supports must hold every rigid motion (checked on points of the faces).
@@ -48,6 +50,9 @@ TOP_KEYS = ("name", "description", "domain", "crack", "material", "load", "bound
 MESH_KEYS = ("maxh", "crack_h", "front_h", "grading")
 #: a crack must keep this fraction of its size (diameter) away from the boundary and other cracks
 CLEARANCE_RTOL = 0.05
+#: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
+#: sliver has fewer elements across than the domain integral's tube and the contact need)
+LIGAMENT_FRONT_H = 1.0
 #: points of a polygon crack off their plane by more than this fraction of its size are refused
 PLANARITY_RTOL = 1e-6
 #: default mesh sizes, as fractions: maxh of the body's size, crack_h and front_h of the crack's size
@@ -438,12 +443,7 @@ class SolidScene(Scene, dimension=3):
         rigid motion."""
         self._check_scales()
         for i, c in enumerate(self.cracks):
-            gap = CLEARANCE_RTOL * c.size
-            clear = self.domain.clearance(c.outline(256))
-            if clear.min() < gap:
-                where = "reaches or crosses the boundary" if clear.min() <= 0 else "comes too close to the boundary"
-                raise SceneError(f"crack[{i}]: {where} (clearance {clear.min():.3g}, at least {gap:.3g} needed); "
-                                 f"cracks reaching a face are not supported yet (a later step)")
+            self._check_faces(i, c)
         for i, ci in enumerate(self.cracks):
             for j in range(i):
                 cj = self.cracks[j]
@@ -454,6 +454,40 @@ class SolidScene(Scene, dimension=3):
                     raise SceneError(f"crack[{i}]: touches or comes too close to crack[{j}] (distance {dist:.3g}, "
                                      f"at least {gap:.3g} needed); cracks must stay apart")
         self._check_held()
+
+    def _check_faces(self, i: int, c: PlanarCrack) -> None:
+        """A crack stays CLEARANCE_RTOL of its size inside every face, or crosses it by as much (a surface crack:
+        its part inside the body is the crack); crossed faces are free; the body beyond a surface crack's front
+        is at least that thick and LIGAMENT_FRONT_H front_h (a thinner sliver the mesh cannot resolve)."""
+        from .surface import clearance, face_distances
+
+        gap = CLEARANCE_RTOL * c.size
+        outline = c.outline(1024)
+        dist = face_distances(self.domain, outline)
+        crossed = [k for k, d in dist.items() if d.min() < 0]
+        for k in crossed:
+            if dist[k].min() > -gap:
+                raise SceneError(f"crack[{i}]: crosses face {k} by only {-dist[k].min():.3g}; a crack must stay at least "
+                                 f"{gap:.3g} ({CLEARANCE_RTOL:g} of its size) inside a face or cross it by as much")
+            if k in self.boundary:
+                raise SceneError(f"crack[{i}]: crosses face {k}, which carries a {self.boundary[k].type} condition; "
+                                 f"a crack may reach free faces only (faces without a [boundary.<label>] table)")
+        inside = clearance(self.domain, outline) > 0
+        if crossed and not inside.any():
+            raise SceneError(f"crack[{i}]: its outline lies wholly outside the body, so that it misses the body or cuts "
+                             f"it in two; a crack's front must lie partly inside the body")
+        need = max(gap, LIGAMENT_FRONT_H * self.mesh_sizes()["front_h"]) if crossed else gap
+        for k, d in dist.items():
+            if k in crossed or d[inside].min() >= need:
+                continue
+            if crossed:
+                raise SceneError(f"crack[{i}]: leaves a sliver of body {d[inside].min():.3g} thick between its front "
+                                 f"and face {k}, thinner than the mesh resolves; at least {need:.3g} is needed "
+                                 f"({CLEARANCE_RTOL:g} of the crack's size and {LIGAMENT_FRONT_H:g} front_h), or let "
+                                 f"the crack cross face {k} by as much")
+            raise SceneError(f"crack[{i}]: comes within {d.min():.3g} of face {k} without crossing it; keep at least "
+                             f"{gap:.3g} ({CLEARANCE_RTOL:g} of its size) inside a face, or let it cross the face by as "
+                             f"much (a surface crack)")
 
     def _check_scales(self) -> None:
         """E, every load as a strain and every crack's size over the body's within MAX_SCALE, and each crack
