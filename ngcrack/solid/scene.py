@@ -458,7 +458,7 @@ class SolidScene(Scene, dimension=3):
     def _check_faces(self, i: int, c: PlanarCrack) -> None:
         """A crack stays CLEARANCE_RTOL of its size inside every face, or crosses it by as much (a surface crack:
         its part inside the body is the crack); crossed faces are free; the body beyond a surface crack's front
-        is at least that thick and LIGAMENT_FRONT_H front_h (a thinner sliver the mesh cannot resolve)."""
+        is at least LIGAMENT_FRONT_H front_h thick (a thinner sliver the mesh cannot resolve)."""
         from .surface import clearance, face_distances
 
         gap = CLEARANCE_RTOL * c.size
@@ -476,15 +476,14 @@ class SolidScene(Scene, dimension=3):
         if crossed and not inside.any():
             raise SceneError(f"crack[{i}]: its outline lies wholly outside the body, so that it misses the body or cuts "
                              f"it in two; a crack's front must lie partly inside the body")
-        need = max(gap, LIGAMENT_FRONT_H * self.mesh_sizes()["front_h"]) if crossed else gap
+        need = LIGAMENT_FRONT_H * self.mesh_sizes()["front_h"] if crossed else gap
         for k, d in dist.items():
             if k in crossed or d[inside].min() >= need:
                 continue
             if crossed:
                 raise SceneError(f"crack[{i}]: leaves a sliver of body {d[inside].min():.3g} thick between its front "
                                  f"and face {k}, thinner than the mesh resolves; at least {need:.3g} is needed "
-                                 f"({CLEARANCE_RTOL:g} of the crack's size and {LIGAMENT_FRONT_H:g} front_h), or let "
-                                 f"the crack cross face {k} by as much")
+                                 f"({LIGAMENT_FRONT_H:g} front_h: give a smaller mesh.front_h or a shallower crack)")
             raise SceneError(f"crack[{i}]: comes within {d.min():.3g} of face {k} without crossing it; keep at least "
                              f"{gap:.3g} ({CLEARANCE_RTOL:g} of its size) inside a face, or let it cross the face by as "
                              f"much (a surface crack)")

@@ -189,7 +189,7 @@ class ArcFront:
         """The two ends on the surface and n points (default one per 2 h, 3 at least) from SURFACE_INSET L
         inside one end to as far inside the other (`surface_take` gives the ends the values of their neighbours)."""
         inset = min(SURFACE_INSET * L, 0.25 * self.length)
-        n = n_points or max(3, int((self.length - 2 * inset) / (2 * h)) + 1)
+        n = n_points or max(3, int((self.length - 2 * inset) / (2 * h)) + 1) | 1  # odd: a symmetric arc's middle
         s_i = np.concatenate([[0.0], np.linspace(inset, self.length - inset, n), [self.length]])
         phi = np.interp(s_i + self._s0, self.base.arc_unwrapped(self._grid()), self._grid())
         return phi, s_i
