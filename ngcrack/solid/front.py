@@ -454,8 +454,8 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
     J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * mu)
     scale = np.where((J_K > 0) & (J > 0) & ~closed, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
     angle = phi_i if geom.periodic else geom.start + phi_i
-    if getattr(geom, "open_arc", False):  # the surface points carry the values a little inside (surface_take)
-        kept, take = surface_take(s_i, geom.length, L)
+    if getattr(geom, "surface_ends", None):  # the surface points carry the values a little inside (surface_take)
+        kept, take = surface_take(s_i, geom.length, L, geom.surface_ends)
         K_I, K_II, K_III, J, closed, scale = (v[take] for v in (K_I, K_II, K_III, J, closed, scale))
         phi_i, angle = phi_i[kept], angle[kept]
     return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, angle,

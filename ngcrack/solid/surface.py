@@ -158,6 +158,7 @@ class ArcFront:
     periodic = None
     start = 0.0
     open_arc = True
+    surface_ends = (True, True)
     ligament = None  # set by open_arcs: the body's thickness beyond the front
 
     def __init__(self, base, phi0: float, phi1: float):
@@ -253,18 +254,46 @@ def open_sides(sol, crack, segment_front) -> list:
         if t != (0.0, 1.0):
             g.start += t[0] * g.length
             g.A, g.length = g.A + t[0] * g.length * g.t, (t[1] - t[0]) * g.length
+            g = ClippedSide(g, (t[0] > 0.0, t[1] < 1.0))
         out.append(g)
     return out
 
 
-def surface_take(s_i: np.ndarray, length: float, L: float) -> tuple[np.ndarray, np.ndarray]:
-    """(kept, take): the stations of an open arc reported (its two ends on the surface and those at least
-    SURFACE_INSET bump half-widths L from both), and for each the station whose values it reports: its own,
-    or at an end the nearest station at least that far inside (the engineering codes' practice of reporting
-    the surface value from a point a small distance inside; the clipped integral at the end is 15% low)."""
+class ClippedSide:
+    """A polygon side (``front.SegmentFront``, already cut to the body) with one or both ends on the surface:
+    its points keep L + R from a corner, as a side's do, but only SURFACE_INSET L from a surface end, and the
+    surface ends are front points too (``surface_take`` gives them the values of their neighbours)."""
+
+    def __init__(self, side, surface_ends: tuple[bool, bool]):
+        self.side, self.surface_ends = side, surface_ends
+
+    def __getattr__(self, name):
+        return getattr(self.side, name)
+
+    def stations(self, h: float, L: float, R: float, n_points: int | None, spacing: float | None = None):
+        inset = min(SURFACE_INSET * L, 0.25 * self.length)
+        m0, m1 = (inset if e else L + R for e in self.surface_ends)
+        room = self.length - m0 - m1
+        if room < 0:
+            return np.zeros(0), np.zeros(0)
+        n = max(2, int(room / (spacing or 2 * h)) + 1)
+        s_i = np.linspace(m0, self.length - m1, n)
+        s_i = np.concatenate([[0.0] if self.surface_ends[0] else [], s_i, [self.length] if self.surface_ends[1] else []])
+        return s_i, s_i
+
+
+def surface_take(s_i: np.ndarray, length: float, L: float, ends=(True, True)) -> tuple[np.ndarray, np.ndarray]:
+    """(kept, take): the stations of an open front reported (its ends on the surface, `ends`, and the points at
+    least SURFACE_INSET bump half-widths L from them), and for each the station whose values it reports: its own,
+    or at a surface end the nearest station that far inside (the engineering codes' practice of reporting the
+    surface value from a point a small distance inside; the clipped integral at the end came 15-17% low)."""
     inset = min(SURFACE_INSET * L, 0.25 * length)
-    inner = (s_i >= inset - 1e-12) & (s_i <= length - inset + 1e-12)
-    kept = np.flatnonzero(inner | (s_i <= 1e-12) | (s_i >= length - 1e-12))
+    tol = 1e-12 * max(length, 1.0)
+    lo = s_i >= (inset if ends[0] else 0.0) - tol
+    hi = s_i <= length - (inset if ends[1] else 0.0) + tol
+    inner = lo & hi
+    at_end = (ends[0] & (s_i <= tol)) | (ends[1] & (s_i >= length - tol))
+    kept = np.flatnonzero(inner | at_end)
     if not inner.any():
         return kept, np.full(len(kept), int(np.argmin(np.abs(s_i - 0.5 * length))))
     k = np.flatnonzero(inner)
