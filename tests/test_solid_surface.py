@@ -126,3 +126,31 @@ def test_surface_crack_against_newman_raju(surface_solution):
     assert np.max(np.abs(err)) < STATED_ACCURACY
     assert abs(f.points[0, 2] - T) < 1e-9 and abs(f.points[-1, 2] - T) < 1e-9  # the surface points are in
     assert sol.kkt["max_penetration"] < 1e-8
+
+
+# ------------------------------------------------------------------------------ slow: corner and through cracks
+@pytest.mark.slow
+def test_corner_crack_against_newman_raju():
+    d = plate(center=[-5.0, 0.0, 1.5])  # a quarter ellipse centred on the edge x = -5, z = 1.5
+    sol = nc.solve(SolidScene.from_dict(d))
+    f = sol.fronts[0]
+    phi = np.arctan2(np.maximum(T - f.points[:, 2], 0.0) / A, (f.points[:, 0] + 5.0) / C)
+    err = f.K_I / corner_crack_K(1.0, A, C, T, 2 * B, phi) - 1
+    assert abs(phi[0]) < 1e-6 and abs(phi[-1] - math.pi / 2) < 1e-6  # both ends on the surface
+    assert np.max(np.abs(err[1:-1])) < STATED_ACCURACY  # off the surface, within their stated accuracy
+
+
+@pytest.mark.slow
+def test_through_crack_is_symmetric_and_near_the_plane_strain_value():
+    d = plate()
+    d["crack"] = [{"shape": "polygon", "points": [[-0.6, 0.0, -0.5], [0.6, 0.0, -0.5], [0.6, 0.0, 2.0],
+                                                   [-0.6, 0.0, 2.0]]}]
+    sol = nc.solve(SolidScene.from_dict(d))
+    f = sol.fronts[0]
+    right, left = f.points[:, 0] > 0, f.points[:, 0] < 0
+    assert np.all(np.isclose(f.points[:, 2].min(), 0.0) & np.isclose(f.points[:, 2].max(), T))  # surface points in
+    mid = [int(np.argmin(np.abs(f.points[:, 2] - 0.75) + 9 * ~side)) for side in (left, right)]
+    assert f.K_I[mid[0]] == pytest.approx(f.K_I[mid[1]], rel=0.01)  # the two sides agree (symmetry)
+    # a through crack of half-length 0.6 in a plate 10 wide: sigma sqrt(pi a) sqrt(sec(pi a / W)) at mid-thickness,
+    # which 3D effects raise by a few percent
+    assert f.K_I[mid[0]] == pytest.approx(math.sqrt(math.pi * 0.6 / math.cos(math.pi * 0.06)), rel=0.05)
