@@ -154,3 +154,20 @@ def test_through_crack_is_symmetric_and_near_the_plane_strain_value():
     # a through crack of half-length 0.6 in a plate 10 wide: sigma sqrt(pi a) sqrt(sec(pi a / W)) at mid-thickness,
     # which 3D effects raise by a few percent
     assert f.K_I[mid[0]] == pytest.approx(math.sqrt(math.pi * 0.6 / math.cos(math.pi * 0.06)), rel=0.05)
+
+
+def test_a_crack_through_a_cylinder_side_has_the_clipped_area():
+    from ngcrack.solid.geometry import make_mesh
+    from ngcrack.solid.surface import clipped_area
+
+    d = {"name": "bar", "domain": {"cylinder": {"center": [0, 0, 0], "axis": [0, 0, 1], "radius": 2.0, "height": 8.0}},
+         "crack": [{"shape": "disc", "center": [2.0, 0, 0], "normal": [0, 0, 1], "radius": 0.8}],
+         "material": {"E": 1000.0, "nu": 0.3},
+         "boundary": {"bottom": {"type": "clamped"}, "top": {"type": "traction", "value": [0, 0, 1]}}}
+    s = SolidScene.from_dict(d)
+    (phi0, phi1), = inside_arcs(s.domain, s.cracks[0])
+    # the disc's outline meets the side where |c + 0.8 (cos, sin)| = 2: cos(phi) = -0.2
+    assert phi1 - phi0 == pytest.approx(2 * math.acos(0.2), abs=1e-9)
+    sm = make_mesh(s, front_h=0.2, crack_h=0.4)
+    assert sm.cracks[0].area == pytest.approx(clipped_area(s.domain, s.cracks[0]), rel=5e-4)
+    assert "mouth0" in sm.mesh.GetBBoundaries()  # (the side's seam may split the mouth in two edges)
