@@ -40,6 +40,7 @@ import numpy as np
 
 from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, is_number, positive, short, table
 from ..core.scene import Scene
+from .surface import face_problem
 
 DOMAIN_KINDS = ("box", "cylinder")
 SHAPES = ("disc", "ellipse", "polygon")
@@ -50,9 +51,6 @@ TOP_KEYS = ("name", "description", "domain", "crack", "material", "load", "bound
 MESH_KEYS = ("maxh", "crack_h", "front_h", "grading")
 #: a crack must keep this fraction of its size (diameter) away from the boundary and other cracks
 CLEARANCE_RTOL = 0.05
-#: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
-#: sliver has fewer elements across than the domain integral's tube and the contact need)
-LIGAMENT_FRONT_H = 1.0
 #: points of a polygon crack off their plane by more than this fraction of its size are refused
 PLANARITY_RTOL = 1e-6
 #: default mesh sizes, as fractions: maxh of the body's size, crack_h and front_h of the crack's size
@@ -443,7 +441,9 @@ class SolidScene(Scene, dimension=3):
         rigid motion."""
         self._check_scales()
         for i, c in enumerate(self.cracks):
-            self._check_faces(i, c)
+            problem = face_problem(self.domain, c, CLEARANCE_RTOL, self.boundary, lambda: self.mesh_sizes()["front_h"])
+            if problem:  # inside every face by the clearance, or across free ones by as much (ngcrack.solid.surface)
+                raise SceneError(f"crack[{i}]: {problem}")
         for i, ci in enumerate(self.cracks):
             for j in range(i):
                 cj = self.cracks[j]
@@ -454,39 +454,6 @@ class SolidScene(Scene, dimension=3):
                     raise SceneError(f"crack[{i}]: touches or comes too close to crack[{j}] (distance {dist:.3g}, "
                                      f"at least {gap:.3g} needed); cracks must stay apart")
         self._check_held()
-
-    def _check_faces(self, i: int, c: PlanarCrack) -> None:
-        """A crack stays CLEARANCE_RTOL of its size inside every face, or crosses it by as much (a surface crack:
-        its part inside the body is the crack); crossed faces are free; the body beyond a surface crack's front
-        is at least LIGAMENT_FRONT_H front_h thick (a thinner sliver the mesh cannot resolve)."""
-        from .surface import clearance, face_distances
-
-        gap = CLEARANCE_RTOL * c.size
-        outline = c.outline(1024)
-        dist = face_distances(self.domain, outline)
-        crossed = [k for k, d in dist.items() if d.min() < 0]
-        for k in crossed:
-            if dist[k].min() > -gap:
-                raise SceneError(f"crack[{i}]: crosses face {k} by only {-dist[k].min():.3g}; a crack must stay at least "
-                                 f"{gap:.3g} ({CLEARANCE_RTOL:g} of its size) inside a face or cross it by as much")
-            if k in self.boundary:
-                raise SceneError(f"crack[{i}]: crosses face {k}, which carries a {self.boundary[k].type} condition; "
-                                 f"a crack may reach free faces only (faces without a [boundary.<label>] table)")
-        inside = clearance(self.domain, outline) > 0
-        if crossed and not inside.any():
-            raise SceneError(f"crack[{i}]: its outline lies wholly outside the body, so that it misses the body or cuts "
-                             f"it in two; a crack's front must lie partly inside the body")
-        need = LIGAMENT_FRONT_H * self.mesh_sizes()["front_h"] if crossed else gap
-        for k, d in dist.items():
-            if k in crossed or d[inside].min() >= need:
-                continue
-            if crossed:
-                raise SceneError(f"crack[{i}]: leaves a sliver of body {d[inside].min():.3g} thick between its front "
-                                 f"and face {k}, thinner than the mesh resolves; at least {need:.3g} is needed "
-                                 f"({LIGAMENT_FRONT_H:g} front_h: give a smaller mesh.front_h or a shallower crack)")
-            raise SceneError(f"crack[{i}]: comes within {d.min():.3g} of face {k} without crossing it; keep at least "
-                             f"{gap:.3g} ({CLEARANCE_RTOL:g} of its size) inside a face, or let it cross the face by as "
-                             f"much (a surface crack)")
 
     def _check_scales(self) -> None:
         """E, every load as a strain and every crack's size over the body's within MAX_SCALE, and each crack

@@ -21,6 +21,9 @@ ARC_SAMPLES = 4096
 ARC_BISECTIONS = 40
 #: a point within this fraction of the body's size of a face is on it (an edge of the clipped crack on the surface)
 ON_SURFACE_RTOL = 1e-7
+#: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
+#: sliver has fewer elements across than the domain integral's tube and the contact need)
+LIGAMENT_FRONT_H = 1.0
 #: on a front ending on the surface, K is reported at points at least this many bump half-widths
 #: (front.HALF_WIDTH_H front_h) from the surface, and the surface point carries the value of the nearest
 #: of them: the domain integral's bump and tube are cut there by the free surface, where the singularity
@@ -56,6 +59,41 @@ def on_surface(domain, p: np.ndarray, size: float) -> np.ndarray:
 def crosses(domain, crack) -> bool:
     """Whether the crack's outline leaves the body (the crack reaches the surface)."""
     return bool(clearance(domain, crack.outline(512)).min() < 0.0)
+
+
+def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
+    """What is wrong with where the crack meets the faces (None: nothing), for the scene's check.
+
+    A crack stays `rtol` of its size (the scene's clearance) inside every face, or crosses it by as much (a surface crack:
+    its part inside the body is the crack); the faces it crosses are free (no entry in `boundary`); its outline
+    lies partly inside; the body beyond a surface crack's front is at least LIGAMENT_FRONT_H front_h thick
+    (`front_h()`, called only then): a thinner sliver the mesh cannot resolve."""
+    gap = rtol * crack.size
+    outline = crack.outline(1024)
+    dist = face_distances(domain, outline)
+    crossed = [k for k, d in dist.items() if d.min() < 0]
+    for k in crossed:
+        if dist[k].min() > -gap:
+            return (f"crosses face {k} by only {-dist[k].min():.3g}; a crack must stay at least {gap:.3g} "
+                    f"({rtol:g} of its size) inside a face or cross it by as much")
+        if k in boundary:
+            return (f"crosses face {k}, which carries a {boundary[k].type} condition; a crack may reach free faces "
+                    f"only (faces without a [boundary.<label>] table)")
+    inside = clearance(domain, outline) > 0
+    if crossed and not inside.any():
+        return ("its outline lies wholly outside the body, so that it misses the body or cuts it in two; a crack's "
+                "front must lie partly inside the body")
+    need = LIGAMENT_FRONT_H * front_h() if crossed else gap
+    for k, d in dist.items():
+        if k in crossed or d[inside].min() >= need:
+            continue
+        if crossed:
+            return (f"leaves a sliver of body {d[inside].min():.3g} thick between its front and face {k}, thinner "
+                    f"than the mesh resolves; at least {need:.3g} is needed ({LIGAMENT_FRONT_H:g} front_h: give a "
+                    f"smaller mesh.front_h or a shallower crack)")
+        return (f"comes within {d.min():.3g} of face {k} without crossing it; keep at least {gap:.3g} "
+                f"({rtol:g} of its size) inside a face, or let it cross the face by as much (a surface crack)")
+    return None
 
 
 def _ellipse_point(crack, phi):
