@@ -40,6 +40,12 @@ which removes its O(L^2 K'') bias where K varies (1% on a penny in shear at L = 
 A polygon's front is taken side by side (SegmentFront): straight, so without curvature terms,
 with points at least L + R from both corners (K at the corners is not computed).
 
+A crack that crosses the body's faces has open fronts (ngcrack.solid.surface): an arc of a disc or
+an ellipse (ArcFront) or a side cut by the surface (ClippedSide). Each point's bump is normalised by
+its part on the front, the tube is capped at REACH_FRACTION of the body's thickness beyond the
+front, and the points start SURFACE_INSET L inside the surface; the front's end points on the
+surface carry the values of the nearest point that far inside (surface_take).
+
 Approximations, stated: the crack-face traction terms of the 2D integral are left out,
 which is exact for frictionless faces that are open (no traction) and for closed ones for
 K_II and K_III (the same normal traction on both faces does no work in their auxiliary
