@@ -54,7 +54,7 @@ BAD = [
     (dict(crack=[{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": -1}]), "crack[0].radius"),
     (dict(crack=[{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 0], "radius": 1}]), "crack[0].normal"),
     (dict(crack=[{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1]}]), "crack[0].radius: missing"),
-    (dict(crack=[{"shape": "disc", "center": [9.5, 0, 0], "normal": [0, 0, 1], "radius": 1}]), "later step"),
+    (dict(crack=[{"shape": "disc", "center": [9.05, 0, 0], "normal": [0, 0, 1], "radius": 1}]), "crosses face xmax by only"),
     (dict(crack=[{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1},
                  {"shape": "disc", "center": [0.5, 0, 0], "normal": [1, 0, 0], "radius": 0.8}]), "crack[1]: touches"),
     (dict(crack=[{"shape": "polygon", "points": [[0, 0, 0], [1, 0, 0], [1, 1, 0.3], [0, 1, 0]]}]), "crack[0].points"),

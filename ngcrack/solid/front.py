@@ -40,6 +40,12 @@ which removes its O(L^2 K'') bias where K varies (1% on a penny in shear at L = 
 A polygon's front is taken side by side (SegmentFront): straight, so without curvature terms,
 with points at least L + R from both corners (K at the corners is not computed).
 
+A crack that crosses the body's faces has open fronts (ngcrack.solid.surface): an arc of a disc or
+an ellipse (ArcFront) or a side cut by the surface (ClippedSide). Each point's bump is normalised by
+its part on the front, the tube is capped at REACH_FRACTION of the body's thickness beyond the
+front, and the points start SURFACE_INSET L inside the surface; the front's end points on the
+surface carry the values of the nearest point that far inside (surface_take).
+
 Approximations, stated: the crack-face traction terms of the 2D integral are left out,
 which is exact for frictionless faces that are open (no traction) and for closed ones for
 K_II and K_III (the same normal traction on both faces does no work in their auxiliary
@@ -59,6 +65,7 @@ from scipy.spatial import cKDTree
 from ..planar.tips import williams_displacement, williams_dx1, williams_stress
 from .face_friction import face_friction
 from .face_pressure import face_pressure
+from .surface import bump_inside, open_arcs, open_sides, surface_take
 
 #: the tube radius R and the half-width L along the front, in front_h (the mesh size at the front)
 TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 3.0
@@ -125,6 +132,11 @@ class FrontGeometry:
     def arc(self, phi):
         """The arc length from phi = 0 to phi."""
         return np.interp(np.asarray(phi) % (2 * np.pi), self._phis, self._arc)
+
+    def arc_unwrapped(self, phi):
+        """The arc length from phi = 0 to phi counted through every turn (increasing in phi)."""
+        phi = np.asarray(phi, dtype=float)
+        return np.floor(phi / (2 * np.pi)) * self.periodic + self.arc(phi)
 
     def delta(self, s, s0):
         """The arc length from s0 to s the short way round."""
@@ -311,12 +323,14 @@ def front_parameters(sol, points: int | None = None) -> list[FrontParameters]:
     for i, crack_faces in enumerate(sol.smesh.cracks):
         crack = crack_faces.crack
         if crack.shape == "polygon":
-            sides = [f for f in (_one_front(sol, i, SegmentFront(crack, j), None) for j in range(len(crack.points)))
+            sides = [f for f in (_one_front(sol, i, g, None) for g in open_sides(sol, crack, SegmentFront))
                      if f is not None]
             if sides:
                 out.append(_joined(i, sides))
             continue
-        out.append(_one_front(sol, i, FrontGeometry(crack), points))
+        arcs = [f for f in (_one_front(sol, i, g, points) for g in open_arcs(sol, FrontGeometry(crack)))
+                if f is not None]
+        out.append(arcs[0] if len(arcs) == 1 else _joined(i, arcs))
     return out
 
 
@@ -338,6 +352,8 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
         reach = geom.reach(np.linspace(0.0, 2 * np.pi, 256))  # as wide as the reach allows (REACH_FRACTION)
         L = max(L, BUMP_REACH * float(np.min(reach)))
         R = max(R, CLOSED_TUBE_REACH * float(np.max(reach)))
+    elif getattr(geom, "open_arc", False):  # an arc ending on the surface: the tube as on a closed front
+        R = max(R, CLOSED_TUBE_REACH * float(np.max(geom.reach(np.linspace(geom.phi0, geom.phi1, 256)))))
     phi_i, s_i = geom.stations(h, L, R, n_points)
     n = len(phi_i)
     if n == 0:
@@ -347,6 +363,8 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
     s = geom.arc(phi)
     r = np.hypot(x1, x2)
     radius_i = np.minimum(R, REACH_FRACTION * geom.reach(phi_i))
+    if getattr(geom, "ligament", None) is not None:  # nor across the body to a face the crack does not cross
+        radius_i = np.minimum(radius_i, REACH_FRACTION * geom.ligament)
     # fields in the local frame of each point's foot
     e1, e2, e3 = geom.frame(phi)
     Q = np.stack([e1, e2, e3], axis=1)  # rows: local = Q global
@@ -429,7 +447,8 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
             ds_t = geom.delta(s_t, s_i[k])
             q_t = np.where(np.abs(ds_t) < L, np.cos(0.5 * np.pi * ds_t / L) ** 2, 0.0)
             K[k, 1:] += fric.terms(q_t * np.clip((Rk - fric.r) / (Rk - inner), 0.0, 1.0))
-        length = L  # int h ds = L for the cos^2 bump of half-width L
+        # int h ds = L for the cos^2 bump of half-width L; on a front ending on the surface, over its part on the front
+        length = L if geom.periodic or not getattr(geom, "length", None) else float(bump_inside(s_i[k], L, geom.length))
         J[k] /= length
         K[k] /= length
     if DECONVOLVE and geom.periodic:
@@ -441,6 +460,10 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
     J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * mu)
     scale = np.where((J_K > 0) & (J > 0) & ~closed, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
     angle = phi_i if geom.periodic else geom.start + phi_i
+    if getattr(geom, "surface_ends", None):  # the surface points carry the values a little inside (surface_take)
+        kept, take = surface_take(s_i, geom.length, L, geom.surface_ends)
+        K_I, K_II, K_III, J, closed, scale = (v[take] for v in (K_I, K_II, K_III, J, closed, scale))
+        phi_i, angle = phi_i[kept], angle[kept]
     return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, angle,
                            scaled_to_J=scale[:, None] * np.column_stack([K_I, K_II, K_III]))
 

@@ -23,6 +23,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .scene import Box, PlanarCrack, SolidScene
+from .surface import crosses, on_surface
 
 #: the polynomial order of the curved geometry
 CURVE_ORDER = 2
@@ -130,13 +131,27 @@ def occ_geometry(scene: SolidScene, sizes: dict):
     parts = [_occ_body(scene.domain)]
     for i, c in enumerate(scene.cracks):
         face = _occ_crack(c)
+        reaches = crosses(scene.domain, c)
+        if reaches:  # the crack is its part inside the body; its edges on the surface are its mouth
+            face = face * parts[0]
         face.name = f"crack{i}"
         face.faces.maxh = sizes["crack_h"]
         for e in face.edges:
-            e.name = f"front{i}"
-            e.maxh = sizes["front_h"]
+            if reaches and _on_surface(scene, e):
+                e.name = f"mouth{i}"
+                e.maxh = sizes["crack_h"]
+            else:
+                e.name = f"front{i}"
+                e.maxh = sizes["front_h"]
         parts.append(face)
     return occ.OCCGeometry(occ.Glue(parts) if len(parts) > 1 else parts[0])
+
+
+def _on_surface(scene: SolidScene, edge) -> bool:
+    """Whether an OCC edge of a clipped crack lies on the body's surface (its ends and middle do)."""
+    t0, t1 = edge.parameter_interval
+    pts = [edge.Value(t) for t in (t0, 0.5 * (t0 + t1), t1)]
+    return bool(on_surface(scene.domain, np.array([[p.x, p.y, p.z] for p in pts]), scene.size).all())
 
 
 def near_points(crack: PlanarCrack, h: float, radius: float) -> np.ndarray:

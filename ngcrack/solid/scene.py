@@ -11,7 +11,7 @@ Domain
     ``cylinder = {center, axis, radius, height}``: ``center`` is the centre of the
     cylinder (mid-height on the axis); faces ``bottom`` (at center - height/2 axis),
     ``top`` and ``side``.
-Cracks (``[[crack]]``), each a plane set strictly inside the body:
+Cracks (``[[crack]]``), each a plane set inside the body or crossing its free faces:
     ``shape = "disc"`` with ``center``, ``normal``, ``radius``;
     ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and
     ``major_axis`` (projected into the crack plane; the semi-axis a lies along it);
@@ -19,8 +19,10 @@ Cracks (``[[crack]]``), each a plane set strictly inside the body:
     normal follows the right-hand rule of the point order). ``friction`` >= 0;
     ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart.
     The normal nu points into the ``+`` face; the jump is [u] = u+ - u-.
-Cracks stay apart from each other and from the boundary (a clearance of
-``CLEARANCE_RTOL`` times the crack's size); a crack reaching a face is a later step.
+Cracks stay apart from each other and from the faces (a clearance of ``CLEARANCE_RTOL`` times the
+crack's size), or cross free faces by as much: the crack is then its part inside the body, its
+front the part of its outline inside (``ngcrack.solid.surface``): a semi-elliptical surface crack
+is an ellipse centred on a face, a corner crack a quarter of one centred on an edge.
 Boundary conditions by face label: ``clamped``, ``displacement`` (value = [ux, uy, uz]),
 ``roller`` (u.n = 0) or ``traction`` (value = [gx, gy, gz]); unnamed faces are free.
 The supports must hold every rigid motion (checked on points of the faces).
@@ -38,6 +40,7 @@ import numpy as np
 
 from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, is_number, positive, short, table
 from ..core.scene import Scene
+from .surface import face_problem
 
 DOMAIN_KINDS = ("box", "cylinder")
 SHAPES = ("disc", "ellipse", "polygon")
@@ -438,12 +441,9 @@ class SolidScene(Scene, dimension=3):
         rigid motion."""
         self._check_scales()
         for i, c in enumerate(self.cracks):
-            gap = CLEARANCE_RTOL * c.size
-            clear = self.domain.clearance(c.outline(256))
-            if clear.min() < gap:
-                where = "reaches or crosses the boundary" if clear.min() <= 0 else "comes too close to the boundary"
-                raise SceneError(f"crack[{i}]: {where} (clearance {clear.min():.3g}, at least {gap:.3g} needed); "
-                                 f"cracks reaching a face are not supported yet (a later step)")
+            problem = face_problem(self.domain, c, CLEARANCE_RTOL, self.boundary, lambda: self.mesh_sizes()["front_h"])
+            if problem:  # inside every face by the clearance, or across free ones by as much (ngcrack.solid.surface)
+                raise SceneError(f"crack[{i}]: {problem}")
         for i, ci in enumerate(self.cracks):
             for j in range(i):
                 cj = self.cracks[j]

@@ -1,0 +1,119 @@
+"""Semi-elliptical surface cracks in plates in tension against Newman and Raju's equation.
+
+    python benchmarks/newman_raju.py [--quick] [--order K]
+
+For each (a/c, a/t): a plate of thickness t, half-width b = 5c and half-length 2b, one end clamped and
+the other pulled (S = 1), the crack an ellipse centred on the face zmax; mesh front_h = a/6, crack_h = a/3
+(the built-in scene `surface-crack`'s sizes), front_h at most a third of the ligament t - a. Prints per front point phi (from the surface), K_I ours,
+Newman-Raju's (ngcrack.studies.newman_raju), the error, the unknowns and the CPU time of the solve; the
+surface points (phi = 0, 90 deg at the deepest point) carry the value a bump half-width inside.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from ngcrack.solid.scene import SolidScene
+from ngcrack.studies.newman_raju import corner_crack_K, surface_crack_K
+
+CASES = [(0.6, 0.4), (0.2, 0.2), (0.2, 0.5), (0.4, 0.6), (1.0, 0.2), (1.0, 0.5), (1.0, 0.8), (0.6, 0.8)]
+QUICK = [(0.6, 0.4), (1.0, 0.2)]
+
+
+def surface_scene(a_over_c: float, a_over_t: float, a: float = 0.6, front_h_per_a: float = 1 / 6) -> SolidScene:
+    """A plate with a semi-elliptical surface crack of depth a (the benchmark's geometry), front_h = a/6."""
+    c, t = a / a_over_c, a / a_over_t
+    front_h = front_h_per_a * a
+    b = 5.0 * c
+    d = {"name": f"nr-{a_over_c:g}-{a_over_t:g}", "domain": {"box": [[-b, -2 * b, 0.0], [b, 2 * b, t]]},
+         "crack": [{"shape": "ellipse", "center": [0.0, 0.0, t], "normal": [0.0, 1.0, 0.0],
+                    "semi_axes": [max(a, c), min(a, c)] if c >= a else [a, c],
+                    "major_axis": [1.0, 0.0, 0.0] if c >= a else [0.0, 0.0, 1.0]}],
+         "material": {"E": 1000.0, "nu": 0.3},
+         "boundary": {"ymin": {"type": "clamped"}, "ymax": {"type": "traction", "value": [0.0, 1.0, 0.0]}},
+         "mesh": {"front_h": front_h, "crack_h": 2 * front_h}}
+    return SolidScene.from_dict(d)
+
+
+def run(a_over_c: float, a_over_t: float, order: int = 1, a: float = 0.6, corner: bool = False):
+    """(phi, K ours, K Newman-Raju, ndof, seconds) at the front points of one case (`corner`: the crack centred
+    on the plate's edge x = -b instead, a quarter-elliptical corner crack in a plate of width 2b)."""
+    import ngcrack as nc
+
+    scene = surface_scene(a_over_c, a_over_t, a)
+    c, t = a / a_over_c, a / a_over_t
+    x0 = -5.0 * c if corner else 0.0
+    if corner:
+        d = scene.to_dict()
+        d["crack"][0]["center"] = [x0, 0.0, t]
+        scene = SolidScene.from_dict(d)
+    t0 = time.process_time()
+    sol = nc.solve(scene, order=order)
+    cpu = time.process_time() - t0
+    f = sol.fronts[0]
+    depth = np.maximum(t - f.points[:, 2], 0.0)
+    phi = np.arctan2(depth / a, (f.points[:, 0] - x0) / c)  # the parametric angle from the surface (0 to pi)
+    ref = corner_crack_K(1.0, a, c, t, 10.0 * c, phi) if corner else surface_crack_K(1.0, a, c, t, 5.0 * c, phi)
+    return phi, np.asarray(f.K_I), ref, sol.ndof["total"], cpu
+
+
+def plot(out: str, order: int = 1) -> None:
+    """K_I along the front of the built-in scene's crack (a/c = 0.6, a/t = 0.4) against Newman-Raju's."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    phi, K, _, ndof, _ = run(*CASES[0], order)
+    fine = np.linspace(0.0, math.pi, 181)
+    a, (r, s) = 0.6, CASES[0]
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    nr = surface_crack_K(1.0, a, a / r, a / s, 5.0 * a / r, fine)
+    ax.plot(np.degrees(fine), nr, "k-", label="Newman-Raju (1981)")
+    ax.fill_between(np.degrees(fine), 0.95 * nr, 1.05 * nr, color="0.85", label="their stated accuracy, 5%")
+    ax.plot(np.degrees(phi[1:-1]), K[1:-1], "o", label=f"ngcrack, order {order} ({ndof} unknowns)")
+    ax.plot(np.degrees(phi[[0, -1]]), K[[0, -1]], "s", mfc="none", label="surface points (value a bump inside)")
+    ax.set_xlabel("parametric angle phi (deg; 90 = deepest point)")
+    ax.set_ylabel("K_I / (S sqrt(m))")
+    ax.set_title("semi-elliptical surface crack, a/c = 0.6, a/t = 0.4")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="two cases only")
+    ap.add_argument("--order", type=int, default=1)
+    ap.add_argument("--plot", metavar="OUT.png", help="only draw K_I along the front of the first case against Newman-Raju's")
+    args = ap.parse_args()
+    if args.plot:
+        plot(args.plot, args.order)
+        return
+    print("| a/c | a/t | phi (deg) | K ours | K Newman-Raju | error | unknowns | CPU s |")
+    print("|---|---|---|---|---|---|---|---|")
+    summary = []
+    cases = [(r, s, False) for r, s in (QUICK if args.quick else CASES)] + ([] if args.quick else [(0.6, 0.4, True)])
+    for r, s, corner in cases:
+        phi, K, ref, ndof, cpu = run(r, s, args.order, corner=corner)
+        half = phi <= 0.5 * math.pi + 1e-9 if not corner else np.ones(len(phi), dtype=bool)
+        for p, k, kr in zip(phi[half], K[half], ref[half]):
+            print(f"| {r:g}{' corner' if corner else ''} | {s:g} | {math.degrees(p):5.1f} | {k:.4f} | {kr:.4f} | "
+                  f"{k / kr - 1:+.2%} | {ndof} | {cpu:.1f} |", flush=True)
+        err = K / ref - 1
+        inner = np.arange(1, len(phi) - 1)  # the points off the surface
+        deep = int(np.argmin(np.abs(phi - 0.5 * math.pi))) if not corner else None
+        from45 = inner[(phi[inner] >= math.pi / 4) & (phi[inner] <= 3 * math.pi / 4)]
+        summary.append(f"| {r:g}{' corner' if corner else ''} | {s:g} | "
+                       f"{'' if deep is None else f'{err[deep]:+.2%}'} | {err[inner][np.argmax(np.abs(err[inner]))]:+.2%} | "
+                       f"{err[from45][np.argmax(np.abs(err[from45]))]:+.2%} | {err[0]:+.2%}, {err[-1]:+.2%} | {ndof} | {cpu:.1f} |")
+    print("\n| a/c | a/t | deepest | worst off the surface | worst, phi 45-135 deg | surface points | unknowns | CPU s |")
+    print("|---|---|---|---|---|---|---|---|")
+    print("\n".join(summary))
+
+if __name__ == "__main__":
+    main()
