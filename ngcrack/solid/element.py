@@ -44,6 +44,9 @@ from ..planar.elements.tdnns import ORDERS, tdnns_order, tdnns_spaces, tdnns_ter
 from .geometry import SolidMesh
 
 ELEMENTS = ("tdnns", "h1p2")
+#: extra quadrature order of the face tractions and crack pressures: a load varying in space
+#: (solid.loads: its table's ramps count as order 0 to NGSolve) integrated to its degree
+LOAD_BONUS_ORDER = 2
 
 
 def compliance(E: float, nu: float) -> Callable:
@@ -264,10 +267,10 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
         return -((g * n) * (test[2].Trace() * n) + (g - (g * n) * n) * test[1].Trace())
 
     for label, g in sorted(loads.traction.items()):
-        f += traction_of(g) * ngs.ds(definedon=mesh.Boundaries(label))
+        f += traction_of(g) * ngs.ds(definedon=mesh.Boundaries(label), bonus_intorder=LOAD_BONUS_ORDER)
     for c in smesh.cracks if has_crack and pressure else ():
         if pressure[c.index] is not None:  # the work of the pressure on the two faces, p [v].nu = p kn (the form's sign)
-            f += -pressure[c.index] * test[3].Trace() * ngs.ds(definedon=mesh.Boundaries(c.label))
+            f += -pressure[c.index] * test[3].Trace() * ngs.ds(definedon=mesh.Boundaries(c.label), bonus_intorder=LOAD_BONUS_ORDER)
             built.append(f"crack[{c.index}]: pressure on the faces")
     with task_manager():
         f.Assemble()

@@ -162,7 +162,7 @@ def _constraint_map(jump: ngs.FESpace, full: ngs.FESpace, nodes, order: int) -> 
 
 def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, element: str = "h1p2", pressure=None):
     """The P_k displacement discretization (k = ORDER_OF[element]) with the crack's jump."""
-    from .element import SolidDiscretization
+    from .element import LOAD_BONUS_ORDER, SolidDiscretization
 
     k = ORDER_OF[element]
     mesh = smesh.mesh
@@ -253,10 +253,10 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, element: str = "h
         return g * ngs.CF((test[0], test[1], test[2]))
 
     for label, g in sorted(loads.traction.items()):
-        f += traction_of(g) * ngs.ds(definedon=mesh.Boundaries(label))
+        f += traction_of(g) * ngs.ds(definedon=mesh.Boundaries(label), bonus_intorder=LOAD_BONUS_ORDER)
     for c in smesh.cracks if has_crack and pressure else ():
         if pressure[c.index] is not None:  # the work of the pressure on the two faces: p [v].nu
-            f += pressure[c.index] * test[3] * ngs.ds(definedon=mesh.Boundaries(c.label))
+            f += pressure[c.index] * test[3] * ngs.ds(definedon=mesh.Boundaries(c.label), bonus_intorder=LOAD_BONUS_ORDER)
             built.append(f"crack[{c.index}]: pressure on the faces")
     with task_manager():
         f.Assemble()

@@ -247,8 +247,12 @@ class SolidSolution(Solution):
         face): the contact pressure where the faces are closed (p the faces' applied pressure)."""
         mesh = self.smesh.mesh
         nrm = np.concatenate([np.tile(c.normal, (3 * len(c.elements), 1)) for c in self.smesh.cracks])
-        applied = np.concatenate([np.full(3 * len(c.elements), getattr(self.scene.cracks[c.index], "pressure", 0.0))
-                                  for c in self.smesh.cracks])
+        applied, start = [], 0
+        for c in self.smesh.cracks:  # the applied pressure at the corners (a varying one: solid.loads)
+            p, n = getattr(self.scene.cracks[c.index], "pressure", 0.0), 3 * len(c.elements)
+            applied.append(p.values(corners[start:start + n])[:, 0] if hasattr(p, "values") else np.full(n, p))
+            start += n
+        applied = np.concatenate(applied)
         centre = np.repeat(corners.reshape(-1, 3, 3).mean(axis=1), 3, axis=0)
         x = corners + 1e-3 * (centre - corners)
         sig = self.fields["sigma"]

@@ -1,11 +1,13 @@
 """Point supports and point loads on a 3D body: ``[[point]]`` tables.
 
 A point condition sits at ``at = [x, y, z]`` on a planar face of the body and acts on the
-disc of diameter ``width`` centred there (the patch), which the mesher imprints on the
-face as a face of its own labelled ``label`` (default ``point<k>``):
+patch of diameter ``width`` centred there: a regular polygon of PATCH_SIDES sides inscribed in
+the circle of that diameter (flat sides: the mesh's curving leaves the patch's elements
+straight, so that a linear field stays in the mixed element's space there), which the mesher
+imprints on the face as a face of its own labelled ``label`` (default ``point<k>``):
 
-``force``   the total force ``value = [Fx, Fy, Fz]`` spread as the uniform traction
-            value / (pi width^2 / 4) over the patch;
+``force``   the total force ``value = [Fx, Fy, Fz]`` spread as a uniform traction over the
+            patch (scaled to the meshed patch's area: the resultant is exact);
 ``pin``     the mean displacement of the patch is held at zero (three constraints): the
             patch's centre cannot move, the body may turn about it;
 ``roller``  the mean normal displacement of the patch is held at zero (one constraint),
@@ -40,8 +42,10 @@ from .parts import perpendicular, vector3
 POINT_TYPES: Mapping[str, bool] = {"force": True, "pin": False, "roller": False}
 #: the default width (diameter) of a patch, as a fraction of the scene's maxh (as in 2D)
 POINT_WIDTH_FRACTION = 0.5
-#: the mesh size on a patch, as a fraction of its width (its circle's area then exact to ~1e-6)
+#: the mesh size on a patch, as a fraction of its width
 PATCH_H_FRACTION = 0.25
+#: the sides of a patch's polygon
+PATCH_SIDES = 16
 #: a patch keeps this fraction of the body's size from its face's edges and from other patches
 MIN_GAP_RTOL = 1e-3
 #: the most point conditions of a scene
@@ -66,8 +70,9 @@ class PointCondition3:
 
     @property
     def area(self) -> float:
-        """The patch's area, pi width^2 / 4."""
-        return math.pi * self.width * self.width / 4.0
+        """The patch's area: the regular PATCH_SIDES-gon inscribed in the circle of diameter width."""
+        r = 0.5 * self.width
+        return 0.5 * PATCH_SIDES * r * r * math.sin(2 * math.pi / PATCH_SIDES)
 
     def traction(self) -> tuple[float, float, float] | None:
         """The uniform traction of a force, value / area (None for a support)."""
@@ -177,14 +182,17 @@ def held_directions(points: Sequence[PointCondition3]) -> dict[str, tuple]:
 
 
 def patch_faces(points: Sequence[PointCondition3]) -> list:
-    """The patches as OCC discs in their faces' planes, named by label, meshed at PATCH_H_FRACTION width:
+    """The patches as OCC polygons in their faces' planes, named by label, meshed at PATCH_H_FRACTION width:
     glued with the body, each becomes a face of its own."""
     from netgen import occ
 
     out = []
     for pc in points:
-        wp = occ.WorkPlane(occ.Axes(tuple(pc.at), n=occ.Dir(*pc.normal), h=occ.Dir(*perpendicular(pc.normal))))
-        disc = wp.Circle(0.5 * pc.width).Face()
+        e1 = perpendicular(pc.normal)
+        e2 = np.cross(pc.normal, e1)
+        phi = 2 * np.pi * np.arange(PATCH_SIDES) / PATCH_SIDES
+        corners = [occ.Pnt(*(pc.at + 0.5 * pc.width * (math.cos(t) * e1 + math.sin(t) * e2))) for t in phi]
+        disc = occ.Face(occ.Wire([occ.Segment(corners[i], corners[(i + 1) % PATCH_SIDES]) for i in range(PATCH_SIDES)]))
         disc.name = pc.label
         disc.faces.maxh = PATCH_H_FRACTION * pc.width
         for e in disc.edges:
