@@ -77,7 +77,7 @@ def face_pressure(sol, index: int, geom, R: float, e_prime: float) -> FacePressu
     r = np.maximum(-x1, 0.0)
     near = r < R
     aux = 8.0 / e_prime * np.sqrt(r[near] / (2 * np.pi))
-    p, dp = float(pressure), 0.0
+    p, dp = pressure, 0.0
     if is_varying(pressure):
         pts = xyz[near]
         p = pressure.values(pts)[:, 0]

@@ -43,9 +43,9 @@ POINT_TYPES: Mapping[str, bool] = {"force": True, "pin": False, "roller": False}
 #: the default width (diameter) of a patch, as a fraction of the scene's maxh (as in 2D)
 POINT_WIDTH_FRACTION = 0.5
 #: the mesh size on a patch, as a fraction of its width
-PATCH_H_FRACTION = 0.25
+PATCH_H_FRACTION = 0.5
 #: the sides of a patch's polygon
-PATCH_SIDES = 16
+PATCH_SIDES = 8
 #: a patch keeps this fraction of the body's size from its face's edges and from other patches
 MIN_GAP_RTOL = 1e-3
 #: the most point conditions of a scene
