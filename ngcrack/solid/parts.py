@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -41,8 +42,10 @@ BOX_FACES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 CYLINDER_FACES = ("bottom", "top", "side")
 #: a point is on a face when it is this fraction of the body's size from it, at most
 ON_FACE_RTOL = 1e-6
-#: the most points of a STEP face's triangulation used by the rigid-motion check
-FACE_SAMPLES = 24
+#: points per edge of a STEP face used by the rigid-motion check
+EDGE_SAMPLES = 5
+#: a STEP face is planar when its normals at sample parameters agree to this
+PLANAR_TOL = 1e-9
 
 
 def vector3(v: Any, fld: str, unit: bool = False) -> np.ndarray:
@@ -212,6 +215,10 @@ class StepPart:
         return float(np.linalg.norm(hi - lo))
 
     @property
+    def volume(self) -> float:
+        return float(self._shape.mass)
+
+    @property
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = self._shape.bounding_box
         return np.array([lo.x, lo.y, lo.z]), np.array([hi.x, hi.y, hi.z])
@@ -245,24 +252,40 @@ class StepPart:
         return out
 
     def face_points(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        """Per label, points of its faces' OCC triangulation and the triangles' normals."""
+        """Per label, points on its faces' edges (EDGE_SAMPLES per edge) and the faces' normals there (a
+        curved face's normals are NaN: a roller there is refused before, `check_rollers`)."""
         out: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         faces = list(self._shape.faces)
         for lab, idx in self.aliases().items():
             pts, nrm = [], []
             for i in idx:
-                tri = np.array([[[p.x, p.y, p.z] for p in t] for t in faces[i].Triangulation()])
-                if not len(tri):
-                    continue
-                step = max(1, len(tri) // FACE_SAMPLES)
-                tri = tri[::step]
-                n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-                keep = np.linalg.norm(n, axis=1) > 0
-                pts.append(tri[keep].mean(axis=1))
-                nrm.append(n[keep] / np.linalg.norm(n[keep], axis=1)[:, None])
-            if pts:
-                out[lab] = (np.concatenate(pts), np.concatenate(nrm))
+                n = self._plane_normal(faces[i])
+                for e in faces[i].edges:
+                    t0, t1 = e.parameter_interval
+                    for t in np.linspace(t0, t1, EDGE_SAMPLES):
+                        q = e.Value(float(t))
+                        pts.append([q.x, q.y, q.z])
+                        nrm.append(n if n is not None else np.full(3, np.nan))
+            out[lab] = (np.array(pts), np.array(nrm))
         return out
+
+    @staticmethod
+    def _plane_normal(face) -> np.ndarray | None:
+        """The unit normal of a planar face (up to sign), None for a curved one."""
+        surf, normals = face.surf, []
+        for u, w in ((0.0, 0.0), (0.37, 0.61), (1.3, -0.7), (-2.1, 1.9)):
+            _, du, dw = surf.D1(u, w)  # the surface's normal there: du x dw
+            normals.append(np.cross([du.x, du.y, du.z], [dw.x, dw.y, dw.z]))
+        normals = np.array(normals) / np.linalg.norm(normals, axis=1)[:, None]
+        return normals[0] if np.abs(np.abs(normals @ normals[0]) - 1.0).max() <= PLANAR_TOL else None
+
+    def check_rollers(self, boundary: Mapping[str, Any]) -> None:
+        """Refuse a roller on a curved face of the part (its normal varies: not supported yet)."""
+        faces = list(self._shape.faces)
+        for lab, cond in boundary.items():
+            if cond.type == "roller" and any(self._plane_normal(faces[i]) is None for i in self.aliases().get(lab, [])):
+                raise SceneError(f"boundary.{lab}.type = 'roller': a roller on a curved face of a STEP part is not "
+                                 f"supported; clamp it, or hold the part by rollers on planar faces or point supports")
 
     def face_at(self, at: np.ndarray) -> FaceSpot:
         """The planar face the point lies on, its normal and the distance to its edges."""
@@ -274,17 +297,12 @@ class StepPart:
         i = int(np.argmin(dist))
         if dist[i] > ON_FACE_RTOL * self.size:
             raise _not_on_face(at, dist[i], self.labels[i])
-        surf = faces[i].surf
-        normals = []
-        for u, w in ((0.0, 0.0), (0.37, 0.61), (1.3, -0.7), (-2.1, 1.9)):
-            n = surf.Normal(u, w)
-            normals.append([n.x, n.y, n.z])
-        normals = np.array(normals)
-        if np.abs(np.abs(normals @ normals[0]) - 1.0).max() > 1e-9:
+        normal = self._plane_normal(faces[i])
+        if normal is None:
             raise SceneError(f"at = {short(at.tolist())}: on face {self.labels[i]!r} (face{i}), which is curved; "
                              f"point supports and loads sit on planar faces")
         room = min((e.Distance(v) for e in faces[i].edges), default=0.0)
-        return FaceSpot(self.labels[i], normals[0] / np.linalg.norm(normals[0]), float(room))
+        return FaceSpot(self.labels[i], normal, float(room))
 
     def to_dict(self) -> dict[str, Any]:
         return {"step": self.path}
@@ -318,8 +336,8 @@ def step_part(path: Any, fld: str = "domain.step") -> StepPart:
     solid = solids[0]
     labels = tuple(f.name if f.name else f"face{i}" for i, f in enumerate(solid.faces))
     for i, lab in enumerate(labels):
-        if lab.startswith("crack") or lab.startswith("front") or lab.startswith("point"):
-            raise SceneError(f"{fld}: face {i} is named {lab!r}; names starting with crack, front or point are the "
+        if re.fullmatch(r"(crack|front|point)\d+", lab):
+            raise SceneError(f"{fld}: face {i} is named {lab!r}; the names crack<i>, front<i> and point<k> are the "
                              f"solver's own; rename the face in the file")
     return StepPart(path, labels, solid)
 

@@ -29,6 +29,7 @@ taken by a face, and a [boundary.<label>] for a point's label.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
@@ -148,7 +149,7 @@ def _one(d: Any, fld: str, domain, maxh: float, taken: Sequence[str]) -> PointCo
         label = f"point{fld[len('point['):-1]}"
     elif not isinstance(label, str) or not label or not label.isidentifier():
         raise SceneError(f"{fld}.label = {short(label)}: must be a name (letters, digits, _)")
-    if label in taken or label.startswith("crack") or label.startswith("front"):
+    if label in taken or re.fullmatch(r"(crack|front)\d+", label):
         raise SceneError(f"{fld}.label = {label!r}: already a label of the body (or the solver's own: crack<i>, "
                          f"front<i>); choose another")
     try:

@@ -340,6 +340,8 @@ class SolidScene(Scene, dimension=3):
                 raise SceneError(f"boundary.{label}: no such face; the faces of the {kind} are {', '.join(labels)}")
             c = Condition3.from_dict(cond, f"boundary.{label}", domain)
             (tractions if c.varying else boundary)[label] = c
+        if isinstance(domain, StepPart):
+            domain.check_rollers(boundary)
         for k, pc in enumerate(points):  # a patch keeps its face's traction, a force adds its own
             face = boundary.get(pc.face) or tractions.get(pc.face)
             if face is not None and face.type != "traction":
