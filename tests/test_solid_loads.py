@@ -61,6 +61,7 @@ def test_tables_and_callables_give_the_same_field():
         assert np.allclose(a.values(np.array(pts)), b.values(np.array(pts)), atol=1e-14)
     with pytest.raises(SceneError, match=r"boundary\.xmin\.value: a Python callable cannot be written"):
         call.to_toml_string()
+    assert call.with_(E=200.0).tractions["xmin"].value is call.tractions["xmin"].value  # changed copies keep it
 
 
 def _penny(p) -> dict:

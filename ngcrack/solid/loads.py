@@ -121,9 +121,10 @@ class VaryingField:
                  for k in range(self.ncomp)]
         return comps[0] if self.ncomp == 1 else ngs.CF(tuple(comps))
 
-    def to_toml(self, fld: str) -> dict[str, Any]:
+    def to_toml(self, fld: str) -> dict[str, Any] | VaryingField:
+        """The TOML table of a table field; a callable's field itself (`check_writable` refuses it in a file)."""
         if not self.is_table:
-            raise SceneError(f"{fld}: a Python callable cannot be written to a scene file; give a number or a table")
+            return self
         d: dict[str, Any] = {"axis": self.axis.tolist(), "table": [list(r) for r in self.rows]}
         if self.given_origin:
             d["origin"] = self.origin.tolist()
@@ -218,6 +219,18 @@ def _bounds(domain) -> tuple[np.ndarray, np.ndarray]:
     corners = [domain.center + s * 0.5 * domain.height * domain.axis + domain.radius * (r1 * e1 + r2 * e2)
                for s in (-1, 1) for r1 in (-1, 1) for r2 in (-1, 1)]
     return np.min(corners, axis=0), np.max(corners, axis=0)
+
+
+def check_writable(d: Any, fld: str = "") -> None:
+    """Refuse, by field, a callable load in a scene's dict about to be written as TOML."""
+    if isinstance(d, VaryingField):
+        raise SceneError(f"{fld}: a Python callable cannot be written to a scene file; give a number or a table")
+    if isinstance(d, dict):
+        for k, v in d.items():
+            check_writable(v, f"{fld}.{k}" if fld else k)
+    elif isinstance(d, list):
+        for i, v in enumerate(d):
+            check_writable(v, f"{fld}[{i}]")
 
 
 def is_varying(v: Any) -> bool:

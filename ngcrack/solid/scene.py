@@ -488,8 +488,11 @@ class SolidScene(Scene, dimension=3):
     def to_toml_string(self) -> str:
         """The scene as TOML text; ``Scene.from_toml_string`` of it gives an equal scene."""
         from ..planar.scene.toml import dump_toml
+        from .loads import check_writable
 
-        return dump_toml(self.to_dict())
+        d = self.to_dict()
+        check_writable(d)
+        return dump_toml(d)
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, SolidScene) and self.to_dict() == other.to_dict()
@@ -497,7 +500,7 @@ class SolidScene(Scene, dimension=3):
     def __hash__(self) -> int:
         import json
 
-        return hash(json.dumps(self.to_dict(), sort_keys=True))
+        return hash(json.dumps(self.to_dict(), sort_keys=True, default=id))
 
     def replace(self, **fields) -> SolidScene:
         return dataclasses.replace(self, **fields)
