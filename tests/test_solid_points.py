@@ -119,3 +119,11 @@ def test_overlaps_faces_and_cylinders_refused_by_name():
         SolidScene.from_dict(cyl)
     cyl["point"][0]["at"] = [0.5, 0.0, 1.0]
     assert SolidScene.from_dict(cyl).points[0].face == "top"
+
+
+def test_points_are_refused_by_the_distributed_solve_by_name():
+    from ngcrack.core.errors import InputError
+    from ngcrack.distributed.solid import check_supported
+
+    with pytest.raises(InputError, match=r"point\[0\]: point supports and loads varying in space are solved serially"):
+        check_supported(SolidScene.from_dict(_box()), {"element": "tdnns"}, size=2)
