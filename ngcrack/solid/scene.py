@@ -513,6 +513,11 @@ class SolidScene(Scene, dimension=3):
                 d.setdefault("mesh", {})[key] = value
             elif key == "body_force":
                 d["load"] = {} if value is None else {"body_force": _plain(value)}
+            elif key in ("boundary", "tractions"):  # one TOML table of both (a force point's patch: its own)
+                own = {pc.label for pc in self.points}
+                other = self.tractions if key == "boundary" else self.boundary
+                d["boundary"] = {**{k: c.to_dict(f"boundary.{k}") for k, c in other.items() if k not in own},
+                                 **{k: v for k, v in _plain(value).items() if k not in own}}
             else:
                 d[TOML_KEYS.get(key, key)] = _plain(value)
         return SolidScene.from_dict({k: v for k, v in d.items() if v is not None})
