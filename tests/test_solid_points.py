@@ -76,6 +76,9 @@ def test_a_point_force_is_balanced_by_the_reactions():
     assert np.abs(total).max() < 1e-12 and np.abs(moment).max() < 1e-12
     # the pin carries the force's x component alone (the only x support)
     assert values["point0"]["force"][0] == pytest.approx(-0.3, abs=1e-12)
+    record = sol.to_json_dict()  # the JSON record and the report carry them
+    assert record["points"]["point4"]["force"] == force and record["points"]["point0"]["type"] == "pin"
+    assert any(line.startswith("point0 (pin): force [-0.3") for line in sol.report_lines(record))
 
 
 def test_points_count_in_the_rigid_motion_check_and_round_trip():
