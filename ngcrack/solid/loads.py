@@ -235,10 +235,3 @@ def check_writable(d: Any, fld: str = "") -> None:
 
 def is_varying(v: Any) -> bool:
     return isinstance(v, VaryingField)
-
-
-def describe(p: Any) -> str:
-    """A load for the solution's report: the number, or 'a table along ...' / 'a callable'."""
-    if isinstance(p, VaryingField):
-        return f"a table along {np.round(p.axis, 6).tolist()}" if p.is_table else "a callable of (x, y, z)"
-    return f"{float(p):g}"

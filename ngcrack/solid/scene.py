@@ -42,7 +42,7 @@ import numpy as np
 
 from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, positive, short, table
 from ..core.scene import Scene
-from .loads import VaryingField, describe, is_varying, pressure_field, traction_field  # noqa: F401  (describe: re-exported)
+from .loads import VaryingField, is_varying, pressure_field, traction_field
 from .parts import (  # noqa: F401  (re-exported: the domains' names)
     BOX_FACES,
     CYLINDER_FACES,
