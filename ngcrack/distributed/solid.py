@@ -65,6 +65,12 @@ def check_supported(scene, opts: dict, size: int = 2) -> None:
     if opts["element"] != "tdnns":
         raise InputError(f"element = {opts['element']!r}: a distributed 3D solve takes element = 'tdnns' (the "
                          "displacement baselines' crack constraints sit at vertices); run it without mpiexec")
+    if getattr(scene, "points", ()) or getattr(scene, "tractions", {}) or any(
+            not isinstance(c.pressure, (int, float)) for c in scene.cracks):  # (solid.points, solid.loads)
+        what = ("point[0]" if scene.points else f"boundary.{next(iter(scene.tractions))}.value" if scene.tractions
+                else "crack.pressure")
+        raise InputError(f"{what}: point supports and loads varying in space are solved serially only; run the "
+                         "scene without mpiexec")
     shifted = [label for label, bc in scene.boundary.items() if bc.type == "displacement"]
     if shifted and size > MAX_RANKS_DISPLACEMENT:
         raise InputError(f"boundary[{shifted[0]!r}].type = 'displacement': a prescribed displacement in 3D is "

@@ -43,6 +43,10 @@ from ..core.parallel import task_manager
 from ..planar.elements.tdnns import ORDERS, tdnns_order, tdnns_spaces, tdnns_terms  # noqa: F401  (ORDERS: the 3D orders too)
 from .geometry import SolidMesh
 
+#: extra quadrature order of the face tractions and crack pressures: a load varying in space
+#: (solid.loads: its table's ramps count as order 0 to NGSolve) integrated to its degree
+LOAD_BONUS_ORDER = 2
+
 
 def compliance(E: float, nu: float) -> Callable:
     """sigma -> A sigma = ((1 + nu) sigma - nu tr(sigma) I) / E for a 3x3 CoefficientFunction."""
@@ -168,6 +172,8 @@ class SolidDiscretization(Discretization):
     boundary_values: Callable | None = None
     roller_pairs: Callable | None = None
     constraint_map: Callable | None = None
+    #: g -> the element's integrand of a boundary traction g (its load vector's), for the point supports' means
+    traction_of: Callable | None = None
 
     def __post_init__(self):
         missing = [k for k in ("fields", "boundary_values", "roller_pairs") if getattr(self, k) is None]
@@ -182,6 +188,12 @@ class SolidDiscretization(Discretization):
     def tangential_jump(self, gf: ngs.GridFunction) -> ngs.CoefficientFunction:
         """u_e, the crack's HCurl copy: its tangential trace on the crack is [u]_t."""
         return gf.components[self.tangential]
+
+    def held_mean_rows(self, held_mean: dict, T, free: np.ndarray) -> tuple[np.ndarray, list]:
+        """The point supports' mean constraints on the condensed unknowns (`solid.point_means`)."""
+        from .point_means import constraint_rows
+
+        return constraint_rows(self, held_mean, T, free)
 
 
 def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None = None,
@@ -250,13 +262,15 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
     if loads.body_force is not None:
         f += -(loads.body_force * v) * ngs.dx
         built.append("body force")
+    def traction_of(g):  # the work of a boundary traction g, in the form's sign
+        return -((g * n) * (test[2].Trace() * n) + (g - (g * n) * n) * test[1].Trace())
+
     for label, g in sorted(loads.traction.items()):
-        gt = g - (g * n) * n
-        f += -((g * n) * (test[2].Trace() * n) + gt * test[1].Trace()) * ngs.ds(definedon=mesh.Boundaries(label))
+        f += traction_of(g) * ngs.ds(definedon=mesh.Boundaries(label), bonus_intorder=LOAD_BONUS_ORDER)
     for c in smesh.cracks if has_crack and pressure else ():
-        if pressure[c.index]:  # the work of the pressure on the two faces, p [v].nu = p kn (the form's sign)
-            f += -pressure[c.index] * test[3].Trace() * ngs.ds(definedon=mesh.Boundaries(c.label))
-            built.append(f"crack[{c.index}]: pressure {pressure[c.index]:g} on the faces")
+        if pressure[c.index] is not None:  # the work of the pressure on the two faces, p [v].nu = p kn (the form's sign)
+            f += -pressure[c.index] * test[3].Trace() * ngs.ds(definedon=mesh.Boundaries(c.label), bonus_intorder=LOAD_BONUS_ORDER)
+            built.append(f"crack[{c.index}]: pressure on the faces")
     with task_manager():
         f.Assemble()
     f.vec.data *= 1.0 / E
@@ -279,4 +293,5 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, order: int | None
         facet_order=k, fields=fields, built=built, boundary_values=boundary_values, roller_pairs=lambda roller: [],
         definite=True, sign=-1.0, tangential=4 if has_crack else None,
         constraint_map=(lambda: G) if has_crack else None, constraint_points=where, order=k, value_map=V, force_unit=float(E),
+        traction_of=traction_of,
     )

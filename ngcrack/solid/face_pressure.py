@@ -14,7 +14,10 @@ q is 0 at r = R):
 
     -p int q dw/dx_1 dA = p int w (dq/dx_1 + q kappa / (1 + kappa x_1)) dA,
 
-kappa the front's curvature (the area element is (1 + kappa x_1) dx_1 ds). The opening w
+kappa the front's curvature (the area element is (1 + kappa x_1) dx_1 ds). A pressure that
+varies over the crack (`solid.loads`) adds its derivative along e_1 inside the integral:
+-int q p dw/dx_1 dA = int w (p dq/dx_1 + q dp/dx_1 + p q kappa / (1 + kappa x_1)) dA, dp/dx_1 by a
+central difference of DP_STEP_RTOL of the crack's size at each point. The opening w
 is then the element's normal jump itself (the contact unknown, exact at the quadrature
 points), not a derivative of the displacement; the quadrature is NGSolve's on the crack's
 surface elements (curved to the front).
@@ -29,6 +32,8 @@ import numpy as np
 
 #: quadrature order on the crack faces (the auxiliary term has an integrable r^(-1/2))
 QUADRATURE_ORDER = 8
+#: the step of the central difference of a varying pressure along e_1, over the crack's size
+DP_STEP_RTOL = 1e-6
 
 
 @dataclass
@@ -41,18 +46,21 @@ class FacePressure:
     opening: np.ndarray  # [u].nu of the solution
     aux: np.ndarray  # the mode I auxiliary opening (8 / E') sqrt(r / 2 pi)
     turning: np.ndarray  # kappa / (1 + kappa x_1)
-    p: float
+    p: float | np.ndarray  # the pressure at the points
+    dp: float | np.ndarray = 0.0  # its derivative along e_1
 
     def terms(self, q: np.ndarray, dq: np.ndarray) -> tuple[float, float]:
         """(the J term, the mode I interaction term) for q and dq/dx_1 at the points."""
-        weight = self.p * self.w * (dq + q * self.turning)
+        weight = self.w * (self.p * (dq + q * self.turning) + q * self.dp)
         return float(weight @ self.opening), float(weight @ self.aux)
 
 
 def face_pressure(sol, index: int, geom, R: float, e_prime: float) -> FacePressure | None:
     """The crack's face points within R of its front, or None without a pressure on it."""
-    p = float(getattr(sol.scene.cracks[index], "pressure", 0.0) or 0.0)
-    if not p:
+    from .loads import is_varying
+
+    pressure = getattr(sol.scene.cracks[index], "pressure", 0.0)
+    if not is_varying(pressure) and not float(pressure or 0.0):
         return None
     faces = sol.smesh.cracks[index]
     mesh = sol.smesh.mesh
@@ -69,4 +77,11 @@ def face_pressure(sol, index: int, geom, R: float, e_prime: float) -> FacePressu
     r = np.maximum(-x1, 0.0)
     near = r < R
     aux = 8.0 / e_prime * np.sqrt(r[near] / (2 * np.pi))
-    return FacePressure(phi[near], r[near], w[near], opening[near], aux, geom.turning(phi[near], x1[near]), p)
+    p, dp = pressure, 0.0
+    if is_varying(pressure):
+        pts = xyz[near]
+        p = pressure.values(pts)[:, 0]
+        e1 = np.asarray(geom.frame(phi[near])[0]).reshape(-1, 3)
+        h = DP_STEP_RTOL * sol.scene.cracks[index].size
+        dp = (pressure.values(pts + h * e1)[:, 0] - pressure.values(pts - h * e1)[:, 0]) / (2 * h)
+    return FacePressure(phi[near], r[near], w[near], opening[near], aux, geom.turning(phi[near], x1[near]), p, dp)

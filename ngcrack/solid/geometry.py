@@ -83,6 +83,8 @@ class SolidMesh:
 def _occ_body(domain):
     from netgen import occ
 
+    if hasattr(domain, "occ_shape"):  # a part read from a file (solid.parts.StepPart)
+        return domain.occ_shape()
     if isinstance(domain, Box):
         body = occ.Box(occ.Pnt(*domain.lo), occ.Pnt(*domain.hi))
         for f in body.faces:
@@ -128,7 +130,9 @@ def occ_geometry(scene: SolidScene, sizes: dict):
     `make_mesh` meshes, and what a subdomain of a distributed mesh is curved with."""
     from netgen import occ
 
-    parts = [_occ_body(scene.domain)]
+    from .points import patch_faces
+
+    parts = [_occ_body(scene.domain)] + patch_faces(scene.points)  # point supports' patches imprinted on faces
     for i, c in enumerate(scene.cracks):
         face = _occ_crack(c)
         reaches = crosses(scene.domain, c)

@@ -162,7 +162,7 @@ def _constraint_map(jump: ngs.FESpace, full: ngs.FESpace, nodes, order: int) -> 
 
 def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, element: str = "h1p2", pressure=None):
     """The P_k displacement discretization (k = ORDER_OF[element]) with the crack's jump."""
-    from .element import SolidDiscretization
+    from .element import LOAD_BONUS_ORDER, SolidDiscretization
 
     k = ORDER_OF[element]
     mesh = smesh.mesh
@@ -249,14 +249,15 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, element: str = "h
     if loads.body_force is not None:
         f += (loads.body_force * v) * ngs.dx
         built.append("body force")
+    def traction_of(g):  # the work of a boundary traction g
+        return g * ngs.CF((test[0], test[1], test[2]))
+
     for label, g in sorted(loads.traction.items()):
-        f += (g * ngs.CF((test[0], test[1], test[2]))) * ngs.ds(definedon=mesh.Boundaries(label))
-    if has_crack and pressure:
-        for c in smesh.cracks:
-            p = pressure[c.index]
-            if p:  # the work of the pressure on the two faces: p [v].nu
-                f += p * test[3] * ngs.ds(definedon=mesh.Boundaries(c.label))
-                built.append(f"crack[{c.index}]: pressure {p:g} on the faces")
+        f += traction_of(g) * ngs.ds(definedon=mesh.Boundaries(label), bonus_intorder=LOAD_BONUS_ORDER)
+    for c in smesh.cracks if has_crack and pressure else ():
+        if pressure[c.index] is not None:  # the work of the pressure on the two faces: p [v].nu
+            f += pressure[c.index] * test[3] * ngs.ds(definedon=mesh.Boundaries(c.label), bonus_intorder=LOAD_BONUS_ORDER)
+            built.append(f"crack[{c.index}]: pressure on the faces")
     with task_manager():
         f.Assemble()
 
@@ -279,5 +280,5 @@ def build(smesh: SolidMesh, E: float, nu: float, loads: Loads, element: str = "h
         facet_order=k, fields=fields, built=built, boundary_values=boundary_values, roller_pairs=lambda roller: [],
         definite=True, sign=1.0, tangential=4 if has_crack else None,
         constraint_map=(lambda: G) if has_crack else None, constraint_points=where, order=k,
-        point_crack=owner, face_points=face_points, displacement_of=displacement,
+        point_crack=owner, face_points=face_points, displacement_of=displacement, traction_of=traction_of,
     )

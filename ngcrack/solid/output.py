@@ -6,7 +6,10 @@ JSON (`ngcrack solve --json` on a 3D scene): the 2D keys that apply ("scene",
 "cracks": [{"max_opening", "max_sliding", "closed_fraction", "area"}]. max_opening
 is the largest normal jump at the constraint points, max_sliding the largest tangential
 jump |[u]_t| at the same points, closed_fraction the area fraction of the crack faces
-whose constraint points are all closed.
+whose constraint points are all closed. With point supports or loads (``[[point]]``),
+"points": {label: {"type", "force", "displacement"}}: each point's force on the body (the
+applied one, or a support's reaction) and its patch's mean displacement
+(`solid.point_means.point_values`).
 
 VTK (ParaView): OUT.vtu with the body's displacement and stress, OUT_cracks.vtu with
 the crack faces' opening (normal jump), sliding (|tangential jump|), closed flag and
@@ -168,7 +171,14 @@ class SolidSolution(Solution):
             "cracks": self.crack_summaries(),
             **({} if estimate is None else {"error_estimate": {k: estimate[k] for k in ("total", "stress", "contact")}}),
             **({} if self.distributed is None else {"distributed": self.distributed}),
+            **({} if not getattr(self.scene, "points", ()) else {"points": self._point_values()}),
         }
+
+    def _point_values(self) -> dict:
+        from .point_means import point_values
+
+        return {k: {"type": v["type"], "force": list(v["force"]), "displacement": list(v["displacement"])}
+                for k, v in point_values(self).items()}
 
     def report_lines(self, result: dict | None = None) -> list[str]:
         """What `ngcrack solve` prints of a 3D solve: sizes and seconds, the KKT residuals, the estimate, each
@@ -190,6 +200,9 @@ class SolidSolution(Solution):
             lines.append(f"front {front['crack']} ({len(front['points'])} points): K_I {np.min(front['K_I']):.4g}.."
                          f"{np.max(front['K_I']):.4g}, K_II {np.min(front['K_II']):.4g}..{np.max(front['K_II']):.4g}, "
                          f"K_III {np.min(front['K_III']):.4g}..{np.max(front['K_III']):.4g}")
+        for label, v in result.get("points", {}).items():
+            lines.append(f"{label} ({v['type']}): force [{', '.join(f'{c:.4g}' for c in v['force'])}], mean displacement "
+                         f"[{', '.join(f'{c:.4g}' for c in v['displacement'])}]")
         if "distributed" in result:
             lines.append(summary_line(result["distributed"]))
         return lines
@@ -247,8 +260,12 @@ class SolidSolution(Solution):
         face): the contact pressure where the faces are closed (p the faces' applied pressure)."""
         mesh = self.smesh.mesh
         nrm = np.concatenate([np.tile(c.normal, (3 * len(c.elements), 1)) for c in self.smesh.cracks])
-        applied = np.concatenate([np.full(3 * len(c.elements), getattr(self.scene.cracks[c.index], "pressure", 0.0))
-                                  for c in self.smesh.cracks])
+        applied, start = [], 0
+        for c in self.smesh.cracks:  # the applied pressure at the corners (a varying one: solid.loads)
+            p, n = getattr(self.scene.cracks[c.index], "pressure", 0.0), 3 * len(c.elements)
+            applied.append(p.values(corners[start:start + n])[:, 0] if hasattr(p, "values") else np.full(n, p))
+            start += n
+        applied = np.concatenate(applied)
         centre = np.repeat(corners.reshape(-1, 3, 3).mean(axis=1), 3, axis=0)
         x = corners + 1e-3 * (centre - corners)
         sig = self.fields["sigma"]

@@ -1,31 +1,35 @@
 """3D scenes: a box or a cylinder holding planar cracks, as plain validated data.
 
-A scene is 3D when its ``[domain]`` is (``box`` or ``cylinder``); ``Scene.from_toml``
+A scene is 3D when its ``[domain]`` is (``box``, ``cylinder`` or ``step``); ``Scene.from_toml``
 hands such a document to :meth:`SolidScene.from_dict`. Like the 2D scene, a
 :class:`SolidScene` is immutable and validated completely when it is built, before any
 meshing: every bad field raises :class:`ngcrack.SceneError` naming the field and what is
 allowed.
 
-Domain
+Domain (`solid.parts`)
     ``box = [[x0, y0, z0], [x1, y1, z1]]``: faces ``xmin xmax ymin ymax zmin zmax``.
     ``cylinder = {center, axis, radius, height}``: ``center`` is the centre of the
     cylinder (mid-height on the axis); faces ``bottom`` (at center - height/2 axis),
-    ``top`` and ``side``.
+    ``top`` and ``side``. ``step = "part.step"``: a solid from a STEP file, faces by the
+    file's names or ``face<i>``.
 Cracks (``[[crack]]``), each a plane set inside the body or crossing its free faces:
     ``shape = "disc"`` with ``center``, ``normal``, ``radius``;
     ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and
     ``major_axis`` (projected into the crack plane; the semi-axis a lies along it);
     ``shape = "polygon"`` with ``points`` (3 or more, in one plane, a simple polygon; the
     normal follows the right-hand rule of the point order). ``friction`` >= 0;
-    ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart.
+    ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart;
+    or a table along an in-plane axis or a callable p(x, y, z) (`solid.loads`).
     The normal nu points into the ``+`` face; the jump is [u] = u+ - u-.
 Cracks stay apart from each other and from the faces (a clearance of ``CLEARANCE_RTOL`` times the
 crack's size), or cross free faces by as much: the crack is then its part inside the body, its
 front the part of its outline inside (``ngcrack.solid.surface``): a semi-elliptical surface crack
 is an ellipse centred on a face, a corner crack a quarter of one centred on an edge.
 Boundary conditions by face label: ``clamped``, ``displacement`` (value = [ux, uy, uz]),
-``roller`` (u.n = 0) or ``traction`` (value = [gx, gy, gz]); unnamed faces are free.
-The supports must hold every rigid motion (checked on points of the faces).
+``roller`` (u.n = 0) or ``traction`` (value = [gx, gy, gz], or a table along an axis or a
+callable g(x, y, z): `solid.loads`); unnamed faces are free. Point supports and loads
+(``[[point]]``: `solid.points`) on patches of planar faces. The supports must hold every rigid
+motion (checked on points of the faces and at the point supports).
 """
 
 from __future__ import annotations
@@ -38,16 +42,27 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, is_number, positive, short, table
+from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, positive, short, table
 from ..core.scene import Scene
+from .loads import VaryingField, is_varying, pressure_field, traction_field
+from .parts import (  # noqa: F401  (re-exported: the domains' names)
+    BOX_FACES,
+    CYLINDER_FACES,
+    DOMAIN_KINDS,
+    Box,
+    Cylinder,
+    StepPart,
+    domain_from_dict,
+    domain_labels,
+    perpendicular,
+    vector3,
+)
+from .points import PointCondition3, held_directions, points_from_list, rigid_rows  # noqa: F401
 from .surface import face_problem
 
-DOMAIN_KINDS = ("box", "cylinder")
 SHAPES = ("disc", "ellipse", "polygon")
-BOX_FACES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
-CYLINDER_FACES = ("bottom", "top", "side")
 BOUNDARY_TYPES = ("clamped", "displacement", "roller", "traction")
-TOP_KEYS = ("name", "description", "domain", "crack", "material", "load", "boundary", "mesh")
+TOP_KEYS = ("name", "description", "domain", "crack", "material", "load", "boundary", "mesh", "point")
 MESH_KEYS = ("maxh", "crack_h", "front_h", "grading")
 #: a crack must keep this fraction of its size (diameter) away from the boundary and other cracks
 CLEARANCE_RTOL = 0.05
@@ -56,135 +71,6 @@ PLANARITY_RTOL = 1e-6
 #: default mesh sizes, as fractions: maxh of the body's size, crack_h and front_h of the crack's size
 DEFAULT_MAXH_RTOL, DEFAULT_CRACK_H_RTOL, DEFAULT_FRONT_H_RTOL = 0.25, 0.2, 0.1
 DEFAULT_GRADING = 0.3
-
-
-def vector3(v: Any, fld: str, unit: bool = False) -> np.ndarray:
-    """Three finite numbers [x, y, z] (a nonzero direction, normalised, with `unit`)."""
-    if isinstance(v, np.ndarray):
-        v = v.tolist()
-    if (isinstance(v, (str, bytes)) or not isinstance(v, Sequence) or len(v) != 3
-            or not all(is_number(c) and math.isfinite(float(c)) for c in v)):
-        raise SceneError(f"{fld} = {short(v)}: must be a list of 3 finite numbers [x, y, z]")
-    x = np.array([float(c) for c in v])
-    if unit:
-        n = np.linalg.norm(x)
-        if n == 0.0:
-            raise SceneError(f"{fld} = {short(v)}: must be a nonzero direction")
-        x = x / n
-    return x
-
-
-def perpendicular(n: np.ndarray) -> np.ndarray:
-    """A unit vector perpendicular to the unit vector n."""
-    a = np.eye(3)[int(np.argmin(np.abs(n)))]
-    e = a - np.dot(a, n) * n
-    return e / np.linalg.norm(e)
-
-
-# ------------------------------------------------------------------------------------ domains
-@dataclass(frozen=True, eq=False)
-class Box:
-    lo: np.ndarray
-    hi: np.ndarray
-    labels = BOX_FACES
-
-    @property
-    def size(self) -> float:
-        return float(np.linalg.norm(self.hi - self.lo))
-
-    def clearance(self, p: np.ndarray) -> np.ndarray:
-        """The distance of each point (rows of p) to the box's boundary, negative outside."""
-        return np.minimum((p - self.lo).min(axis=1), (self.hi - p).min(axis=1))
-
-    def face_points(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        """(points on each face, its outward normal), for the rigid-motion check."""
-        out = {}
-        t = np.linspace(0.0, 1.0, 3)
-        for k, ax in enumerate("xyz"):
-            i, j = [m for m in range(3) if m != k]
-            for side, val in (("min", self.lo[k]), ("max", self.hi[k])):
-                pts = []
-                for s in t:
-                    for r in t:
-                        p = np.zeros(3)
-                        p[k] = val
-                        p[i] = self.lo[i] + s * (self.hi[i] - self.lo[i])
-                        p[j] = self.lo[j] + r * (self.hi[j] - self.lo[j])
-                        pts.append(p)
-                n = np.zeros(3)
-                n[k] = -1.0 if side == "min" else 1.0
-                out[ax + side] = (np.array(pts), np.tile(n, (len(pts), 1)))
-        return out
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"box": [self.lo.tolist(), self.hi.tolist()]}
-
-
-@dataclass(frozen=True, eq=False)
-class Cylinder:
-    center: np.ndarray
-    axis: np.ndarray
-    radius: float
-    height: float
-    labels = CYLINDER_FACES
-
-    @property
-    def size(self) -> float:
-        return float(math.hypot(2 * self.radius, self.height))
-
-    @property
-    def base(self) -> np.ndarray:
-        return self.center - 0.5 * self.height * self.axis
-
-    def clearance(self, p: np.ndarray) -> np.ndarray:
-        d = p - self.center
-        h = d @ self.axis
-        r = np.linalg.norm(d - np.outer(h, self.axis), axis=1)
-        return np.minimum(self.radius - r, 0.5 * self.height - np.abs(h))
-
-    def face_points(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        e1 = perpendicular(self.axis)
-        e2 = np.cross(self.axis, e1)
-        phi = np.linspace(0.0, 2 * np.pi, 8, endpoint=False)
-        ring = np.outer(np.cos(phi), e1) + np.outer(np.sin(phi), e2)
-        half = 0.5 * self.height * self.axis
-        out = {}
-        for label, sign in (("bottom", -1.0), ("top", 1.0)):
-            pts = self.center + sign * half + 0.5 * self.radius * ring
-            out[label] = (pts, np.tile(sign * self.axis, (len(pts), 1)))
-        side = np.concatenate([self.center + self.radius * ring + s * half for s in (-0.5, 0.5)])
-        out["side"] = (side, np.concatenate([ring, ring]))
-        return out
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"cylinder": {"center": self.center.tolist(), "axis": self.axis.tolist(),
-                             "radius": self.radius, "height": self.height}}
-
-
-def domain_from_dict(d: Mapping[str, Any]) -> Box | Cylinder:
-    check_keys(d, ("box", "cylinder", "step"), "domain")
-    if "step" in d:
-        raise SceneError("domain.step: STEP geometries are not supported yet (a later step); use box or cylinder")
-    kinds = [k for k in DOMAIN_KINDS if k in d]
-    if len(kinds) != 1:
-        raise SceneError(f"domain: give exactly one of {', '.join(DOMAIN_KINDS)} (found {len(kinds)})")
-    if kinds[0] == "box":
-        v = d["box"]
-        if isinstance(v, (str, bytes)) or not isinstance(v, Sequence) or len(v) != 2:
-            raise SceneError(f"domain.box = {short(v)}: must be two corners [[x0, y0, z0], [x1, y1, z1]]")
-        lo, hi = vector3(v[0], "domain.box[0]"), vector3(v[1], "domain.box[1]")
-        if not np.all(hi > lo):
-            raise SceneError(f"domain.box = {short(v)}: the second corner must exceed the first in x, y and z")
-        return Box(lo, hi)
-    c = d["cylinder"]
-    if not isinstance(c, Mapping):
-        raise SceneError(f"domain.cylinder = {short(c)}: must be a table with keys center, axis, radius, height")
-    check_keys(c, ("center", "axis", "radius", "height"), "domain.cylinder")
-    for key in ("center", "axis", "radius", "height"):
-        if key not in c:
-            raise SceneError(f"domain.cylinder.{key}: missing; give center, axis, radius and height")
-    return Cylinder(vector3(c["center"], "domain.cylinder.center"), vector3(c["axis"], "domain.cylinder.axis", unit=True),
-                    positive(c["radius"], "domain.cylinder.radius"), positive(c["height"], "domain.cylinder.height"))
 
 
 # ------------------------------------------------------------------------------------- cracks
@@ -255,7 +141,9 @@ class PlanarCrack:
                 d.update(semi_axes=list(self.semi_axes), major_axis=self.e_a.tolist())
         if self.friction:
             d["friction"] = self.friction
-        if self.pressure:
+        if is_varying(self.pressure):
+            d["pressure"] = self.pressure.to_toml("crack.pressure")
+        elif self.pressure:
             d["pressure"] = self.pressure
         return d
 
@@ -283,10 +171,13 @@ def crack_from_dict(c: Any, i: int) -> PlanarCrack:
     if mu < 0:
         raise SceneError(f"{fld}.friction = {mu!r}: must be a finite number >= 0")
     p = c.get("pressure", 0.0)
+    crack = _crack_shape(c, shape, fld, mu)
+    if isinstance(p, (Mapping, VaryingField)) or callable(p):  # a pressure varying over the crack (solid.loads)
+        return dataclasses.replace(crack, pressure=p if is_varying(p) else pressure_field(p, f"{fld}.pressure", crack))
     if isinstance(p, bool) or not isinstance(p, (int, float)) or not math.isfinite(p):
-        raise SceneError(f"{fld}.pressure = {short(p)}: must be a finite number (a uniform pressure on the faces; "
-                         "tables and functions of position are 2D only)")
-    return dataclasses.replace(_crack_shape(c, shape, fld, mu), pressure=float(p))
+        raise SceneError(f"{fld}.pressure = {short(p)}: must be a finite number (a uniform pressure on the faces), "
+                         "a table {axis, table = [[s, p], ...]} or in Python a callable p(x, y, z)")
+    return dataclasses.replace(crack, pressure=float(p))
 
 
 def _crack_shape(c: Mapping, shape: str, fld: str, mu: float) -> PlanarCrack:
@@ -359,11 +250,13 @@ class Material3:
 
 @dataclass(frozen=True)
 class Condition3:
+    """A face's condition; a traction's `value` a constant [gx, gy, gz] or a VaryingField (solid.loads)."""
+
     type: str
-    value: tuple[float, float, float] | None = None
+    value: tuple[float, float, float] | VaryingField | None = None
 
     @classmethod
-    def from_dict(cls, d: Any, fld: str) -> Condition3:
+    def from_dict(cls, d: Any, fld: str, domain=None) -> Condition3:
         if not isinstance(d, Mapping):
             raise SceneError(f"{fld} = {short(d)}: must be a table with keys type, value")
         check_keys(d, ("type", "value"), fld)
@@ -376,10 +269,19 @@ class Condition3:
             return cls(t)
         if "value" not in d:
             raise SceneError(f"{fld}.value: missing; a {t} face needs value = [x, y, z]")
-        return cls(t, tuple(vector3(d["value"], f"{fld}.value").tolist()))
+        v = d["value"]
+        if t == "traction" and (isinstance(v, (Mapping, VaryingField)) or callable(v)):
+            return cls(t, v if is_varying(v) else traction_field(v, f"{fld}.value", domain))
+        return cls(t, tuple(vector3(v, f"{fld}.value").tolist()))
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"type": self.type} if self.value is None else {"type": self.type, "value": list(self.value)}
+    @property
+    def varying(self) -> bool:
+        return is_varying(self.value)
+
+    def to_dict(self, fld: str = "boundary") -> dict[str, Any]:
+        if self.value is None:
+            return {"type": self.type}
+        return {"type": self.type, "value": self.value.to_toml(f"{fld}.value") if self.varying else list(self.value)}
 
 
 # -------------------------------------------------------------------------------- the scene
@@ -391,15 +293,18 @@ class SolidScene(Scene, dimension=3):
 
     name: str
     description: str
-    domain: Box | Cylinder
+    domain: Box | Cylinder | StepPart
     cracks: tuple[PlanarCrack, ...]
     material: Material3
-    boundary: dict
+    boundary: dict  # label -> Condition3 of constant value (a force point's patch: its traction)
     body_force: tuple[float, float, float] | None = None
     maxh: float | None = None
     crack_h: float | None = None
     front_h: float | None = None
     grading: float | None = None
+    points: tuple[PointCondition3, ...] = ()
+    #: label -> Condition3 of a traction varying over the face (solid.loads), kept out of `boundary`
+    tractions: dict = dataclasses.field(default_factory=dict)
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], name: str | None = None) -> SolidScene:
@@ -421,18 +326,40 @@ class SolidScene(Scene, dimension=3):
         load = table(d, "load", "load")
         check_keys(load, ("body_force",), "load")
         body = None if "body_force" not in load else tuple(vector3(load["body_force"], "load.body_force").tolist())
-        boundary = {}
-        for label, cond in table(d, "boundary", "boundary").items():
-            if label not in domain.labels:
-                raise SceneError(f"boundary.{label}: no such face; the faces of a {type(domain).__name__.lower()} "
-                                 f"are {', '.join(domain.labels)}")
-            boundary[label] = Condition3.from_dict(cond, f"boundary.{label}")
         mesh = table(d, "mesh", "mesh")
         check_keys(mesh, MESH_KEYS, "mesh")
         sizes = {k: (None if k not in mesh else positive(mesh[k], f"mesh.{k}")) for k in MESH_KEYS}
         if sizes["grading"] is not None and not 0 < sizes["grading"] <= 1:
             raise SceneError(f"mesh.grading = {sizes['grading']!r}: must lie in (0, 1]")
-        scene = cls(name, description, domain, cracks, material, boundary, body, **sizes)
+        labels = domain_labels(domain)
+        points = points_from_list(d.get("point", []), domain, sizes["maxh"] or DEFAULT_MAXH_RTOL * domain.size, labels)
+        boundary, tractions = {}, {}
+        for label, cond in table(d, "boundary", "boundary").items():
+            if label in {pc.label for pc in points}:
+                raise SceneError(f"boundary.{label}: the patch of a point takes its condition from [[point]]; remove "
+                                 f"[boundary.{label}]")
+            if label not in labels:
+                kind = "STEP part" if isinstance(domain, StepPart) else type(domain).__name__.lower()
+                raise SceneError(f"boundary.{label}: no such face; the faces of the {kind} are {', '.join(labels)}")
+            c = Condition3.from_dict(cond, f"boundary.{label}", domain)
+            (tractions if c.varying else boundary)[label] = c
+        if isinstance(domain, StepPart):
+            domain.check_rollers(boundary)
+        for k, pc in enumerate(points):  # a patch keeps its face's traction, a force adds its own
+            face = boundary.get(pc.face) or tractions.get(pc.face)
+            if face is not None and face.type != "traction":
+                raise SceneError(f"point[{k}].at = {short(pc.at.tolist())}: on face {pc.face!r}, which is {face.type}; "
+                                 f"a point sits on a free or loaded face")
+            if face is not None and face.varying:
+                if pc.type == "force":
+                    raise SceneError(f"point[{k}]: a force on face {pc.face!r}, whose traction varies; put the force "
+                                     f"on a face with a constant traction or none")
+                tractions[pc.label] = face
+            elif pc.type == "force" or face is not None:
+                g = np.add(pc.traction() or (0.0, 0.0, 0.0), face.value if face is not None else (0.0, 0.0, 0.0))
+                boundary[pc.label] = Condition3("traction", tuple(float(c) for c in g))
+        scene = cls(name, description, domain, cracks, material, boundary, body, **sizes, points=points,
+                    tractions=tractions)
         scene.check()
         return scene
 
@@ -460,8 +387,11 @@ class SolidScene(Scene, dimension=3):
         larger than the smallest mesh size netgen meshes (MIN_SIZE_RTOL of the body's diameter)."""
         E, d = self.material.E, self.size
         check_scale(E, 1.0, "material.E", "E")
-        for label, cond in self.boundary.items():
+        for label, cond in {**self.boundary, **self.tractions}.items():
             if cond.value is not None:
+                if cond.varying:
+                    check_scale(cond.value.largest(), 1.0 / E, f"boundary.{label}.value", "a traction over E")
+                    continue
                 to_strain = 1.0 / E if cond.type == "traction" else 1.0 / d
                 check_scale(cond.value, to_strain, f"boundary.{label}.value", "a traction over E" if
                             cond.type == "traction" else "a displacement over the diameter")
@@ -469,16 +399,20 @@ class SolidScene(Scene, dimension=3):
             check_scale(self.body_force, d / E, "load.body_force", "a body force times the diameter over E")
         for i, c in enumerate(self.cracks):
             if c.pressure:
-                check_scale(c.pressure, 1.0 / E, f"crack[{i}].pressure", "a pressure over E")
+                check_scale(c.pressure.largest() if is_varying(c.pressure) else c.pressure, 1.0 / E, f"crack[{i}].pressure", "a pressure over E")
             smallest = min((a for a in c.semi_axes if a > 0), default=c.size)
             if smallest < MIN_SIZE_RTOL * d:
                 raise SceneError(f"crack[{i}]: its smallest size {smallest:.3g} is below {MIN_SIZE_RTOL:g} of the body's "
                                  f"diameter {d:.3g}, the smallest length netgen meshes; give a larger crack")
 
     def _check_held(self) -> None:
-        rows = []
+        """The supports (faces and point supports) hold every rigid motion: rank 6 of their rows at points of
+        the faces and at the points' centres (solid.points.rigid_rows)."""
+        rows = rigid_rows(self.points)
         faces = self.domain.face_points()
         for label, cond in self.boundary.items():
+            if label not in faces:  # a force point's patch
+                continue
             pts, normals = faces[label]
             for p, n in zip(pts, normals):
                 # a rigid motion u(p) = t + w x p = basis @ (t, w); column 3 + l is e_l x p
@@ -489,9 +423,9 @@ class SolidScene(Scene, dimension=3):
                     rows.append(n @ basis)
         rank = np.linalg.matrix_rank(np.array(rows)) if rows else 0
         if rank < 6:
-            raise SceneError(f"boundary: the supports leave {6 - rank} rigid motion(s) free; clamp a face or put "
-                             f"rollers on faces that hold every translation and rotation (labels: "
-                             f"{', '.join(self.domain.labels)})")
+            raise SceneError(f"boundary: the supports leave {6 - rank} rigid motion(s) free; clamp a face, put "
+                             f"rollers on faces or pins and rollers at points ([[point]]) that hold every translation "
+                             f"and rotation (labels: {', '.join(domain_labels(self.domain))})")
 
     # ------------------------------------------------------------------ sizes and changes
     @property
@@ -541,7 +475,11 @@ class SolidScene(Scene, dimension=3):
         d["material"] = {"E": self.material.E, "nu": self.material.nu}
         if self.body_force is not None:
             d["load"] = {"body_force": list(self.body_force)}
-        d["boundary"] = {k: v.to_dict() for k, v in self.boundary.items()}
+        own = {pc.label for pc in self.points}
+        d["boundary"] = {k: v.to_dict(f"boundary.{k}") for k, v in {**self.boundary, **self.tractions}.items()
+                         if k not in own}
+        if self.points:
+            d["point"] = [pc.to_dict() for pc in self.points]
         mesh = {k: getattr(self, k) for k in MESH_KEYS if getattr(self, k) is not None}
         if mesh:
             d["mesh"] = mesh
@@ -550,8 +488,11 @@ class SolidScene(Scene, dimension=3):
     def to_toml_string(self) -> str:
         """The scene as TOML text; ``Scene.from_toml_string`` of it gives an equal scene."""
         from ..planar.scene.toml import dump_toml
+        from .loads import check_writable
 
-        return dump_toml(self.to_dict())
+        d = self.to_dict()
+        check_writable(d)
+        return dump_toml(d)
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, SolidScene) and self.to_dict() == other.to_dict()
@@ -559,7 +500,7 @@ class SolidScene(Scene, dimension=3):
     def __hash__(self) -> int:
         import json
 
-        return hash(json.dumps(self.to_dict(), sort_keys=True))
+        return hash(json.dumps(self.to_dict(), sort_keys=True, default=id))
 
     def replace(self, **fields) -> SolidScene:
         """The scene with some fields replaced (objects or their TOML tables), validated again as a new scene is."""
@@ -572,6 +513,11 @@ class SolidScene(Scene, dimension=3):
                 d.setdefault("mesh", {})[key] = value
             elif key == "body_force":
                 d["load"] = {} if value is None else {"body_force": _plain(value)}
+            elif key in ("boundary", "tractions"):  # one TOML table of both (a force point's patch: its own)
+                own = {pc.label for pc in self.points}
+                other = self.tractions if key == "boundary" else self.boundary
+                d["boundary"] = {**{k: c.to_dict(f"boundary.{k}") for k, c in other.items() if k not in own},
+                                 **{k: v for k, v in _plain(value).items() if k not in own}}
             else:
                 d[TOML_KEYS.get(key, key)] = _plain(value)
         return SolidScene.from_dict({k: v for k, v in d.items() if v is not None})

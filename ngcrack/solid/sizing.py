@@ -64,6 +64,8 @@ OUTLINE_POINTS = 512
 
 
 def _volume(domain) -> float:
+    if hasattr(domain, "volume"):  # a STEP part (solid.parts.StepPart)
+        return float(domain.volume)
     if hasattr(domain, "lo"):
         return float(np.prod(np.asarray(domain.hi) - np.asarray(domain.lo)))
     return float(math.pi * domain.radius ** 2 * domain.height)

@@ -71,10 +71,12 @@ class SolidBody:
 
     def mesh_key(self, scene: SolidScene, options: dict) -> tuple:
         """The domain, the cracks' geometry and the resolved mesh sizes."""
-        d = scene.to_dict()
-        cracks = [{k: v for k, v in c.items() if k not in ("friction", "pressure")} for c in d.get("crack", [])]
+        cracks = [{k: v for k, v in dataclasses.replace(c, pressure=0.0).to_dict().items() if k != "friction"}
+                  for c in scene.cracks]
         sizes = scene.mesh_sizes(*(options.get(k) for k in SIZES))
-        return json.dumps({"domain": d["domain"], "crack": cracks, "sizes": sizes}, sort_keys=True)
+        points = [(pc.at.tolist(), pc.width, pc.label) for pc in scene.points]
+        return json.dumps({"domain": scene.domain.to_dict(), "crack": cracks, "sizes": sizes, "points": points},
+                          sort_keys=True)
 
     def make_mesh(self, scene: SolidScene, options: dict) -> SolidMesh:
         """The OCC mesh of the scene (`solid.geometry.make_mesh`)."""
@@ -84,21 +86,32 @@ class SolidBody:
         """The element and its order, the material and the cracks' uniform pressures (the
         elements assemble them as numbers: a new pressure re-assembles)."""
         return (options["element"], options["order"], scene.material.E, scene.material.nu,
-                tuple(c.pressure for c in scene.cracks))
+                tuple(c.pressure for c in scene.cracks), tuple(sorted((k, id(c.value)) for k, c in scene.tractions.items())))
 
     def build(self, scene: SolidScene, smesh: SolidMesh, options: dict, loads: Loads):
-        """The element's spaces and assembled forms (BUILDERS: `solid.element`, `solid.h1`)."""
-        pressure = [c.pressure for c in scene.cracks]
+        """The element's spaces and assembled forms (BUILDERS: `solid.element`, `solid.h1`); the tractions
+        and pressures that vary over a face or a crack as CoefficientFunctions of position (`solid.loads`)."""
+        from .loads import is_varying
+        from .point_means import patch_area
+
+        pressure = [c.pressure.cf() if is_varying(c.pressure) else (float(c.pressure) or None) for c in scene.cracks]
+        traction = {**loads.traction, **{k: c.value.cf() for k, c in scene.tractions.items()}}
+        for pc in scene.points:  # the patch's traction scaled to its meshed area: the force's resultant exact
+            if pc.label in traction:
+                traction[pc.label] = traction[pc.label] * (pc.area / patch_area(smesh.mesh, pc.label))
+        loads = dataclasses.replace(loads, traction=traction)
         return BUILDERS[options["element"]](smesh, scene.material.E, scene.material.nu, loads, options["order"],
-                                            pressure if any(pressure) else None)
+                                            pressure if any(p is not None for p in pressure) else None)
 
     def crack_pressure(self, scene: SolidScene, k: int, parameter) -> None:
         """None: the 3D elements take the cracks' pressures as numbers (`element_key`), not as loads."""
         return None
 
     def held_mean(self, scene: SolidScene) -> dict:
-        """A 3D scene has no pin or roller points."""
-        return {}
+        """label -> the directions whose mean over the patch of a pin or roller point is held (`solid.points`)."""
+        from .points import held_directions
+
+        return held_directions(scene.points)
 
 
 def check_request(scene: SolidScene, opts: dict, max_dof: int | None) -> None:

@@ -117,6 +117,9 @@ def scene_from_file(cls, path: str | Path):
     except OSError as exc:
         raise SceneError(f"scene file {str(path)!r}: cannot be read ({exc.strerror or exc})") from None
     d = parse_toml(text, str(path))
+    dom = d.get("domain")
+    if isinstance(dom, dict) and isinstance(dom.get("step"), str) and not os.path.isabs(dom["step"]):
+        dom["step"] = str(path.parent / dom["step"])  # a 3D part's file, relative to the scene file
     return scene_from_dict(cls, d, name=None if "name" in d else path.stem)
 
 
