@@ -73,8 +73,9 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
     if not hasattr(domain, "lo") and not hasattr(domain, "axis"):  # a STEP part: cracks strictly inside, for now
         near = float(np.min(domain.clearance(crack.outline(256))))
         if near < gap:
-            return (f"comes within {near:.3g} of the part's surface (or crosses it); in a STEP part a crack stays at "
-                    f"least {gap:.3g} ({rtol:g} of its size) inside (cracks reaching a STEP part's faces are a later step)")
+            where = "crosses it" if near < 0 else f"comes within {near:.3g} of it"
+            return (f"reaches or crosses the boundary (its outline {where}); in a STEP part a crack stays at least "
+                    f"{gap:.3g} ({rtol:g} of its size) inside (cracks reaching a STEP part's faces are a later step)")
         return None
     dist = face_distances(domain, outline)
     crossed = [k for k, d in dist.items() if d.min() < 0]
