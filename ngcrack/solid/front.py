@@ -316,8 +316,17 @@ def front_parameters(sol, points: int | None = None) -> list[FrontParameters]:
             if sides:
                 out.append(_joined(i, sides))
             continue
-        out.append(_one_front(sol, i, FrontGeometry(crack), points))
+        out.append(_one_front(sol, i, front_geometry(crack), points))
     return out
+
+
+def front_geometry(crack):
+    """The geometry of a closed front: a disc's or an ellipse's, or a curve's (ngcrack.solid.curve)."""
+    if crack.shape == "curve":
+        from .curve import CurveFront
+
+        return CurveFront(crack)
+    return FrontGeometry(crack)
 
 
 def _joined(index: int, sides: list[FrontParameters]) -> FrontParameters:

@@ -16,7 +16,8 @@ Cracks (``[[crack]]``), each a plane set strictly inside the body:
     ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and
     ``major_axis`` (projected into the crack plane; the semi-axis a lies along it);
     ``shape = "polygon"`` with ``points`` (3 or more, in one plane, a simple polygon; the
-    normal follows the right-hand rule of the point order). ``friction`` >= 0;
+    normal follows the right-hand rule of the point order);
+    ``shape = "curve"`` with ``points``: a smooth periodic spline through them (ngcrack.solid.curve). ``friction`` >= 0;
     ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart.
     The normal nu points into the ``+`` face; the jump is [u] = u+ - u-.
 Cracks stay apart from each other and from the boundary (a clearance of
@@ -40,7 +41,7 @@ from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, fi
 from ..core.scene import Scene
 
 DOMAIN_KINDS = ("box", "cylinder")
-SHAPES = ("disc", "ellipse", "polygon")
+SHAPES = ("disc", "ellipse", "polygon", "curve")
 BOX_FACES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 CYLINDER_FACES = ("bottom", "top", "side")
 BOUNDARY_TYPES = ("clamped", "displacement", "roller", "traction")
@@ -212,6 +213,10 @@ class PlanarCrack:
 
     def outline(self, n: int = 64) -> np.ndarray:
         """Points on the crack front (n per curve; a polygon's vertices and n points per side)."""
+        if self.shape == "curve":
+            from .curve import curve_outline
+
+            return curve_outline(self, n)
         if self.shape == "polygon":
             p = self.points
             q = np.roll(p, -1, axis=0)
@@ -235,6 +240,10 @@ class PlanarCrack:
 
     @property
     def area(self) -> float:
+        if self.shape == "curve":
+            from .curve import curve_area
+
+            return curve_area(self)
         if self.shape == "polygon":
             p = self.points - self.center
             return float(0.5 * abs(np.dot(np.sum(np.cross(p, np.roll(p, -1, axis=0)), axis=0), self.normal)))
@@ -242,7 +251,7 @@ class PlanarCrack:
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {"shape": self.shape}
-        if self.shape == "polygon":
+        if self.shape in ("polygon", "curve"):
             d["points"] = self.points.tolist()
         else:
             d.update(center=self.center.tolist(), normal=self.normal.tolist())
@@ -259,7 +268,8 @@ class PlanarCrack:
 
 CRACK_KEYS = {"disc": ("shape", "center", "normal", "radius", "friction", "pressure"),
               "ellipse": ("shape", "center", "normal", "semi_axes", "major_axis", "friction", "pressure"),
-              "polygon": ("shape", "points", "friction", "pressure")}
+              "polygon": ("shape", "points", "friction", "pressure"),
+              "curve": ("shape", "points", "friction", "pressure")}
 #: the crack keys that may be left out
 OPTIONAL_CRACK_KEYS = ("friction", "pressure")
 
@@ -289,6 +299,10 @@ def crack_from_dict(c: Any, i: int) -> PlanarCrack:
 def _crack_shape(c: Mapping, shape: str, fld: str, mu: float) -> PlanarCrack:
     if shape == "polygon":
         return _polygon(c["points"], fld, mu)
+    if shape == "curve":  # a closed spline outline (ngcrack.solid.curve)
+        from .curve import curve_crack
+
+        return curve_crack(c["points"], fld, mu)
     center = vector3(c["center"], f"{fld}.center")
     normal = vector3(c["normal"], f"{fld}.normal", unit=True)
     if shape == "disc":
