@@ -24,6 +24,7 @@ with inward normal m the least |q - p|^2 / (2 (q - p).m) over the outline's poin
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -31,7 +32,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.spatial import cKDTree
 
-from ..core.fields import SceneError, short
+from ..core.fields import SceneError, is_number, short
 
 #: the fewest points of a curve crack (a periodic cubic spline through fewer is hardly a shape)
 MIN_CURVE_POINTS = 5
@@ -90,14 +91,22 @@ def spline_of(crack) -> PlaneSpline:
     return PlaneSpline(crack.points, crack.center, crack.e_a, crack.normal)
 
 
-def curve_crack(v: Any, fld: str, mu: float):
-    """A curve crack from its `points` (validated, module docstring)."""
-    from .scene import PlanarCrack, vector3
+def _point(q: Any, fld: str) -> np.ndarray:
+    if (isinstance(q, (str, bytes)) or not isinstance(q, Sequence) or len(q) != 3
+            or not all(is_number(c) and math.isfinite(float(c)) for c in q)):
+        raise SceneError(f"{fld} = {short(q)}: must be a list of 3 finite numbers [x, y, z]")
+    return np.array([float(c) for c in q])
 
+
+def curve_frame(v: Any, fld: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(points, centre, normal, e_a) of a curve crack from its `points`, validated (module docstring); the scene
+    (ngcrack.solid.scene) makes the crack of them."""
+    if isinstance(v, np.ndarray):
+        v = v.tolist()
     if isinstance(v, (str, bytes)) or not isinstance(v, Sequence) or len(v) < MIN_CURVE_POINTS:
         raise SceneError(f"{fld}.points = {short(v)}: must be {MIN_CURVE_POINTS} or more points [[x, y, z], ...] in one "
                          f"plane (a closed outline, a periodic spline through them)")
-    p = np.array([vector3(q, f"{fld}.points[{k}]") for k, q in enumerate(v)])
+    p = np.array([_point(q, f"{fld}.points[{k}]") for k, q in enumerate(v)])
     size = float(np.max(np.linalg.norm(p[:, None] - p[None], axis=-1)))
     gaps = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
     if size == 0.0 or gaps.min() <= DISTINCT_RTOL * size:
@@ -122,7 +131,7 @@ def curve_crack(v: Any, fld: str, mu: float):
                          f"closed outline in order (more points where it turns sharply)")
     centroid = np.array(ring.centroid.coords[0])
     center = c + centroid[0] * e_a + centroid[1] * np.cross(normal, e_a)
-    return PlanarCrack("curve", center, normal, e_a, points=p, friction=mu)
+    return p, center, normal, e_a
 
 
 def curve_outline(crack, n: int) -> np.ndarray:

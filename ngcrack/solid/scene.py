@@ -300,9 +300,10 @@ def _crack_shape(c: Mapping, shape: str, fld: str, mu: float) -> PlanarCrack:
     if shape == "polygon":
         return _polygon(c["points"], fld, mu)
     if shape == "curve":  # a closed spline outline (ngcrack.solid.curve)
-        from .curve import curve_crack
+        from .curve import curve_frame
 
-        return curve_crack(c["points"], fld, mu)
+        p, center, normal, e_a = curve_frame(c["points"], fld)
+        return PlanarCrack("curve", center, normal, e_a, points=p, friction=mu)
     center = vector3(c["center"], f"{fld}.center")
     normal = vector3(c["normal"], f"{fld}.normal", unit=True)
     if shape == "disc":

@@ -173,6 +173,15 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     """
     from .result import GrowthResult
 
+    if isinstance(scene, str):  # a built-in scene's name: its kind decides the loop
+        from ngcrack.core.solve import as_scene
+
+        scene = as_scene(scene)
+    if getattr(scene, "dimension", 2) == 3:  # planar growth of 3D fronts (loop3d.py)
+        from .loop3d import grow_solid, planar_options
+
+        return grow_solid(scene, da, steps, K_Ic, paris=paris, R=R, together=together, progress=progress, frames=frames,
+                          planar=planar_options(criterion, r_c, at_hole, estimate), **solve_options)
     scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
                                                     paris, R, at_hole, solve_options, estimate, frames)
     da, steps = float(da), int(steps)
