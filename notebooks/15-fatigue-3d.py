@@ -13,28 +13,31 @@
 # cycles are the integral of $ds/(C\,\Delta K_{max}^m)$ over the leading point's advance, to second
 # order. At each point `kink_deg` is the kink a non-planar code would take (MTS from $K_I$, $K_{II}$).
 #
-# **Experiment.** An ellipse of semi-axes $a = 1$ and $b = 0.7$ in a block of side 20 under unit
-# tension, two steps of $da = 0.1$, $C = 10^{-3}$, $m = 3$, on a coarse mesh (`front_h` = 0.3) so
-# that the notebook runs in about a minute. Irwin's closed form gives $K_I$ along the initial front:
+# **Experiment.** An ellipse of semi-axes $a = 1$ and $b = 0.8$ in a block of side 20 under unit
+# tension, two steps of $da = 0.1$ (one with `NGCRACK_QUICK=1`), $C = 10^{-3}$, $m = 3$, on the coarse
+# penny's mesh (`front_h` = 0.2, a solve about 20 s). Irwin's closed form gives $K_I$ along the initial front:
 # largest at the ends of the minor axis, so the crack grows fastest there and rounds out.
 
 # %%
 import math
+import os
 
+import matplotlib.pyplot as plt
 import numpy as np
 from scipy.special import ellipe
 
 import ngcrack as nc
 from ngcrack.scenes.coarse3d import coarse_penny
 
-A, B, DA, C, M = 1.0, 0.7, 0.1, 1e-3, 3.0
+A, B, DA, C, M = 1.0, 0.8, 0.1, 1e-3, 3.0
+STEPS = 1 if os.environ.get("NGCRACK_QUICK") == "1" else 2
 d = coarse_penny()
 d["name"] = "ellipse-fatigue"
 d["crack"] = [{"shape": "ellipse", "center": [0, 0, 0], "normal": [0, 0, 1], "semi_axes": [A, B],
                "major_axis": [1, 0, 0]}]
-d["mesh"] = {"maxh": 5.0, "crack_h": 0.6, "front_h": 0.3}
+d["mesh"] = {"maxh": 5.0, "crack_h": 0.4, "front_h": 0.2}
 scene = nc.Scene.from_dict(d)
-res = nc.grow(scene, da=DA, steps=2, paris=(C, M))
+res = nc.grow(scene, da=DA, steps=STEPS, paris=(C, M))
 print(res.summary())
 
 # %% [markdown]
@@ -49,6 +52,15 @@ phi = np.arctan2(p0[:, 1] / B, p0[:, 0] / A)
 irwin = math.sqrt(math.pi * B) / ellipe(1 - B * B / (A * A)) * (np.sin(phi) ** 2 + (B / A) ** 2 * np.cos(phi) ** 2) ** 0.25
 ratio = np.array(f0["K_I"]) / irwin
 print(f"K_I / Irwin's along the initial front: {ratio.min():.3f} to {ratio.max():.3f}")
+fig, ax = plt.subplots(figsize=(6, 3.5), constrained_layout=True)
+fine = np.linspace(-np.pi, np.pi, 200)
+ax.plot(np.degrees(fine), math.sqrt(math.pi * B) / ellipe(1 - B * B / (A * A))
+        * (np.sin(fine) ** 2 + (B / A) ** 2 * np.cos(fine) ** 2) ** 0.25, "k-", label="Irwin")
+ax.plot(np.degrees(phi), f0["K_I"], "o", label="computed, step 0")
+ax.set_xlabel(r"parametric angle $\varphi$ (degrees)")
+ax.set_ylabel(r"$K_I$")
+ax.legend()
+plt.show()
 
 # %% [markdown]
 # ## The fronts over the steps
@@ -56,7 +68,7 @@ print(f"K_I / Irwin's along the initial front: {ratio.min():.3f} to {ratio.max()
 # equivalent radius $\sqrt{A/\pi}$.
 
 # %%
-res.plot()
+res.plot()  # the figure is returned, not displayed: the cell's value shows it once
 
 # %% [markdown]
 # ## Shape, cycles and the kink
@@ -79,8 +91,8 @@ low, high = DA / (C * K_max[1] ** M), DA / (C * K_max[0] ** M)
 print(f"step 1: {step1:.2f} cycles, between {low:.2f} and {high:.2f}; largest |kink| {kink:.2f} degrees")
 
 # %%
-assert np.all(np.abs(ratio - 1) < 0.06), ratio  # a coarse mesh: Irwin's K within 6%
-assert aspect[1] > aspect[0] + 0.01 and aspect[2] > aspect[1] + 0.01, aspect  # rounding out
+assert np.all(np.abs(ratio - 1) < 0.03), ratio  # a coarse mesh: Irwin's K within 3%
+assert all(y > x + 0.01 for x, y in zip(aspect, aspect[1:])), aspect  # rounding out
 assert low < step1 < high, (low, step1, high)
 assert kink < 3.0, kink  # mode I: planar growth is what a non-planar code would do
 print(f"Elliptical fatigue crack: b/a rises {aspect[0]:.3f} -> {aspect[-1]:.3f} in {len(aspect) - 1} steps, "

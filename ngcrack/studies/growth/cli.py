@@ -50,8 +50,8 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--at-hole", dest="at_hole", default="stop", type=_at_hole, metavar="stop|LENGTH",
                    help="a tip that reaches a hole: stop there (default), or a new crack of LENGTH leaves the hole "
                         "where its hoop stress is largest")
-    p.add_argument("--paris", nargs="+", type=float, metavar="C m [DK_TH]",
-                   help="fatigue: Paris's law da/dN = C Delta_K^m (C > 0, m > 0; DK_TH >= 0 a threshold); the scene's load "
+    p.add_argument("--paris", nargs="+", type=float, metavar="NUM",
+                   help="C m [DK_TH], fatigue: Paris's law da/dN = C Delta_K^m (C > 0, m > 0; DK_TH >= 0 a threshold); the scene's load "
                         "is the cycle's maximum, the JSON and CSV gain the cumulative cycles")
     p.add_argument("--R", dest="R", type=float, help="the load ratio K_min / K_max of a fatigue cycle (< 1; with --paris only)")
     add_mesh_options(p, positive)

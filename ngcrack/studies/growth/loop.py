@@ -168,6 +168,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     `steps` steps, when no tip is left inside the body, or when none can grow.
     estimate: also compute every step's error estimate (the table's `error_estimate` column,
     empty otherwise; it costs about 5% of a step).
+    A 3D scene grows its fronts in their planes (loop3d.grow_solid: da, steps, K_Ic, paris, R and the solve options).
     Under `mpiexec -n N` (N > 1) growth is not distributed: rank 0 grows and returns the result, the other
     ranks return None after the same input checks (as `nc.solve` returns None there).
     """
