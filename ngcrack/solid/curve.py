@@ -29,8 +29,6 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from scipy.interpolate import CubicSpline
-from scipy.spatial import cKDTree
 
 from ..core.fields import SceneError, is_number, short
 
@@ -42,6 +40,8 @@ OCC_POINTS = 256
 OUTLINE_CHECK, TABLE_POINTS = 1024, 2048
 #: points of the front at which the reach is tabulated (interpolated in between)
 REACH_POINTS = 512
+#: outline points of the polygon whose area is the curve's (within 1e-6 of it on a circle)
+AREA_POINTS = 4096
 #: neighbouring points closer than this fraction of the size are refused (a repeated point)
 DISTINCT_RTOL = 1e-9
 #: points off their plane by more than this fraction of the size are refused (as a polygon's)
@@ -72,6 +72,8 @@ class PlaneSpline:
         t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(closed, axis=0), axis=1))]
         self.T = float(t[-1])
         self.knots = t[:-1]
+        from scipy.interpolate import CubicSpline  # (scipy on first use: the scene module imports this one)
+
         self.spline = CubicSpline(t, closed, bc_type="periodic")
 
     def uv(self, t, nu: int = 0) -> np.ndarray:
@@ -98,8 +100,8 @@ def _point(q: Any, fld: str) -> np.ndarray:
     return np.array([float(c) for c in q])
 
 
-def curve_frame(v: Any, fld: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(points, centre, normal, e_a) of a curve crack from its `points`, validated (module docstring); the scene
+def curve_frame(v: Any, fld: str) -> dict[str, np.ndarray]:
+    """{points, center, normal, e_a} of a curve crack from its `points`, validated (module docstring); the scene
     (ngcrack.solid.scene) makes the crack of them."""
     if isinstance(v, np.ndarray):
         v = v.tolist()
@@ -131,21 +133,13 @@ def curve_frame(v: Any, fld: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, n
                          f"closed outline in order (more points where it turns sharply)")
     centroid = np.array(ring.centroid.coords[0])
     center = c + centroid[0] * e_a + centroid[1] * np.cross(normal, e_a)
-    return p, center, normal, e_a
+    return {"points": p, "center": center, "normal": normal, "e_a": e_a}
 
 
 def curve_outline(crack, n: int) -> np.ndarray:
     """n points of the curve, equally spaced in its parameter."""
     s = spline_of(crack)
     return s.xyz(np.linspace(0.0, s.T, max(n, 8), endpoint=False))
-
-
-def curve_area(crack) -> float:
-    """The area inside the curve (Green's theorem on TABLE_POINTS samples)."""
-    s = spline_of(crack)
-    t = np.linspace(0.0, s.T, TABLE_POINTS, endpoint=False)
-    q, dq = s.uv(t), s.uv(t, 1)
-    return float(abs(np.sum(q[:, 0] * dq[:, 1] - q[:, 1] * dq[:, 0])) * 0.5 * s.T / TABLE_POINTS)
 
 
 def occ_curve_face(crack):
@@ -172,6 +166,8 @@ class CurveFront:
         self._arc = np.concatenate([[0.0], np.cumsum(self.speed(mid) * np.diff(self._phis))])
         self.periodic = float(self._arc[-1])
         table = self._phis[:-1]
+        from scipy.spatial import cKDTree
+
         self._tree = cKDTree(self.s.uv(table * self._scale))
         self._table = table
         self._reach_phi = np.linspace(0, 2 * np.pi, REACH_POINTS + 1)

@@ -13,11 +13,9 @@ Domain
     ``top`` and ``side``.
 Cracks (``[[crack]]``), each a plane set strictly inside the body:
     ``shape = "disc"`` with ``center``, ``normal``, ``radius``;
-    ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and
-    ``major_axis`` (projected into the crack plane; the semi-axis a lies along it);
+    ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and ``major_axis`` (projected into the plane);
     ``shape = "polygon"`` with ``points`` (3 or more, in one plane, a simple polygon; the
-    normal follows the right-hand rule of the point order);
-    ``shape = "curve"`` with ``points``: a smooth periodic spline through them (ngcrack.solid.curve). ``friction`` >= 0;
+    normal follows the right-hand rule of the point order; ``"curve"``: a spline through them). ``friction`` >= 0;
     ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart.
     The normal nu points into the ``+`` face; the jump is [u] = u+ - u-.
 Cracks stay apart from each other and from the boundary (a clearance of
@@ -39,6 +37,7 @@ import numpy as np
 
 from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, is_number, positive, short, table
 from ..core.scene import Scene
+from . import curve
 
 DOMAIN_KINDS = ("box", "cylinder")
 SHAPES = ("disc", "ellipse", "polygon", "curve")
@@ -213,10 +212,8 @@ class PlanarCrack:
 
     def outline(self, n: int = 64) -> np.ndarray:
         """Points on the crack front (n per curve; a polygon's vertices and n points per side)."""
-        if self.shape == "curve":
-            from .curve import curve_outline
-
-            return curve_outline(self, n)
+        if self.shape == "curve":  # a periodic spline through the points (ngcrack.solid.curve)
+            return curve.curve_outline(self, n)
         if self.shape == "polygon":
             p = self.points
             q = np.roll(p, -1, axis=0)
@@ -240,12 +237,8 @@ class PlanarCrack:
 
     @property
     def area(self) -> float:
-        if self.shape == "curve":
-            from .curve import curve_area
-
-            return curve_area(self)
-        if self.shape == "polygon":
-            p = self.points - self.center
+        if self.shape in ("polygon", "curve"):
+            p = (self.points if self.shape == "polygon" else self.outline(curve.AREA_POINTS)) - self.center
             return float(0.5 * abs(np.dot(np.sum(np.cross(p, np.roll(p, -1, axis=0)), axis=0), self.normal)))
         return float(math.pi * self.semi_axes[0] * self.semi_axes[1])
 
@@ -268,8 +261,7 @@ class PlanarCrack:
 
 CRACK_KEYS = {"disc": ("shape", "center", "normal", "radius", "friction", "pressure"),
               "ellipse": ("shape", "center", "normal", "semi_axes", "major_axis", "friction", "pressure"),
-              "polygon": ("shape", "points", "friction", "pressure"),
-              "curve": ("shape", "points", "friction", "pressure")}
+              "polygon": ("shape", "points", "friction", "pressure"), "curve": ("shape", "points", "friction", "pressure")}
 #: the crack keys that may be left out
 OPTIONAL_CRACK_KEYS = ("friction", "pressure")
 
@@ -300,10 +292,7 @@ def _crack_shape(c: Mapping, shape: str, fld: str, mu: float) -> PlanarCrack:
     if shape == "polygon":
         return _polygon(c["points"], fld, mu)
     if shape == "curve":  # a closed spline outline (ngcrack.solid.curve)
-        from .curve import curve_frame
-
-        p, center, normal, e_a = curve_frame(c["points"], fld)
-        return PlanarCrack("curve", center, normal, e_a, points=p, friction=mu)
+        return PlanarCrack("curve", **curve.curve_frame(c["points"], fld), friction=mu)
     center = vector3(c["center"], f"{fld}.center")
     normal = vector3(c["normal"], f"{fld}.normal", unit=True)
     if shape == "disc":
