@@ -252,3 +252,22 @@ def test_a_curve_crack_has_the_closed_form_K(shape):
     exact = math.sqrt(math.pi * b) / ellipe(1 - b * b / (a * a)) * (np.sin(phi) ** 2 + (b / a) ** 2 * np.cos(phi) ** 2) ** 0.25
     # the disc on this mesh: 0.993-1.000 of Sneddon's; the ellipse shape at front_h 0.15: 0.983-1.018 of Irwin's
     assert np.max(np.abs(f.K_I / exact - 1)) < (0.01 if shape == "circle" else 0.02)
+
+
+@pytest.mark.parametrize("where, reason", [("face", "boundary: crack[0]'s front comes within"),
+                                           ("crack", "crack: crack[0]'s front meets crack[1]")])
+def test_a_front_reaching_a_face_or_another_crack_stops_the_run_by_name(where, reason):
+    from types import SimpleNamespace
+
+    from ngcrack.studies.growth.loop3d import _grown_scene
+
+    d = coarse_penny()
+    d["domain"] = {"box": [[-1.3, -4, -4], [4, 4, 4]]} if where == "face" else d["domain"]
+    if where == "crack":
+        d["crack"].append({"shape": "disc", "center": [1.0, 0, 0], "normal": [0, 0, 1], "radius": 0.5})
+        d["crack"][0]["radius"] = 0.3  # 0.2 from the other in its plane: grown by 0.25, it runs into it
+    scene = SolidScene.from_dict(d)
+    angles = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    sol = SimpleNamespace(fronts=[SimpleNamespace(crack=0, angle=angles)])
+    new, why = _grown_scene(scene, sol, None, [np.full(16, 0.25)], 0.25, True)
+    assert new is None and why.startswith(reason), why
