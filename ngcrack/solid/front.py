@@ -328,10 +328,22 @@ def front_parameters(sol, points: int | None = None) -> list[FrontParameters]:
             if sides:
                 out.append(_joined(i, sides))
             continue
+        if crack.shape == "curve":  # a curve stays inside the body (the scene's check)
+            out.append(_one_front(sol, i, front_geometry(crack), points))
+            continue
         arcs = [f for f in (_one_front(sol, i, g, points) for g in open_arcs(sol, FrontGeometry(crack)))
                 if f is not None]
         out.append(arcs[0] if len(arcs) == 1 else _joined(i, arcs))
     return out
+
+
+def front_geometry(crack):
+    """The geometry of a closed front: a disc's or an ellipse's, or a curve's (ngcrack.solid.curve)."""
+    if crack.shape == "curve":
+        from .curve import CurveFront
+
+        return CurveFront(crack)
+    return FrontGeometry(crack)
 
 
 def _joined(index: int, sides: list[FrontParameters]) -> FrontParameters:

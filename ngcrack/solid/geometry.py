@@ -111,6 +111,10 @@ def _occ_body(domain):
 def _occ_crack(crack: PlanarCrack):
     from netgen import occ
 
+    if crack.shape == "curve":
+        from .curve import occ_curve_face
+
+        return occ_curve_face(crack)
     if crack.shape == "polygon":
         pts = [occ.Pnt(*p) for p in crack.points]
         segs = [occ.Segment(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]

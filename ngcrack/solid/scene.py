@@ -14,10 +14,9 @@ Domain (`solid.parts`)
     file's names or ``face<i>``.
 Cracks (``[[crack]]``), each a plane set inside the body or crossing its free faces:
     ``shape = "disc"`` with ``center``, ``normal``, ``radius``;
-    ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and
-    ``major_axis`` (projected into the crack plane; the semi-axis a lies along it);
+    ``shape = "ellipse"`` with ``center``, ``normal``, ``semi_axes = [a, b]`` and ``major_axis`` (projected into the plane);
     ``shape = "polygon"`` with ``points`` (3 or more, in one plane, a simple polygon; the
-    normal follows the right-hand rule of the point order). ``friction`` >= 0;
+    normal follows the right-hand rule of the point order; ``"curve"``: a spline through them). ``friction`` >= 0;
     ``pressure`` (a number, default 0): a uniform pressure on both faces, pushing them apart;
     or a table along an in-plane axis or a callable p(x, y, z) (`solid.loads`).
     The normal nu points into the ``+`` face; the jump is [u] = u+ - u-.
@@ -44,6 +43,7 @@ import numpy as np
 
 from ..core.fields import MIN_SIZE_RTOL, SceneError, check_keys, check_scale, finite, positive, short, table
 from ..core.scene import Scene
+from . import curve
 from .loads import VaryingField, is_varying, pressure_field, traction_field
 from .parts import (  # noqa: F401  (re-exported: the domains' names)
     BOX_FACES,
@@ -60,7 +60,7 @@ from .parts import (  # noqa: F401  (re-exported: the domains' names)
 from .points import PointCondition3, held_directions, points_from_list, rigid_rows  # noqa: F401
 from .surface import face_problem
 
-SHAPES = ("disc", "ellipse", "polygon")
+SHAPES = ("disc", "ellipse", "polygon", "curve")
 BOUNDARY_TYPES = ("clamped", "displacement", "roller", "traction")
 TOP_KEYS = ("name", "description", "domain", "crack", "material", "load", "boundary", "mesh", "point")
 MESH_KEYS = ("maxh", "crack_h", "front_h", "grading")
@@ -101,6 +101,8 @@ class PlanarCrack:
 
     def outline(self, n: int = 64) -> np.ndarray:
         """Points on the crack front (n per curve; a polygon's vertices and n points per side)."""
+        if self.shape == "curve":  # a periodic spline through the points (ngcrack.solid.curve)
+            return curve.curve_outline(self, n)
         if self.shape == "polygon":
             p = self.points
             q = np.roll(p, -1, axis=0)
@@ -124,14 +126,14 @@ class PlanarCrack:
 
     @property
     def area(self) -> float:
-        if self.shape == "polygon":
-            p = self.points - self.center
+        if self.shape in ("polygon", "curve"):
+            p = (self.points if self.shape == "polygon" else self.outline(curve.AREA_POINTS)) - self.center
             return float(0.5 * abs(np.dot(np.sum(np.cross(p, np.roll(p, -1, axis=0)), axis=0), self.normal)))
         return float(math.pi * self.semi_axes[0] * self.semi_axes[1])
 
     def to_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {"shape": self.shape}
-        if self.shape == "polygon":
+        if self.shape in ("polygon", "curve"):
             d["points"] = self.points.tolist()
         else:
             d.update(center=self.center.tolist(), normal=self.normal.tolist())
@@ -150,7 +152,7 @@ class PlanarCrack:
 
 CRACK_KEYS = {"disc": ("shape", "center", "normal", "radius", "friction", "pressure"),
               "ellipse": ("shape", "center", "normal", "semi_axes", "major_axis", "friction", "pressure"),
-              "polygon": ("shape", "points", "friction", "pressure")}
+              "polygon": ("shape", "points", "friction", "pressure"), "curve": ("shape", "points", "friction", "pressure")}
 #: the crack keys that may be left out
 OPTIONAL_CRACK_KEYS = ("friction", "pressure")
 
@@ -183,6 +185,8 @@ def crack_from_dict(c: Any, i: int) -> PlanarCrack:
 def _crack_shape(c: Mapping, shape: str, fld: str, mu: float) -> PlanarCrack:
     if shape == "polygon":
         return _polygon(c["points"], fld, mu)
+    if shape == "curve":  # a closed spline outline (ngcrack.solid.curve)
+        return PlanarCrack("curve", **curve.curve_frame(c["points"], fld), friction=mu)
     center = vector3(c["center"], f"{fld}.center")
     normal = vector3(c["normal"], f"{fld}.normal", unit=True)
     if shape == "disc":

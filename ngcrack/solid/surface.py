@@ -79,6 +79,9 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
         return None
     dist = face_distances(domain, outline)
     crossed = [k for k, d in dist.items() if d.min() < 0]
+    if crossed and crack.shape == "curve":
+        return (f"crosses face {crossed[0]}; a curve crack lies inside the body (a grown front that reaches a face "
+                f"stops the growth; curves crossing faces are a later step)")
     for k in crossed:
         if dist[k].min() > -gap:
             return (f"crosses face {k} by only {-dist[k].min():.3g}; a crack must stay at least {gap:.3g} "

@@ -1,8 +1,13 @@
-"""`ngcrack grow SCENE --da D --steps N [--K-Ic K] [--criterion pls|mts|gmts [--r-c R]] [solve options] --json OUT
-[--csv OUT] [--gif OUT] [--png OUT]`: grow the scene's cracks and write the result."""
+"""`ngcrack grow SCENE --da D --steps N [--K-Ic K] [--paris C m [DK_TH]] [--R R] [--criterion pls|mts|gmts [--r-c R]]
+[solve options] --json OUT [--csv OUT] [--gif OUT] [--png OUT]`: grow the scene's cracks and write the result.
+
+A 3D scene grows its fronts in their planes (loop3d.py; `--front-h` sets the mesh size at the fronts, the
+2D-only options and outputs are refused by name before any meshing); its JSON has the 2D keys and per step
+`fronts` and, with --paris, `cycles`."""
 
 from __future__ import annotations
 
+from ngcrack.core.errors import InputError
 from ngcrack.shell.cli_errors import check_finite
 from ngcrack.shell.cli_runs import Finished, add_mesh_options, add_run_options, output_paths, run_until_signal, solve_options, write_all
 from ngcrack.shell.files import check_distinct, check_output_stem
@@ -45,7 +50,12 @@ def add_parser(subparsers, positive, count):
     p.add_argument("--at-hole", dest="at_hole", default="stop", type=_at_hole, metavar="stop|LENGTH",
                    help="a tip that reaches a hole: stop there (default), or a new crack of LENGTH leaves the hole "
                         "where its hoop stress is largest")
+    p.add_argument("--paris", nargs="+", type=float, metavar="NUM",
+                   help="C m [DK_TH], fatigue: Paris's law da/dN = C Delta_K^m (C > 0, m > 0; DK_TH >= 0 a threshold); the scene's load "
+                        "is the cycle's maximum, the JSON and CSV gain the cumulative cycles")
+    p.add_argument("--R", dest="R", type=float, help="the load ratio K_min / K_max of a fatigue cycle (< 1; with --paris only)")
     add_mesh_options(p, positive)
+    p.add_argument("--front-h", dest="front_h", type=positive, help="mesh size at the crack fronts (3D scenes)")
     p.add_argument("--path-grading", dest="path_grading", type=_path_grading, metavar="RATE|none",
                    help="the crack's mesh size grows from crack_h by RATE per unit distance from the crack ends "
                         "(default 0.1); none: crack_h all along the path")
@@ -66,10 +76,18 @@ def run(args) -> int:
     from ngcrack import scenes
 
     from .criteria import check_r_c
+    from .fatigue import check_paris
     from .loop import MAX_STEPS, check_growth_options, grow
 
     paths = output_paths(args, "json", "csv", "gif", "png")
     json_path, csv_path, gif_path, png_path = paths.values()
+    paris, R = _paris(args)
+    scene = scenes.resolve(args.scene)
+    if scene.dimension == 3:
+        return _run_solid(args, scene, paris, R, json_path, csv_path, png_path)
+    if args.front_h is not None:
+        raise InputError(f"--front-h: an option of 3D scenes (the mesh size at their crack fronts); scene {scene.name!r} "
+                         f"is 2D: use --tip-h")
     steps = args.steps if isinstance(args.steps, int) and 0 <= args.steps <= MAX_STEPS else 0
     stem = check_output_stem(args.vtk, "--vtk", [".pvd"] + [f"_{k:04d}{part}" for k in range(steps + 1)
                                                            for part in (".vtu", "_cracks.vtu")])
@@ -87,7 +105,6 @@ def run(args) -> int:
     from ngcrack.core.friction_checks import check_friction_applies
 
     check_friction_applies(args.friction, args.crack_model, "--friction")  # as solve refuses it
-    scene = scenes.resolve(args.scene)
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
@@ -98,6 +115,7 @@ def run(args) -> int:
         options["path_grading"] = None if args.path_grading == "none" else check_path_grading(args.path_grading)
     check_growth_options(scene, args.da, args.steps, args.K_Ic, args.criterion, options)  # before any work
     check_r_c(args.r_c, args.criterion)
+    check_paris(paris, R)
 
     finished = Finished(json_path, csv_path, args.steps, [p for p in (png_path, gif_path) if p is not None], series)
     args.on_interrupt = finished.write  # the command line calls it if a signal ends the run in a long C call
@@ -116,7 +134,7 @@ def run(args) -> int:
 
     def work():
         result = grow(scene, args.da, args.steps, K_Ic=args.K_Ic, criterion=args.criterion, r_c=args.r_c,
-                      at_hole=args.at_hole, frames=gif_path is not None, progress=progress, **options)
+                      at_hole=args.at_hole, frames=gif_path is not None, progress=progress, paris=paris, R=R, **options)
         data = result.to_json_dict()
         check_finite(data)
         check_interrupt()
@@ -128,12 +146,73 @@ def run(args) -> int:
     return run_until_signal(work, finished)
 
 
-def _rows_csv(rows):
-    """A writer of the CSV table of a run's `rows` (the finished steps')."""
+def _rows_csv(rows, solid: bool = False):
+    """A writer of the CSV table of a run's `rows` (the finished steps'; `solid`: of a 3D run)."""
     def write(tmp) -> None:
         import pandas as pd
 
         from .result import COLUMNS
+        if solid:
+            from .result3d import COLUMNS
 
-        pd.DataFrame(rows, columns=list(COLUMNS)).to_csv(tmp, index=False)
+        extra = ["cycles"] if rows and "cycles" in rows[0] else []
+        pd.DataFrame(rows, columns=list(COLUMNS) + extra).to_csv(tmp, index=False)
     return write
+
+
+def _paris(args):
+    """(paris, R) from --paris and --R: the numbers as given (grow's checks name a bad one), R 0 without --R."""
+    paris = args.paris
+    if paris is not None and len(paris) not in (2, 3):
+        raise InputError(f"--paris {' '.join(f'{v:g}' for v in paris)}: give C and m, and optionally the threshold DK_TH "
+                         f"(2 or 3 numbers)")
+    return (None if paris is None else tuple(paris)), (0.0 if args.R is None else args.R)
+
+
+#: the options of `ngcrack grow` that only 2D scenes take (3D growth is planar, without holes or animations)
+PLANAR_FLAGS = {"tip_h": "--tip-h (3D: --front-h)", "path_grading": "--path-grading", "r_c": "--r-c", "gif": "--gif",
+                "vtk": "--vtk"}
+
+
+def _run_solid(args, scene, paris, R, json_path, csv_path, png_path) -> int:
+    """`ngcrack grow` on a 3D scene: planar growth of its fronts (loop3d.py)."""
+    from .fronts3d import GROW_TOGETHER_RTOL
+    from .loop3d import check_solid_grow, grow_solid, planar_options
+
+    for key, flag in PLANAR_FLAGS.items():
+        if getattr(args, key) is not None:
+            raise InputError(f"{flag}: an option of 2D growth; scene {scene.name!r} is 3D (planar growth of its fronts)")
+    planar = planar_options(args.criterion, None, args.at_hole, False)
+    planar = {("--" + k.replace("_", "-")): v for k, v in planar.items()}
+    if planar:
+        flag, value = next(iter(planar.items()))
+        raise InputError(f"{flag} {value}: an option of 2D growth; scene {scene.name!r} is 3D (its fronts grow in their "
+                         f"planes; kink_deg reports the MTS kink)")
+    changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
+    if changes:
+        scene = scene.with_(**changes)
+    options = solve_options(args, "element", "order", "maxh", "crack_h", "front_h", "qp_solver", "crack_model", "max_dof")
+    check_solid_grow(scene, args.da, args.steps, args.K_Ic, paris, R, GROW_TOGETHER_RTOL, None, options, {})
+    finished = Finished(json_path, csv_path, args.steps, [p for p in (png_path,) if p is not None])
+    args.on_interrupt = finished.write
+
+    def progress(n, result):
+        finished.keep(result.to_json_dict(), _rows_csv(list(result.rows), solid=True))
+        step = result.steps[-1]
+        K = max(max(f["K_drive"]) for f in step["fronts"])
+        size = ", ".join(f"{f['size']:.4g}" for f in step["fronts"])
+        cycles = f", cycles {step['cycles']:.4g}" if "cycles" in step else ""
+        print(f"step {n}: crack sizes {size}, max K_eq {K:.4g}{cycles}, {step['ndof']} dofs, {step['time_s']:.2f} s",
+              flush=True)
+        check_interrupt()
+
+    def work():
+        result = grow_solid(scene, args.da, args.steps, args.K_Ic, paris=paris, R=R, progress=progress, **options)
+        data = result.to_json_dict()
+        check_finite(data)
+        check_interrupt()
+        return write_all(result, data, scene, json_path,
+                         [(csv_path, lambda tmp: result.table.to_csv(tmp, index=False)),
+                          (png_path, lambda tmp: result.plot(tmp))])
+
+    return run_until_signal(work, finished)

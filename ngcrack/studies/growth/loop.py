@@ -167,11 +167,21 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     `steps` steps, when no tip is left inside the body, or when none can grow.
     estimate: also compute every step's error estimate (the table's `error_estimate` column,
     empty otherwise; it costs about 5% of a step).
+    A 3D scene grows its fronts in their planes (loop3d.grow_solid: da, steps, K_Ic, paris, R and the solve options).
     Under `mpiexec -n N` (N > 1) growth is not distributed: rank 0 grows and returns the result, the other
     ranks return None after the same input checks (as `nc.solve` returns None there).
     """
     from .result import GrowthResult
 
+    if isinstance(scene, str):  # a built-in scene's name: its kind decides the loop
+        from ngcrack.core.solve import as_scene
+
+        scene = as_scene(scene)
+    if getattr(scene, "dimension", 2) == 3:  # planar growth of 3D fronts (loop3d.py)
+        from .loop3d import grow_solid, planar_options
+
+        return grow_solid(scene, da, steps, K_Ic, paris=paris, R=R, together=together, progress=progress, frames=frames,
+                          planar=planar_options(criterion, r_c, at_hole, estimate), **solve_options)
     scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
                                                     paris, R, at_hole, solve_options, estimate, frames)
     da, steps = float(da), int(steps)

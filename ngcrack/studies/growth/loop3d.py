@@ -1,0 +1,234 @@
+"""Planar growth of 3D cracks: solve -> K along every front -> advance every point -> a new curve crack.
+
+`nc.grow(scene3d, da=..., steps=..., K_Ic=..., paris=(C, m[, dK_th]), R=...)` comes here (loop.grow
+dispatches on the scene's dimension). Each step solves the scene once, takes K_I, K_II, K_III at the
+points of every front (ngcrack.solid.front), and advances every point in the crack's plane along the
+front's outward normal by da times its rule (fronts3d.py: quasi-static, the points at K_Ic; fatigue,
+Paris's law); `da` is the largest advance of a point in a step. The grown front is smoothed and the
+crack becomes a `curve` crack (ngcrack.solid.curve) in the same plane, meshed afresh at the next solve:
+one solve per step.
+
+Load. As in 2D (loop.py), the solution scales with a proportional load: the quasi-static step's load
+factor is K_Ic / max K_eq (without K_Ic, relative to step 0's), and a fatigue cycle's maximum is the
+scene's load (load factor 1).
+
+Cycles (fatigue). The leading point advances by da per step; the cycles of a step are the integral
+of ds / (C Delta K_max(s)^m) over it, with ln Delta K_max interpolated in ln L through the last two or
+three steps (L the crack's equivalent radius sqrt(area / pi), fatigue.step_cycles): exact where K grows
+as a power of the size (a penny: K ~ sqrt(a)), second order otherwise; so the count does not depend on
+da (a first-order da / (C Delta K_max^m) per step is 6.6% high on a penny after four steps of 0.1 a, m = 3). The
+run stops when K_max reaches K_Ic (fracture).
+
+Stops: after `steps` steps; at fracture; where a grown front comes within the scene's clearance of the
+body's boundary ("boundary: ...", a surface crack does not grow yet) or of another crack ("crack:
+..."); where the grown crack makes no valid scene or its solve fails. A scene whose crack already
+reaches a face, or a polygon (its corners have no K), is refused before any meshing.
+"""
+
+from __future__ import annotations
+
+import gc
+import math
+import time
+
+import numpy as np
+
+from ...core.errors import InputError
+from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION
+from .fatigue import check_paris, delta_K, step_cycles
+from .fronts3d import (
+    GROW_TOGETHER_RTOL,
+    check_growable,
+    clearance_reason,
+    equivalent_radius,
+    grown_crack,
+    new_front,
+    paris_advance,
+    point_values,
+    quasi_static_advance,
+)
+
+#: da may be at most this fraction of the smallest crack's size (its diameter): a longer step outruns the
+#: front's curvature
+MAX_DA_CRACK_FRACTION = 0.25
+#: a crack whose largest advance is below this fraction of da keeps its shape (it does not grow this step)
+STILL_RTOL = 1e-6
+#: the options of 2D growth that planar 3D growth has no use for, and why
+PLANAR_GROWTH_ONLY = {"criterion": "3D growth is planar (kink_deg reports the MTS kink a non-planar code would take)",
+                      "r_c": "the gmts criterion's critical distance is 2D only",
+                      "at_hole": "3D bodies have no holes", "estimate": "3D growth computes no error estimate"}
+#: solve options grow sets itself
+_RESERVED = ("warm_start", "crack_mesh", "loads")
+
+
+def planar_options(criterion, r_c, at_hole, estimate) -> dict:
+    """The 2D-only options of grow given other values than their defaults (grow_solid refuses them by name)."""
+    given = {"criterion": criterion if criterion != "pls" else None, "r_c": r_c,
+             "at_hole": at_hole if not (isinstance(at_hole, str) and at_hole == "stop") else None,
+             "estimate": estimate if estimate is not False else None}
+    return {k: v for k, v in given.items() if v is not None}
+
+
+def _number(v) -> bool:
+    return not isinstance(v, bool) and isinstance(v, (int, float, np.integer, np.floating)) and math.isfinite(v)
+
+
+def check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar: dict):
+    """grow's checks on a 3D scene, before any meshing; the Paris law (C, m, dK_th) or None."""
+    from ngcrack.core.options import SolveOptions
+
+    for key, value in planar.items():
+        raise InputError(f"{key} = {value!r}: not an option of 3D growth ({PLANAR_GROWTH_ONLY[key]}); leave it out")
+    check_growable(scene)
+    if K_Ic is not None and not (_number(K_Ic) and K_Ic > 0):
+        raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness), or None")
+    crack = min(c.size for c in scene.cracks)
+    limit = min(MAX_DA_FRACTION * scene.diameter, MAX_DA_CRACK_FRACTION * crack)
+    if not (_number(da) and 0 < da <= limit):
+        raise InputError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_CRACK_FRACTION:g} of the "
+                         f"smallest crack's size {crack:.4g} and {MAX_DA_FRACTION:g} of the body's diameter)")
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
+        raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
+    if progress is not None and not callable(progress):
+        raise InputError(f"progress = {progress!r}: must be None or a callable, called as progress(step, result)")
+    if isinstance(together, bool) or not (isinstance(together, (int, float)) and 0 < together < 0.5):
+        raise InputError(f"together = {together!r}: must be a number in (0, 0.5) (the points within it of the largest "
+                         f"K_eq advance)")
+    bad = [k for k in _RESERVED if k in solve_options]
+    if bad:
+        raise InputError(f"{bad[0]}: grow sets it for every step itself; give the scene and the mesh options only")
+    try:
+        options = SolveOptions.of(None, **solve_options)
+    except TypeError as exc:
+        raise InputError(str(exc)) from None
+    options.check_for(scene)
+    front_h = scene.mesh_sizes(solve_options.get("maxh"), solve_options.get("crack_h"), solve_options.get("front_h"),
+                               solve_options.get("grading"))["front_h"]
+    if da < MIN_DA_TIP_FRACTION * front_h:
+        raise InputError(f"da = {da!r}: must be at least {MIN_DA_TIP_FRACTION:g} of the mesh size at the fronts "
+                         f"({front_h:.4g}): a shorter advance is not resolved by the mesh; give a larger da")
+    return check_paris(paris, R)
+
+
+class _Cycles:
+    """The cumulative cycles of a 3D fatigue run (module docstring): (L, K_max) of the steps so far."""
+
+    def __init__(self, C, m, dK_th, R):
+        self.C, self.m, self.dK_th, self.R = C, m, dK_th, R
+        self.total = 0.0
+        self.history: list[tuple[float, float]] = []
+
+    def step(self, L: float, K_max: float, da: float | None) -> float:
+        """The total after a step whose leading point advanced by `da` (None: step 0) to a crack of size L."""
+        if da is not None and self.history:
+            L0, K0 = self.history[-1]
+            if L > L0 and K0 > 0 and K_max > 0:
+                pts = (self.history + [(L, K_max)])[-3:]
+                try:
+                    self.total += step_cycles([p[0] for p in pts], [p[1] for p in pts], self.C, self.m, self.R, da)
+                except ValueError:  # not monotone: the trapezoid rule
+                    self.total += 0.5 * da * sum(1.0 / (self.C * delta_K(k, self.R) ** self.m) for k in (K0, K_max))
+            else:
+                self.history = []
+        self.history.append((L, K_max))
+        return self.total
+
+
+def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris=None, R: float = 0.0,
+               together: float = GROW_TOGETHER_RTOL, progress=None, frames: bool = True, planar: dict | None = None,
+               **solve_options):
+    """Grow the planar cracks of a 3D scene (module docstring); a SolidGrowthResult. `planar`: the 2D-only
+    options the caller was given (refused by name)."""
+    from ngcrack.core.solve import solve
+
+    from .result3d import SolidGrowthResult
+
+    fatigue = check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar or {})
+    da, steps = float(da), int(steps)
+    cycles = None if fatigue is None else _Cycles(*fatigue, R=float(R))
+    result = SolidGrowthResult(scene=scene, element=solve_options.get("element") or "tdnns", da=da,
+                               K_Ic=None if K_Ic is None else float(K_Ic), paris=fatigue, R=float(R))
+    nu = scene.material.nu
+    t0 = time.perf_counter()
+    sol = solve(scene, **solve_options)
+    elapsed, K_ref, leader_da = time.perf_counter() - t0, K_Ic, None
+    for n in range(steps + 1):
+        values = [point_values(f, nu) for f in sol.fronts]
+        K_top = max(float(np.max(v["K_drive"])) for v in values)
+        lead = int(np.argmax([np.max(v["K_drive"]) for v in values]))
+        crack_of_lead = sol.fronts[lead].crack
+        total = None
+        if cycles is not None:
+            total = cycles.step(equivalent_radius(scene.cracks[crack_of_lead]), K_top, leader_da)
+        if K_ref is None:
+            K_ref = K_top  # relative load factors: 1 at step 0
+        load_factor = 1.0 if cycles is not None else (K_ref / K_top if K_top > 0 else math.inf)
+        reason = ""
+        if K_top <= 0:
+            reason = "no front can grow: K_eq = 0 at every front point (the faces closed or unloaded)"
+        elif cycles is not None and K_Ic is not None and K_top >= K_Ic:
+            reason = (f"fracture: K_max = {K_top:.4g} on crack[{crack_of_lead}] reached K_Ic = {K_Ic:.4g} (the crack runs "
+                      f"on the next cycle)")
+        if cycles is not None:
+            advances = [paris_advance(v["K_drive"], da, cycles.m, cycles.R, cycles.dK_th, top=K_top) for v in values]
+            if not reason and n < steps and not any(np.max(a) > 0 for a in advances):
+                reason = f"threshold: Delta K is at or below Delta K_th = {cycles.dK_th:g} at every front point"
+        else:
+            advances = [quasi_static_advance(v["K_drive"], da, together, top=K_top) for v in values]
+        grows = not reason and n < steps
+        result.add_step(n, scene, sol, values, advances if grows else None, load_factor, elapsed, total)
+        if progress is not None:
+            progress(n, result)
+        if n == steps:
+            reason = f"steps: {steps} of {steps} steps done"
+        if reason:
+            result.stopped = reason
+            break
+        new_scene, reason = _grown_scene(scene, sol, values, advances, da, cycles is not None)
+        if reason:
+            result.stopped = reason
+            result.events.append((n, reason))
+            break
+        sol = None  # the old solve's memory goes before the new one's mesh is made (a 3D solve is GBs;
+        gc.collect()  # NGSolve's objects hold reference cycles, which only the collector frees)
+        t0 = time.perf_counter()
+        try:
+            sol = solve(new_scene, **solve_options)
+        except (RuntimeError, InputError) as exc:  # SolveError, a mesh failure: keep what was done
+            result.stopped = f"solve: the solve after step {n} failed ({exc})"
+            break
+        scene, elapsed, leader_da = new_scene, time.perf_counter() - t0, da
+    result.solution = sol
+    return result
+
+
+def _grown_scene(scene, sol, values, advances, da, smooth):
+    """(the scene with every front advanced, ""), or (None, why the run stops)."""
+    from ngcrack.core.fields import SceneError
+    from ngcrack.solid.scene import SolidScene, crack_from_dict
+
+    d = scene.to_dict()
+    grown = {}
+    for f, adv in zip(sol.fronts, advances):
+        if np.max(adv) <= STILL_RTOL * da:
+            continue
+        crack = scene.cracks[f.crack]
+        points = new_front(crack, adv, f.angle, smooth)
+        d["crack"][f.crack] = grown_crack(crack, points)
+        grown[f.crack] = points
+    try:
+        new = SolidScene.from_dict(d)
+    except SceneError as exc:
+        for i in grown:  # the named reasons first: a face or another crack reached
+            try:
+                why = clearance_reason(scene, i, crack_from_dict(d["crack"][i], i))
+            except SceneError:
+                why = ""
+            if why:
+                return None, why
+        return None, f"scene: the grown fronts make no valid scene ({exc})"
+    for i in grown:
+        why = clearance_reason(new, i, new.cracks[i])
+        if why:
+            return None, why
+    return new, ""
