@@ -76,8 +76,10 @@ def run(args) -> int:
         table = result.table
         finished.keep(result.to_json_dict(), lambda tmp: table.to_csv(tmp, index=False))
         s = result.steps[-1]
-        print(f"step {n}: t {s['time']:.4g}, half-length {s['half_length']:.4g}, pressure {s['pressure']:.4g}, "
-              f"{s['ndof']} dofs, {s['time_s']:.2f} s CPU", flush=True)
+        size = f"radius {s['radius']:.4g}" if "radius" in s else f"half-length {s['half_length']:.4g}"
+        K_m = f", K_m {s['K_m']:.3g}" if "radius" in s and s["K_m"] is not None else ""  # the radial K_m grows with t
+        print(f"step {n}: t {s['time']:.4g}, {size}, pressure {s['pressure']:.4g}{K_m}, {s['ndof']} dofs, "
+              f"{s['time_s']:.2f} s CPU", flush=True)
         check_interrupt()  # a signal a library swallowed during the step
 
     def work():
