@@ -2,18 +2,22 @@
 
 Read from the environment without importing MPI (`world_size`, `world_rank`, `active`), so that a
 serial run pays nothing; `require_mpi` imports mpi4py and checks NGSolve's MPI build; `refuse`
-reports a request every rank finds alike once, on rank 0.
+reports a request every rank finds alike once, on rank 0; `same_exit` ends every rank of a command
+with rank 0's exit status.
 """
 
 from __future__ import annotations
 
 import os
+import sys
 
 from ..core.errors import InputError
 
 #: environment variables through which mpiexec (MPICH/hydra, Open MPI, Slurm's PMI) tells a
 #: process the size of its world, read without importing MPI
 SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MPI_LOCALNRANKS", "PMIX_SIZE")
+#: the tag of the message by which rank 0 tells the other ranks how a command ended
+EXIT_TAG = 7301
 #: and its rank
 RANK_VARIABLES = ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "MPI_LOCALRANKID", "PMIX_RANK")
 
@@ -67,3 +71,25 @@ def require_mpi():
 def active() -> bool:
     """Whether a solve should run distributed: more than one process under mpiexec."""
     return world_size() > 1
+
+
+def same_exit(code: int) -> int:
+    """The exit status of a command under mpiexec, the same on every rank: rank 0's.
+
+    Rank 0 sends its status to the others (a point-to-point message, which no collective
+    can match); a rank that finished its part without error waits for it, so that it
+    neither ends before rank 0 has written the outputs nor with another status (mpiexec
+    reports the job as failed when one rank ends 0 and another 130). A rank that failed
+    keeps its own status: mpiexec then ends the job. Outside mpiexec, or in a command that
+    never started MPI, `code` as it is.
+    """
+    if world_size() <= 1 or "mpi4py.MPI" not in sys.modules:
+        return code
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD
+    if comm.rank == 0:
+        for other in range(1, comm.size):
+            comm.send(code, dest=other, tag=EXIT_TAG)
+        return code
+    return int(comm.recv(source=0, tag=EXIT_TAG)) if code == 0 else code

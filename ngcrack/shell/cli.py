@@ -51,8 +51,11 @@ from .cli_errors import (
     as_flags,
     check_finite,
     classify,
+    first_rank,
+    interrupted_line,
     one_line,
     one_line_warning,
+    report_interrupted,
 )
 from .extras import require
 from .files import PathError, check_distinct, check_output, check_output_folder, check_output_stem
@@ -412,7 +415,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse with its errors on one line (the usage is one `--help` away)."""
 
     def error(self, message: str):
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {one_line(message)} (see {self.prog} --help)\n" if _first_rank() else None)
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {one_line(message)} (see {self.prog} --help)\n" if first_rank() else None)
 
 
 MAX_DOF_HELP = ("largest number of unknowns a solve may have; a request estimated above it is refused before "
@@ -512,15 +515,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def interrupted_line(command: str, signum: int, note: str | None = None) -> str:
-    """The one line an interrupted command prints: what stopped it and what was written."""
-    what = "terminated" if signum == signal.SIGTERM else "interrupted"
-    if note is None:
-        note = ("finished runs are saved, run the same command again to resume" if command in ("sweep", "paper")
-                else "nothing was written" if command in ("solve", "grow") else None)
-    return f"ngcrack: {what}" + (f"; {note}" if note else "")
-
-
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     argv = [str(a) for a in argv]
@@ -539,6 +533,8 @@ def main(argv=None) -> int:
     args.on_interrupt = None  # a command may set it: signum -> the note of what it wrote, called once
 
     def farewell(signum: int) -> str:  # the watcher ends the process (the main thread is in a long C call)
+        if not first_rank():  # under mpiexec rank 0 says it, once
+            return ""
         note = None
         if args.on_interrupt is not None:
             try:
@@ -549,44 +545,41 @@ def main(argv=None) -> int:
 
     with Interrupts(farewell) as interrupts:
         try:
-            code = args.func(args)
-            check_interrupt()  # a signal swallowed on the way (a library turned it into nothing)
-            sys.stdout.flush()  # a closed pipe shows here, inside the handling below
-            return code
-        except KeyboardInterrupt as exc:
-            signum = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
-            return _interrupted(args, interrupts, signum, exc)
-        except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
-            try:
-                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-            except (OSError, ValueError, AttributeError):
-                pass
-            return 128 + signal.SIGPIPE
-        except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
-            if interrupts.signum is not None:  # the signal came back as a library's exception
-                return _interrupted(args, interrupts, interrupts.signum, exc)
-            code, message = classify(exc, args.command)
-            if debug:
-                traceback.print_exc()
-            if code != EXIT_INPUT or _first_rank():  # bad input: every rank of mpiexec finds it alike, one line
-                print(f"ngcrack: error: {message}", file=sys.stderr)
-            return code
+            code = _run(args, interrupts, debug)
+            from ..distributed.world import same_exit
+
+            return same_exit(code)  # under mpiexec every rank ends as rank 0 did
+        except KeyboardInterrupt as exc:  # a rank of mpiexec waiting for rank 0's end: quietly, rank 0 says it
+            return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
         finally:
             warnings.showwarning = shown
 
 
-def _first_rank() -> bool:
-    """Whether this process prints what every rank would (rank 0 of mpiexec, or no mpiexec)."""
-    from ..distributed import world_rank
-
-    return world_rank() == 0
-
-
-def _interrupted(args, interrupts, signum: int, exc: BaseException) -> int:
-    note = getattr(exc, "note", None)
-    print(interrupted_line(args.command, signum, note), file=sys.stderr)
-    interrupts.handled()
-    return 128 + signum
+def _run(args, interrupts: Interrupts, debug: bool) -> int:
+    """The command of `args`, every error and interruption turned into one line and an exit code."""
+    try:
+        code = args.func(args)
+        check_interrupt()  # a signal swallowed on the way (a library turned it into nothing)
+        sys.stdout.flush()  # a closed pipe shows here, inside the handling below
+        return code
+    except KeyboardInterrupt as exc:
+        signum = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
+        return report_interrupted(args, interrupts, signum, exc)
+    except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly, as a shell tool does
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 128 + signal.SIGPIPE
+    except Exception as exc:  # noqa: BLE001 -- every error becomes one line and an exit code
+        if interrupts.signum is not None:  # the signal came back as a library's exception
+            return report_interrupted(args, interrupts, interrupts.signum, exc)
+        code, message = classify(exc, args.command)
+        if debug:
+            traceback.print_exc()
+        if code != EXIT_INPUT or first_rank():  # bad input: every rank of mpiexec finds it alike, one line
+            print(f"ngcrack: error: {message}", file=sys.stderr)
+        return code
 
 
 if __name__ == "__main__":

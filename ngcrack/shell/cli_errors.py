@@ -17,10 +17,12 @@ from __future__ import annotations
 
 import math
 import re
+import signal
 import sys
 from contextlib import contextmanager
 
 from ..core.errors import InputError
+from .files import Terminated  # noqa: F401 -- the commands' name for it
 
 #: exit codes: bad input (the user's), anything else (a system that cannot be solved, or a fault of ngcrack)
 EXIT_INPUT, EXIT_SOLVE = 2, 3
@@ -106,10 +108,6 @@ def one_line_warning(message, category, filename, lineno, file=None, line=None):
     print(f"ngcrack: warning: {one_line(message)}", file=sys.stderr if file is None else file)
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
-
-
 def check_finite(obj) -> None:
     """Refuse NaN or infinity anywhere in the result (json would write invalid tokens)."""
     if isinstance(obj, float) and not math.isfinite(obj):
@@ -121,3 +119,28 @@ def check_finite(obj) -> None:
     elif isinstance(obj, list):
         for v in obj:
             check_finite(v)
+
+
+def interrupted_line(command: str, signum: int, note: str | None = None) -> str:
+    """The one line an interrupted command prints: what stopped it and what was written."""
+    what = "terminated" if signum == signal.SIGTERM else "interrupted"
+    if note is None:
+        note = ("finished runs are saved, run the same command again to resume" if command in ("sweep", "paper")
+                else "nothing was written" if command in ("solve", "grow") else None)
+    return f"ngcrack: {what}" + (f"; {note}" if note else "")
+
+
+def first_rank() -> bool:
+    """Whether this process prints what every rank would (rank 0 of mpiexec, or no mpiexec)."""
+    from ..distributed import world_rank
+
+    return world_rank() == 0
+
+
+def report_interrupted(args, interrupts, signum: int, exc: BaseException) -> int:
+    """Say once (rank 0) that `signum` stopped the command and what was written; its exit code."""
+    note = getattr(exc, "note", None)
+    if first_rank():  # under mpiexec every rank is interrupted; rank 0 says it, once
+        print(interrupted_line(args.command, signum, note), file=sys.stderr)
+    interrupts.handled()
+    return 128 + signum

@@ -4,8 +4,10 @@ Every output of ngcrack (JSON, figures, tables, reference caches) goes through a
 temporary file beside its target, renamed into place when complete (os.replace: atomic
 on one file system), so an interruption or an error never leaves a half-written file
 and an existing file is untouched until its replacement is whole. `Staged` does that
-for several files at once: all are replaced, or none. A low-level module: it imports
-nothing of ngcrack.
+for several files at once: all are replaced, or none; a SIGINT or SIGTERM that comes while
+they are being renamed is held until the last one is in place (`committing`, `hold`), then
+raised with a note that the outputs were written. A low-level module: it imports nothing of
+ngcrack but its error types.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import hashlib
 import os
 import re
 import shutil
+import signal
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -26,6 +29,24 @@ NAME_PART_MAX = 64
 #: temporary files and folders being written now (removed by `remove_staged_files` when a
 #: signal ends the process before they are renamed into place)
 _temporary: set[str] = set()
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived: unwound like an interruption (workers stopped, temporary files removed)."""
+
+
+#: the renaming of staged outputs under way (depth) and a signal that came meanwhile (held)
+_commit: dict = {"depth": 0, "held": None}
+
+
+def committing() -> bool:
+    """Whether staged outputs are being renamed into place now (a signal must wait: `hold`)."""
+    return _commit["depth"] > 0
+
+
+def hold(signum: int) -> None:
+    """Keep a signal that came while outputs were being renamed: raised when the last is in place."""
+    _commit["held"] = _commit["held"] or signum
 
 
 def register_temporary(path) -> None:
@@ -99,8 +120,7 @@ class Staged:
     def __exit__(self, exc_type, exc, tb) -> None:
         try:
             if exc_type is None:
-                for tmp, path in self.files:
-                    os.replace(tmp, path)
+                self._commit()
         finally:
             for tmp, _ in self.files:
                 if os.path.exists(tmp):
@@ -109,6 +129,23 @@ class Staged:
             for tmp in self.folders:
                 shutil.rmtree(tmp, ignore_errors=True)
                 forget_temporary(tmp)
+
+
+    def _commit(self) -> None:
+        """Rename every staged file into place; a signal meanwhile is held and raised after the last."""
+        _commit["depth"] += 1
+        try:
+            for tmp, path in self.files:
+                os.replace(tmp, path)
+        finally:
+            _commit["depth"] -= 1
+        held = _commit["held"] if _commit["depth"] == 0 else None
+        if held is not None:
+            _commit["held"] = None
+            exc = Terminated() if held == signal.SIGTERM else KeyboardInterrupt()
+            names = ", ".join(str(path) for _, path in self.files)
+            exc.note = f"the outputs were written whole ({names})"
+            raise exc
 
 
 def atomic_write(path, write: Callable[[str], object]) -> Path:

@@ -17,7 +17,9 @@ netgen's mesher, a factorization or a dense solve may keep it away for minutes. 
 The handler also remembers the signal: code that swallows a KeyboardInterrupt raised in a
 callback (a library's C++ layer turns it into its own exception type, or drops it) cannot
 lose it, as `pending()` still names it and `check()` raises it again at the next point
-that looks. This module imports nothing of ngcrack but files.py and cli_errors.py.
+that looks. A signal that comes while outputs are being renamed into place waits until the
+last one is (files.Staged): all old or all new, never a mix. This module imports nothing of
+ngcrack but files.py and cli_errors.py.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import sys
 import threading
 
 from .cli_errors import Terminated
-from .files import remove_staged_files
+from .files import committing, hold, remove_staged_files
 
 #: seconds the main thread has to take a signal before the watcher ends the process itself
 GRACE_S = 1.0
@@ -94,6 +96,9 @@ class Interrupts:
         first = self.signum is None
         self.signum = signum if first else self.signum
         self.taken.set()
+        if first and committing():  # outputs are being renamed into place: raised once the last one is
+            hold(signum)
+            return
         if first:
             raise interruption(signum)
         # a second signal while the first unwinds: the watcher ends the process
@@ -168,7 +173,9 @@ class Interrupts:
     def _end(self, signum: int) -> None:
         try:
             remove_staged_files()
-            sys.stderr.write(self.farewell(signum) + "\n")
+            line = self.farewell(signum)
+            if line:  # (none from the other ranks of mpiexec)
+                sys.stderr.write(line + "\n")
             sys.stderr.flush()
             sys.stdout.flush()
         except Exception:  # noqa: BLE001 -- ending regardless

@@ -53,7 +53,15 @@ from .planar import (
     check_gaps,
     check_polyline_simple,
 )
-from .points import PointCondition, coerce_points, force_conditions, from_tractions, insert_points, strip_points
+from .points import (
+    PointCondition,
+    coerce_points,
+    force_conditions,
+    from_tractions,
+    insert_points,
+    strip_points,
+    warn_held_mouths,
+)
 from .pressure import check_pressure
 from .topology import Part, check_held, parts
 from .types import (
@@ -295,6 +303,7 @@ class PlanarScene(Scene, dimension=2):
                     raise SceneError(str(exc).replace("crack.pressure", f"{fld}.pressure")) from None
             check_crack_pressure(c.pressure, E, diam, f"{fld}.pressure")
             cracks.append(c)
+        warn_held_mouths(pconds, [c.points for c in cracks], tol)
         total = (len(poly) + sum(len(h.polygon) for h in holes if not h.is_circle)
                  + 2 * sum(len(c.points) for c in cracks))
         if total > MAX_BOUNDARY_POINTS:
