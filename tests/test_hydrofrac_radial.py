@@ -79,6 +79,10 @@ def test_step_time_balances_injected_stored_and_leaked():
     assert t > t1 and abs(inj - 1e-3 - leak) < 1e-10 * inj
     t2, inj2, leak2 = step_time(1.5e-3, sched, 1e-4, [(1.0, t)], 1.1)
     assert t2 > t and abs(inj2 - 1.5e-3 - leak2) < 1e-10 * inj2 and leak2 > leak
+    # a schedule: Q0 for 1 s, then a shut-in; what it never injects has no time
+    shut = Schedule(np.array([0.0, 1.0]), np.array([Q0, 0.0]))
+    assert step_time(0.5e-3, shut, 0.0, [], 1.0)[0] == pytest.approx(0.5)
+    assert step_time(2e-3, shut, 0.0, [], 1.0)[0] is None and step_time(0.9e-3, shut, 1e-4, [], 1.0)[0] is None
 
 
 @pytest.fixture(scope="module")
