@@ -116,7 +116,7 @@ def test_bad_arguments_refused_by_name(kwargs, words):
     ("kgd", ["--da", "1e-9"], "da"),  # below a quarter of the tip mesh size (time would run backwards)
     ("kgd", ["--crack-model", "bonded"], "crack_model"),
     ("kgd", ["--K-Ic", "1e300"], "K_Ic"),  # a pressure of 1e289 E'
-    ("penny", [], "3D"),
+    ("penny", ["--injection", "0", "0"], "injection"),  # 3D: a radial fracture is fed at the disc's centre
 ])
 def test_hostile_cli_values_refused_before_work(tmp_path, capsys, scene, change, words):
     """One line naming the field, exit 2, an existing output left as it was."""

@@ -5,8 +5,9 @@ run.py: the entry, its checks and the regime (K_m); loop.py: the inviscid fluid 
 pressure, toughness-dominated: the pressure at propagation, the tips at K_Ic advanced by
 the growth package's MTS kink and path extension); viscous.py, flow.py, elastic.py: the
 viscous fluid (lubrication along the crack, the tip asymptotes, leak-off, the compliance
-from the mixed solve); result.py: HydrofracResult (the JSON contract, the table, the
-animation); cli.py: `ngcrack hydrofrac`.
+from the mixed solve); radial.py: a 3D scene's radial fracture (a disc crack fed at its centre,
+toughness-dominated, leak-off, K_m per step); result.py: HydrofracResult (the JSON contract,
+the table, the animation); cli.py: `ngcrack hydrofrac`.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 """`ngcrack hydrofrac SCENE (--rate Q0 | --schedule FILE) --K-Ic K (--da D --steps N | [--da D] --time T)
 [--viscosity MU [--leakoff C_L] [--inviscid]] --json OUT [--csv OUT] [--gif OUT] [--crack I]
-[--injection X Y] [solve options]`: grow a fluid-driven crack and write the result."""
+[--injection X Y] [solve options]`: grow a fluid-driven crack and write the result. A 3D scene: a radial
+fracture of a disc crack fed at its centre (`radial.py`; --front-h, no --injection)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ def add_parser(subparsers, positive, count):
     """Register `hydrofrac` on the ngcrack command's subparsers (`positive`, `count`: its number parsers)."""
     p = subparsers.add_parser("hydrofrac", help="hydraulic fracture: an inviscid fluid (uniform pressure, "
                                                 "toughness-dominated) or a viscous one (--viscosity): time, pressure, "
-                                                "opening and path; JSON, CSV, GIF")
+                                                "opening and path; 3D scenes: a radial fracture of a disc crack "
+                                                "(toughness-dominated); JSON, CSV, GIF")
     p.add_argument("scene", help="built-in scene name or TOML file (its loads are the in-situ stress)")
     p.add_argument("--rate", type=positive, help="injection rate Q0 (area per unit time, per unit thickness)")
     p.add_argument("--schedule", metavar="FILE", help="injection rates against time instead of --rate: lines 't rate' "
@@ -30,8 +32,10 @@ def add_parser(subparsers, positive, count):
                                                            "(K_m recorded; a warning where K_m < 4)")
     p.add_argument("--crack", type=int, default=0, help="index of the fluid-driven crack (default 0)")
     p.add_argument("--injection", nargs=2, type=float, metavar=("X", "Y"),
-                   help="injection point on the crack (default: its centre)")
+                   help="injection point on the crack (default: its centre; 3D: always the disc's centre)")
     add_mesh_options(p, positive)
+    p.add_argument("--front-h", dest="front_h", type=positive, help="3D: the mesh size at the disc's front (it and "
+                                                                    "--crack-h scale with the radius)")
     add_run_options(p, count, "contact (default) or free", "scene, element, rate, K_Ic, stopped, steps (with their "
                     "tips, K_m, efficiency and the fluid's profile), the final cracks, model, viscosity, leakoff, K_m",
                     "the opening crack")
@@ -44,32 +48,27 @@ def run(args) -> int:
 
     from ngcrack import scenes
     from ngcrack.core.errors import InputError
-    from ngcrack.core.options import SolveOptions
     from ngcrack.shell.cli_errors import check_finite
     from ngcrack.shell.cli_runs import Finished, output_paths, run_until_signal, solve_options, write_all
     from ngcrack.shell.files import check_distinct
     from ngcrack.shell.interrupts import check as check_interrupt
 
-    from .loop import MAX_STEPS, check_hydrofrac_options
-    from .run import DEFAULT_DA_FRACTION, RegimeWarning, check_fluid_options, hydrofrac, read_schedule
+    from .loop import MAX_STEPS
+    from .run import RegimeWarning, check_run, default_da, hydrofrac, read_schedule
 
     paths = output_paths(args, "json", "csv", "gif")
     json_path, csv_path, gif_path = paths.values()
     check_distinct({f"--{name}": path for name, path in paths.items()})
     schedule = read_schedule(args.schedule) if args.schedule is not None else None
     scene = scenes.resolve(args.scene)
-    options = solve_options(args, "element", "order", "maxh", "tip_h", "crack_h", "crack_model", "max_dof")
+    options = solve_options(args, "element", "order", "maxh", "tip_h", "crack_h", "front_h", "crack_model", "max_dof")
     # before any work: the run's own options, then the solve options
     if args.da is None:
         if args.end_time is None:
             raise InputError("--da: required (the growth of each tip per step), unless --time is given")
-        if getattr(scene, "dimension", 2) == 2 and 0 <= args.crack < len(scene.cracks):
-            args.da = DEFAULT_DA_FRACTION * 0.5 * scene.cracks[args.crack].length
-    opts = SolveOptions.of(**options)
-    sched, steps = check_fluid_options(scene, args.rate, args.steps, args.end_time, args.viscosity, args.leakoff,
-                                       schedule, args.inviscid, opts)
-    check_hydrofrac_options(scene, sched.largest_rate, args.K_Ic, args.da, steps, args.crack, args.injection, options)
-    opts.check_for(scene)
+        args.da = default_da(scene, args.crack)
+    check_run(scene, args.rate, args.K_Ic, args.da, args.steps, args.end_time, args.viscosity, args.leakoff, schedule,
+              args.inviscid, args.crack, args.injection, options)
     finished = Finished(json_path, csv_path, args.steps or MAX_STEPS)
     args.on_interrupt = finished.write  # the command line calls it if a signal ends the run in a long C call
 
@@ -77,8 +76,10 @@ def run(args) -> int:
         table = result.table
         finished.keep(result.to_json_dict(), lambda tmp: table.to_csv(tmp, index=False))
         s = result.steps[-1]
-        print(f"step {n}: t {s['time']:.4g}, half-length {s['half_length']:.4g}, pressure {s['pressure']:.4g}, "
-              f"{s['ndof']} dofs, {s['time_s']:.2f} s CPU", flush=True)
+        size = f"radius {s['radius']:.4g}" if "radius" in s else f"half-length {s['half_length']:.4g}"
+        K_m = f", K_m {s['K_m']:.3g}" if "radius" in s and s["K_m"] is not None else ""  # the radial K_m grows with t
+        print(f"step {n}: t {s['time']:.4g}, {size}, pressure {s['pressure']:.4g}{K_m}, {s['ndof']} dofs, "
+              f"{s['time_s']:.2f} s CPU", flush=True)
         check_interrupt()  # a signal a library swallowed during the step
 
     def work():

@@ -13,6 +13,11 @@ STEP_KEYS = ("step", "time", "half_length", "pressure", "opening_at_injection", 
 FLUID_KEYS = ("K_m", "efficiency", "profile")
 #: the tip keys of the JSON contract
 TIP_KEYS = ("crack", "end", "x", "y", "K_I", "K_II", "kink_deg", "advanced")
+#: a radial (3D) fracture's step keys besides those: the front's mean distance from the centre, the front's
+#: K_I mean, least, largest and spread ((largest - least) / mean), the volume leaked so far
+RADIAL_KEYS = ("radius", "front", "leaked")
+#: a radial fracture's front points (its "tips", "end" the point's index) add these to TIP_KEYS
+RADIAL_TIP_KEYS = ("z", "K_III")
 #: the largest opening drawn in the animation, as a fraction of the crack's length
 FACE_FRACTION = 0.08
 
@@ -68,25 +73,39 @@ class HydrofracResult:
         """One row per step and tip: the step's values, then the tip's."""
         import pandas as pd
 
-        extra = ["solves", "K_m", "efficiency"]
-        rows = [{**{k: s[k] for k in STEP_KEYS}, **{k: s[k] for k in extra}, **{k: t[k] for k in TIP_KEYS}}
+        radial = self.radial
+        extra = ["solves", "K_m", "efficiency"] + (["radius", "leaked"] if radial else [])
+        tip_keys = list(TIP_KEYS) + (list(RADIAL_TIP_KEYS) if radial else [])
+        rows = [{**{k: s[k] for k in STEP_KEYS}, **{k: s[k] for k in extra}, **{k: t[k] for k in tip_keys}}
                 for s in self.steps for t in s["tips"]]
-        return pd.DataFrame(rows, columns=list(STEP_KEYS) + extra + list(TIP_KEYS))
+        return pd.DataFrame(rows, columns=list(STEP_KEYS) + extra + tip_keys)
+
+    @property
+    def radial(self) -> bool:
+        """A radial fracture: the scene is 3D."""
+        return getattr(self.scene, "dimension", 2) == 3
 
     def to_json_dict(self) -> dict:
         """The `ngcrack hydrofrac --json` contract."""
         final = self.final if self.final is not None else self.scene
+        radial = self.radial
+        step_keys = STEP_KEYS + FLUID_KEYS + (RADIAL_KEYS if radial else ())
+        tip_keys = TIP_KEYS + (RADIAL_TIP_KEYS if radial else ())
         return {
             "scene": self.scene.name, "element": self.element, "rate": self.rate, "K_Ic": self.K_Ic,
             "stopped": self.stopped,
-            "steps": [{**{k: s[k] for k in STEP_KEYS + FLUID_KEYS}, "tips": [{k: t[k] for k in TIP_KEYS} for t in s["tips"]]}
+            "steps": [{**{k: s[k] for k in step_keys}, "tips": [{k: t[k] for k in tip_keys} for t in s["tips"]]}
                       for s in self.steps],
-            "cracks": [{"points": [list(p) for p in c.points]} for c in final.cracks],
+            # a radial fracture's disc: shape, center, normal, radius (its pressure left out: the last solve's trial)
+            "cracks": [{k: v for k, v in c.to_dict().items() if k != "pressure"} if radial else
+                       {"points": [list(p) for p in c.points]} for c in final.cracks],
             "model": self.model, "viscosity": self.viscosity, "leakoff": self.leakoff, "K_m": self.K_m,
+            **({"dimension": 3} if radial else {}),
         }
 
     def animate(self, path, fps: int = 4):
-        """A GIF: per step the crack's faces opened (exaggerated), time, pressure and half-length."""
+        """A GIF: per step the crack's faces opened (exaggerated), time, pressure and half-length (a radial
+        fracture: its section through the disc's centre, in the disc's plane coordinate and the opening)."""
         from matplotlib.animation import PillowWriter
 
         from ...planar.plots import new_figure

@@ -16,7 +16,6 @@ import numpy as np
 
 from ...core.errors import InputError
 from ...core.options import SolveOptions
-from ...core.scene import planar_only
 from ...planar.tips import effective_modulus
 from .flow import K_M_TOUGHNESS, Schedule, k_m
 from .loop import MAX_STEPS, _number, check_hydrofrac_options
@@ -74,7 +73,8 @@ def read_schedule(path) -> list:
 
 
 def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedule, inviscid, options) -> tuple:
-    """(Schedule, steps) after refusing bad fluid options by name (before any work)."""
+    """(Schedule, steps) after refusing bad fluid options by name (before any work). A 3D scene's radial
+    fracture takes leak-off with the toughness-only model (the viscous radial model is not implemented)."""
     from .elastic import ELEMENTS
 
     if schedule is not None and rate is not None:
@@ -91,8 +91,9 @@ def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedu
         raise InputError(f"leakoff = {leakoff!r}: must be a finite number >= 0 (Carter's coefficient C_L)")
     if not isinstance(inviscid, bool):
         raise InputError(f"inviscid = {inviscid!r}: must be True or False")
-    viscous = viscosity is not None and not inviscid
-    if leakoff > 0 and not viscous:
+    radial = getattr(scene, "dimension", 2) == 3
+    viscous = viscosity is not None and not inviscid and not radial
+    if leakoff > 0 and not viscous and not radial:
         raise InputError(f"leakoff = {leakoff!r}: leak-off is modelled with the viscous fluid only; give a viscosity")
     element = options.element
     if viscous and element not in ELEMENTS:
@@ -105,6 +106,30 @@ def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedu
                              "time per unit thickness)")
         sched = Schedule.constant(float(rate))
     return sched, MAX_STEPS if steps is None else steps
+
+
+def default_da(scene, crack):
+    """da where only the end time is given: DEFAULT_DA_FRACTION of the crack's initial half-length (3D: of the
+    disc's radius); None where the crack index is not one (refused by the checks)."""
+    if isinstance(crack, bool) or not isinstance(crack, int) or not 0 <= crack < len(scene.cracks):
+        return None
+    c = scene.cracks[crack]
+    return DEFAULT_DA_FRACTION * (c.radius if getattr(scene, "dimension", 2) == 3 else 0.5 * c.length)
+
+
+def check_run(scene, rate, K_Ic, da, steps, end_time, viscosity, leakoff, schedule, inviscid, crack, injection,
+              solve_options, progress=None) -> tuple:
+    """(Schedule, steps, SolveOptions) after refusing every bad input by name, before any meshing (2D and 3D)."""
+    options = SolveOptions.of(**{k: v for k, v in solve_options.items() if k not in ("warm_start", "crack_mesh", "loads")})
+    sched, n_steps = check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedule, inviscid, options)
+    if getattr(scene, "dimension", 2) == 3:
+        from .radial import check_radial_options
+
+        check_radial_options(scene, sched.largest_rate, K_Ic, da, n_steps, crack, injection, solve_options, progress)
+    else:
+        check_hydrofrac_options(scene, sched.largest_rate, K_Ic, da, n_steps, crack, injection, solve_options, progress)
+    options.check_for(scene)
+    return sched, n_steps, options
 
 
 def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, viscosity=None, leakoff=0.0,
@@ -122,6 +147,9 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     fluid-driven crack; injection: the injection point [x, y] on it (its centre by default).
     progress: called as progress(step, result_so_far) after every step. The other keywords go
     to every solve (element, order, maxh, tip_h, crack_h, grading, crack_model, ...).
+    A 3D scene gives a radial fracture (`radial.py`): a disc crack fed at its centre, the
+    toughness-only model (leak-off allowed; a viscosity gives K_m per step and the warning
+    where it is below K_RADIAL_TOUGHNESS), da the growth of the radius, no injection point.
     Returns a HydrofracResult.
     """
     from ...core.solve import as_scene
@@ -130,16 +158,15 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     from .viscous import viscous_run
 
     scene = as_scene(scene)
-    planar_only(scene, "hydraulic fracture")
     if da is None:
         if time is None:
             raise InputError("da: required (the growth of each tip per step), unless the end time (time) is given")
-        if getattr(scene, "dimension", 2) == 2 and isinstance(crack, int) and 0 <= crack < len(scene.cracks):
-            da = DEFAULT_DA_FRACTION * 0.5 * scene.cracks[crack].length
-    options = SolveOptions.of(**{k: v for k, v in solve_options.items() if k not in ("warm_start", "crack_mesh", "loads")})
-    sched, n_steps = check_fluid_options(scene, rate, steps, time, viscosity, leakoff, schedule, inviscid, options)
-    check_hydrofrac_options(scene, sched.largest_rate, K_Ic, da, n_steps, crack, injection, solve_options, progress)
-    options.check_for(scene)
+        da = default_da(scene, crack)
+    sched, n_steps, options = check_run(scene, rate, K_Ic, da, steps, time, viscosity, leakoff, schedule, inviscid,
+                                        crack, injection, solve_options, progress)
+    if scene.dimension == 3:
+        return _radial(scene, sched, float(K_Ic), float(da), n_steps, time, int(crack), progress, options, viscosity,
+                       float(leakoff))
     mat = scene.material
     E_prime = effective_modulus(mat.E, mat.nu, mat.plane)
     K_Ic, da, crack = float(K_Ic), float(da), int(crack)
@@ -156,3 +183,23 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
         return viscous_run(scene, sched, K_Ic, da, n_steps, time, crack, injection, progress, options, result, km,
                            float(viscosity), float(leakoff))
     return toughness_run(scene, sched, K_Ic, da, n_steps, time, crack, injection, progress, options, result, km)
+
+
+def _radial(scene, sched, K_Ic, da, n_steps, end_time, crack, progress, options, viscosity, leakoff):
+    """The radial fracture of a 3D scene (`radial.py`): toughness-only; K_m per step where the viscosity is known."""
+    from .radial import K_RADIAL_TOUGHNESS, radial_run
+    from .result import HydrofracResult
+
+    result = HydrofracResult(scene=scene, element=options.element, rate=sched.largest_rate, K_Ic=K_Ic, da=da,
+                             viscosity=viscosity, leakoff=leakoff, K_m=None, model="toughness", schedule=sched)
+
+    def warn(km, t):
+        warnings.warn(f"K_m = {km:.3g} < {K_RADIAL_TOUGHNESS:g} at t = {t:.4g} (radial): viscosity matters here, and "
+                      "the toughness-only model (uniform pressure; the viscous radial model is not implemented) "
+                      "overestimates the radius", RegimeWarning, stacklevel=3)
+
+    radial_run(scene, sched, K_Ic, da, n_steps, end_time, crack, progress, options, result,
+               None if viscosity is None else float(viscosity), leakoff, warn)
+    if result.steps and viscosity is not None:
+        result.K_m = result.steps[0]["K_m"]  # the smallest: the radial K_m grows as t^(1/9)
+    return result
