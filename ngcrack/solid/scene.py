@@ -562,4 +562,35 @@ class SolidScene(Scene, dimension=3):
         return hash(json.dumps(self.to_dict(), sort_keys=True))
 
     def replace(self, **fields) -> SolidScene:
-        return dataclasses.replace(self, **fields)
+        """The scene with some fields replaced (objects or their TOML tables), validated again as a new scene is."""
+        names = [f.name for f in dataclasses.fields(self)]
+        d = self.to_dict()
+        for key, value in fields.items():
+            if key not in names:
+                raise SceneError(f"{key}: not a field of a 3D scene; its fields are {', '.join(names)}")
+            if key in MESH_KEYS:
+                d.setdefault("mesh", {})[key] = value
+            elif key == "body_force":
+                d["load"] = {} if value is None else {"body_force": _plain(value)}
+            else:
+                d[TOML_KEYS.get(key, key)] = _plain(value)
+        return SolidScene.from_dict({k: v for k, v in d.items() if v is not None})
+
+
+#: a scene field's key in the TOML document, where they differ
+TOML_KEYS = {"cracks": "crack", "points": "point"}
+
+
+def _plain(value: Any) -> Any:
+    """A scene's field as TOML data: its parts' tables (to_dict), lists and plain values."""
+    if hasattr(value, "to_dict"):
+        return value.to_dict()
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return dataclasses.asdict(value)
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, Mapping):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value

@@ -24,7 +24,8 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.options import SolveOptions
 from ..core.pipeline import Pipeline, SolveError
-from ..core.scene import planar_only
+from ..core.scene import Scene, planar_only
+from ..core.solution import Solution
 from ..core.solve import as_scene
 from ..planar.tips import effective_modulus
 
@@ -45,6 +46,9 @@ def crack_volume(sol, cracks=None) -> float:
     """The volume (area per unit thickness) between the faces of the given cracks (all
     by default): the sum over crack edges of the mid-point normal jump times the edge
     length (exact for jumps linear on each edge: P0 and P1 jumps, the default orders)."""
+    if not isinstance(sol, Solution):
+        raise InputError(f"sol = {type(sol).__name__}: must be a solution (what nc.solve returns), not "
+                         f"{'a scene: solve it first' if isinstance(sol, Scene) else 'this'}")
     planar_only(sol.scene, "the crack volume")
     idx = range(len(sol.profiles)) if cracks is None else check_cracks(sol.scene, cracks)
     return float(sum(np.sum(sol.profiles[k].normal_jump * sol.crack_mesh.cracks[k].length) for k in idx))
