@@ -117,6 +117,9 @@ def _span(r) -> str:
 
 def summary(rows: list[dict]) -> str:
     rg = ranges(rows)
+    judged: dict = {}
+    for t in targets(rows):
+        judged.setdefault((t["scene"], t["qty"]), []).append(t["target"])
     parts = []
     for column, what in (("cpu", "in-process"), ("cpu_whole", "as a whole process")):
         scenes = []
@@ -124,8 +127,9 @@ def summary(rows: list[dict]) -> str:
             qs = ", ".join(f"{QUANTITY[(name, q)]} {_span(rg.get((name, q, column)))}" for q in ("K", "profile"))
             scenes.append(f"{name} {qs}")
         parts.append(f"{what} {'; '.join(scenes)}")
+    within = "; ".join(f"{QUANTITY[key]} from {100 * max(ts):g}% to {100 * min(ts):g}%" for key, ts in judged.items())
     return ("GetFEM's CPU over ngcrack's to reach the same accuracy (above 1 where ngcrack is cheaper), "
-            "over the judged targets: " + "; ".join(parts) + ".")
+            f"over the judged targets ({within}): " + "; ".join(parts) + ".")
 
 
 def run_line(data: dict) -> str:

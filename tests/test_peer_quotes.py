@@ -72,6 +72,7 @@ def test_rewriting_fills_the_markers_and_nothing_else(pq):
     assert "2026-12-03 07:00-07:05 UTC, 1-minute load average 0.2-0.4" in out
     # GetFEM 0.3 s against ngcrack's 0.1 s at every judged target: the ratio 3.0, whole 0.5 / 0.3
     assert "griffith K_I 3.0, opening 3.0" in out and "griffith K_I 1.7, opening 1.7" in out
+    assert "over the judged targets (K_I from 1% to 0.001%; opening from 1% to " in out
     assert pq.rewrite(out, data) == out
     for doc in pq.DOCUMENTS:
         assert pq.MARKED.search((ROOT / doc).read_text(encoding="utf-8")), doc
