@@ -1,8 +1,14 @@
 """ngcrack side by side with an XFEM peer (GetFEM): error against CPU time on two closed-form scenes.
 
     python benchmarks/getfem_peer.py [--quick] [--passes 2] [--out benchmarks/figures/peer.png] [--replot]
+                                     [--levels N] [--peer-levels N]
+
+The quoted run: `benchmarks/peer_quotes.py` then writes its tables into BENCHMARKS.md, the
+performance guide, the README and benchmarks/figures/peer.md (see that file).
 
 --quick: ngcrack's first three meshes of each ladder (GetFEM's whole ladder either way).
+--levels N, --peer-levels N: ngcrack's first N meshes, GetFEM's first N h (a trial of the
+script, e.g. `--levels 2 --peer-levels 3 --passes 1 --out /tmp/peer.png`; not for quoting).
 
 Needs Debian's python3-getfem for the system Python (/usr/bin/python3; `apt-get install
 python3-getfem`); it is not a dependency of ngcrack nor of its tests. Both codes run cold,
@@ -26,10 +32,15 @@ quadrature for both (GetFEM: its quadrature on the level set; ngcrack: the jump
 (n.nu)(u.Other() - u) of the displacement sol.u on the crack edges, NGSolve's element-
 boundary quadrature). The mid-point profile error that ngcrack reports is printed beside it.
 
-GetFEM's runs: the mesh ladder from coarse (h = 0.4, 0.2, 0.1, ...), each h with two
-enrichment and integral radii (0.5 a and 1 a); its contact is the penalty (see
-getfem_xfem.py). ngcrack's runs are data (RUNS x MESHES): its row in the target table is
-the best of all of them (many configurations against GetFEM's two per h). A target is
+GetFEM's runs: the mesh ladder from coarse (h = 0.4, 0.2, 0.1, ...), each h with three
+enrichment and integral radii (0.2 a, 0.5 a and 1 a, a the crack's half length); its contact
+is the augmented Lagrangian with a P0 multiplier on the cut elements, its K the interaction
+integral with GetFEM's crack functions (see getfem_xfem.py). ngcrack's runs are data (RUNS x
+MESHES). A family is one configuration on its mesh ladder (GetFEM: one radius; ngcrack: one
+set of options); a family reaches a target at its cheapest mesh whose error and the errors of
+all its finer meshes stay below the target (an error that dips below the target on one mesh
+and rises above it on the next does not count). Each code's cell in the target table is its
+best family there. A target is
 judged only where it is at least 3x the references' own floor: the larger of their
 stated uncertainty and their disagreement with GetFEM's best run (the two codes are
 independent); finer targets are printed as "not judged". The 1-minute load average is
@@ -72,8 +83,8 @@ MESHES = {
 #: GetFEM's ladder: the mesh size h around the crack (graded outside), from coarse
 GETFEM_H = [0.4, 0.2, 0.1, 0.07, 0.05, 0.035, 0.025]
 #: GetFEM's configurations per h: the tip enrichment's radius and the interaction integral's
-#: radius, relative to the half length a (the better one counts at each target)
-GETFEM_RADII = [{"enrich": 0.5, "radius": 0.5}, {"enrich": 1.0, "radius": 1.0}]
+#: radius, relative to the crack's half length a (0.2 a: GetFEM's cheapest on the inclined crack)
+GETFEM_RADII = [{"enrich": 0.2, "radius": 0.2}, {"enrich": 0.5, "radius": 0.5}, {"enrich": 1.0, "radius": 1.0}]
 #: the finest h per scene: on inclined-compression at h = 0.025 GetFEM's MUMPS stops with error -9
 #: (workspace, ICNTL(14), which its Python interface does not set)
 FINEST = {"griffith": 0.025, "inclined-compression": 0.035}
@@ -147,6 +158,7 @@ def peer_problem(scene, ref, h: float, faces: str) -> dict:
         tips.append([float(p[0]), float(p[1]), float(e[0]), float(e[1])])
     return {"box": [[float(x0), float(y0)], [float(x1), float(y1)]], "crack": pts.tolist(), "h": h,
             "E": scene.material.E, "nu": scene.material.nu, "tips": tips, "faces": faces, "boundary": boundary,
+            "a": ref.half_length,
             "reference": {"center": list(ref.center), "a": ref.half_length, "factor": ref.shape_factor,
                           "coefficients": list(ref.coefficients), "profile": ref.profile}}
 
@@ -178,7 +190,8 @@ def run_peer(name: str, h: float, radii: dict) -> dict:
     labels = nc.tips.tip_labels(scene)
     err_K = max(abs(t[ref.mode] - ref.K(lab)) / abs(ref.K(lab)) for lab, t in zip(labels, res["tips"]))
     return {"scene": name, "code": "GetFEM P2 XFEM", "options": f"h={h:g} enrich={radii['enrich']:g}a R={radii['radius']:g}a",
-            "unknowns": res["unknowns"], "cpu": res["cpu"], "cpu_whole": whole - res["cpu_errors"], "K": err_K,
+            "level": GETFEM_H.index(h), "iterations": res.get("iterations"), "unknowns": res["unknowns"], "cpu": res["cpu"],
+            "cpu_whole": whole - res["cpu_errors"], "K": err_K,
             "profile": res["profile_error"], "profile_mid": None, "profile_closed_form": res["profile_error_closed_form"],
             "note": res.get("penetration"), "phases": res.get("phases")}
 
@@ -242,7 +255,7 @@ def run_ngcrack(name: str, run: dict, level: int) -> dict:
         raise ValueError(out.stderr.strip().splitlines()[-1] if out.stderr.strip() else f"exit {out.returncode}")
     res = json.loads(out.stdout.strip().splitlines()[-1])
     mesh = f"maxh={maxh:g} crack_h={crack_h:g} tip_h={tip_h:g}" + (f" grading={grading:g}" if grading else "")
-    return {"scene": name, "code": f"ngcrack {run['element']}", "options": f"{label} {mesh}", "unknowns": res["unknowns"],
+    return {"scene": name, "code": f"ngcrack {run['element']}", "options": f"{label} {mesh}", "level": level, "unknowns": res["unknowns"],
             "cpu": res["cpu"], "cpu_whole": whole - res["cpu_errors"], "K": res["K"], "profile": res["profile"],
             "profile_mid": res["profile_mid"], "profile_closed_form": res["profile_closed_form"], "note": None}
 
@@ -289,7 +302,13 @@ def main() -> None:
             print(f"(skipped: nc.solve does not accept {unknown} for {r})", file=sys.stderr)
     levels = 3 if quick else len(MESHES["scene"])
     peer_h = GETFEM_H  # (also with --quick: GetFEM's finest runs set the references' floor)
+    if "--levels" in sys.argv:
+        levels = int(sys.argv[sys.argv.index("--levels") + 1])
+    if "--peer-levels" in sys.argv:
+        peer_h = GETFEM_H[:int(sys.argv[sys.argv.index("--peer-levels") + 1])]
     load = [os.getloadavg()[0]]
+    started = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
+    command = "python benchmarks/getfem_peer.py " + " ".join(sys.argv[1:])
     # one uncounted ngcrack child: writes the bytecode, as an installed package has it
     run_ngcrack("griffith", {"element": "tdnns"}, 0)
     rows, last = [], {}
@@ -320,16 +339,19 @@ def main() -> None:
                         print(f"  [{p + 1}] {name} {rows[-1]['code']} {rows[-1]['options']}: {rows[-1]['unknowns']} unknowns, "
                               f"{rows[-1]['cpu']:.2f} s ({rows[-1]['cpu_whole']:.2f} s whole)", file=sys.stderr)
             load.append(os.getloadavg()[0])
-            save(merge(rows), load, out)
+            save(merge(rows), load, out, {"command": command, "started": started, "ended": time.strftime("%H:%M", time.gmtime())})
     rows = merge(rows)
     report(rows, load)
     figure(rows, out)
 
 
-def save(rows, load, out: Path) -> None:
-    """The rows so far, as JSON beside the figure (a long run's partial results survive)."""
+def save(rows, load, out: Path, run: dict) -> None:
+    """The rows so far, as JSON beside the figure (a long run's partial results survive; the
+    command, its start and end in UTC: benchmarks/peer_quotes.py quotes them)."""
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.with_suffix(".json").write_text(json.dumps({"load": load, "rows": rows}, indent=1))
+    tmp = out.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps({"load": load, "run": run, "rows": rows}, indent=1))
+    tmp.replace(out.with_suffix(".json"))
 
 
 def report(rows, load) -> None:
@@ -378,12 +400,30 @@ def print_table(rows) -> None:
 
 
 def family(r) -> str:
-    """GetFEM, or ngcrack with its options but the mesh."""
-    return r["code"] if r["code"].startswith("GetFEM") else r["code"] + " " + r["options"].split(" maxh")[0]
+    """One configuration on its mesh ladder: GetFEM with its radii, ngcrack with its options but the mesh."""
+    if r["code"].startswith("GetFEM"):
+        return r["code"] + " " + r["options"].split(" ", 1)[1]
+    return r["code"] + " " + r["options"].split(" maxh")[0]
+
+
+def _fineness(r) -> tuple:
+    """A row's place on its family's ladder (rows saved before the ladder level was: by unknowns)."""
+    return (r.get("level", -1), r["unknowns"])
+
+
+def reaching(rows, qty: str, target: float) -> list[dict]:
+    """The rows that reach `target` for their family: the row's error and the errors of every
+    finer mesh of its family (same scene) are at most the target."""
+    out = []
+    for r in rows:
+        kin = [o for o in rows if o["scene"] == r["scene"] and family(o) == family(r) and _fineness(o) >= _fineness(r)]
+        if all(o[qty] <= target for o in kin):
+            out.append(r)
+    return out
 
 
 def cheapest(rows, side: str, qty: str, target: float, column: str):
-    pool = [r for r in rows if r["code"].startswith("GetFEM") == (side == "GetFEM") and r[qty] <= target]
+    pool = [r for r in reaching(rows, qty, target) if r["code"].startswith("GetFEM") == (side == "GetFEM")]
     return min(pool, key=lambda r: r[column]) if pool else None
 
 
@@ -391,8 +431,10 @@ def print_targets(rows) -> None:
     """Per accuracy target: the cheapest GetFEM run and the cheapest ngcrack run reaching it."""
     fl = floors(rows)
     n_ng = len({family(r) for r in rows if not r["code"].startswith("GetFEM")})
+    n_gf = len({family(r) for r in rows if r["code"].startswith("GetFEM")})
     print(f"\n### cheapest run per accuracy target (CPU seconds, one thread, cold; ngcrack's column is the best of "
-          f"{n_ng} configurations, each on its mesh ladder; GetFEM's the best of its h ladder with two radii)\n")
+          f"{n_ng} configurations, GetFEM's of {n_gf} radii, each on its mesh ladder; a run counts where it and every "
+          f"finer mesh of its family stay within the target)\n")
     print("| scene | target | GetFEM in-process | ngcrack in-process | GetFEM / ngcrack in-process | GetFEM whole | "
           "ngcrack whole | GetFEM / ngcrack whole |")
     print("|---|---|---|---|---:|---:|---:|---:|")
@@ -436,7 +478,9 @@ def figure(rows, out: Path) -> None:
                     groups.setdefault(family(r), []).append(r)
             for label, rs in groups.items():
                 rs = sorted(rs, key=lambda r: r["cpu"])
-                style = (dict(color="k", lw=2.2, marker="s") if label.startswith("GetFEM") else
+                gf_styles = {"0.2a": ":", "0.5a": "--", "1a": "-"}
+                style = (dict(color="k", lw=2.0, marker="s", ls=gf_styles.get(label.rsplit("=", 1)[-1], "-"))
+                         if label.startswith("GetFEM") else
                      dict(marker="^", ls="--") if label.endswith("graded") else dict(marker="o"))
                 ax.loglog([r["cpu"] for r in rs], [max(r[qty], 1e-8) for r in rs], label=label, **style)
             ax.axhline(floors(rows)[(name, qty)], color="grey", ls=":", lw=1)

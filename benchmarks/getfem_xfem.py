@@ -15,27 +15,34 @@ The method (written for this benchmark from GetFEM's documentation: level sets,
   geometrically (factor 1.3, cells at most 1) out to the boundary, its lines offset so
   that neither the crack nor a tip lies on one;
 * P2 Lagrange displacements enriched by the Heaviside function across the crack (the
-  level set's cut elements) and, in a disc of radius `enrich` around every tip, by the
-  four crack-tip functions sqrt(r) {sin, cos}(theta / 2) {1, sin theta} times the P1
-  partition of unity ("fixed area" enrichment; radius a / 2: on griffith at h = 0.1,
-  radii 0.2 a, 0.4 a, 0.5 a, 1 a gave opening errors 1e-3, 2.4e-4, 1.9e-4, 1.7e-4);
+  level set's cut elements) and, in a disc of radius `enrich` a around every tip (a the
+  crack's half length, "a" of the problem), by GetFEM's four crack functions sqrt(r)
+  {sin, cos}(theta / 2) {1, sin theta} times the P1 partition of unity ("fixed area"
+  enrichment; benchmarks/getfem_peer.py runs 0.2 a, 0.5 a and a);
 * the crack's level sets: the signed distance to its line, and the secondary |s| - a (two
   tips; s the coordinate along the crack from its centre) or the distance past the one tip,
   both exact in P1 where they change sign;
 * quadrature: composite rules on the cut elements, a refined composite rule on the
   elements holding a tip, IM_TRIANGLE(6) on every other element;
 * supports: rollers (u.n = 0) by penalisation, tractions as source terms;
-* crack faces: traction free ("free"), or unilateral contact ("contact"), by a penalty on
-  the negative part of the normal jump, gamma * neg_part([u].n) (gamma = 1e6 E / a;
-  semi-smooth Newton; the result states the interpenetration, L2 relative to the profile:
-  about 6e-7). An augmented Lagrangian with the multiplier on the crack's integration
-  points (MeshImData) stops GetFEM 5.4.2 with a segmentation fault, so the penalty is the
-  contact used here;
-* K_I, K_II: the interaction integral with the Williams fields (K = 1) over the disc of
-  radius R = a / 2 around each tip, weight q = 1 for r < 0.4 R falling linearly to 0 at
-  r = R, in P1 (a weight whose gradient reaches the tip reads K 10-30% low: the
-  quadrature cannot integrate the 1/r integrand there); K_II needs no
-  crack-face term for frictionless contact (the mode II field has no normal face
+* crack faces: traction free ("free"), or unilateral contact ("contact"). The contact is
+  GetFEM's augmented Lagrangian (the default, "augmented"): a pressure p >= 0, one value
+  per element the crack cuts (P0 on the cut elements), and the complementarity
+  p = pos_part(p - r [u].n), r = E / h, solved by GetFEM's Newton (a closed crack: one
+  iteration). "penalty", gamma * neg_part([u].n) with gamma = 1e6 E / a, gives the same
+  K_II and sliding within the discretization error (inclined-compression, h = 0.2 and 0.1:
+  K_II within 1.5e-5 and 1.7e-7, where K_II's error is 4.4e-4 and 5e-5, the sliding's error
+  2.26e-3 and 4.45e-4 both ways) in 2-3 Newton iterations. The result states the
+  interpenetration, L2 relative to the profile (augmented: 8e-5 at h = 0.2 down to 2e-6 at
+  h = 0.05, below the sliding's error: the P0 pressure holds the mean of [u].n on each cut
+  element; penalty: 6e-7);
+* K_I, K_II: the interaction integral over the disc of radius R = `radius` a around each
+  tip, weight q = 1 for r < 0.4 R falling linearly to 0 at r = R, in P1 (a weight whose
+  gradient reaches the tip reads K 10-30% low: the quadrature cannot integrate the 1/r
+  integrand there), integrated on the triangles where grad q is nonzero. The auxiliary
+  fields are Williams' (K = 1) written with GetFEM's crack functions on the tip's level
+  sets (its own C++ values and gradients; at h = 0.1 strings with atan2 cost 1.5-3.5 times as much). K_II
+  needs no crack-face term for frictionless contact (the mode II field has no normal face
   displacement); K_I of a contact solve does, and is not reported then (None);
 * the crack profile ([u].n or [u].t) on the level set's integration points: its
   relative L2 error against the reference, integrated by the same quadrature.
@@ -53,6 +60,10 @@ import numpy as np
 
 BOTTOM, RIGHT, TOP, LEFT = 1, 2, 3, 4
 GROWTH, CELL_MAX = 1.3, 1.0
+#: the penalty contact's coefficient, times E / a
+PENALTY = 1e6
+#: the augmented Lagrangian's parameter r, times E / h
+AUGMENTATION = 1.0
 
 
 def graded(lo: float, hi: float, f_lo: float, f_hi: float, h: float, offset: float) -> np.ndarray:
@@ -77,48 +88,22 @@ def graded(lo: float, hi: float, f_lo: float, f_hi: float, h: float, offset: flo
     return np.concatenate([[lo], left[::-1], fine, right, [hi]])
 
 
-class S:
-    """A GWFL expression that composes with + - * / and the functions below (strings)."""
-
-    def __init__(self, e):
-        self.e = e if isinstance(e, str) else repr(float(e))
-
-    def _b(self, o, op):
-        return S(f"({self.e}){op}({S(o).e if not isinstance(o, S) else o.e})")
-
-    def __add__(self, o): return self._b(o, "+")
-    def __radd__(self, o): return S(o)._b(self, "+")
-    def __sub__(self, o): return self._b(o, "-")
-    def __rsub__(self, o): return S(o)._b(self, "-")
-    def __mul__(self, o): return self._b(o, "*")
-    def __rmul__(self, o): return S(o)._b(self, "*")
-    def __truediv__(self, o): return self._b(o, "/")
-    def __rtruediv__(self, o): return S(o)._b(self, "/")
-    def __neg__(self): return S(f"(-({self.e}))")
+#: GetFEM's crack functions, GlobalFunction('crack', k), in the tip's frame (x along the crack's
+#: extension, y normal to it, r and theta polar): k = 0..3 is sqrt(r) times sin(theta/2), cos(theta/2),
+#: sin(theta/2) sin(theta), cos(theta/2) sin(theta). Williams' displacement fields (K = 1, plane strain)
+#: are combinations of them: WILLIAMS[mode][component] = the coefficients of the four functions, times
+#: 1 / (2 mu sqrt(2 pi)), with kappa = 3 - 4 nu (see `williams_coefficients`).
+CRACK_FUNCTIONS = 4
 
 
-def f(name, x):
-    return S(f"{name}({x.e})")
-
-
-def williams(mode: int, kappa: float, mu: float, r: S, th: S):
-    """Williams mode-`mode` field, K = 1, local frame: (s11, s22, s12), (du1/dx1, du2/dx1)."""
-    c, s = f("cos", 0.5 * th), f("sin", 0.5 * th)
-    c3, s3 = f("cos", 1.5 * th), f("sin", 1.5 * th)
-    ct, st = f("cos", th), f("sin", th)
-    k = 1.0 / f("sqrt", 2 * math.pi * r)
-    if mode == 1:
-        sig = (k * c * (1.0 - s * s3), k * c * (1.0 + s * s3), k * c * s * c3)
-        f1, f2 = c * (kappa - 1.0 + 2.0 * s * s), s * (kappa + 1.0 - 2.0 * c * c)
-        g1 = -0.5 * s * (kappa - 1.0 + 2.0 * s * s) + c * st   # d f1 / d theta
-        g2 = 0.5 * c * (kappa + 1.0 - 2.0 * c * c) + s * st
-    else:
-        sig = (-k * s * (2.0 + c * c3), k * s * c * c3, k * c * (1.0 - s * s3))
-        f1, f2 = s * (kappa + 1.0 + 2.0 * c * c), -c * (kappa - 1.0 - 2.0 * s * s)
-        g1 = 0.5 * c * (kappa + 1.0 + 2.0 * c * c) - s * st
-        g2 = 0.5 * s * (kappa - 1.0 - 2.0 * s * s) + c * st
-    a = 1.0 / (2.0 * mu * f("sqrt", 2 * math.pi * r))
-    return sig, (a * (0.5 * ct * f1 - st * g1), a * (0.5 * ct * f2 - st * g2))
+def williams_coefficients(mode: int, kappa: float, mu: float) -> np.ndarray:
+    """(2, 4): the local displacement (u1 along the crack's extension, u2 normal) of Williams'
+    mode-`mode` field with K = 1, as coefficients of GetFEM's four crack functions."""
+    c = 1.0 / (2.0 * mu * math.sqrt(2.0 * math.pi))
+    if mode == 1:   # u1 ~ cos(t/2)(kappa - 1 + 2 sin^2(t/2)), u2 ~ sin(t/2)(kappa + 1 - 2 cos^2(t/2))
+        return c * np.array([[0.0, kappa - 1.0, 1.0, 0.0], [kappa + 1.0, 0.0, 0.0, -1.0]])
+    # mode 2: u1 ~ sin(t/2)(kappa + 1 + 2 cos^2(t/2)), u2 ~ -cos(t/2)(kappa - 1 - 2 sin^2(t/2))
+    return c * np.array([[kappa + 1.0, 0.0, 0.0, 1.0], [0.0, -(kappa - 1.0), 1.0, 0.0]])
 
 
 def legendre_poly(coeffs) -> list[float]:
@@ -174,9 +159,12 @@ def solve(prob: dict) -> dict:
     nodes = pu.basic_dof_nodes()
     parts = [mf_heav]
     funcs = [gf.GlobalFunction("crack", i) for i in range(4)]
-    enrich = prob.get("enrich", 0.5) * a
+    a_ref = prob.get("a", a)  # the crack's half length (griffith's mesh holds half of its crack)
+    enrich = prob.get("enrich", 0.5) * a_ref
     tip_ls = []
     for (px, py, ex, ey) in tips:
+        # the tip's frame: x along the crack's extension e, y the primary level set (the crack's
+        # signed distance: at the tip that ends against n, a left-handed frame)
         lsi = gf.LevelSet(m, 1, prim, f"({ex!r})*(x-({px!r}))+({ey!r})*(y-({py!r}))")
         tip_ls.append(lsi)
         sing = gf.MeshFem("global function", m, lsi, funcs, 1)
@@ -218,54 +206,66 @@ def solve(prob: dict) -> dict:
     md.add_macro("jn", f"(Xfem_plus(u)-Xfem_minus(u)).[{nx!r};{ny!r}]")
     md.add_macro("jt", f"(Xfem_plus(u)-Xfem_minus(u)).[{tx!r};{ty!r}]")
     contact = prob["faces"] == "contact"
-    method = prob.get("contact_method", "penalty")
+    method = prob.get("contact_method", "augmented")
     test_jn = f"((Xfem_plus(Test_u)-Xfem_minus(Test_u)).[{nx!r};{ny!r}])"
     # GetFEM's default direct solver (MUMPS here); on inclined-compression at h = 0.025 it stops with
     # error -9 (workspace; not settable from Python) and SuperLU crashes on these systems
     lsolver = "default"
+    n_mult = 0
     if contact and method == "penalty":
-        gamma = 1e6 * E / a
+        gamma = PENALTY * E / a_ref
         md.add_nonlinear_term(mim_crack, f"-{gamma!r}*neg_part(jn)*{test_jn}")
-        iters = md.solve("max_res", 1e-10 * E * a, "max_iter", 30)
+        iters = md.solve("max_res", 1e-10 * E * a_ref, "max_iter", 30)
+    elif contact and method == "augmented":
+        # the contact pressure p >= 0 on the cut elements (P0, one value per element the crack
+        # crosses), Alart-Curnier's complementarity p = pos_part(p - r [u].n) with r = E / h
+        mf_p0 = gf.MeshFem(m)
+        mf_p0.set_classical_discontinuous_fem(0)
+        cut = mf_p0.dof_from_im(mim_crack)
+        mf_p = gf.MeshFem("partial", mf_p0, cut)
+        n_mult = int(mf_p.nbdof())
+        md.add_fem_variable("p", mf_p)
+        r_aug = AUGMENTATION * E / h
+        md.add_linear_term(mim_crack, f"-p*{test_jn}")
+        md.add_nonlinear_term(mim_crack, f"-(1/{r_aug!r})*(p-pos_part(p-{r_aug!r}*jn))*Test_p")
+        iters = md.solve("max_res", 1e-10 * E * a_ref, "max_iter", 30)
     elif contact:
-        raise ValueError("contact_method 'augmented': not available (GetFEM 5.4.2 stops with a segmentation fault "
-                         "when a multiplier is stored on the crack's integration points, MeshImData)")
+        raise ValueError(f"contact_method {method!r}: not one of 'augmented', 'penalty'")
     else:
         iters = md.solve()
 
     phases["assembly and solve"] = time.process_time() - t0 - sum(phases.values())
-    # interaction integrals
+    # interaction integrals: Williams' fields (K = 1) as GetFEM's crack functions on the tip's level set
     kappa = 3 - 4 * nu
     e_prime = E / (1 - nu**2)
-    R = prob.get("radius", 0.5) * a
+    R = prob.get("radius", 0.5) * a_ref
     mfq = gf.MeshFem(m)
     mfq.set_classical_fem(1)
     qn = mfq.basic_dof_nodes()
     out_tips = []
     sigma = "(lambda*Trace(Grad_u)*Id(2)+mu*(Grad_u+Grad_u'))"
-    pid = m.pid_from_cvid(np.arange(m.nbcvs()))
-    centers = m.pts()[:, pid[0].reshape(-1, 3)].mean(axis=2)  # triangles: three points each
+    pid = m.pid_from_cvid(np.arange(m.nbcvs()))[0].reshape(-1, 3)  # triangles: three points each
+    pts = m.pts()
     for i, (px, py, ex, ey) in enumerate(tips):
         R1 = prob.get("inner", 0.4) * R
         qv = np.clip((R - np.hypot(qn[0] - px, qn[1] - py)) / (R - R1), 0.0, 1.0)
         md.add_initialized_fem_data(f"q{i}", mfq, qv)
-        dist = np.hypot(centers[0] - px, centers[1] - py)
-        cvs = np.nonzero((dist <= R + 2 * h) & (dist >= R1 - 2 * h))[0]  # where grad q may be nonzero
+        qp = np.clip((R - np.hypot(pts[0] - px, pts[1] - py)) / (R - R1), 0.0, 1.0)[pid]
+        cvs = np.nonzero(qp.max(axis=1) > qp.min(axis=1))[0]  # the triangles where grad q is nonzero
         m.set_region(10 + i, cvs[None, :])
-        x1 = S(f"(({ex!r})*(X(1)-({px!r}))+({ey!r})*(X(2)-({py!r})))")
-        x2 = S(f"((-({ey!r}))*(X(1)-({px!r}))+({ex!r})*(X(2)-({py!r})))")
-        r = f("sqrt", x1 * x1 + x2 * x2)
-        th = S(f"atan2({x2.e},{x1.e})")
+        mf_aux = gf.MeshFem("global function", m, tip_ls[i], funcs, 2)
+        rot = np.array([[ex, -ey], [ey, ex]])  # local (along e, e turned +90 degrees) -> global
+        # in a left-handed tip frame theta changes sign: the odd functions (sin(theta/2), cos(theta/2)
+        # sin(theta)) with it
+        flip = np.array([1.0, 1.0, 1.0, 1.0]) if ex * ny - ey * nx > 0 else np.array([-1.0, 1.0, 1.0, -1.0])
+        e1, gq = f"[{ex!r};{ey!r}]", f"Grad_q{i}"
         exprs = []
         for mode in (1, 2):
-            (s11, s22, s12), (d1, d2) = williams(mode, kappa, mu, r, th)
-            Rm = f"[{ex!r},{ey!r};{-ey!r},{ex!r}]"
-            s_aux = f"(({Rm})'*[{s11.e},{s12.e};{s12.e},{s22.e}]*({Rm}))"
-            du_aux = f"(({Rm})'*[{d1.e};{d2.e}])"
-            e1 = f"[{ex!r};{ey!r}]"
-            gq = f"Grad_q{i}"
-            exprs.append(f"(({sigma})*{gq}).{du_aux} + (({s_aux})*{gq}).(Grad_u*{e1})"
-                         f" - ({s_aux}):(Sym(Grad_u))*({e1}.{gq})")
+            coef = rot @ williams_coefficients(mode, kappa, mu) * flip  # (global component, function)
+            md.add_initialized_fem_data(f"w{i}{mode}", mf_aux, coef.T.reshape(-1))  # dof 2 k + component
+            g = f"Grad_w{i}{mode}"
+            s_aux = f"(lambda*Trace({g})*Id(2)+mu*({g}+{g}'))"
+            exprs.append(f"(({sigma})*{gq}).({g}*{e1}) + (({s_aux})*{gq}).(Grad_u*{e1}) - ({s_aux}):(Grad_u)*({e1}.{gq})")
         # both modes in one assembly: the enriched field's gradient is the costly part
         Ks = 0.5 * e_prime * np.asarray(gf.asm_generic(mim, 0, f"[{exprs[0]};{exprs[1]}]", 10 + i, md))
         out_tips.append({"x": px, "y": py, "K_I": None if contact else Ks[0], "K_II": Ks[1]})
@@ -287,7 +287,8 @@ def solve(prob: dict) -> dict:
     penetration = (math.sqrt(gf.asm_generic(mim_crack, 0, "sqr(neg_part(jn))", -1, md) / den) if contact else None)
     cpu = time.process_time() - t0
     return {"unknowns": int(mf_u.nbdof()), "cpu": cpu_answer, "cpu_errors": cpu - cpu_answer,
-            "contact_method": method if contact else None, "iterations": iters[0] if isinstance(iters, (tuple, list)) else iters, "tips": out_tips,
+            "contact_method": method if contact else None, "multipliers": n_mult,
+            "iterations": iters[0] if isinstance(iters, (tuple, list)) else iters, "tips": out_tips,
             "profile_error": math.sqrt(num / den), "profile_error_closed_form": math.sqrt(num_cf / den_cf),
             "penetration": penetration, "phases": phases, "linear_solver": lsolver, "h": h, "mesh_points": int(m.nbpts()), "elements": int(m.nbcvs())}
 

@@ -88,13 +88,13 @@ def cpu(args: list[str], inner: list | None = None) -> float:
 
 def getfem_cheapest(repeat: int) -> float | None:
     """The least whole-process CPU of GetFEM's cheapest griffith run in the peer benchmark
-    (h = 0.2, both radii a: K_I within 4e-5), or None where GetFEM is not installed."""
+    (h = 0.2, both radii 0.5a, a the crack's half length: K_I within 4e-5), or None where GetFEM is not installed."""
     if subprocess.run([SYSTEM_PYTHON, "-c", "import getfem"], capture_output=True, check=False).returncode:
         return None
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import getfem_peer
 
-    return min(getfem_peer.run_peer("griffith", 0.2, {"enrich": 1.0, "radius": 1.0})["cpu_whole"] for _ in range(repeat))
+    return min(getfem_peer.run_peer("griffith", 0.2, {"enrich": 0.5, "radius": 0.5})["cpu_whole"] for _ in range(repeat))
 
 
 def print_floor(times: dict, inner: list, getfem: float | None) -> None:
