@@ -75,13 +75,13 @@ TUBE_RADIUS_H, HALF_WIDTH_H = 4.0, 3.0
 #: default penny: K_I within -1.8% and +0.2% of Sneddon's at 3 front_h, -0.7% and -0.1% at 1.6 a);
 #: the Fourier step (`_unsmooth`) restores the modes whose transfer is at least MIN_TRANSFER (on
 #: the penny at 1.6 a: the cos and sin of the angle, 0.84), so a K that varies faster along the
-#: front is smoothed there. BENCHMARKS section 20
+#: front is smoothed there. BENCHMARKS section 21
 BUMP_REACH = 1.6
 #: on a closed front the tube's radius is this fraction of the reach (at most REACH_FRACTION, which
 #: still caps it point by point) whatever front_h: a tube of
 #: TUBE_RADIUS_H front_h shrinks with the mesh, so that the integral saw the same few elements
 #: across the tube at every size and order 1 stalled (the penny's K_I 0.9% low on average at
-#: front_h = 0.15a and 0.1a; 0.48% and 0.36% with the tube at 0.8a). BENCHMARKS section 20
+#: front_h = 0.15a and 0.1a; 0.48% and 0.36% with the tube at 0.8a). BENCHMARKS section 21
 CLOSED_TUBE_REACH = 0.8
 #: q's plateau: g = 1 for r < PLATEAU_FRACTION * R
 PLATEAU_FRACTION = 0.25

@@ -30,7 +30,7 @@ CURVE_ORDER = 2
 #: the body's mesh size near a crack, in its crack_h: netgen's grading alone lets the size grow
 #: from crack_h at the faces by `grading` per unit distance, and the body a crack radius off the
 #: crack then stays too coarse for order 1 (K_I 0.9-1% low on average on the default penny;
-#: BENCHMARKS section 20)
+#: BENCHMARKS section 21)
 NEAR_H_FACTOR = 1.25
 #: ... but not below this fraction of the crack's size: what the body needs there is the crack's
 #: scale, not the front's (a finer crack_h would otherwise fill the ball: 18,234 tetrahedra at
