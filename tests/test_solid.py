@@ -270,11 +270,13 @@ def test_square_crack_sides_carry_mode_i_symmetric_and_converged():
 
 def test_2d_only_entry_points_refuse_a_3d_scene_by_name():
     """What takes 2D scenes only so far refuses a 3D one in one line from one place (core.scene.NOT_YET_3D).
-    (nc.hydrofrac takes a 3D scene: a radial fracture, tests/test_hydrofrac_radial.py.)"""
+    (nc.hydrofrac takes a 3D scene: a radial fracture, tests/test_hydrofrac_radial.py; nc.grow grows it,
+    tests/test_grow3d.py.)"""
     from ngcrack.core.scene import NOT_YET_3D
+    from ngcrack.studies.growth import grow_study
 
     s = nc.scenes.load("penny")
-    calls = {"crack growth": lambda: nc.grow(s, da=0.1, steps=1, K_Ic=1.0),
+    calls = {"growth studies": lambda: grow_study(s, "nu", [0.2, 0.3], da=0.1, steps=1),
              "volume control": lambda: nc.solve_volume(s, volume=0.1)}  # (nc.explore("penny") opens the 3D explorer)
     for what, call in calls.items():
         with pytest.raises(nc.InputError, match=f"scene 'penny' is 3D: {what} takes 2D scenes") as info:

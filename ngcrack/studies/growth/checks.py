@@ -35,7 +35,7 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     from ngcrack.planar.tips import tip_labels
 
     check_criterion(criterion)
-    planar_only(scene, "crack growth")
+    planar_only(scene, "growth studies")  # (nc.grow hands a 3D scene to its 3D loop first)
 
     def number(v):
         return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))

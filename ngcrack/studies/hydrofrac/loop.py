@@ -40,7 +40,6 @@ import shapely
 from ...core.errors import InputError
 from ...core.options import SolveOptions
 from ...core.pipeline import Pipeline, SolveError
-from ...core.scene import planar_only
 from ...planar.scene import SceneError
 from ...planar.tips import effective_modulus
 from ..growth.criteria import effective_K_I, mts_angle, mts_keq
@@ -83,7 +82,6 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
     from ...planar.sizing import mesh_sizes
     from ...planar.tips import tip_labels
 
-    planar_only(scene, "hydraulic fracture")
     if not (_number(rate) and math.isfinite(rate) and rate > 0):
         raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, an area per unit "
                          "time per unit thickness)")
