@@ -53,6 +53,11 @@ def is_number(v: Any) -> bool:
     return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
 
 
+def is_finite(v: Any) -> bool:
+    """A finite real number (`is_number`, neither infinite nor NaN)."""
+    return is_number(v) and math.isfinite(float(v))
+
+
 def finite(v: Any, fld: str, what: str = "a finite number") -> float:
     if not is_number(v) or not math.isfinite(float(v)):
         raise SceneError(f"{fld} = {v!r}: must be {what}")

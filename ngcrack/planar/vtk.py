@@ -32,7 +32,6 @@ nu is t turned by +90 degrees, [u] = u+ - u- with + the side nu points into.
 
 from __future__ import annotations
 
-import math
 import os
 import re
 import shutil
@@ -45,6 +44,7 @@ import ngsolve as ngs
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.fields import is_finite
 from ..shell.files import PathError, forget_temporary, register_temporary
 
 #: the `state` cell data of the crack data set: the code of each crack-face state
@@ -208,7 +208,7 @@ def write_collection(files: Sequence, times: Sequence[float], path) -> Path:
     if len(files) != len(times):
         raise InputError(f"files, times: {len(files)} files but {len(times)} times; expected one time per entry")
     for t in times:
-        if isinstance(t, bool) or not isinstance(t, (int, float, np.integer, np.floating)) or not math.isfinite(t):
+        if not is_finite(t):
             raise InputError(f"times: {t!r} is not a finite number")
     out = Path(path)
     if out.suffix != ".pvd":
@@ -239,7 +239,7 @@ def save_series(solutions: Sequence, times: Sequence[float], path, subdivision: 
         raise InputError(f"solutions, times: {len(solutions)} solutions but {len(times)} times; "
                           "expected one time per solution")
     for t in times:
-        if isinstance(t, bool) or not isinstance(t, (int, float, np.integer, np.floating)) or not math.isfinite(t):
+        if not is_finite(t):
             raise InputError(f"times: {t!r} is not a finite number")
     base = vtk_stem(path)
     files = [save_vtk(sol, base.with_name(f"{base.name}_{k:04d}"), subdivision) for k, sol in enumerate(solutions)]
@@ -268,7 +268,7 @@ class SeriesWriter:
         return self.base.with_name(self.base.name + ".pvd")
 
     def add(self, sol, time: float) -> list[Path]:
-        if isinstance(time, bool) or not isinstance(time, (int, float, np.integer, np.floating)) or not math.isfinite(time):
+        if not is_finite(time):
             raise InputError(f"time = {time!r}: expected a finite number")
         if not self.files:
             self._remove_stale()

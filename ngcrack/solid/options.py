@@ -8,9 +8,8 @@ stages' dictionary of a checked request (`ngcrack.solid.stages.run_solid`).
 
 from __future__ import annotations
 
-import numpy as np
-
 from ..core.errors import InputError
+from ..core.fields import is_finite
 from . import h1
 from .element import ORDERS
 from .scene import SolidScene
@@ -50,7 +49,7 @@ def check_options(options: dict) -> dict:
         raise InputError(f"qp_solver = {qp!r}: 3D contact is solved by the sparse active set (allowed values: pdas)")
     for key in ("maxh", "crack_h", "front_h", "grading"):
         v = options.get(key)
-        if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
+        if v is not None and not (is_finite(v) and v > 0):
             raise InputError(f"{key} = {v!r}: must be a finite number > 0")
     if options.get("grading") is not None and options["grading"] > 1:
         raise InputError(f"grading = {options['grading']!r}: must lie in (0, 1] (netgen's default is 0.3)")

@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from ...core.errors import InputError
+from ...core.fields import is_number
 from ...core.scene import planar_only
 from .criteria import check_criterion, check_r_c
 from .fatigue import check_paris
@@ -37,15 +38,13 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     check_criterion(criterion)
     planar_only(scene, "growth studies")  # (nc.grow hands a 3D scene to its 3D loop first)
 
-    def number(v):
-        return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
 
     check_growth_solve_options(scene, solve_options)
 
-    if K_Ic is not None and not (number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
+    if K_Ic is not None and not (is_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
         raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness), or None")
     limit = MAX_DA_FRACTION * scene.diameter
-    if not (number(da) and math.isfinite(da) and 0 < da <= limit):
+    if not (is_number(da) and math.isfinite(da) and 0 < da <= limit):
         raise InputError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_FRACTION:g} of the "
                           f"body's diameter {scene.diameter:.4g})")
     shortest = min_da(scene, solve_options)

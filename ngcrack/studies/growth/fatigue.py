@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from ...core.errors import InputError
+from ...core.fields import is_finite
 
 #: Gauss-Legendre points of the step's integral
 GAUSS_POINTS = 6
@@ -45,15 +46,13 @@ def check_paris(paris, R) -> tuple[float, float, float] | None:
                              f"too, or remove R")
         return None
 
-    def number(v):
-        return not isinstance(v, bool) and isinstance(v, (int, float, np.integer, np.floating)) and math.isfinite(v)
 
     ok = not isinstance(paris, (str, bytes)) and hasattr(paris, "__len__") and len(paris) in (2, 3)
-    ok = ok and all(number(v) and v > 0 for v in paris[:2]) and (len(paris) == 2 or (number(paris[2]) and paris[2] >= 0))
+    ok = ok and all(is_finite(v) and v > 0 for v in paris[:2]) and (len(paris) == 2 or (is_finite(paris[2]) and paris[2] >= 0))
     if not ok:
         raise InputError(f"paris = {paris!r}: must be a pair (C, m) of finite numbers > 0 (da/dN = C Delta_K^m), "
                          f"or a triple (C, m, dK_th) with a threshold dK_th >= 0 below which a tip does not grow, or None")
-    if not (number(R) and R < 1):
+    if not (is_finite(R) and R < 1):
         raise InputError(f"R = {R!r}: must be a finite number < 1 (the load ratio K_min / K_max of the cycle)")
     return float(paris[0]), float(paris[1]), float(paris[2]) if len(paris) == 3 else 0.0
 

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...core.errors import InputError
+from ...core.fields import is_finite
 from ...planar.scene import SceneError
 
 #: a tip's frozen reason when it stopped at a hole (paths.extend_tip)
@@ -43,7 +44,7 @@ def check_at_hole(at_hole, scene) -> float | None:
     """The new crack's length for `at_hole` (None for "stop"), refusing bad input by name."""
     if isinstance(at_hole, str) and at_hole == "stop":
         return None
-    ok = not isinstance(at_hole, bool) and isinstance(at_hole, (int, float)) and math.isfinite(at_hole)
+    ok = is_finite(at_hole)
     if not ok or not 0 < at_hole <= 0.25 * scene.diameter:
         raise InputError(f"at_hole = {at_hole!r}: must be \"stop\" (a tip that reaches a hole stops there) or the "
                          f"length of the new crack that leaves the hole, a number in (0, {0.25 * scene.diameter:.4g}]")

@@ -34,6 +34,7 @@ import time
 import numpy as np
 
 from ...core.errors import InputError
+from ...core.fields import is_finite
 from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION
 from .fatigue import check_paris, delta_K, step_cycles
 from .fronts3d import (
@@ -69,8 +70,6 @@ def planar_options(criterion, r_c, at_hole, estimate) -> dict:
     return {k: v for k, v in given.items() if v is not None}
 
 
-def _number(v) -> bool:
-    return not isinstance(v, bool) and isinstance(v, (int, float, np.integer, np.floating)) and math.isfinite(v)
 
 
 def check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar: dict):
@@ -80,11 +79,11 @@ def check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve
     for key, value in planar.items():
         raise InputError(f"{key} = {value!r}: not an option of 3D growth ({PLANAR_GROWTH_ONLY[key]}); leave it out")
     check_growable(scene)
-    if K_Ic is not None and not (_number(K_Ic) and K_Ic > 0):
+    if K_Ic is not None and not (is_finite(K_Ic) and K_Ic > 0):
         raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness), or None")
     crack = min(c.size for c in scene.cracks)
     limit = min(MAX_DA_FRACTION * scene.diameter, MAX_DA_CRACK_FRACTION * crack)
-    if not (_number(da) and 0 < da <= limit):
+    if not (is_finite(da) and 0 < da <= limit):
         raise InputError(f"da = {da!r}: must be a number in (0, {limit:.4g}] (at most {MAX_DA_CRACK_FRACTION:g} of the "
                          f"smallest crack's size {crack:.4g} and {MAX_DA_FRACTION:g} of the body's diameter)")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:

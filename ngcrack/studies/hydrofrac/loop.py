@@ -38,6 +38,7 @@ import numpy as np
 import shapely
 
 from ...core.errors import InputError
+from ...core.fields import is_number
 from ...core.options import SolveOptions
 from ...core.pipeline import Pipeline, SolveError
 from ...planar.scene import SceneError
@@ -73,8 +74,6 @@ MIN_DA_TIP_FRACTION = 0.25
 MAX_STRAIN = 0.1
 
 
-def _number(v) -> bool:
-    return not isinstance(v, bool) and isinstance(v, (int, float, np.floating, np.integer))
 
 
 def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress=None) -> None:
@@ -82,10 +81,10 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
     from ...planar.sizing import mesh_sizes
     from ...planar.tips import tip_labels
 
-    if not (_number(rate) and math.isfinite(rate) and rate > 0):
+    if not (is_number(rate) and math.isfinite(rate) and rate > 0):
         raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, an area per unit "
                          "time per unit thickness)")
-    if not (_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
+    if not (is_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
         raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness)")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
         raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
@@ -102,10 +101,10 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
         raise InputError(f"K_Ic = {K_Ic!r}: the pressure at propagation would be {strain:.3g} E' (K_Ic / (E' sqrt(pi a)), "
                          f"a the half-length); at most {MAX_STRAIN:g} E' keeps the strains small")
     opts = {k: solve_options.get(k) for k in ("maxh", "tip_h", "crack_h")}
-    tip_h = mesh_sizes(scene, **opts)[1] if all(v is None or (_number(v) and v > 0) for v in opts.values()) else None
+    tip_h = mesh_sizes(scene, **opts)[1] if all(v is None or (is_number(v) and v > 0) for v in opts.values()) else None
     limit = MAX_DA_FRACTION * scene.diameter
     low = MIN_DA_TIP_FRACTION * tip_h if tip_h else 0.0
-    if not (_number(da) and math.isfinite(da) and low <= da <= limit and da > 0):
+    if not (is_number(da) and math.isfinite(da) and low <= da <= limit and da > 0):
         raise InputError(f"da = {da!r}: must be a number in [{low:.4g}, {limit:.4g}] (at least {MIN_DA_TIP_FRACTION:g} "
                          f"of the tip mesh size {tip_h or 0:.4g}, at most {MAX_DA_FRACTION:g} of the body's diameter "
                          f"{scene.diameter:.4g})")

@@ -108,11 +108,12 @@ def e_prime_3d(scene) -> float:
 # ------------------------------------------------------------------------------ the checks
 def check_radial_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress=None) -> None:
     """Refuse bad input of a radial fracture before any meshing, naming the field and what is allowed."""
-    from .loop import _RESERVED, CRACK_MODELS, MAX_STEPS, _number
+    from ...core.fields import is_number
+    from .loop import _RESERVED, CRACK_MODELS, MAX_STEPS
 
-    if not (_number(rate) and math.isfinite(rate) and rate > 0):
+    if not (is_number(rate) and math.isfinite(rate) and rate > 0):
         raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, a volume per unit time)")
-    if not (_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
+    if not (is_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
         raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness)")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
         raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
@@ -141,11 +142,11 @@ def check_radial_options(scene, rate, K_Ic, da, steps, crack, injection, solve_o
                          f"/ 2, R the radius); at most {MAX_STRAIN:g} E' keeps the strains small")
     sizes = {k: solve_options.get(k) for k in ("maxh", "crack_h", "front_h")}
     front_h = None
-    if all(v is None or (_number(v) and v > 0) for v in sizes.values()):
+    if all(v is None or (is_number(v) and v > 0) for v in sizes.values()):
         front_h = scene.mesh_sizes(**sizes)["front_h"]
     low = MIN_DA_FRONT_FRACTION * front_h if front_h else 0.0
     limit = MAX_DA_BODY_FRACTION * scene.diameter
-    if not (_number(da) and math.isfinite(da) and da > 0 and low <= da <= limit):
+    if not (is_number(da) and math.isfinite(da) and da > 0 and low <= da <= limit):
         raise InputError(f"da = {da!r}: must be a number in [{low:.4g}, {limit:.4g}] (at least {MIN_DA_FRONT_FRACTION:g} "
                          f"of the front mesh size {front_h or 0:.4g}, at most {MAX_DA_BODY_FRACTION:g} of the body's "
                          f"diameter {scene.diameter:.4g})")

@@ -15,10 +15,11 @@ import warnings
 import numpy as np
 
 from ...core.errors import InputError
+from ...core.fields import is_number
 from ...core.options import SolveOptions
 from ...planar.tips import effective_modulus
 from .flow import K_M_TOUGHNESS, Schedule, k_m
-from .loop import MAX_STEPS, _number, check_hydrofrac_options
+from .loop import MAX_STEPS, check_hydrofrac_options
 
 #: da, where only the end time is given: this fraction of the crack's initial half-length
 DEFAULT_DA_FRACTION = 0.1
@@ -81,13 +82,13 @@ def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedu
         raise InputError("rate and schedule: give one of them (a constant rate, or a schedule of rates)")
     if schedule is None and rate is None:
         raise InputError("rate: required (the injection rate Q0), or give a schedule")
-    if end_time is not None and not (_number(end_time) and math.isfinite(end_time) and end_time > 0):
+    if end_time is not None and not (is_number(end_time) and math.isfinite(end_time) and end_time > 0):
         raise InputError(f"time = {end_time!r}: must be a finite number > 0 (the end time of the run)")
     if steps is None and end_time is None:
         raise InputError("steps: required, or give the end time (time)")
-    if viscosity is not None and not (_number(viscosity) and math.isfinite(viscosity) and viscosity > 0):
+    if viscosity is not None and not (is_number(viscosity) and math.isfinite(viscosity) and viscosity > 0):
         raise InputError(f"viscosity = {viscosity!r}: must be a finite number > 0 (Pa s), or None for an inviscid fluid")
-    if not (_number(leakoff) and math.isfinite(leakoff) and leakoff >= 0):
+    if not (is_number(leakoff) and math.isfinite(leakoff) and leakoff >= 0):
         raise InputError(f"leakoff = {leakoff!r}: must be a finite number >= 0 (Carter's coefficient C_L)")
     if not isinstance(inviscid, bool):
         raise InputError(f"inviscid = {inviscid!r}: must be True or False")
@@ -101,7 +102,7 @@ def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedu
                          "(one mean normal jump per crack edge)")
     sched = check_schedule(schedule) if schedule is not None else None
     if sched is None:
-        if not (_number(rate) and math.isfinite(rate) and rate > 0):
+        if not (is_number(rate) and math.isfinite(rate) and rate > 0):
             raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, an area per unit "
                              "time per unit thickness)")
         sched = Schedule.constant(float(rate))
