@@ -62,6 +62,18 @@ MIN_SIZE_RTOL = 1e-6
 #: points per curve of a crack's outline when its front's length is measured
 OUTLINE_POINTS = 512
 
+#: `accuracy` (the relative error of K asked for along the fronts) to mesh sizes: the worst front point's error of
+#: the default sizes (front_h DEFAULT_FRONT_H_RTOL of the crack's size, crack_h twice that: the penny at 0.2a,
+#: 0.58-0.94% on five boxes, BENCHMARKS section 21)...
+ACCURACY_AT_DEFAULT = 0.01
+#: ... falls as front_h to this power (least squares over front_h = 0.5a-0.1a on the penny, BENCHMARKS section 21) ...
+ACCURACY_RATE = 1.19
+#: ... and front_h is never coarser than this fraction of the crack's size (0.3a on a penny: 1.17%; the rate does
+#: not hold above it: 2.1% at 0.4a, 6.4% at 0.5a)
+ACCURACY_COARSEST_RTOL = 0.15
+#: crack_h is this many times the front_h `accuracy` gives (as the defaults)
+ACCURACY_CRACK_H_RATIO = 2.0
+
 
 def _volume(domain) -> float:
     if hasattr(domain, "volume"):  # a STEP part (solid.parts.StepPart)
@@ -97,6 +109,19 @@ def density_parts(scene, maxh=None, crack_h=None, front_h=None, grading=None) ->
         tube = (2.0 * math.pi / g ** 2) * (0.5 / h0 - 1.0 / s0 + 0.5 * h0 / s0 ** 2)
         parts["front_h"] = max(L * (tube - math.pi * R ** 2 / H ** 3), 0.0)
     return parts
+
+
+def accuracy_sizes(scene, accuracy: float) -> dict[str, float]:
+    """The front_h and crack_h that give K within `accuracy` (relative, at the worst front point) along the fronts
+    of `scene` by the measured rate: front_h = DEFAULT_FRONT_H_RTOL d (accuracy / ACCURACY_AT_DEFAULT)^(1 /
+    ACCURACY_RATE), d the smallest crack's size, at most ACCURACY_COARSEST_RTOL d; crack_h = ACCURACY_CRACK_H_RATIO
+    front_h. Smaller for a smaller accuracy (monotone); the scene's own front_h and crack_h are not used."""
+    from .scene import DEFAULT_FRONT_H_RTOL
+
+    d = min((c.size for c in scene.cracks), default=scene.size)
+    h = DEFAULT_FRONT_H_RTOL * d * (float(accuracy) / ACCURACY_AT_DEFAULT) ** (1.0 / ACCURACY_RATE)
+    h = min(h, ACCURACY_COARSEST_RTOL * d)
+    return {"front_h": h, "crack_h": ACCURACY_CRACK_H_RATIO * h}
 
 
 def estimate_tets(scene, maxh=None, crack_h=None, front_h=None, grading=None) -> float:
