@@ -74,11 +74,11 @@ def test_penny_K_I_error_falls_with_the_front_size_at_the_default_choices():
 # ------------------------------------------------------------------------------ accuracy=
 
 
-@pytest.mark.parametrize("value", [0.0, -0.01, 0.004, 0.51, 1.0, float("nan"), float("inf"), "0.01", True])
+@pytest.mark.parametrize("value", [0.0, -0.01, 0.005, 0.0099, 0.51, 1.0, float("nan"), float("inf"), "0.01", True])
 def test_accuracy_outside_its_range_is_refused_by_name(value):
     from ngcrack.core.errors import InputError
 
-    with pytest.raises(InputError, match=r"accuracy = .*\[0\.005, 0\.5\]"):
+    with pytest.raises(InputError, match=r"accuracy = .*\[0\.01, 0\.5\]"):
         nc.SolveOptions(accuracy=value)
 
 
@@ -117,8 +117,8 @@ def test_accuracy_maps_to_smaller_sizes_monotonically():
     assert math.isclose(accuracy_sizes(scene, 0.01)["front_h"], 0.2) and math.isclose(h[0], 0.3)
     fine = accuracy_sizes(scene, 0.005)["front_h"] / accuracy_sizes(scene, 0.01)["front_h"]
     assert math.isclose(fine, 0.5 ** (1 / ACCURACY_RATE))
-    opts = solid_options(nc.SolveOptions(accuracy=0.005), scene)
-    assert math.isclose(opts["front_h"], 0.2 * fine) and math.isclose(opts["crack_h"], 0.4 * fine)
+    opts = solid_options(nc.SolveOptions(accuracy=0.012), scene)
+    assert math.isclose(opts["front_h"], 0.2 * 1.2 ** (1 / ACCURACY_RATE)) and math.isclose(opts["crack_h"], 2 * opts["front_h"])
     tets = [estimate_size(scene, maxh=5.0, **accuracy_sizes(scene, a)).tets for a in (0.02, 0.01, 0.005)]
     assert tets[0] < tets[1] < tets[2]
 

@@ -45,6 +45,8 @@ from ..core.memory import format_bytes as _bytes
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
 TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 11.31, 5.30
+#: ... and of the body's size near the cracks (`_near_ball`)
+TETS_PER_NEAR = 10.05
 #: estimate / netgen on those meshes lies in this range (the small meshes and grading 0.2, 0.5 at its ends)
 ESTIMATE_SPREAD = (0.68, 1.47)
 #: unknowns (total, before condensation) per tetrahedron, by (element, order), measured on the penny (6,809
@@ -54,13 +56,21 @@ UNKNOWNS_PER_TET = {("tdnns", 1): 49.0, ("tdnns", 2): 116.0, ("h1p1", 1): 0.64, 
 #: penny solves of BENCHMARKS.md section 17 (closed faces, two active sets: 5.2 kB at order 1, 6.1 kB at order
 #: 2), h1p2 measured at 59k and 131k unknowns (31 and 33 kB: the 3D fill of its sparse factorization); h1p1 as
 #: h1p2 (its fill per unknown is smaller: an upper bound)
-BYTES_PER_UNKNOWN = {("tdnns", 1): 5800, ("tdnns", 2): 6400, ("h1p1", 1): 33000, ("h1p2", 2): 33000}
+BYTES_PER_UNKNOWN = {("tdnns", 1): 3200, ("tdnns", 2): 6400, ("h1p1", 1): 33000, ("h1p2", 2): 33000}
+#: the elements whose bytes per unknown above are at FILL_REFERENCE unknowns and grow as the cube root of the
+#: unknowns (a nested-dissection factor of a 3D mesh: nnz(L) ~ n^(4/3)); TDNNS order 1 measured with the
+#: symmetric form and one factorization with the crack unknowns last: 2.34 kB per unknown at 415,172 unknowns,
+#: 2.6 kB at 557,303, 2.78 kB at 661,250 (BENCHMARKS, "3D memory and the accuracy option")
+FILL_GROWS = (("tdnns", 1),)
+FILL_REFERENCE = 1e6
 #: the memory of a 3D solve's process before its unknowns (the interpreter, NGSolve, the mesh): 0.4 GB measured
 BASE_MEMORY = 0.4e9
 #: the smallest mesh size netgen is asked for, as a fraction of the body's diameter (as in 2D)
 MIN_SIZE_RTOL = 1e-6
 #: points per curve of a crack's outline when its front's length is measured
 OUTLINE_POINTS = 512
+#: points of the trapezoidal rule over the shell around a crack's near ball
+SHELL_POINTS = 256
 
 #: `accuracy` (the relative error of K asked for along the fronts) to mesh sizes: the worst front point's error of
 #: the default sizes (front_h DEFAULT_FRONT_H_RTOL of the crack's size, crack_h twice that: the penny at 0.2a,
@@ -89,25 +99,49 @@ def front_length(crack) -> float:
     return float(np.sum(np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)))
 
 
+def _near_ball(crack, hc: float, H: float, g: float, V: float) -> tuple[float, float]:
+    """(h_n, its part of the integral) of the body's size near `crack` (`solid.geometry.NEAR_*`): the ball of
+    NEAR_RADIUS half sizes at h_n and the shell around it where h grows from h_n at the rate g up to H (both within
+    the ball of the body's volume), less the bulk they replace; (H, 0) where there is none."""
+    from . import geometry
+
+    R = geometry.NEAR_RADIUS * 0.5 * crack.size
+    hn = min(max(geometry.NEAR_H_FACTOR * hc, geometry.NEAR_H_FLOOR_RTOL * crack.size), H)
+    if R <= 0 or hn >= H:
+        return H, 0.0
+    r_body = (3.0 * V / (4.0 * math.pi)) ** (1.0 / 3.0)
+    Rb = min(R, r_body)
+    part = 4.0 / 3.0 * math.pi * Rb ** 3 * (1.0 / hn ** 3 - 1.0 / H ** 3)
+    r_end = min(R + (H - hn) / g, r_body)
+    if r_end > Rb:
+        r = np.linspace(Rb, r_end, SHELL_POINTS)
+        f = 4.0 * math.pi * r ** 2 * (1.0 / (hn + g * (r - R)) ** 3 - 1.0 / H ** 3)
+        part += float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(r)))
+    return hn, part
+
+
 def density_parts(scene, maxh=None, crack_h=None, front_h=None, grading=None) -> dict[str, float]:
-    """The bulk's, the crack faces' and the fronts' parts of the integral of 1 / h^3 (module docstring)."""
+    """The bulk's, the crack faces', the fronts' and the near balls' parts of the integral of 1 / h^3 (module
+    docstring): each crack's faces and front grade into its near ball's size, which grades into maxh."""
     s = scene.mesh_sizes(maxh, crack_h, front_h, grading)
     H, g = s["maxh"], s["grading"]
     hc = min(s["crack_h"], H)
     h0 = min(s["front_h"], hc)
     V = _volume(scene.domain)
-    A = sum(float(c.area) for c in scene.cracks)
-    L = sum(front_length(c) for c in scene.cracks)
-    parts = {"maxh": V / H ** 3, "crack_h": 0.0, "front_h": 0.0}
-    if A > 0:
-        D = min((H - hc) / g, V / (2.0 * A))
-        sc = hc + g * D
-        parts["crack_h"] = max(2.0 * A * ((1.0 / (2.0 * g)) * (1.0 / hc ** 2 - 1.0 / sc ** 2) - D / H ** 3), 0.0)
-    if L > 0:
-        R = min((H - h0) / g, math.sqrt(V / (math.pi * L)))
-        s0 = h0 + g * R
-        tube = (2.0 * math.pi / g ** 2) * (0.5 / h0 - 1.0 / s0 + 0.5 * h0 / s0 ** 2)
-        parts["front_h"] = max(L * (tube - math.pi * R ** 2 / H ** 3), 0.0)
+    parts = {"maxh": V / H ** 3, "crack_h": 0.0, "front_h": 0.0, "near": 0.0}
+    for c in scene.cracks:
+        A, L = float(c.area), front_length(c)
+        Hb, near = _near_ball(c, hc, H, g, V)
+        parts["near"] += near
+        if A > 0 and hc < Hb:
+            D = min((Hb - hc) / g, V / (2.0 * A))
+            sc = hc + g * D
+            parts["crack_h"] += max(2.0 * A * ((1.0 / (2.0 * g)) * (1.0 / hc ** 2 - 1.0 / sc ** 2) - D / Hb ** 3), 0.0)
+        if L > 0 and h0 < Hb:
+            R = min((Hb - h0) / g, math.sqrt(V / (math.pi * L)))
+            s0 = h0 + g * R
+            tube = (2.0 * math.pi / g ** 2) * (0.5 / h0 - 1.0 / s0 + 0.5 * h0 / s0 ** 2)
+            parts["front_h"] += max(L * (tube - math.pi * R ** 2 / Hb ** 3), 0.0)
     return parts
 
 
@@ -126,8 +160,21 @@ def accuracy_sizes(scene, accuracy: float) -> dict[str, float]:
 
 def estimate_tets(scene, maxh=None, crack_h=None, front_h=None, grading=None) -> float:
     """The estimated tetrahedra of netgen's mesh of `scene` at these sizes (the scene's where None)."""
-    p = density_parts(scene, maxh, crack_h, front_h, grading)
-    return TETS_PER_BULK * p["maxh"] + TETS_PER_FACES * p["crack_h"] + TETS_PER_FRONT * p["front_h"]
+    return sum(_weighted(density_parts(scene, maxh, crack_h, front_h, grading)).values())
+
+
+def _weighted(parts: dict[str, float]) -> dict[str, float]:
+    """The tetrahedra of each part of the density integral."""
+    return {"maxh": TETS_PER_BULK * parts["maxh"], "crack_h": TETS_PER_FACES * parts["crack_h"],
+            "front_h": TETS_PER_FRONT * parts["front_h"], "near": TETS_PER_NEAR * parts["near"]}
+
+
+def peak_memory(unknowns: float, element: str = "tdnns", order: int = 1) -> float:
+    """The estimated peak resident memory in bytes of a 3D solve with `unknowns` (module docstring)."""
+    per = BYTES_PER_UNKNOWN[(element, order)]
+    if (element, order) in FILL_GROWS:  # the factor's fill per unknown grows as the cube root of the unknowns
+        per *= (unknowns / FILL_REFERENCE) ** (1.0 / 3.0)
+    return BASE_MEMORY + unknowns * per
 
 
 @dataclass(frozen=True)
@@ -149,14 +196,13 @@ def estimate_size(scene, element: str = "tdnns", order: int | None = None, maxh=
                   grading=None) -> SolidSizeEstimate:
     """Estimated tetrahedra, unknowns and peak memory of a 3D solve of `scene` (module docstring)."""
     order = order or (2 if element == "h1p2" else 1)
-    parts = density_parts(scene, maxh, crack_h, front_h, grading)
-    weighted = {"maxh": TETS_PER_BULK * parts["maxh"], "crack_h": TETS_PER_FACES * parts["crack_h"],
-                "front_h": TETS_PER_FRONT * parts["front_h"]}
+    weighted = _weighted(density_parts(scene, maxh, crack_h, front_h, grading))
     tets = sum(weighted.values())
     unknowns = tets * UNKNOWNS_PER_TET[(element, order)]
+    weighted["crack_h"] += weighted.pop("near")  # the body's size near a crack follows its crack_h
     culprit = max(weighted, key=weighted.get)
     size = scene.mesh_sizes(maxh, crack_h, front_h, grading)[culprit]
-    return SolidSizeEstimate(tets=tets, unknowns=unknowns, memory=BASE_MEMORY + unknowns * BYTES_PER_UNKNOWN[(element, order)],
+    return SolidSizeEstimate(tets=tets, unknowns=unknowns, memory=peak_memory(unknowns, element, order),
                              culprit=culprit, size=size)
 
 
