@@ -101,6 +101,20 @@ def test_accuracy_is_refused_before_meshing(monkeypatch):
         nc.solve("griffith", accuracy=0.01)
 
 
+@pytest.mark.parametrize("argv, fragment", [
+    (["solve", "penny", "--accuracy", "0.005"], "--accuracy = 0.005: the relative error of K"),
+    (["solve", "penny", "--accuracy", "0.02", "--front-h", "0.3"], "give accuracy or front_h, not both"),
+    (["solve", "griffith", "--accuracy", "0.01"], "--accuracy: an option of 3D scenes only"),
+])
+def test_accuracy_on_the_command_line_is_refused_in_one_line(tmp_path, capsys, argv, fragment):
+    from ngcrack.shell.cli import main
+
+    out = tmp_path / "r.json"
+    assert main(argv + ["--json", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert fragment in err and len(err.splitlines()) == 1 and not out.exists()
+
+
 def test_accuracy_maps_to_smaller_sizes_monotonically():
     """A tighter accuracy never asks for a coarser mesh: front_h falls as accuracy^(1/1.19) (the measured rate of
     the worst front point's error), 0.01 gives the default sizes, and the coarse end stops at 0.15 of the crack's
