@@ -12,24 +12,29 @@ The tetrahedron estimate. Netgen makes tetrahedra of edge about the local mesh s
 so a region of volume dV holds about dV / h^3 of them times a constant. The size is maxh = H
 away from the cracks; each crack's faces ask for crack_h = h_c, its front (the crack's edge)
 for front_h = h_0, and h grows from them with the distance d at the rate g (grading), until
-it reaches H. Integrated in closed form, the three parts of the density are
+it reaches H; around each crack the body's size is at most h_n (`solid.geometry.NEAR_*`) in a ball
+of radius R_n, from which it grows at the rate g too. Integrated, the four parts of the density are
 
     bulk   V / H^3                                                            (V the body's volume)
-    faces  2 A [ (1/(2 g)) (1/h_c^2 - 1/s_c^2) - D / H^3 ],  s_c = h_c + g D, D = min((H - h_c)/g, V/(2A))
-    front  L [ (2 pi / g^2) (1/(2 h_0) - 1/s_0 + h_0/(2 s_0^2)) - pi R^2 / H^3 ],
-           s_0 = h_0 + g R, R = min((H - h_0)/g, sqrt(V/(pi L)))
+    faces  2 A [ (1/(2 g)) (1/h_c^2 - 1/s_c^2) - D / H_b^3 ],  s_c = h_c + g D, D = min((H_b - h_c)/g, V/(2A))
+    front  L [ (2 pi / g^2) (1/(2 h_0) - 1/s_0 + h_0/(2 s_0^2)) - pi R^2 / H_b^3 ],
+           s_0 = h_0 + g R, R = min((H_b - h_0)/g, sqrt(V/(pi L)))
+    near   4/3 pi R_n^3 (1/h_n^3 - 1/H^3) + the shell where h = h_n + g (r - R_n) < H (trapezoidal rule)
 
-(A the cracks' area, L their fronts' length; the faces' band on both sides, the front's tube
-all around it, each less the bulk it replaces), and the tetrahedra are TETS_PER_DENSITY times
-TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT times them (fitted to the largest relative error
-on the measured meshes). Measured against netgen on 19 meshes of 8 scenes (the penny in boxes
-of side 20a and 6a and in a cylinder, the bent beam, the inclined penny, an ellipse and a
-square crack; front_h 0.03a to 0.5a, crack_h = front_h to 8 front_h, grading 0.2 to 0.8; 509
-to 48,727 tetrahedra): estimate / netgen within ESTIMATE_SPREAD, 0.68 to 1.47 (BENCHMARKS.md,
-"The 3D size guard"); the front's tube owes most of the tetrahedra of a penny.
+(A a crack's area, L its front's length; the faces' band on both sides, the front's tube all
+around it, each less what the near ball, of size H_b = h_n, or the bulk, H_b = H without one,
+already counts), and the tetrahedra are TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT and
+TETS_PER_NEAR times them (the bulk's fitted on the meshes before the near balls, the others to
+the largest relative error on today's meshes). Measured against netgen on 18 meshes of 7 scenes
+(the penny in boxes of side 20a and 6a and in a cylinder, the bent beam, the inclined penny, an
+ellipse; front_h 0.05a to 0.5a, crack_h = 2 to 8 front_h, grading 0.2 to 0.5; 509 to 25,463
+tetrahedra): estimate / netgen within ESTIMATE_SPREAD, 0.74 to 1.35 (BENCHMARKS.md, "3D memory,
+the ellipse in 3 GB and the accuracy option"); the front's tube and the near ball owe most of the
+tetrahedra of a penny.
 
 Unknowns per tetrahedron and peak memory per unknown are constants of the element and order
-(UNKNOWNS_PER_TET, BYTES_PER_UNKNOWN above BASE_MEMORY: measured, the constants say where).
+(UNKNOWNS_PER_TET, BYTES_PER_UNKNOWN above BASE_MEMORY: measured, the constants say where; for
+TDNNS order 1 the bytes per unknown grow as the cube root of the unknowns, FILL_GROWS).
 """
 
 from __future__ import annotations
@@ -44,11 +49,13 @@ from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, ch
 from ..core.memory import format_bytes as _bytes
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
-TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 11.31, 5.30
-#: ... and of the body's size near the cracks (`_near_ball`)
-TETS_PER_NEAR = 10.05
-#: estimate / netgen on those meshes lies in this range (the small meshes and grading 0.2, 0.5 at its ends)
-ESTIMATE_SPREAD = (0.68, 1.47)
+TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 24.67, 4.46
+#: ... and of the body's size near the cracks (`_near_ball`); the bulk's kept from the fit on 19 meshes, the three
+#: others fitted on 18 of today's meshes (the body's size near the cracks included)
+TETS_PER_NEAR = 7.41
+#: estimate / netgen on those meshes lies in this range (the ellipse at front_h 0.1a, crack_h 0.2a at its low end:
+#: netgen makes 21,706 tetrahedra there against 13,535 at crack_h 0.25a)
+ESTIMATE_SPREAD = (0.74, 1.35)
 #: unknowns (total, before condensation) per tetrahedron, by (element, order), measured on the penny (6,809
 #: tetrahedra) and the bent beam (1,170): tdnns 48.6-48.9 and 115.0-115.7, h1p1 0.56-0.64, h1p2 4.2-4.5
 UNKNOWNS_PER_TET = {("tdnns", 1): 49.0, ("tdnns", 2): 116.0, ("h1p1", 1): 0.64, ("h1p2", 2): 4.5}
