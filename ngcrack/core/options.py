@@ -50,7 +50,8 @@ HP_MAX_LAYERS = 12
 #: `accuracy`, the relative error of K asked for along the crack fronts (3D scenes): the values a solve honours.
 #: Not below 0.01: at the sizes the rate asks for 0.005 (front_h 0.11a on the penny) the worst front point was
 #: 0.89% off, at 0.1a 0.66%: order 1's error along the front stops falling with front_h below 0.2a (the body's
-#: mesh near the crack and its scatter along the front; BENCHMARKS, "3D memory and the accuracy option")
+#: mesh near the crack and its scatter along the front; BENCHMARKS, "3D memory, the ellipse in 3 GB and
+#: the accuracy option")
 ACCURACY_RANGE = (0.01, 0.5)
 
 

@@ -67,7 +67,8 @@ BYTES_PER_UNKNOWN = {("tdnns", 1): 3200, ("tdnns", 2): 6400, ("h1p1", 1): 33000,
 #: the elements whose bytes per unknown above are at FILL_REFERENCE unknowns and grow as the cube root of the
 #: unknowns (a nested-dissection factor of a 3D mesh: nnz(L) ~ n^(4/3)); TDNNS order 1 measured with the
 #: symmetric form and one factorization with the crack unknowns last: 2.34 kB per unknown at 415,172 unknowns,
-#: 2.6 kB at 557,303, 2.78 kB at 661,250 (BENCHMARKS, "3D memory and the accuracy option")
+#: 2.6 kB at 557,303, 2.78 kB at 661,250 (BENCHMARKS, "3D memory, the ellipse in 3 GB
+#: and the accuracy option")
 FILL_GROWS = (("tdnns", 1),)
 FILL_REFERENCE = 1e6
 #: the memory of a 3D solve's process before its unknowns (the interpreter, NGSolve, the mesh): 0.4 GB measured
