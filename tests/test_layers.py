@@ -26,7 +26,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
                "solid.curve")),
     ("mesh", ("planar.crack_sides", "planar.crack_loads", "planar.geometry", "solid.geometry")),
     ("discretization", ("core.discretization", "planar.elements", "core.hybrid", "core.friction", "core.friction_setup", "core.crack_problem",
-                        "planar.held_means", "solid.element", "solid.friction_points",
+                        "core.held_means", "planar.held_means", "solid.element", "solid.friction_points",
                         "solid.h1", "solid.point_means")),
     ("post-processing", ("planar.post", "planar.post2d", "planar.tips", "planar.tstress", "planar.local_fields", "planar.estimate",
                         "planar.vtk", "planar.load_points", "solid.front",
