@@ -48,6 +48,7 @@ import scipy.sparse as sp
 from . import constraints
 from .constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
 from .csr import to_scipy
+from .errors import InputError
 from .schur import Factorization
 
 #: at most this many active-set steps
@@ -259,6 +260,10 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
     A = _initial(active, m)
     if method == "schur" or (method == "auto" and 0 < m <= constraints.SCHUR_MAX_M):
         return _solve_schur(K, F, contact, G, A, linear_solver, max_iterations, t0, qp_solver, qp_options)
+    if qp_solver != "pdas":
+        raise InputError(f"qp_solver = {qp_solver!r}: this crack has {m} constrained unknowns, more than the "
+                         f"{constraints.SCHUR_MAX_M} whose Schur complement a QP solver is given; above that the "
+                         "sparse active set solves the contact (allowed value: pdas)")
     Kw, Fw, T = _transform(K, F, contact, G)
     diag = Kw.diagonal()[contact]
     if np.any(diag <= 0):
