@@ -30,7 +30,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
                         "solid.h1", "solid.point_means")),
     ("post-processing", ("planar.post", "planar.post2d", "planar.tips", "planar.tstress", "planar.local_fields", "planar.estimate",
                         "planar.vtk", "planar.load_points", "solid.front",
-                         "solid.face_pressure", "solid.estimate", "solid.face_friction")),
+                         "solid.face_pressure", "solid.estimate", "solid.face_friction", "solid.volume")),
     ("options and solution", ("core.options", "core.solution", "planar.solution", "solid.options",
                                "core.stages", "core.friction_checks", "solid.output")),
     ("pipeline and hp meshes", ("core.pipeline", "planar.stages", "solid.stages", "planar.hp", "solid.solve")),
