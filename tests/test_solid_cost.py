@@ -119,7 +119,9 @@ def test_accuracy_maps_to_smaller_sizes_monotonically():
     """A tighter accuracy never asks for a coarser mesh: front_h falls as accuracy^(1/1.19) (the measured rate of
     the worst front point's error), 0.01 gives the default sizes, and the coarse end stops at 0.15 of the crack's
     size; crack_h is twice front_h; the 3D options and the size guard see these sizes."""
+    from ngcrack.solid import sizing
     from ngcrack.solid.options import solid_options
+    from ngcrack.solid.scene import DEFAULT_FRONT_H_RTOL
     from ngcrack.solid.sizing import ACCURACY_RATE, accuracy_sizes, estimate_size
 
     scene = nc.scenes.load("penny")
@@ -129,6 +131,7 @@ def test_accuracy_maps_to_smaller_sizes_monotonically():
     assert np.all(np.diff(h) <= 0) and h[-1] < h[0]
     assert all(math.isclose(s["crack_h"], 2 * s["front_h"]) for s in sizes)
     assert math.isclose(accuracy_sizes(scene, 0.01)["front_h"], 0.2) and math.isclose(h[0], 0.3)
+    assert sizing.ACCURACY_FRONT_H_RTOL == DEFAULT_FRONT_H_RTOL  # accuracy = 0.01 asks for the 3D defaults
     fine = accuracy_sizes(scene, 0.005)["front_h"] / accuracy_sizes(scene, 0.01)["front_h"]
     assert math.isclose(fine, 0.5 ** (1 / ACCURACY_RATE))
     opts = solid_options(nc.SolveOptions(accuracy=0.012), scene)

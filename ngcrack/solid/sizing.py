@@ -75,6 +75,17 @@ FILL_REFERENCE = 1e6
 BASE_MEMORY = 0.4e9
 #: the smallest mesh size netgen is asked for, as a fraction of the body's diameter (as in 2D)
 MIN_SIZE_RTOL = 1e-6
+#: the body's mesh size near a crack, in its crack_h: netgen's grading alone lets the size grow
+#: from crack_h at the faces by `grading` per unit distance, and the body a crack radius off the
+#: crack then stays too coarse for order 1 (K_I 0.9-1% low on average on the default penny;
+#: BENCHMARKS section 21)
+NEAR_H_FACTOR = 1.25
+#: ... but not below this fraction of the crack's size: what the body needs there is the crack's
+#: scale, not the front's (a finer crack_h would otherwise fill the ball: 18,234 tetrahedra at
+#: front_h = 0.15a against 8,553 at 0.2a)
+NEAR_H_FLOOR_RTOL = 0.25
+#: ... in the ball around the crack's centre of this many times its half size (its radius for a disc)
+NEAR_RADIUS = 2.0
 #: points per curve of a crack's outline when its front's length is measured
 OUTLINE_POINTS = 512
 #: points of the trapezoidal rule over the shell around a crack's near ball
@@ -84,6 +95,8 @@ SHELL_POINTS = 256
 #: the default sizes (front_h DEFAULT_FRONT_H_RTOL of the crack's size, crack_h twice that: the penny at 0.2a,
 #: 0.58-0.94% on five boxes, BENCHMARKS section 21)...
 ACCURACY_AT_DEFAULT = 0.01
+#: ... at front_h this fraction of the crack's size (the 3D default, `solid.scene.DEFAULT_FRONT_H_RTOL`) ...
+ACCURACY_FRONT_H_RTOL = 0.1
 #: ... falls as front_h to this power (least squares over front_h = 0.5a-0.1a on the penny, BENCHMARKS section 21) ...
 ACCURACY_RATE = 1.19
 #: ... and front_h is never coarser than this fraction of the crack's size (0.3a on a penny: 1.17%; the rate does
@@ -111,10 +124,8 @@ def _near_ball(crack, hc: float, H: float, g: float, V: float) -> tuple[float, f
     """(h_n, its part of the integral) of the body's size near `crack` (`solid.geometry.NEAR_*`): the ball of
     NEAR_RADIUS half sizes at h_n and the shell around it where h grows from h_n at the rate g up to H (both within
     the ball of the body's volume), less the bulk they replace; (H, 0) where there is none."""
-    from . import geometry
-
-    R = geometry.NEAR_RADIUS * 0.5 * crack.size
-    hn = min(max(geometry.NEAR_H_FACTOR * hc, geometry.NEAR_H_FLOOR_RTOL * crack.size), H)
+    R = NEAR_RADIUS * 0.5 * crack.size
+    hn = min(max(NEAR_H_FACTOR * hc, NEAR_H_FLOOR_RTOL * crack.size), H)
     if R <= 0 or hn >= H:
         return H, 0.0
     r_body = (3.0 * V / (4.0 * math.pi)) ** (1.0 / 3.0)
@@ -155,13 +166,11 @@ def density_parts(scene, maxh=None, crack_h=None, front_h=None, grading=None) ->
 
 def accuracy_sizes(scene, accuracy: float) -> dict[str, float]:
     """The front_h and crack_h that give K within `accuracy` (relative, at the worst front point) along the fronts
-    of `scene` by the measured rate: front_h = DEFAULT_FRONT_H_RTOL d (accuracy / ACCURACY_AT_DEFAULT)^(1 /
+    of `scene` by the measured rate: front_h = ACCURACY_FRONT_H_RTOL d (accuracy / ACCURACY_AT_DEFAULT)^(1 /
     ACCURACY_RATE), d the smallest crack's size, at most ACCURACY_COARSEST_RTOL d; crack_h = ACCURACY_CRACK_H_RATIO
     front_h. Smaller for a smaller accuracy (monotone); the scene's own front_h and crack_h are not used."""
-    from .scene import DEFAULT_FRONT_H_RTOL
-
     d = min((c.size for c in scene.cracks), default=scene.size)
-    h = DEFAULT_FRONT_H_RTOL * d * (float(accuracy) / ACCURACY_AT_DEFAULT) ** (1.0 / ACCURACY_RATE)
+    h = ACCURACY_FRONT_H_RTOL * d * (float(accuracy) / ACCURACY_AT_DEFAULT) ** (1.0 / ACCURACY_RATE)
     h = min(h, ACCURACY_COARSEST_RTOL * d)
     return {"front_h": h, "crack_h": ACCURACY_CRACK_H_RATIO * h}
 
