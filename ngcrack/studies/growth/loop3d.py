@@ -19,10 +19,18 @@ as a power of the size (a penny: K ~ sqrt(a)), second order otherwise; so the co
 da (a first-order da / (C Delta K_max^m) per step is 6.6% high on a penny after four steps of 0.1 a, m = 3). The
 run stops when K_max reaches K_Ic (fracture).
 
-Stops: after `steps` steps; at fracture; where a grown front comes within the scene's clearance of the
-body's boundary ("boundary: ...", a surface crack does not grow yet) or of another crack ("crack:
-..."); where the grown crack makes no valid scene or its solve fails. A scene whose crack already
-reaches a face, or a polygon (its corners have no K), is refused before any meshing.
+Surface cracks (a disc or an ellipse crossing a face, its front from surface to surface): the same
+rules along the open front, the surface points growing with K taken SURFACE_K_FRACTION of the front's
+length in from the surface and moving along the face, and the grown crack the ellipse with the same
+centre and axes fitted to the advanced points (surface3d.py); the leading point's advance in the
+cycle count is what the fitted ellipse gives it.
+
+Stops: after `steps` steps; at fracture; where a grown embedded front comes within the scene's
+clearance of the body's boundary ("boundary: ...": an embedded front does not turn into a surface
+crack), a grown surface crack nears another face (the scene's sliver check, "boundary: ...") or a
+front nears another crack ("crack: ..."); where the grown crack makes no valid scene or its solve
+fails. A scene whose crack comes near a face without crossing it, a surface crack whose centre is off
+the surface, or a polygon (its corners have no K), is refused before any meshing.
 """
 
 from __future__ import annotations
