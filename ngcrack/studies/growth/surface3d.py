@@ -41,7 +41,8 @@ from ...core.errors import InputError
 
 #: the surface point grows with K this fraction of the front's length in from the surface (module docstring)
 SURFACE_K_FRACTION = 0.05
-#: the degree of the polynomial that smooths K_eq along an open front (at most a third of its inner stations)
+#: the degree of the polynomial that smooths K_eq along an open front (at most half its inner stations, at least 2:
+#: a straight line through a front's K, which peaks inside, would flatten it)
 SMOOTH_DEGREE = 4
 #: advanced points along the front the new ellipse is fitted to
 FIT_POINTS = 65
@@ -91,7 +92,7 @@ def surface_drive(angles: np.ndarray, K_eq: np.ndarray, crack, fraction: float =
     length = float(s[-1])
     inner = np.arange(1, len(s) - 1) if len(s) > 2 else np.arange(len(s))
     x = 2.0 * s / length - 1.0
-    deg = int(min(SMOOTH_DEGREE, max(len(inner) // 3, 1), len(inner) - 1))
+    deg = int(min(SMOOTH_DEGREE, max(len(inner) // 2, 2), len(inner) - 1))
     fit = np.polynomial.Legendre.fit(x[inner], K[inner], deg, domain=[-1.0, 1.0]) if deg >= 0 else None
     drive = fit(x) if fit is not None else K.copy()
     d_fit = fit.deriv() if deg > 0 else None
