@@ -156,3 +156,19 @@ def test_a_coarse_surface_crack_grows_towards_the_newman_raju_trajectory():
     assert np.argmax(r.steps[0]["fronts"][0]["K_drive"]) == len(r.steps[0]["fronts"][0]["K_drive"]) // 2
     assert advance / (C_P * K[1] ** M) < N[1] < advance / (C_P * K[0] ** M)
     assert abs(N[-1] / np.interp(ac[-1, 0], ref["a"], ref["N"]) - 1) < 0.15
+
+
+def test_a_surface_crack_nearing_the_back_face_stops_the_run_by_name():
+    """Grown by 0.25 all round, a crack 1.2 deep in the plate 1.5 thick would leave a sliver 0.05 thick beyond its
+    front (less than front_h 0.1): the run stops, naming the face."""
+    from types import SimpleNamespace
+
+    from ngcrack.studies.growth.loop3d import _grown_scene
+
+    scene = SolidScene.from_dict(plate(1.2, 1.5))
+    angles = np.linspace(0.0, math.pi, 15)
+    sol = SimpleNamespace(fronts=[SimpleNamespace(crack=0, angle=angles)])
+    new, why, _ = _grown_scene(scene, sol, None, [np.full(15, 0.25)], 0.25, True)
+    assert new is None and why.startswith("boundary: the grown surface crack") and "face zmin" in why, why
+    new, why, lead = _grown_scene(scene, sol, None, [np.full(15, 0.02)], 0.02, True)  # a short step grows
+    assert why == "" and new.cracks[0].semi_axes == pytest.approx((1.52, 1.22), abs=2e-3)

@@ -120,26 +120,32 @@ def _face_normal(domain, p: np.ndarray, size: float) -> np.ndarray:
     return -grad / np.linalg.norm(grad)  # the distance grows inwards
 
 
-def advanced_points(domain, crack, angles: np.ndarray, advance: np.ndarray, n: int = FIT_POINTS):
-    """(old points, their directions, the advanced points): n points equally spaced in arc length along the
-    front, the advance interpolated in arc length from the stations, the end points moved along their faces."""
-    phi_i = np.asarray(angles, dtype=float)
-    s_i = ellipse_arc(crack, phi_i)
-    grid = np.linspace(phi_i[0], phi_i[-1], 4001)
-    s_grid = ellipse_arc(crack, grid)
-    s = np.linspace(0.0, s_i[-1], n)
-    phi = np.interp(s, s_grid, grid)
-    adv = np.interp(s, s_i, np.asarray(advance, dtype=float))
+def _rays(domain, crack, phi: np.ndarray, ends: bool):
+    """(the front's points at the angles phi, their directions of advance): the outward in-plane normal, at the
+    first and last point (`ends`: the front's ends on the surface) projected into their faces."""
     a, b = crack.semi_axes
     p = crack.center + np.outer(a * np.cos(phi), crack.e_a) + np.outer(b * np.sin(phi), crack.e_b)
     d = np.outer(b * np.cos(phi), crack.e_a) + np.outer(a * np.sin(phi), crack.e_b)  # the outward in-plane normal
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    for k in (0, n - 1):  # the ends move along their faces, in the crack's plane
+    for k in ((0, len(phi) - 1) if ends else ()):  # the ends move along their faces, in the crack's plane
         nf = _face_normal(domain, p[k], crack.size)
         t = d[k] - np.dot(d[k], nf) * nf
         t -= np.dot(t, crack.normal) * crack.normal
         d[k] = t / np.linalg.norm(t)
-    return p, d, p + adv[:, None] * d
+    return p, d
+
+
+def advanced_points(domain, crack, angles: np.ndarray, advance: np.ndarray, n: int = FIT_POINTS) -> np.ndarray:
+    """n points equally spaced in arc length along the front moved by the advance (interpolated in arc length from
+    the stations at `angles`), the end points along their faces."""
+    phi_i = np.asarray(angles, dtype=float)
+    s_i = ellipse_arc(crack, phi_i)
+    grid = np.linspace(phi_i[0], phi_i[-1], 4001)
+    s = np.linspace(0.0, s_i[-1], n)
+    phi = np.interp(s, ellipse_arc(crack, grid), grid)
+    adv = np.interp(s, s_i, np.asarray(advance, dtype=float))
+    p, d = _rays(domain, crack, phi, True)
+    return p + adv[:, None] * d
 
 
 def fit_ellipse(crack, points: np.ndarray, start: tuple[float, float]) -> tuple[float, float]:
@@ -163,7 +169,7 @@ def fit_ellipse(crack, points: np.ndarray, start: tuple[float, float]) -> tuple[
 
 def grown_surface_crack(domain, crack, angles: np.ndarray, advance: np.ndarray, lead: int) -> tuple[dict, float]:
     """(the grown crack's scene dictionary, the actual advance of the station `lead`): module docstring, step 4."""
-    _, _, moved = advanced_points(domain, crack, angles, advance)
+    moved = advanced_points(domain, crack, angles, advance)
     A0, B0 = crack.semi_axes
     mean = float(np.mean(advance))
     A, B = fit_ellipse(crack, moved, (A0 + mean, B0 + mean))
@@ -173,14 +179,9 @@ def grown_surface_crack(domain, crack, angles: np.ndarray, advance: np.ndarray, 
         d["friction"] = crack.friction
     if crack.pressure:
         d["pressure"] = crack.pressure
-    return d, _ray_to_ellipse(crack, A, B, *_lead_ray(domain, crack, angles, lead))
-
-
-def _lead_ray(domain, crack, angles, lead):
-    """The point of station `lead` and its direction of advance."""
     phi = np.asarray(angles, dtype=float)
-    p, d, _ = advanced_points(domain, crack, phi, np.zeros(len(phi)), n=len(phi))
-    return p[lead], d[lead]
+    p, ray = _rays(domain, crack, phi[[lead]], lead in (0, len(phi) - 1))
+    return d, _ray_to_ellipse(crack, A, B, p[0], ray[0])
 
 
 def _ray_to_ellipse(crack, A: float, B: float, p: np.ndarray, d: np.ndarray) -> float:
