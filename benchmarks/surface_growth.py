@@ -135,7 +135,8 @@ def figure(png: str, runs_file: str, m: float) -> None:
     fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
     for ratio in (0.4, 1.2):
         tr = trajectory(0.3, 0.3 / ratio, 1.2, T, B, 1e-3, m)
-        ax.plot(tr["a"] / T, tr["a"] / tr["c"], "--", color="0.5", lw=1)
+        ax.plot(tr["a"] / T, tr["a"] / tr["c"], "--", color="0.5", lw=1,
+                label="Newman-Raju from a/t = 0.2, a/c = 0.4 and 1.2" if ratio == 0.4 else None)
     for run in runs:
         a, c = np.array(run["a"]), np.array(run["c"])
         tr = trajectory(a[0], c[0], 1.2, T, B, 1e-3, m)
