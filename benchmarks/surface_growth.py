@@ -65,6 +65,8 @@ def main(argv=None) -> int:
     parser.add_argument("--steps", type=int, default=4)
     parser.add_argument("--m", type=float, default=3.0)
     parser.add_argument("--front-h", type=float, default=0.1)
+    parser.add_argument("--corner", action="store_true", help="a quarter-elliptical corner crack on the edge of the "
+                        "plate's face and its side (against Newman and Raju's corner-crack equation)")
     parser.add_argument("--reference", action="store_true", help="print the reference table only")
     parser.add_argument("--png", help="write the fronts over the steps here")
     parser.add_argument("--save", help="add the run's depths, lengths and cycles to this JSON file (a list of runs)")
@@ -87,6 +89,9 @@ def main(argv=None) -> int:
     d = copy.deepcopy(nc.scenes.load("surface-crack").to_dict())
     d["crack"][0]["semi_axes"] = [c0, a0]
     d["mesh"] = {"front_h": args.front_h, "crack_h": 2 * args.front_h}
+    if args.corner:
+        d["crack"][0]["center"] = [-B, 0.0, T]  # on the edge of the face z = t and the side x = -b
+        return corner_run(d, args, a0, c0)
     clock, cpu = [time.process_time()], []
 
     def progress(n, result):
@@ -119,6 +124,45 @@ def main(argv=None) -> int:
         runs.append({"ratio": args.ratio, "a": ac[:, 0].tolist(), "c": ac[:, 1].tolist(), "N": N.tolist(),
                      "front_h": args.front_h, "da": args.da})
         Path(args.save).write_text(json.dumps(runs))
+    return 0
+
+
+def corner_run(d: dict, args, a0: float, c0: float) -> int:
+    """The corner crack's run: a/c and the cycles against the corner-crack reference, K at the 5% points of both
+    ends (both on a face) against Newman and Raju's there."""
+    import ngcrack as nc
+    from ngcrack.studies.growth.newman_raju_growth import phi_in_from_surface, trajectory
+    from ngcrack.studies.newman_raju import corner_crack_K
+
+    C, m, width = 1e-3, args.m, 2 * B
+    clock, cpu = [time.process_time()], []
+
+    def progress(n, result):
+        now = time.process_time()
+        cpu.append(now - clock[0])
+        clock[0] = now
+
+    r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C, m), progress=progress)
+    ac = r.depth_and_length()
+    ref = trajectory(a0, c0, max(ac[-1, 0], a0 + 1e-9) + 1e-6, T, width, C, m, corner=True)
+    N = r.cycles()
+    print(f"\ncorner crack from a/c = {args.ratio:g}, a/t = {a0 / T:.3g}: da {args.da:g}, front_h {args.front_h:g}; "
+          f"{r.stopped}")
+    print(f"{'step':>4} {'a/t':>6} {'a/c':>6} {'ref':>6} {'ratio':>6} {'cycles':>9} {'ref N':>9} {'N/ref':>6} "
+          f"{'K_C':>6} {'NR':>6} {'K_A':>6} {'NR':>6} {'ndof':>8} {'cpu s':>6}")
+    for k, (a, c) in enumerate(ac):
+        step = r.steps[k]
+        drive = step["fronts"][0]["K_drive"]  # from the end on the face z = t (C) to the end on the side (A)
+        nr_c = float(corner_crack_K(1.0, a, c, T, width, phi_in_from_surface(a, c, 0.05, quarter=True)))
+        nr_a = float(corner_crack_K(1.0, a, c, T, width, 0.5 * np.pi - phi_in_from_surface(c, a, 0.05, quarter=True)))
+        want = float(np.interp(a, ref["a"], ref["a"] / ref["c"]))
+        N_ref = float(np.interp(a, ref["a"], ref["N"]))
+        print(f"{k:4d} {a / T:6.3f} {a / c:6.3f} {want:6.3f} {a / c / want:6.3f} {N[k]:9.4g} {N_ref:9.4g} "
+              f"{(N[k] / N_ref if N_ref else 1.0):6.3f} {drive[0]:6.3f} {nr_c:6.3f} {drive[-1]:6.3f} {nr_a:6.3f} "
+              f"{step['ndof']:8d} {cpu[k]:6.1f}")
+    if args.png:
+        r.plot(args.png)
+        print(f"wrote {args.png}")
     return 0
 
 

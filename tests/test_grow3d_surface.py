@@ -55,6 +55,19 @@ def test_reference_trajectories_from_both_sides_converge_towards_0_8():
     assert abs(coarse["N"][-1] / low["N"][-1] - 1) < 1e-5 and abs(coarse["c"][-1] / low["c"][-1] - 1) < 1e-6
 
 
+def test_corner_crack_reference_converges_and_its_depth_runs_through_the_thickness():
+    """Corner cracks from a/c = 0.4 and 0.8 at a/t = 0.2 close from 0.4 apart to within 0.1 by a/t = 0.8; the
+    depth of a crack centred on the plate's edge is its semi-axis across the thickness, whichever axis that is."""
+    low = trajectory(0.3, 0.75, 1.2, T, 2 * B, C_P, M, corner=True)
+    high = trajectory(0.3, 0.375, 1.2, T, 2 * B, C_P, M, corner=True)
+    assert low["a"][-1] == pytest.approx(1.2) and high["a"][-1] == pytest.approx(1.2)
+    r_low, r_high = low["a"][-1] / low["c"][-1], high["a"][-1] / high["c"][-1]
+    assert 0.8 < r_low < r_high < 1.0 and r_high - r_low < 0.1, (r_low, r_high)
+    for axes, want in (([0.8, 0.5], (0.5, 0.8)), ([0.5, 0.8], (0.8, 0.5))):
+        scene = SolidScene.from_dict(plate(axes[1], axes[0], center=[-B, 0.0, T]))
+        assert depth_and_length(scene.domain, scene.cracks[0]) == pytest.approx(want)
+
+
 def test_the_surface_point_lies_the_fraction_of_the_front_in():
     a, c = 0.4, 1.0
     phi = phi_in_from_surface(a, c, 0.1)

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..newman_raju import shape_factor, surface_crack_K
+from ..newman_raju import corner_crack_K, shape_factor, surface_crack_K
 
 #: Runge-Kutta steps of the reference integration
 RK_STEPS = 400
@@ -62,17 +62,27 @@ def phi_in_from_surface(a: float, c: float, fraction: float, quarter: bool = Fal
 
 
 def trajectory(a0: float, c0: float, a_end: float, t: float, b: float, C: float, m: float, R: float = 0.0,
-               S: float = 1.0, fraction: float | None = None, steps: int = RK_STEPS) -> dict:
+               S: float = 1.0, fraction: float | None = None, steps: int = RK_STEPS, corner: bool = False) -> dict:
     """The depth a, half-length c and cumulative cycles N of a surface crack from (a0, c0) to depth a_end under
-    Paris's law (module docstring); {"a", "c", "N"} arrays of steps + 1 values."""
+    Paris's law (module docstring); {"a", "c", "N"} arrays of steps + 1 values.
+
+    `corner`: a quarter-elliptical corner crack (depth a into the thickness t, length c along the width b, their
+    corner-crack equation, a/c <= 1): both ends of its front lie on a face, so K_A too is taken the fraction of the
+    front in from its end; the arrays stop where a/c would pass 1 (the equation's range)."""
     from .surface3d import SURFACE_K_FRACTION
 
     frac = SURFACE_K_FRACTION if fraction is None else float(fraction)
     dK = (1.0 - max(float(R), 0.0)) * S
 
     def rates(a, c):
-        K_A = float(surface_K_any(dK, a, c, t, b, 0.5 * np.pi))
-        K_C = float(surface_K_any(dK, a, c, t, b, phi_in_from_surface(a, c, frac)))
+        if corner:
+            if a > c:
+                raise _OutOfRange
+            K_A = float(corner_crack_K(dK, a, c, t, b, 0.5 * np.pi - phi_in_from_surface(c, a, frac, quarter=True)))
+            K_C = float(corner_crack_K(dK, a, c, t, b, phi_in_from_surface(a, c, frac, quarter=True)))
+        else:
+            K_A = float(surface_K_any(dK, a, c, t, b, 0.5 * np.pi))
+            K_C = float(surface_K_any(dK, a, c, t, b, phi_in_from_surface(a, c, frac)))
         return (K_C / K_A) ** m, 1.0 / (C * K_A ** m)
 
     a_grid = np.linspace(a0, a_end, steps + 1)
@@ -80,15 +90,22 @@ def trajectory(a0: float, c0: float, a_end: float, t: float, b: float, C: float,
     c_out, N_out = [c0], [0.0]
     c, N = c0, 0.0
     for a in a_grid[:-1]:
-        k1 = rates(a, c)
-        k2 = rates(a + 0.5 * h, c + 0.5 * h * k1[0])
-        k3 = rates(a + 0.5 * h, c + 0.5 * h * k2[0])
-        k4 = rates(a + h, c + h * k3[0])
+        try:
+            k1 = rates(a, c)
+            k2 = rates(a + 0.5 * h, c + 0.5 * h * k1[0])
+            k3 = rates(a + 0.5 * h, c + 0.5 * h * k2[0])
+            k4 = rates(a + h, c + h * k3[0])
+        except _OutOfRange:
+            break
         c += h * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0]) / 6.0
         N += h * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1]) / 6.0
         c_out.append(c)
         N_out.append(N)
-    return {"a": a_grid, "c": np.array(c_out), "N": np.array(N_out)}
+    return {"a": a_grid[:len(c_out)], "c": np.array(c_out), "N": np.array(N_out)}
+
+
+class _OutOfRange(Exception):
+    """A corner crack's a/c past the equation's range."""
 
 
 def rule_trajectory(scene, da: float, steps: int, m: float, stations: int = 17, inset: float = 0.0,

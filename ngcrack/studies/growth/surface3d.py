@@ -195,10 +195,45 @@ def _ray_to_ellipse(crack, A: float, B: float, p: np.ndarray, d: np.ndarray) -> 
     return float((-qb + math.sqrt(disc)) / (2 * qa))
 
 
+def _thickness(domain, p: np.ndarray, inward: np.ndarray, size: float) -> float:
+    """The body's thickness from the surface point p along the inward direction (bisection to where it leaves)."""
+    lo, hi = 0.0, 4.0 * size
+    while hi - lo > 1e-6 * size:
+        mid = 0.5 * (lo + hi)
+        if float(domain.clearance((p + (mid + 1e-9 * size) * inward)[None])[0]) > 0 or mid < 1e-9 * size:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
 def depth_axis(domain, crack) -> int:
-    """0 if the crack's first axis (e_a) crosses the face its centre lies on (it measures the depth), else 1."""
-    nf = _face_normal(domain, crack.center, crack.size)
+    """0 if the crack's first axis (e_a) crosses the face its centre lies on (it measures the depth), else 1; a
+    corner crack's centre lies on two faces: the depth runs through the body's thinner direction of the two (a
+    plate's thickness)."""
+    from ngcrack.solid.surface import face_distances
+
+    size = crack.size
+    dist = face_distances(domain, crack.center[None])
+    on = [k for k, v in dist.items() if abs(v[0]) <= CENTRE_ON_SURFACE_RTOL * size] or [min(dist, key=lambda k: abs(dist[k][0]))]
+    normals = []
+    for key in on:
+        h = NORMAL_STEP_RTOL * size
+        g = np.array([(face_distances(domain, (crack.center + h * e)[None])[key][0]
+                       - face_distances(domain, (crack.center - h * e)[None])[key][0]) / (2 * h) for e in np.eye(3)])
+        normals.append(g / np.linalg.norm(g))  # inward
+    if len(normals) > 1:  # the thinner direction; probed from a point inside both faces' edge, along each normal
+        probe = crack.center + 1e-3 * size * sum(normals)
+        normals.sort(key=lambda n: _thickness(domain, probe, n, domain_size(domain)))
+    nf = normals[0]
     return 0 if abs(np.dot(crack.e_a, nf)) > abs(np.dot(crack.e_b, nf)) else 1
+
+
+def domain_size(domain) -> float:
+    """The body's diameter (its bounding box's), the scale of a probe."""
+    if hasattr(domain, "lo"):
+        return float(np.linalg.norm(np.asarray(domain.hi) - np.asarray(domain.lo)))
+    return float(np.hypot(2 * domain.radius, domain.height))
 
 
 def depth_and_length(domain, crack) -> tuple[float, float]:
