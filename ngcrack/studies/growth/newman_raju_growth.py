@@ -11,9 +11,13 @@ Newman and Raju's (ngcrack.studies.newman_raju for a/c <= 1; the deep branch a/c
 1981 paper here). K_C is taken as 3D growth takes it (SURFACE_K_FRACTION in
 ngcrack.studies.growth.surface3d): at the point of the front SURFACE_K_FRACTION of the front's
 length (surface to surface) in from the surface, where the surface's boundary layer has not yet
-lowered it; Newman and Raju's equation at phi = 0 is itself their fit of values taken near the
-surface, and the two differ by 1-2% for a/c 0.4-1 (the table of `trajectory` at fraction 0 and at
-the default).
+lowered it. Newman and Raju's equation at phi = 0 is itself their fit of values taken near the
+surface; their K at the 5% point is 3.5% below it to 2% above it for a/c 0.4-1.2 (33% above it at
+a/c = 0.2, where their K rises steeply away from the surface), and the trajectories at fraction 0
+settle about 5% lower in a/c (BENCHMARKS, "Fatigue growth of surface cracks against Newman-Raju").
+
+A corner crack (`corner=True`): their corner-crack equation, both ends of the quarter front on a face
+and both K taken SURFACE_K_FRACTION of the front in from their ends, as the growth takes them.
 
 The integration: fourth-order Runge-Kutta in a on (c, N), RK_STEPS steps (the trajectory and the
 cycles to about 1e-6).
