@@ -251,6 +251,24 @@ class StepPart:
             out[k] = -outside if outside > 0 else min(f.Distance(v) for f in faces)
         return out
 
+    def face_distances(self, p: np.ndarray) -> dict[str, np.ndarray]:
+        """Per label, the distance of each point to its faces, negative at a point outside the solid for the label
+        nearest to it (the face it crossed): the box's signed face distances (``solid.surface.face_distances``)."""
+        from netgen import occ
+
+        faces = list(self._shape.faces)
+        labels = list(self.aliases().items())
+        out = np.empty((len(labels), len(p)))
+        for k, q in enumerate(np.asarray(p, dtype=float)):
+            v = occ.Vertex(occ.Pnt(*q))
+            d = [f.Distance(v) for f in faces]
+            out[:, k] = [min(d[i] for i in idx) for _, idx in labels]
+            outside = self._shape.Distance(v)
+            if outside > 0:
+                j = int(np.argmin(out[:, k]))
+                out[j, k] = -max(outside, out[j, k])
+        return {lab: out[j] for j, (lab, _) in enumerate(labels)}
+
     def face_points(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Per label, points on its faces' edges (EDGE_SAMPLES per edge) and the faces' normals there (a
         curved face's normals are NaN: a roller there is refused before, `check_rollers`)."""

@@ -19,6 +19,8 @@ import numpy as np
 ARC_SAMPLES = 4096
 #: bisection steps refining each end of an arc (the angle to 2 pi 2^-40 / ARC_SAMPLES)
 ARC_BISECTIONS = 40
+#: outline samples on a STEP part (OCC's distance takes a few ms a point; ARC_BISECTIONS refine the ends as on a box)
+STEP_SAMPLES = 128
 #: a point within this fraction of the body's size of a face is on it (an edge of the clipped crack on the surface)
 ON_SURFACE_RTOL = 1e-7
 #: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
@@ -31,9 +33,22 @@ LIGAMENT_FRONT_H = 1.0
 SURFACE_INSET = 1.0
 
 
+def is_step(domain) -> bool:
+    """Whether the domain is a STEP part (``ngcrack.solid.parts.StepPart``: its distances are OCC's, a few ms a point)."""
+    return not hasattr(domain, "lo") and not hasattr(domain, "axis")
+
+
+def samples(domain, n: int) -> int:
+    """n outline samples on a box or a cylinder, at most STEP_SAMPLES on a STEP part."""
+    return min(n, STEP_SAMPLES) if is_step(domain) else n
+
+
 def face_distances(domain, p: np.ndarray) -> dict[str, np.ndarray]:
-    """The signed distance of each point (rows of p) to each face's surface, positive inside."""
+    """The signed distance of each point (rows of p) to each face's surface, positive inside (a STEP part: the
+    distance to each label's faces, negative at a point outside for the label nearest to it)."""
     p = np.atleast_2d(p)
+    if is_step(domain):
+        return domain.face_distances(p)
     if hasattr(domain, "lo"):
         out = {}
         for k, ax in enumerate("xyz"):
@@ -48,6 +63,8 @@ def face_distances(domain, p: np.ndarray) -> dict[str, np.ndarray]:
 
 def clearance(domain, p: np.ndarray) -> np.ndarray:
     """The signed distance to the body's boundary (positive inside)."""
+    if is_step(domain):
+        return domain.clearance(np.atleast_2d(p))
     return np.min(np.stack(list(face_distances(domain, p).values())), axis=0)
 
 
@@ -58,7 +75,7 @@ def on_surface(domain, p: np.ndarray, size: float) -> np.ndarray:
 
 def crosses(domain, crack) -> bool:
     """Whether the crack's outline leaves the body (the crack reaches the surface)."""
-    return bool(clearance(domain, crack.outline(512)).min() < 0.0)
+    return bool(clearance(domain, crack.outline(samples(domain, 512))).min() < 0.0)
 
 
 def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
@@ -69,14 +86,7 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
     lies partly inside; the body beyond a surface crack's front is at least LIGAMENT_FRONT_H front_h thick
     (`front_h()`, called only then): a thinner sliver the mesh cannot resolve."""
     gap = rtol * crack.size
-    outline = crack.outline(1024)
-    if not hasattr(domain, "lo") and not hasattr(domain, "axis"):  # a STEP part: cracks strictly inside, for now
-        near = float(np.min(domain.clearance(crack.outline(256))))
-        if near < gap:
-            where = "crosses it" if near < 0 else f"comes within {near:.3g} of it"
-            return (f"reaches or crosses the boundary (its outline {where}); in a STEP part a crack stays at least "
-                    f"{gap:.3g} ({rtol:g} of its size) inside (cracks reaching a STEP part's faces are a later step)")
-        return None
+    outline = crack.outline(samples(domain, 1024))
     dist = face_distances(domain, outline)
     crossed = [k for k, d in dist.items() if d.min() < 0]
     if crossed and crack.shape == "curve":
@@ -115,18 +125,19 @@ def inside_arcs(domain, crack) -> list[tuple[float, float]]:
     """The parametric intervals (phi0, phi1), phi0 < phi1 < phi0 + 2 pi, of a disc's or an ellipse's outline
     inside the body, each end refined by bisection to the face. Empty if the whole outline is outside; one
     interval (0, 2 pi) if the outline does not leave the body."""
-    phi = np.linspace(0.0, 2 * np.pi, ARC_SAMPLES, endpoint=False)
+    m = samples(domain, ARC_SAMPLES)
+    phi = np.linspace(0.0, 2 * np.pi, m, endpoint=False)
     inside = clearance(domain, _ellipse_point(crack, phi)) > 0
     if inside.all():
         return [(0.0, 2 * np.pi)]
     if not inside.any():
         return []
-    step = 2 * np.pi / ARC_SAMPLES
+    step = 2 * np.pi / m
     start = int(np.flatnonzero(~inside)[0])  # walk the circle from an outside sample
-    order = (start + np.arange(ARC_SAMPLES)) % ARC_SAMPLES
+    order = (start + np.arange(m)) % m
     arcs, first = [], None
-    for k in range(1, ARC_SAMPLES + 1):
-        prev, cur = inside[order[k - 1]], inside[order[k % ARC_SAMPLES]]
+    for k in range(1, m + 1):
+        prev, cur = inside[order[k - 1]], inside[order[k % m]]
         t = (start + k) * step  # the angle of sample k (unwrapped)
         if cur and not prev:
             first = _refine(domain, crack, t - step, t)
@@ -150,7 +161,7 @@ def clip_segment(domain, A: np.ndarray, B: np.ndarray) -> tuple[float, float] | 
     """The parameters (t0, t1) in [0, 1] of the part of the segment A B inside the body (None: outside).
 
     A box's section of a line is one interval; a cylinder's too (it is convex)."""
-    t = np.linspace(0.0, 1.0, 1025)
+    t = np.linspace(0.0, 1.0, samples(domain, 1024) + 1)
     inside = clearance(domain, A + np.outer(t, B - A)) > 0
     if not inside.any():
         return None
@@ -270,7 +281,7 @@ def surface_extrapolation(s: np.ndarray, values: np.ndarray, valid: np.ndarray, 
 def ligament(domain, crack, points: np.ndarray) -> float:
     """The least distance from the points (a front's) to the faces the crack does not cross: the body's
     thickness beyond the front, which a domain integral's tube must not span."""
-    crossed = {k for k, d in face_distances(domain, crack.outline(512)).items() if d.min() < 0}
+    crossed = {k for k, d in face_distances(domain, crack.outline(samples(domain, 512))).items() if d.min() < 0}
     rest = [d for k, d in face_distances(domain, points).items() if k not in crossed]
     return float(np.min(rest)) if rest else np.inf
 
@@ -284,7 +295,7 @@ def open_arcs(sol, base) -> list:
     out = []
     for phi0, phi1 in arcs:
         g = ArcFront(base, phi0, phi1)
-        g.ligament = ligament(domain, base.crack, base.point(np.linspace(phi0, phi1, 257)))
+        g.ligament = ligament(domain, base.crack, base.point(np.linspace(phi0, phi1, samples(domain, 256) + 1)))
         out.append(g)
     return out
 
