@@ -377,7 +377,6 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
     mp, xyz, w = _tube_points(sol, geom, R)
     phi, x1, x2, dphi_dx3 = geom.coordinates(xyz)
     s = geom.arc(phi)
-    r = np.hypot(x1, x2)
     radius_i = np.minimum(R, REACH_FRACTION * geom.reach(phi_i))
     # ahead of the front the tube stops short of a face the crack does not cross (the ligament): there q's
     # radial coordinate is stretched by `ahead` (q = 0 from REACH_FRACTION of the ligament on)

@@ -42,6 +42,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, check_max_dof, memory_limits
 from ..core.memory import format_bytes as _bytes
+from .surface import inside_measures
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
 TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 11.31, 5.30
@@ -84,8 +85,9 @@ def density_parts(scene, maxh=None, crack_h=None, front_h=None, grading=None) ->
     hc = min(s["crack_h"], H)
     h0 = min(s["front_h"], hc)
     V = _volume(scene.domain)
-    A = sum(float(c.area) for c in scene.cracks)
-    L = sum(front_length(c) for c in scene.cracks)
+    inside = [inside_measures(scene.domain, c) for c in scene.cracks]  # a surface crack: its part inside the body
+    A = sum(m[1] for m in inside)
+    L = sum(m[2] for m in inside)
     parts = {"maxh": V / H ** 3, "crack_h": 0.0, "front_h": 0.0}
     if A > 0:
         D = min((H - hc) / g, V / (2.0 * A))

@@ -21,6 +21,10 @@ ARC_SAMPLES = 4096
 ARC_BISECTIONS = 40
 #: outline samples on a STEP part (OCC's distance takes a few ms a point; ARC_BISECTIONS refine the ends as on a box)
 STEP_SAMPLES = 128
+#: outline samples measuring a crack's part inside the body (`inside_measures`), and the measures kept
+MEASURE_SAMPLES, MEASURE_CACHE = 512, 256
+#: grid points per side measuring the area of a crack's part inside a box or a cylinder (`inside_measures`)
+MEASURE_GRID = 400
 #: a point within this fraction of the body's size of a face is on it (an edge of the clipped crack on the surface)
 ON_SURFACE_RTOL = 1e-7
 #: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
@@ -114,6 +118,54 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
         return (f"comes within {d.min():.3g} of face {k} without crossing it; keep at least {gap:.3g} "
                 f"({rtol:g} of its size) inside a face, or let it cross the face by as much (a surface crack)")
     return None
+
+
+_MEASURES: dict = {}
+
+
+def inside_measures(domain, crack, n: int = MEASURE_SAMPLES) -> tuple[float, float, float]:
+    """(diameter, area, front length) of the crack's part inside the body: the whole crack's if it stays inside,
+    else from n outline samples (at most STEP_SAMPLES on a STEP part), the mouth closed by chords. The default mesh
+    sizes (the diameter) and the size guard (the area and the front's length) use them: a semi-elliptical crack
+    has half its ellipse's area and front, a corner crack a quarter."""
+    key = (id(domain), id(crack), n)
+    hit = _MEASURES.get(key)
+    if hit is not None and hit[0] is domain and hit[1] is crack:
+        return hit[2]
+    p = crack.outline(samples(domain, n))
+    inside = clearance(domain, p) > 0
+    seg = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+    if inside.all():
+        out = (float(crack.size), float(crack.area), float(seg.sum()))
+    elif not inside.any():
+        out = (0.0, 0.0, 0.0)
+    else:
+        q = p[inside]
+        diameter = float(np.max(np.linalg.norm(q[:, None] - q[None], axis=-1)))
+        out = (diameter, _inside_area(domain, crack), float(seg[inside & np.roll(inside, -1)].sum()))
+    if len(_MEASURES) > MEASURE_CACHE:
+        _MEASURES.clear()
+    _MEASURES[key] = (domain, crack, out)
+    return out
+
+
+def _inside_area(domain, crack) -> float:
+    """The area of the crack's part inside the body: OCC's on a STEP part (the crack's face cut by the solid),
+    else a grid of MEASURE_GRID^2 points over the crack (the clearance is numpy's)."""
+    if is_step(domain):
+        from .geometry import _occ_crack
+
+        return float(sum(f.mass for f in (_occ_crack(crack) * domain.occ_shape()).faces))
+    import shapely
+
+    uv = _plane_outline(crack, 1024)
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    m = MEASURE_GRID
+    u, v = np.meshgrid(lo[0] + (np.arange(m) + 0.5) * (hi[0] - lo[0]) / m, lo[1] + (np.arange(m) + 0.5) * (hi[1] - lo[1]) / m)
+    u, v = u.ravel(), v.ravel()
+    p = crack.center + np.multiply.outer(u, crack.e_a) + np.multiply.outer(v, crack.e_b)
+    keep = shapely.contains_xy(shapely.Polygon(uv), u, v) & (clearance(domain, p) > 0)
+    return float(keep.sum() * np.prod(hi - lo) / m ** 2)
 
 
 def _ellipse_point(crack, phi):
