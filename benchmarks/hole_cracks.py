@@ -1,8 +1,8 @@
 """Cracks at a hole in a STEP plate: a through crack against Bowie, corner cracks against Newman-Raju.
 
     python benchmarks/hole_cracks.py            # writes examples/hole-plate.step
-    python benchmarks/hole_cracks.py --solve    # ... and solves examples/hole-through-crack.toml and
-                                                # examples/hole-corner-cracks.toml, printing K_I along the fronts
+    python benchmarks/hole_cracks.py --solve [--plot OUT.png]   # ... and solves examples/hole-through-crack.toml
+                                        # and examples/hole-corner-cracks.toml, printing K_I along the fronts
 
 The plate (written with netgen.occ, faces named ``left`` (x = -W), ``right``, ``front`` (y = -W),
 ``back``, ``bottom`` (z = 0), ``top`` (z = t) and ``hole``) is 2W x 2W x t with W = 12 r, t = r, and a
@@ -86,24 +86,67 @@ def corner_rows(sol, a: float = 0.5 * RADIUS) -> list[tuple[int, float, float, f
     return rows
 
 
+def plot(out: str, rows: list, bowie_rows: list) -> None:
+    """K_I along the corner cracks' fronts against Newman-Raju's (with their stated 5%), and the through crack's
+    along the thickness against Bowie's plane value."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ngcrack.studies.newman_raju import STATED_ACCURACY, bowie_F, hole_corner_cracks_K
+
+    a = 0.5 * RADIUS
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.6))
+    fine = np.linspace(0.0, 0.5 * math.pi, 91)
+    ref = hole_corner_cracks_K(1.0, a, a, THICKNESS, RADIUS, HALF_WIDTH, fine)
+    ax.plot(np.degrees(fine), ref, "k-", label="Newman-Raju, two corner cracks at a hole")
+    ax.fill_between(np.degrees(fine), (1 - STATED_ACCURACY) * ref, (1 + STATED_ACCURACY) * ref, color="0.85",
+                    label="their stated accuracy, 5%")
+    for i, mark in ((0, "o"), (1, "x")):
+        pts = [(p, k) for j, p, k, _ in rows if j == i]
+        inner = [(p, k) for p, k in pts if 0.5 < p < 89.5]
+        ends = [(p, k) for p, k in pts if not 0.5 < p < 89.5]
+        ax.plot(*zip(*inner), mark, label=f"ngcrack, crack {i}")
+        ax.plot(*zip(*ends), "s", mfc="none", color="C2", label="surface points (value inside)" if i == 0 else None)
+    ax.set_xlabel("phi (deg): 0 on the plate's face, 90 on the bore")
+    ax.set_ylabel("K_I / (S sqrt(m))")
+    ax.set_title("corner cracks a = c = r/2, a/t = 0.5", fontsize=10)
+    ax.legend(fontsize=7)
+    z, k = zip(*[(zz, kk) for zz, kk, _ in bowie_rows])
+    bx.plot(z, k, "o-", label="ngcrack")
+    bx.axhline(math.sqrt(math.pi * a) * float(bowie_F(a / RADIUS)), color="k", label="Bowie (plane), F(0.5) = 1.73")
+    bx.set_xlabel("z / t")
+    bx.set_ylabel("K_I / (S sqrt(m))")
+    bx.set_title("through crack a = r/2", fontsize=10)
+    bx.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--solve", action="store_true", help="solve both example scenes and print K_I along the fronts")
     ap.add_argument("--order", type=int, default=1)
+    ap.add_argument("--plot", metavar="OUT.png", help="with --solve: also draw K_I along the fronts against the references")
     args = ap.parse_args()
     print(f"wrote {write_step()}")
     if not args.solve:
         return
     sol, cpu = solve(THROUGH, args.order)
+    bowie_rows = through_rows(sol)
     print(f"\nthrough crack a = r/2: {sol.ndof['total']:,} unknowns, {cpu:.1f} CPU s")
     print("| z / t | K_I | K_I / Bowie |\n|---|---|---|")
-    for z, k, ratio in through_rows(sol):
+    for z, k, ratio in bowie_rows:
         print(f"| {z:.3f} | {k:.4f} | {ratio:.4f} |")
     sol, cpu = solve(CORNER, args.order)
+    rows = corner_rows(sol)
     print(f"\ntwo corner cracks a = c = r/2: {sol.ndof['total']:,} unknowns, {cpu:.1f} CPU s")
     print("| crack | phi (deg) | K_I | K_I / Newman-Raju |\n|---|---|---|---|")
-    for i, p, k, ratio in corner_rows(sol):
+    for i, p, k, ratio in rows:
         print(f"| {i} | {p:.1f} | {k:.4f} | {ratio:.4f} |")
+    if args.plot:
+        plot(args.plot, rows, bowie_rows)
 
 
 if __name__ == "__main__":

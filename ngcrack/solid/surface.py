@@ -142,7 +142,8 @@ def inside_measures(domain, crack, n: int = MEASURE_SAMPLES) -> tuple[float, flo
     else:
         q = p[inside]
         diameter = float(np.max(np.linalg.norm(q[:, None] - q[None], axis=-1)))
-        out = (diameter, _inside_area(domain, crack), float(seg[inside & np.roll(inside, -1)].sum()))
+        both, one = inside & np.roll(inside, -1), inside ^ np.roll(inside, -1)  # a crossing segment: half of it
+        out = (diameter, _inside_area(domain, crack), float(seg[both].sum() + 0.5 * seg[one].sum()))
     if len(_MEASURES) > MEASURE_CACHE:
         _MEASURES.clear()
     _MEASURES[key] = (domain, crack, out)
