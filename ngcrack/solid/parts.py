@@ -21,7 +21,11 @@ check of the supports) and, for a point support, the planar face a point lies on
 normal and the room around the point on that face (`face_at`).
 
 For a STEP part the clearance is OpenCascade's distance from each point to the solid
-(outside) and to its nearest face (inside): exact for the part as the file describes it.
+(outside) and to its nearest face (inside): exact for the part as the file describes it,
+except that OCC counts a point within about 1e-3 of a face as outside; `face_distances` gives
+the distance to each label's faces (negative, at a point outside, for the label nearest to it),
+which is how a crack crossing a part's free faces (a corner crack at a hole) is checked and
+where its front's ligament is measured (``ngcrack.solid.surface``).
 """
 
 from __future__ import annotations

@@ -8,7 +8,11 @@ module holds the geometry of that clipping in plain numpy, for the scene's check
 and the fronts (``ngcrack.solid.front`` wraps a closed front into an :class:`ArcFront`).
 
 The domain is duck-typed: a box has ``lo`` and ``hi``, a cylinder ``center``, ``axis``,
-``radius`` and ``height`` (``ngcrack.solid.scene.Box`` and ``Cylinder``).
+``radius`` and ``height`` (``ngcrack.solid.scene.Box`` and ``Cylinder``), a STEP part
+(``ngcrack.solid.parts.StepPart``) its own ``clearance`` and ``face_distances`` (OCC's, a few ms
+a point: its outlines are sampled at STEP_SAMPLES points, each end of an arc still refined by
+bisection). `inside_measures` gives the diameter, area and front length of a crack's part inside
+the body, for the default mesh sizes and the size guard.
 """
 
 from __future__ import annotations
