@@ -158,9 +158,7 @@ def _inside_area(domain, crack) -> float:
     """The area of the crack's part inside the body: OCC's on a STEP part (the crack's face cut by the solid),
     else a grid of MEASURE_GRID^2 points over the crack (the clearance is numpy's)."""
     if is_step(domain):
-        from .geometry import _occ_crack
-
-        return float(sum(f.mass for f in (_occ_crack(crack) * domain.occ_shape()).faces))
+        return float(sum(f.mass for f in (_occ_face(crack) * domain.occ_shape()).faces))
     import shapely
 
     uv = _plane_outline(crack, 1024)
@@ -171,6 +169,19 @@ def _inside_area(domain, crack) -> float:
     p = crack.center + np.multiply.outer(u, crack.e_a) + np.multiply.outer(v, crack.e_b)
     keep = shapely.contains_xy(shapely.Polygon(uv), u, v) & (clearance(domain, p) > 0)
     return float(keep.sum() * np.prod(hi - lo) / m ** 2)
+
+
+def _occ_face(crack):
+    """The crack's plane face in OCC (a disc, an ellipse or a polygon: the shapes that may cross a face)."""
+    from netgen import occ
+
+    if crack.shape == "polygon":
+        pts = [occ.Pnt(*p) for p in crack.points]
+        return occ.Face(occ.Wire([occ.Segment(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]))
+    a, b = crack.semi_axes
+    major, (a, b) = (crack.e_a, (a, b)) if a >= b else (crack.e_b, (b, a))
+    wp = occ.WorkPlane(occ.Axes(tuple(crack.center), n=occ.Dir(*crack.normal), h=occ.Dir(*major)))
+    return (wp.Circle(a) if a == b else wp.Ellipse(a, b)).Face()
 
 
 def _ellipse_point(crack, phi):
