@@ -56,6 +56,10 @@ def test_a_surface_crack_measures_half_its_ellipse():
 def test_corner_cracks_at_a_hole_against_newman_raju(corner):
     sol = nc.solve(corner.with_(front_h=0.125, crack_h=0.25, maxh=3.0))
     assert len(sol.fronts) == 2 and sol.kkt["max_penetration"] < 1e-8
+    # the summaries probe each crack's faces towards its own centre (the mean over both lies in the hole)
+    for summary in sol.to_json_dict()["cracks"]:
+        assert summary["area"] == pytest.approx(0.25 * math.pi * A ** 2, rel=1e-4) and summary["closed_fraction"] == 0
+        assert 0 < summary["max_sliding"] < 0.1 * summary["max_opening"]
     for f in sol.fronts:
         phi = np.arctan2((T - f.points[:, 2]) / A, (np.abs(f.points[:, 1]) - R) / A)
         assert phi.min() == pytest.approx(0.0, abs=5e-3) and phi.max() == pytest.approx(0.5 * math.pi, abs=5e-3)
