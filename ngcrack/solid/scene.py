@@ -58,7 +58,7 @@ from .parts import (  # noqa: F401  (re-exported: the domains' names)
     vector3,
 )
 from .points import PointCondition3, held_directions, points_from_list, rigid_rows  # noqa: F401
-from .surface import face_problem
+from .surface import face_problem, inside_measures
 
 SHAPES = ("disc", "ellipse", "polygon", "curve")
 BOUNDARY_TYPES = ("clamped", "displacement", "roller", "traction")
@@ -447,7 +447,7 @@ class SolidScene(Scene, dimension=3):
 
     def mesh_sizes(self, maxh=None, crack_h=None, front_h=None, grading=None) -> dict[str, float]:
         """maxh, crack_h, front_h, grading: the arguments, else the scene's, else the defaults."""
-        crack = min((c.size for c in self.cracks), default=self.size)
+        crack = min((inside_measures(self.domain, c)[0] for c in self.cracks), default=self.size)  # the parts inside
         maxh = maxh or self.maxh or min(DEFAULT_MAXH_RTOL * self.size, DEFAULT_MAXH_CRACK_RTOL * crack)
         crack_h = crack_h or self.crack_h or min(DEFAULT_CRACK_H_RTOL * crack, maxh)
         front_h = front_h or self.front_h or min(DEFAULT_FRONT_H_RTOL * crack, crack_h)

@@ -47,6 +47,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, check_max_dof, memory_limits
 from ..core.memory import format_bytes as _bytes
+from .surface import inside_measures
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
 TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 24.67, 4.46
@@ -86,8 +87,6 @@ NEAR_H_FACTOR = 1.25
 NEAR_H_FLOOR_RTOL = 0.25
 #: ... in the ball around the crack's centre of this many times its half size (its radius for a disc)
 NEAR_RADIUS = 2.0
-#: points per curve of a crack's outline when its front's length is measured
-OUTLINE_POINTS = 512
 #: points of the trapezoidal rule over the shell around a crack's near ball
 SHELL_POINTS = 256
 
@@ -112,12 +111,6 @@ def _volume(domain) -> float:
     if hasattr(domain, "lo"):
         return float(np.prod(np.asarray(domain.hi) - np.asarray(domain.lo)))
     return float(math.pi * domain.radius ** 2 * domain.height)
-
-
-def front_length(crack) -> float:
-    """The length of a crack's front (its outline's perimeter)."""
-    p = crack.outline(OUTLINE_POINTS)
-    return float(np.sum(np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)))
 
 
 def _near_ball(crack, hc: float, H: float, g: float, V: float) -> tuple[float, float]:
@@ -149,7 +142,7 @@ def density_parts(scene, maxh=None, crack_h=None, front_h=None, grading=None) ->
     V = _volume(scene.domain)
     parts = {"maxh": V / H ** 3, "crack_h": 0.0, "front_h": 0.0, "near": 0.0}
     for c in scene.cracks:
-        A, L = float(c.area), front_length(c)
+        _, A, L = inside_measures(scene.domain, c)  # a surface crack: its part inside the body
         Hb, near = _near_ball(c, hc, H, g, V)
         parts["near"] += near
         if A > 0 and hc < Hb:
