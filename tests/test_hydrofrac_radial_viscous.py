@@ -158,3 +158,13 @@ def test_viscous_penny_against_m_vertex():
         if s["step"] >= 1:
             assert abs(s["radius"] / ref["R"] - 1) < 1.5e-2, s["radius"] / ref["R"] - 1
             assert abs(s["opening_at_injection"] / ref["w0"] - 1) < 5e-2, s["opening_at_injection"] / ref["w0"] - 1
+
+
+def test_viscous_penny_refuses_a_displacement_element():
+    """The viscous radial model needs the mixed element (its crack unknowns are what a face pressure loads):
+    refused by name before any meshing."""
+    import ngcrack as nc
+    from ngcrack.core.errors import InputError
+
+    with pytest.raises(InputError, match="element = 'h1p1'.*tdnns"):
+        nc.hydrofrac(coarse_penny(), rate=Q0, K_Ic=1e4, da=0.1, steps=1, viscosity=1e-3, element="h1p1")
