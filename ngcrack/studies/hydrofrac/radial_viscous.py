@@ -36,8 +36,10 @@ from .radial import (
 from .radial_elastic import ring_elastic
 from .radial_flow import Rings, carried_over, radial_step, ring_tip_mean
 
-#: the fluid's rings over the disc (equal widths): the M-vertex's R within 0.4% with 12 rings and an exact
-#: axisymmetric compliance, 0.3-0.6% with 6 (measured); the 3D compliance needs the crack's mesh to resolve them
+#: the fluid's rings over the disc (equal widths): the M-vertex's R within 0.42% with 10 rings and Sneddon's exact
+#: axisymmetric compliance, 0.28-0.56% with 6, from the second step on (measured); the 3D compliance needs the
+#: crack's mesh to resolve them (on the default penny mesh, 2-3 elements along the radius, their mean openings
+#: under a uniform pressure scatter by -9..+1% about Sneddon's)
 RADIAL_RINGS = 10
 #: the first step's front speed FIRST_GROWTH R / t (the M-vertex's R ~ t^(4/9); at the K-vertex the speed
 #: does not enter the tip asymptote)
