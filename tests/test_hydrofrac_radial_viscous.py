@@ -168,3 +168,17 @@ def test_viscous_penny_refuses_a_displacement_element():
 
     with pytest.raises(InputError, match="element = 'h1p1'.*tdnns"):
         nc.hydrofrac(coarse_penny(), rate=Q0, K_Ic=1e4, da=0.1, steps=1, viscosity=1e-3, element="h1p1")
+
+
+def test_flow_with_leakoff_reaches_the_storage_free_radius():
+    """Leak-off dominating (C_L = 3e-4 m/s^1/2, efficiency 3% to 1.6%): from the third step on R within 1.5% of the
+    storage-free R = (Q0^2 t / C_L^2)^(1/4) / pi (measured 0.6-1.0% below); stored + leaked = injected to
+    round-off at every step."""
+    from ngcrack.studies.hydrofrac.radial import carter_radius
+
+    C_L = 3e-4
+    for k, (R, rings, st) in enumerate(run_flow(1e-3, 1e6, steps=5, C_L=C_L)):
+        assert abs((rings.area @ st.w + st.leaked) / (Q0 * st.t) - 1) < 1e-12
+        assert st.efficiency < 0.05
+        if k >= 2:
+            assert abs(R / carter_radius(st.t, Q0, C_L) - 1) < 1.5e-2
