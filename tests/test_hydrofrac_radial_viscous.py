@@ -141,19 +141,30 @@ def test_ring_compliance_from_the_3d_solve():
 
 
 @pytest.mark.slow
-def test_viscous_penny_against_m_vertex():
-    """The viscous radial model on a coarse penny (crack_h 0.4 R, front_h 0.2 R, a box of side 10 R), K about
-    0.008: R within 1.5% and the centre's opening within 5% of the M-vertex from the second step on (the
-    benchmark's box of side 20 R: +0.56% and -3.45% at the second step), the crack's volume the injected one to round-off, the contract's keys."""
-    import ngcrack as nc
-    from ngcrack.studies.hydrofrac.result import FLUID_KEYS, RADIAL_KEYS
+def test_viscous_penny_against_m_vertex(tmp_path):
+    """`ngcrack hydrofrac SCENE3D --viscosity MU` on a coarse penny (crack_h 0.4 R, front_h 0.2 R, a box of side
+    10 R), K about 0.008: R within 1.5% and the centre's opening within 5% of the M-vertex from the second step on
+    (the benchmark's box of side 20 R: +0.56% and -3.45% at the second step), the crack's volume the injected one
+    to round-off, the JSON contract's keys."""
+    import json
 
-    res = nc.hydrofrac(coarse_penny(mesh=(5.0, 0.4, 0.2)), rate=Q0, K_Ic=1e4, da=0.1, steps=2, viscosity=1e-3)
-    assert res.model == "viscous" and res.stopped.startswith("steps")
-    for s in res.steps:
+    from ngcrack.shell.cli import main
+    from ngcrack.studies.hydrofrac.radial_viscous import RADIAL_RINGS
+    from ngcrack.studies.hydrofrac.result import FLUID_KEYS, RADIAL_KEYS, STEP_KEYS
+
+    scene = tmp_path / "penny.toml"
+    scene.write_text(coarse_penny(mesh=(5.0, 0.4, 0.2)).to_toml_string())
+    out = tmp_path / "radial.json"
+    argv = ["hydrofrac", str(scene), "--rate", str(Q0), "--K-Ic", "1e4", "--viscosity", "1e-3", "--da", "0.1",
+            "--steps", "2", "--json", str(out)]
+    assert main(argv) == 0
+    data = json.loads(out.read_text())
+    assert data["model"] == "viscous" and data["stopped"].startswith("steps") and data["dimension"] == 3
+    for s in data["steps"]:
         ref = m_vertex_radial(s["time"], E_PRIME, 1e-3, Q0)
         assert abs(s["volume"] / (Q0 * s["time"]) - 1) < 1e-12
-        assert all(k in s for k in FLUID_KEYS + RADIAL_KEYS) and s["K_m"] < 0.02
+        assert all(k in s for k in STEP_KEYS + FLUID_KEYS + RADIAL_KEYS) and s["K_m"] < 0.02
+        assert len(s["profile"]["pressure"]) == RADIAL_RINGS and s["efficiency"] == 1.0
         assert all(t["advanced"] for t in s["tips"])
         if s["step"] >= 1:
             assert abs(s["radius"] / ref["R"] - 1) < 1.5e-2, s["radius"] / ref["R"] - 1
