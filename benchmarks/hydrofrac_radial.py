@@ -2,7 +2,7 @@
 
     python benchmarks/hydrofrac_radial.py [--steps N] [--figure OUT.png]
     python benchmarks/hydrofrac_radial.py --leakoff C_L [--steps N]
-    python benchmarks/hydrofrac_radial.py --viscosity MU [--K-Ic K] [--steps N] [--crack-h H --front-h H]
+    python benchmarks/hydrofrac_radial.py --viscosity MU [--K-Ic K] [--steps N] [--crack-h H --front-h H] [--figure OUT.png]
 
 The built-in penny's body (a box of side 20 R0, rollers on three faces through a corner, R0 = 1)
 with E = 30 GPa, nu = 0.25, K_Ic = 1 MPa m^(1/2), Q0 = 1e-3 m^3/s, at its default mesh sizes
@@ -102,6 +102,44 @@ def viscous_run(args) -> None:
         rho = r / ref["R"]
         print(f"| {r:.3f} | {w * 1e3:.5f} | {float(m_opening(rho)) * ref['eps'] * ref['L'] * M_GAMMA * 1e3:.5f} | "
               f"{w3 * 1e3:.5f} | {p / 1e6:.4f} | {float(m_pressure(rho)) * ref['eps'] * Ep / 1e6:.4f} |")
+    if args.figure:
+        viscous_figure(res, Ep, args, args.figure)
+
+
+def viscous_figure(res, Ep: float, args, path: str) -> None:
+    """R against t with both vertices, and the last step's opening and pressure against the M-vertex's."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ngcrack.studies.hydrofrac.radial_viscous import M_GAMMA, m_opening, m_pressure, m_vertex_radial
+
+    t = np.array([s["time"] for s in res.steps])
+    tt = np.linspace(0.8 * t.min(), 1.1 * t.max(), 100)
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(12, 3.3), constrained_layout=True)
+    a1.plot(tt, m_vertex_radial(tt, Ep, args.viscosity, Q0)["R"], "-", label="M-vertex (Savitski-Detournay)")
+    a1.plot(tt, k_vertex_radial(tt, Ep, args.K_Ic, Q0)[0], "--", label="K-vertex")
+    a1.plot(t, [s["radius"] for s in res.steps], "o", label="ngcrack (3D, viscous)")
+    radii = [s["radius"] for s in res.steps]
+    a1.set(xlabel="t (s)", ylabel="R (m)", ylim=(0.8 * min(radii), 1.2 * max(radii)))  # the K-vertex may lie above
+    a1.legend(fontsize=8)
+    s = res.steps[-1]
+    ref = m_vertex_radial(s["time"], Ep, args.viscosity, Q0)
+    rho = np.linspace(0.0, 1.0, 200)[1:-1]
+    r = np.asarray(s["profile"]["s"])
+    a2.plot(rho * ref["R"], m_opening(rho) * ref["eps"] * ref["L"] * M_GAMMA * 1e3, "-", label="M-vertex")
+    a2.step(r, np.asarray(s["profile"]["opening"]) * 1e3, where="mid", label="rings' mean opening")
+    a2.plot(r, np.asarray(s["profile"]["opening_3d"]) * 1e3, "o", ms=3, label="3D opening")
+    a2.set(xlabel="r (m)", ylabel="opening (mm)", title=f"t = {s['time']:.3g} s", ylim=(0, None))
+    a2.legend(fontsize=8)
+    a3.plot(rho * ref["R"], m_pressure(rho) * ref["eps"] * Ep / 1e6, "-", label="M-vertex")
+    a3.step(r, np.asarray(s["profile"]["pressure"]) / 1e6, where="mid", label="rings' pressure")
+    top = float(np.max(s["profile"]["pressure"])) / 1e6
+    a3.set(xlabel="r (m)", ylabel="p (MPa)", ylim=(-0.3 * top, 1.3 * top))
+    a3.legend(fontsize=8)
+    fig.savefig(path, dpi=110)
+    print(f"\nwrote {path}")
 
 
 def main() -> None:

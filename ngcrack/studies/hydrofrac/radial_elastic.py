@@ -47,13 +47,15 @@ SYMMETRY_RTOL = 1e-8
 class RingElastic:
     """The elastic disc over the fluid's rings: `edges` (0 .. R), the compliance `C` (ring-mean opening per
     unit ring pressure), `w_is` (the other loads' opening), `K_unit` (the front's mean K_I under a unit
-    pressure alone), `scale` (the calibration, module docstring), the front's points, the solutions `Y`
-    ([b_is, B] solved) and what evaluates an opening at points (`opening_at`)."""
+    pressure alone) and `K_spread` (its (largest - least) / mean), `scale` (the calibration, module
+    docstring), the front's points, the solutions `Y` ([b_is, B] solved) and what evaluates an opening at
+    points (`opening_at`)."""
 
     edges: np.ndarray
     C: np.ndarray
     w_is: np.ndarray
     K_unit: float
+    K_spread: float
     scale: float
     front_points: np.ndarray
     ndof: int
@@ -162,5 +164,7 @@ def ring_elastic(pipe: Pipeline, scene, crack: int, edges: np.ndarray, options: 
     if not K_unit > 0:
         raise SolveError(f"a unit pressure does not open the front of crack {crack} (mean K_I = {K_unit:.4g})")
     scale = float(np.sum(C[-2])) / tip_mean(K_unit)
-    return RingElastic(edges=edges, C=C, w_is=w_is, K_unit=K_unit, scale=scale, front_points=np.asarray(front.points),
+    K_spread = float((np.max(front.K_I) - np.min(front.K_I)) / K_unit)
+    return RingElastic(edges=edges, C=C, w_is=w_is, K_unit=K_unit, K_spread=K_spread, scale=scale,
+                       front_points=np.asarray(front.points),
                        ndof=int(disc.fes.ndof), asymmetry=asym, Y=Y, system=system, crack=unit.cracks[crack], jn=disc.jn)

@@ -94,7 +94,7 @@ def viscous_radial_run(scene, schedule, K_Ic: float, da: float, steps: int, t_en
             break
         K_m = k_m_radial(st.t, K_Ic, E_prime, mu, schedule.largest_rate)
         row, frame = viscous_radial_record(n, el, rings, st, R, K_m, K_Ic, E_prime, fluid, da if state else FIRST_GROWTH * R,
-                                           previous, time.process_time() - t_cpu)
+                                           previous, time.process_time() - t_cpu, crack)
         result.add(row, frame, current)
         if progress is not None:
             progress(n, result)
@@ -116,15 +116,18 @@ def viscous_radial_run(scene, schedule, K_Ic: float, da: float, steps: int, t_en
     return result
 
 
-def viscous_radial_record(n, el, rings: Rings, st, R, K_m, K_Ic, E_prime, fluid, a, previous, elapsed) -> tuple:
-    """The step's JSON row and its frame (a section through the disc's centre along e_a: the 3D opening)."""
+def viscous_radial_record(n, el, rings: Rings, st, R, K_m, K_Ic, E_prime, fluid, a, previous, elapsed, crack=0) -> tuple:
+    """The step's JSON row and its frame (a section through the disc's centre along e_a: the rings' openings).
+    `kkt` is 0: the faces are open, no contact problem is solved (the flow's compliance is the free crack's);
+    `front` K_I is the asymptote's (`apparent_K`, the same at every point), `K_I_calibration_spread` the
+    front integral's scatter under the calibration's unit pressure (how far the front is from symmetric)."""
     from .flow import tip_speed
 
     c = el.crack
     w3d = el.opening_at(st.p, np.concatenate([[0.0], rings.mid]))
     K_app = apparent_K(rings, st.w, E_prime)
     V = tip_speed(a, st.dt, previous)
-    tips = [{"crack": 0, "end": k, "x": float(pt[0]), "y": float(pt[1]), "z": float(pt[2]), "K_I": K_app, "K_II": 0.0,
+    tips = [{"crack": crack, "end": k, "x": float(pt[0]), "y": float(pt[1]), "z": float(pt[2]), "K_I": K_app, "K_II": 0.0,
              "K_III": 0.0, "kink_deg": 0.0, "advanced": True} for k, pt in enumerate(el.front_points)]
     radius = float(np.mean(np.linalg.norm(el.front_points - c.center, axis=1)))
     volume = float(rings.area @ st.w)
@@ -133,7 +136,7 @@ def viscous_radial_record(n, el, rings: Rings, st, R, K_m, K_Ic, E_prime, fluid,
            "kkt": 0.0, "solves": len(rings.mid) + 1, "K_m": K_m, "efficiency": st.efficiency, "radius": radius,
            "leaked": float(st.leaked), "injected": float(st.injected), "dt": float(st.dt), "speed": float(V),
            "front": {"K_I_mean": K_app, "K_I_min": K_app, "K_I_max": K_app, "spread": 0.0,
-                     "K_I_calibration_spread": 0.0},
+                     "K_I_calibration_spread": el.K_spread},
            "tip_opening": float(tip_opening(float(rings.width[-1]), V, *fluid[:3], fluid[3])),
            "profile": {"s": rings.mid.tolist(), "opening": st.w.tolist(), "pressure": st.p.tolist(),
                        "opening_3d": w3d[1:].tolist()},
