@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 import ngcrack as nc
-from ngcrack.core.coulomb import CoulombStep, cone_forces, coulomb_loop
 from ngcrack.core.constraints import ContactSolverError
+from ngcrack.core.coulomb import CoulombStep, cone_forces, coulomb_loop
 from ngcrack.scenes.coarse3d import inclined_penny
 from ngcrack.solid.geometry import make_mesh
 from ngcrack.solid.scene import SolidScene
@@ -80,3 +80,18 @@ def test_coulomb_loop_stops_on_the_bound_and_reports_failure():
     with pytest.raises(ContactSolverError, match="toy iteration did not converge in 5 steps"):
         coulomb_loop(lambda g: CoulombStep(g, 1.0, changes=1), np.zeros(1), max_steps=5, bound_rtol=1e-12,
                      what="the toy iteration")
+
+
+@pytest.mark.parametrize("module", ["core/friction.py", "core/sparse_friction.py", "distributed/friction.py",
+                                    "distributed/solid_friction.py"])
+def test_every_frictional_solve_runs_the_shared_outer_loop(module):
+    """The four Coulomb solves (2D and 3D, serial and distributed) each call `coulomb_loop` once and keep no
+    outer loop of their own (no `while True`, no loop over a step count around their inner step)."""
+    import ast
+    import pathlib
+
+    tree = ast.parse((pathlib.Path(nc.__file__).parent / module).read_text())
+    calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "coulomb_loop"]
+    assert len(calls) == 1, module
+    endless = [n for n in ast.walk(tree) if isinstance(n, ast.While) and isinstance(n.test, ast.Constant) and n.test.value]
+    assert not endless, module

@@ -17,7 +17,7 @@ where lam_n < 0, a gap point enters where wn < 0; a sticking point slips where
 |lam_t| > tau, along lam_t; a slipping point sticks where wt runs against s) and tau
 from lam_n: a fixed point on the Coulomb threshold combined with the active-set steps,
 stopped when no rank changes a set and tau moved by less than COULOMB_RTOL of the largest
-lam_n.
+lam_n (the outer loop shared by every frictional solve: `core.coulomb.coulomb_loop`).
 """
 
 from __future__ import annotations

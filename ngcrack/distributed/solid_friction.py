@@ -21,11 +21,12 @@ linear solve by CG (`krylov.pcg`, whatever the preconditioner):
 
 After each step the sets are updated from the answer: a contact point leaves where its
 force is negative, a gap point enters where it penetrates; g from the contact points'
-forces; a sticking point slips where its friction force (the minimum-norm multipliers of
-B_S, read from the residual) leaves the cone, along that force; a slipping point sticks
+forces; a sticking point slips where its friction force (of the multipliers of B_S that
+balance the residual, the nearest the cone: `core.coulomb.cone_forces`) leaves the cone, along that force; a slipping point sticks
 where its slip turns against d, and takes the direction of its slip otherwise. The steps
 stop when no set changes, g has settled to BOUND_RTOL and the slip law holds to LAW_RTOL
-(relative to the largest normal force). The decisions on the friction points are taken
+(relative to the largest normal force): the outer loop is `core.coulomb.coulomb_loop`, the
+serial solves' own. The decisions on the friction points are taken
 on rank 0 and broadcast, so that every rank holds the same sets.
 
 (The 2D fixed point of `friction.py`, the slip direction lagged, did not converge in 3D:
@@ -39,7 +40,7 @@ from dataclasses import dataclass, field, fields
 import ngsolve as ngs
 import numpy as np
 
-from ..core.coulomb import STICK_RCOND, CoulombStep, coulomb_loop
+from ..core.coulomb import STICK_RCOND, CoulombStep, cone_forces, coulomb_loop
 from .friction import force_residual
 from .krylov import _DEBUG, Operator, hold, pcg
 
@@ -219,7 +220,7 @@ def _update(state: PointState, B: np.ndarray, s: np.ndarray, r_t: np.ndarray, g:
     lam_t = np.zeros((q, 2))
     rows = np.flatnonzero(np.repeat(state.stick, 2))
     if len(rows):
-        lam_t[state.stick] = np.linalg.lstsq(B[rows].T, -r_t, rcond=STICK_RCOND)[0].reshape(-1, 2)
+        lam_t[state.stick] = cone_forces(B[rows].T, r_t, g[state.stick])  # of the balancing forces, the nearest the cone
     lam_t[state.slip] = state.g[state.slip, None] * state.d[state.slip] + np.einsum(
         "qij,qj->qi", state.N()[state.slip], s[state.slip])
     norm_t, norm_s = np.linalg.norm(lam_t, axis=1), np.linalg.norm(s, axis=1)
