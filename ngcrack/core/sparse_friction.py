@@ -243,7 +243,10 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
         # the bound from the closed constraints' forces: an open one's force is zero but for the
         # residual's round-off, which would switch its face's bound on and off from step to step
         new_g = coulomb_bound(points, np.where(new_A, lam, 0.0))
-        if ns:  # the sticking forces: of those that balance the step's residual, the nearest the cone
+        new_lam_t[S_set] = mult.reshape(-1, 2)
+        if ns and np.any(np.linalg.norm(new_lam_t[S_set], axis=1) > new_g[S_set] + CONE_SLACK * max(
+                float(np.max(np.abs(lam), initial=0.0)), 1e-300)):
+            # the sticking forces leave the cone: of those that balance the step's residual, the nearest it
             r_f = Kf @ x_f - rhs
             cols = np.unique(BS.indices)
             new_lam_t[S_set] = cone_forces(BS[:, cols].toarray().T, r_f[cols], new_g[S_set], start=mult)
@@ -345,15 +348,18 @@ def sticking_forces(B: sp.csr_matrix, r: np.ndarray, stick: np.ndarray, g: np.nd
     """The sticking points' friction forces (|stick|, 2) that balance the residual `r` (the other forces in it):
     B_S' lam = -r on B_S's columns. B_S's rows are redundant (module docstring of `solid.friction_points`), so
     the forces are not unique: of them, the nearest the cones |lam_q| <= g_q (`coulomb.cone_forces`; without
-    `g` the minimum-norm ones). Both are defined by y alone, the same from any method that finds y."""
+    `g`, or when they lie in it, the minimum-norm ones). Both are defined by y alone, the same from any
+    method that finds y."""
     rows = np.flatnonzero(np.repeat(stick, 2))
     if not len(rows):
         return np.zeros((0, 2))
     BS = B[rows]
     cols = np.unique(BS.indices)
-    if g is not None:
-        return cone_forces(BS[:, cols].toarray().T, r[cols], np.asarray(g, dtype=float)[stick])
-    return np.linalg.lstsq(BS[:, cols].toarray().T, -r[cols], rcond=STICK_RCOND)[0].reshape(-1, 2)
+    lam = np.linalg.lstsq(BS[:, cols].toarray().T, -r[cols], rcond=STICK_RCOND)[0].reshape(-1, 2)
+    bound = None if g is None else np.asarray(g, dtype=float)[stick]
+    if bound is not None and np.any(np.linalg.norm(lam, axis=1) > bound * (1 + CONE_SLACK)):
+        return cone_forces(BS[:, cols].toarray().T, r[cols], bound, start=lam)
+    return lam
 
 
 def certificate(K: sp.spmatrix, F: np.ndarray, y: np.ndarray, w: np.ndarray, contact: np.ndarray, G,
