@@ -20,7 +20,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("core", "planar", "studies", "shell", "planar.materials", "core.memory", "core.parallel", "planar.quadrature",
                         "core.csr", "core.schur", "core.constraints", "core.contact",
-                     "shell.files", "core.errors", "shell.extras", "core.element_names", "solid", "core.sparse_contact", "core.sparse_friction")),
+                     "shell.files", "core.errors", "shell.extras", "core.element_names", "solid", "core.sparse_contact", "core.sparse_friction",
+                     "core.coulomb")),
     ("scene", ("core.fields", "core.scene", "planar.scene", "scenes", "studies.references", "planar.sizing", "planar.path_sizes", "solid.scene",
                "solid.parts", "solid.points", "solid.loads",
                "solid.curve")),
@@ -213,7 +214,7 @@ TWO_D = ("planar.scene", "scenes", "studies.references", "planar.sizing", "plana
 #: condensed system and the reduction, the crack problem (QP, friction), the KKT residuals,
 #: the stages, the options and the solution
 DIMENSION_FREE = ("core.errors", "core.memory", "core.parallel", "shell.files", "core.csr", "core.constraints", "core.contact",
-                  "core.schur", "core.crack_problem", "core.sparse_contact", "core.sparse_friction",
+                  "core.schur", "core.crack_problem", "core.sparse_contact", "core.sparse_friction", "core.coulomb",
                   "core.element_names", "core.discretization", "core.hybrid", "core.friction", "core.friction_setup",
                   "core.stages", "core.options", "core.solution")
 
