@@ -67,6 +67,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..planar.tips import williams_displacement, williams_dx1, williams_stress
+from .curve import ClosedArcs
 from .face_friction import face_friction
 from .face_pressure import face_pressure
 from .surface import bump_inside, open_arcs, open_sides, surface_take
@@ -97,6 +98,8 @@ REACH_FRACTION = 0.8
 DECONVOLVE, MIN_TRANSFER = True, 0.75
 #: quadrature order on the tetrahedra in the tube
 QUADRATURE_ORDER = 6
+#: angles of the table of arc lengths along a disc's or an ellipse's front
+ARC_TABLE_POINTS = 2000
 
 
 @dataclass
@@ -119,7 +122,7 @@ class FrontParameters:
 
 
 # ------------------------------------------------------------------------ front geometry
-class FrontGeometry:
+class FrontGeometry(ClosedArcs):
     """The front of a disc or an ellipse: points, frames and the coordinates of space points."""
 
     def __init__(self, crack):
@@ -127,34 +130,7 @@ class FrontGeometry:
         self.a, self.b = crack.semi_axes
         self.c = crack.center
         self.ea, self.eb, self.n = crack.e_a, crack.e_b, crack.normal
-        self._phis = np.linspace(0, 2 * np.pi, 2001)
-        mid = 0.5 * (self._phis[1:] + self._phis[:-1])
-        self._arc = np.concatenate([[0.0], np.cumsum(self.speed(mid) * np.diff(self._phis))])
-        #: the front's length (the front is closed: arc lengths wrap around it)
-        self.periodic = float(self._arc[-1])
-
-    def arc(self, phi):
-        """The arc length from phi = 0 to phi."""
-        return np.interp(np.asarray(phi) % (2 * np.pi), self._phis, self._arc)
-
-    def arc_unwrapped(self, phi):
-        """The arc length from phi = 0 to phi counted through every turn (increasing in phi)."""
-        phi = np.asarray(phi, dtype=float)
-        return np.floor(phi / (2 * np.pi)) * self.periodic + self.arc(phi)
-
-    def delta(self, s, s0):
-        """The arc length from s0 to s the short way round."""
-        P = self.periodic
-        return (s - s0 + 0.5 * P) % P - 0.5 * P
-
-    def stations(self, h: float, L: float, R: float, n_points: int | None):
-        """The front points: n equally spaced in arc length (default one per 2 h, 8 at least)."""
-        n = n_points or max(8, int(self.periodic / (2 * h)))
-        s_i = np.arange(n) * self.periodic / n
-        return np.interp(s_i, self._arc, self._phis), s_i
-
-    def within(self, phi, pad):
-        return np.ones(np.shape(phi), dtype=bool)
+        self._tabulate(ARC_TABLE_POINTS)
 
     def point(self, phi):
         return self.c + np.multiply.outer(self.a * np.cos(phi), self.ea) + np.multiply.outer(self.b * np.sin(phi), self.eb)
