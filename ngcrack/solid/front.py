@@ -66,6 +66,7 @@ import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..core.quadrature import DOMAIN_INTEGRAL_ORDER
 from ..planar.tips import williams_displacement, williams_dx1, williams_stress
 from .curve import ClosedArcs
 from .face_friction import face_friction
@@ -96,8 +97,8 @@ PLATEAU_FRACTION = 0.25
 REACH_FRACTION = 0.8
 #: undo the bump average along closed fronts (Fourier modes divided by the bump's transfer, at least MIN_TRANSFER)
 DECONVOLVE, MIN_TRANSFER = True, 0.75
-#: quadrature order on the tetrahedra in the tube
-QUADRATURE_ORDER = 6
+#: quadrature order on the tetrahedra in the tube (`ngcrack.core.quadrature`)
+QUADRATURE_ORDER = DOMAIN_INTEGRAL_ORDER
 #: angles of the table of arc lengths along a disc's or an ellipse's front
 ARC_TABLE_POINTS = 2000
 
