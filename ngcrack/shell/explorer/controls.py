@@ -54,9 +54,6 @@ SCALES = {"auto": "hold for load changes", "hold": "hold always", "fit": "fit ev
 #: the crack models as their menu shows them
 CRACK_MODEL_LABELS = {"contact": "contact (Signorini)", "free": "free (no contact)", "bonded": "bonded (faces glued)"}
 
-#: controls whose change keeps the held scales in "auto" (the rest re-fit them)
-HOLD_ON = frozenset({"load", "load_angle", "friction", "pressure", "crack_model", "magnification", "scales"})
-
 #: the finest mesh size offered gives at most this many unknowns (sizing.py's estimate)
 MAX_UNKNOWNS = 2.0e5
 #: decades of E around the starting value
