@@ -269,5 +269,5 @@ def test_a_front_reaching_a_face_or_another_crack_stops_the_run_by_name(where, r
     scene = SolidScene.from_dict(d)
     angles = np.linspace(0, 2 * np.pi, 16, endpoint=False)
     sol = SimpleNamespace(fronts=[SimpleNamespace(crack=0, angle=angles)])
-    new, why = _grown_scene(scene, sol, None, [np.full(16, 0.25)], 0.25, True)
+    new, why, _ = _grown_scene(scene, sol, None, [np.full(16, 0.25)], 0.25, True)
     assert new is None and why.startswith(reason), why

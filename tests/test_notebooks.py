@@ -38,6 +38,7 @@ NOTEBOOKS = [
     ("13-hydraulic-fracture.py", "KGD: l, p and w0 within", False),
     ("14-bending-and-holes.py", "Bending and holes: the reactions balance the load", False),
     ("15-fatigue-3d.py", "Elliptical fatigue crack: b/a rises", True),
+    ("16-surface-fatigue.py", "Surface fatigue crack: a/c", True),
 ]
 
 #: how many figures a notebook shows (a figure saved to a file must not switch the backend

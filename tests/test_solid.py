@@ -276,8 +276,7 @@ def test_2d_only_entry_points_refuse_a_3d_scene_by_name():
     from ngcrack.studies.growth import grow_study
 
     s = nc.scenes.load("penny")
-    calls = {"growth studies": lambda: grow_study(s, "nu", [0.2, 0.3], da=0.1, steps=1),
-             "volume control": lambda: nc.solve_volume(s, volume=0.1)}  # (nc.explore("penny") opens the 3D explorer)
+    calls = {"growth studies": lambda: grow_study(s, "nu", [0.2, 0.3], da=0.1, steps=1)}  # (nc.explore("penny") opens the 3D explorer)
     for what, call in calls.items():
         with pytest.raises(nc.InputError, match=f"scene 'penny' is 3D: {what} takes 2D scenes") as info:
             call()

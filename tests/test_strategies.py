@@ -81,3 +81,22 @@ def test_dense_and_sparse_agree_in_3d(monkeypatch, scene):
     K = [np.array([[f.K_I, f.K_II, f.K_III] for f in s.fronts]).ravel() for s in (dense, sparse)]
     assert _rel(*K) <= AGREE
     assert max(max(s.kkt.values()) for s in (dense, sparse)) <= KKT_ROUND_OFF
+
+
+def test_a_cvxpy_solver_on_the_3d_schur_complement_gives_the_native_answer(monkeypatch):
+    """The dense strategy takes any QP solver in 3D as in 2D: clarabel on the bent penny's crack QP (half
+    closed) ends, after the native polish, with the same closed points and K as pdas; above the dense
+    strategy's size the QP solver has no problem to solve and is refused by name."""
+    scene = SolidScene.from_dict(bent_penny())
+    native = solve_solid(scene)
+    other = solve_solid(scene, qp_solver="clarabel")
+    assert 0 < native.contact.active.sum() < len(native.contact.active)
+    assert np.array_equal(native.contact.active, other.contact.active)
+    K = [np.array([[f.K_I, f.K_II, f.K_III] for f in s.fronts]).ravel() for s in (native, other)]
+    assert _rel(*K) <= AGREE
+    assert max(other.kkt.values()) <= KKT_ROUND_OFF
+    monkeypatch.setattr(constraints, "SCHUR_MAX_M", 0)
+    with pytest.raises(InputError, match="qp_solver = 'clarabel'.*allowed value: pdas"):
+        solve_solid(scene, qp_solver="clarabel")
+    with pytest.raises(InputError, match="qp_solver = 'nope': allowed values are pdas"):
+        solve_solid(scene, qp_solver="nope")

@@ -66,3 +66,19 @@ def test_crack_volume_names_a_bad_index():
     with pytest.raises(nc.InputError, match=r"cracks = \[7\]: must be distinct crack indices 0..0"):
         nc.crack_volume(sol, [7])
     assert nc.crack_volume(sol, [0]) == nc.crack_volume(sol) > 0
+
+
+def test_volume_control_of_a_3d_crack():
+    """The same search on a 3D body: the penny's volume (the integral of the normal jump over its faces)
+    met to round-off by superposition of three solves on one mesh, at the pressure Sneddon's penny
+    predicts to within the coarse mesh's compliance error (V = 16 (sigma + p) a^3 / (3 E'), remote
+    tension sigma = 1; measured 4.9% at these sizes, -2.4% at the defaults)."""
+    s = nc.scenes.load("penny")
+    pipe = nc.Pipeline()
+    sol = nc.solve_volume(s, 0.01, pipeline=pipe, front_h=0.5, crack_h=1.0)
+    vc = sol.options["volume_control"]
+    assert vc["method"] == "superposition" and vc["solves"] == 3 and pipe.counts["mesh"] == 1
+    assert abs(nc.crack_volume(sol) / 0.01 - 1) < 1e-10
+    e_prime = s.material.E / (1 - s.material.nu ** 2)
+    sneddon = 16 * (1.0 + vc["pressure"]) / (3 * e_prime)
+    assert 0 < sneddon / 0.01 - 1 < 0.07

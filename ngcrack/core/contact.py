@@ -36,8 +36,8 @@ Solvers:
 
 Measured on crack QPs of the paper's scenes and griffith (m = 80-1838) and on random
 SPD instances up to m = 2000, cond 1e8 (the source repository's QP benchmark): pdas reaches a
-scaled KKT residual of 1e-15 in 1-16 steps and is the fastest everywhere (5 to 30
-times faster than the fastest cvxpy solver from m = 476 on); clarabel reaches 1e-8 to
+scaled KKT residual of 1e-15 in 1-16 steps and is the fastest everywhere (the
+timings: BENCHMARKS.md, the crack QP solvers); clarabel reaches 1e-8 to
 1e-11 on its own, osqp and scs 1e-5 to 1e-7 with their default tolerances; the plain
 Uzawa iteration needs O(cond(S)) steps (3400-15000 on the small crack QPs, more than
 20000 from cond 2e5 on), the accelerated one 250-1300.
@@ -145,7 +145,7 @@ class QPResult:
 
 
 #: up to this size spd_solve uses numpy's LU: a solve that needs no larger dense system
-#: then does not load scipy.linalg (0.05-0.09 s of CPU at import: its own BLAS)
+#: then does not load scipy.linalg and its own BLAS (BENCHMARKS.md, the start-up section)
 SMALL_DENSE = 200
 
 

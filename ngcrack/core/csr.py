@@ -1,8 +1,8 @@
 """A compressed sparse row matrix on numpy alone, for the condensed system of a small solve.
 
-`import scipy.sparse` costs a small solve 0.08-0.11 s of CPU (scipy 1.17 builds an
-array-API copy of numpy at import, which loads numpy.f2py, numpy.testing and
-numpy.random): as much as the solve. The 2D solve path needs only a few operations on
+`import scipy.sparse` costs a small solve about as much CPU as the solve itself (scipy
+builds an array-API copy of numpy at import, which loads numpy.f2py, numpy.testing and
+numpy.random; measured in BENCHMARKS.md, the start-up section). The 2D solve path needs only a few operations on
 the condensed matrix K and the change of basis T, and `CSR` gives exactly those on
 numpy arrays (NGSolve's own CSR arrays without a copy where possible):
 
@@ -231,7 +231,7 @@ def _product(data: np.ndarray, out_index: np.ndarray, in_index: np.ndarray, n_ou
 
 def distinct(a) -> np.ndarray:
     """The sorted distinct values of `a`: np.unique(a) without its test for a masked array,
-    which imports numpy.ma (0.02 s of CPU for a small solve) on first use."""
+    which imports numpy.ma on first use (BENCHMARKS.md, the start-up section)."""
     s = np.sort(np.asarray(a).ravel())
     keep = np.ones(len(s), dtype=bool)
     keep[1:] = s[1:] != s[:-1]

@@ -31,8 +31,6 @@ SOLID_DOMAINS = ("box", "cylinder", "step")
 #: what takes 2D scenes only for now, and why: the one place a capability refuses a 3D scene
 NOT_YET_3D = {
     "growth studies": "nc.grow grows one 3D scene; a study over a parameter of 3D growths is a later step",
-    "volume control": "the crack volume of a 3D crack is a later step",
-    "the crack volume": "the crack volume of a 3D crack is a later step",
 }
 
 

@@ -98,8 +98,8 @@ def _mkl() -> ctypes.CDLL | None:
 def _sequential_if_one_thread(lib: ctypes.CDLL) -> None:
     """MKL's sequential layer where the solves run on one thread (NGCRACK_THREADS or
     OMP_NUM_THREADS = 1) and MKL_THREADING_LAYER does not choose: the same factorization
-    without starting OpenMP, about 5 ms less on a small solve's first factorization
-    (measured: 0.015 against 0.020 s CPU at 2e3 unknowns). Decided once, when MKL loads."""
+    without starting OpenMP, which a small solve's first factorization notices. Decided once,
+    when MKL loads."""
     from .parallel import thread_count
 
     if os.environ.get("MKL_THREADING_LAYER") is None and thread_count() == 1:

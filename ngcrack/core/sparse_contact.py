@@ -48,6 +48,7 @@ import scipy.sparse as sp
 from . import constraints
 from .constraints import ContactSolverError, discrete_contact_forces, kkt_at_constraints
 from .csr import to_scipy
+from .errors import InputError
 from .schur import Factorization
 
 #: at most this many active-set steps
@@ -203,26 +204,35 @@ def _solve_schur(K, F, contact, G, A, linear_solver: str, max_iterations: int, t
     qp = solve_qp(data.S, data.b, G=G, solver=qp_solver, solver_options=qp_options, initial_active=A if A.any() else None)
     A = np.zeros(len(contact), dtype=bool)
     A[qp.active] = True
-    seen = set()
-    for it in range(1, max_iterations + 1):  # the QP's active set checked on the whole system's answer
+
+    def step(A):  # the QP's active set checked on the whole system's answer
         y, w = block.refined(A)
         lam = -block.residual(y)[1]
-        new = lam - c * w > 0
-        if np.array_equal(new, A):
-            break
-        key = new.tobytes()
-        if key in seen:
-            raise ContactSolverError(f"the active-set method cycles after {it} steps")
-        seen.add(key)
-        A = new
-    else:
-        raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
+        return lam - c * w > 0, (y, w)
+
+    A, it, (y, w) = _settle(A, step, max_iterations)
     t3 = time.perf_counter()
     lam, kkt = certificate(K, F, y, w, contact, G)
     t4 = time.perf_counter()
     timings = {"setup": t1 - t0, "factorize": t2 - t1, "factorizations": t2 - t1, "active_set": t3 - t2,
                "certificate": t4 - t3, "total": t4 - t0}
     return ContactResult(y, w, lam, A, qp.iterations + it - 1, kkt, timings, factorizations=1, method="schur")
+
+
+def _settle(A: np.ndarray, step, max_iterations: int):
+    """Iterate the active set A <- step(A)[0] until it is fixed: (A, the steps taken, the last step's
+    answer). ContactSolverError when a set comes back (a cycle) or after max_iterations steps."""
+    seen = set()
+    for it in range(1, max_iterations + 1):
+        new, answer = step(A)
+        if np.array_equal(new, A):
+            return A, it, answer
+        key = new.tobytes()
+        if key in seen:
+            raise ContactSolverError(f"the active-set method cycles after {it} steps")
+        seen.add(key)
+        A = new
+    raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
 
 
 def certificate(K, F, y, w, contact, G) -> tuple[np.ndarray, dict]:
@@ -250,34 +260,30 @@ def solve_contact(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G=None, *,
     A = _initial(active, m)
     if method == "schur" or (method == "auto" and 0 < m <= constraints.SCHUR_MAX_M):
         return _solve_schur(K, F, contact, G, A, linear_solver, max_iterations, t0, qp_solver, qp_options)
+    if qp_solver != "pdas":
+        raise InputError(f"qp_solver = {qp_solver!r}: this crack has {m} constrained unknowns, more than the "
+                         f"{constraints.SCHUR_MAX_M} whose Schur complement a QP solver is given; above that the "
+                         "sparse active set solves the contact (allowed value: pdas)")
     Kw, Fw, T = _transform(K, F, contact, G)
     diag = Kw.diagonal()[contact]
     if np.any(diag <= 0):
         raise ContactSolverError("the crack unknowns' stiffness is not positive: a part of the body is not held")
     t_setup = time.perf_counter() - t0
     t_fact = 0.0
-    x = np.zeros(n)
-    seen = set()
-    for it in range(1, max_iterations + 1):
+
+    def step(A):  # one factorization of the free block per active set
+        nonlocal t_fact
         free = np.ones(n, dtype=bool)
         free[contact[A]] = False
         t1 = time.perf_counter()
         Kf = Kw[free][:, free]
-        fac = Factorization(Kf, linear_solver)
-        x[:] = 0.0
-        x[free] = _refined(fac, Kf, Fw[free])
+        x = np.zeros(n)
+        x[free] = _refined(Factorization(Kf, linear_solver), Kf, Fw[free])
         t_fact += time.perf_counter() - t1
         lam = np.asarray(Kw[contact] @ x - Fw[contact])
-        new = lam - diag * x[contact] > 0
-        if np.array_equal(new, A):
-            break
-        key = new.tobytes()
-        if key in seen:
-            raise ContactSolverError(f"the active-set method cycles after {it} steps")
-        seen.add(key)
-        A = new
-    else:
-        raise ContactSolverError(f"the active-set method did not settle in {max_iterations} steps")
+        return lam - diag * x[contact] > 0, x
+
+    A, it, x = _settle(A, step, max_iterations)
     y = T @ x
     w = x[contact]
     lam, kkt = certificate(K, F, y, w, contact, G)

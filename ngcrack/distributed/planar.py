@@ -13,7 +13,6 @@ friction the tangential values join it (stick and slip sets, friction.py).
 
 from __future__ import annotations
 
-import sys
 import time
 
 import ngsolve as ngs
@@ -29,7 +28,7 @@ from .friction import FrictionSets, friction_loop
 from .gather import gather_to_rank0
 from .krylov import Operator, condensed_rhs, held_rows, hold, pcg
 from .mesh import MATCH_RTOL, TooFewElements, distribute
-from .world import MPIUnavailable, require_mpi
+from .world import MPIUnavailable, require_mpi, run_on_ranks
 
 #: active-set steps before the iteration is declared cycling
 MAX_ACTIVE_SET_STEPS = 60
@@ -111,13 +110,6 @@ class ActiveSet:
         return held_rows([(self.G[self.active], self.jn)], len(self.free))
 
 
-def _fail(comm, rank: int, exc: BaseException) -> None:
-    """One line on stderr and the whole communicator stopped: no rank waits for a dead one."""
-    sys.stderr.write(f"ngcrack: distributed solve failed on rank {rank}: {type(exc).__name__}: {exc}\n")
-    sys.stderr.flush()
-    comm.Abort(1)
-
-
 def solve(scene, options: SolveOptions | None = None):
     """One solve over the ranks of MPI_COMM_WORLD; the Solution on rank 0, None on the others."""
     from ..core.pipeline import Pipeline
@@ -126,26 +118,15 @@ def solve(scene, options: SolveOptions | None = None):
     comm = require_mpi()
     scene = load(scene) if isinstance(scene, str) else scene
     o = options if options is not None else SolveOptions()
-    # the checks run on every rank alike, before any communication: all fail alike; rank 0
-    # reports, the others leave quietly with the same status
-    try:
+
+    def check():
         Pipeline.check(scene, o)
         check_supported(scene, o)
-    except ValueError:
-        if comm.rank == 0:
-            raise
-        raise SystemExit(2) from None
-    if comm.size < 2:
-        raise MPIUnavailable("distributed solve: one MPI process; the serial solve is the one to use")
-    try:
-        return _solve(comm, scene, o)
-    except (TooFewElements, InputError):  # found alike on every rank (`agree`): rank 0 reports, no abort needed
-        if comm.rank == 0:
-            raise
-        raise SystemExit(2) from None
-    except Exception as exc:  # noqa: BLE001 -- any failure of one rank stops all of them
-        _fail(comm, comm.rank, exc)
-        raise
+        if comm.size < 2:
+            raise MPIUnavailable("distributed solve: one MPI process; the serial solve is the one to use")
+
+    # TooFewElements and InputError in the work are found alike on every rank (`agree`)
+    return run_on_ranks(comm, check, lambda: _solve(comm, scene, o), alike=(TooFewElements, InputError))
 
 
 def _solve(comm, scene, o: SolveOptions):

@@ -148,28 +148,18 @@ def solve_scene(scene, options=None):
 def solve(scene, opts: dict, preconditioner_kind: str | None = None):
     """The distributed 3D solve (module docstring): the SolidSolution on rank 0, None on the others.
     `opts`: the checked options of `solid.solve.check_options` with the mesh sizes."""
-    from .planar import _fail
-    from .world import require_mpi
+    from .world import require_mpi, run_on_ranks
 
     comm = require_mpi()
     kind = preconditioner_kind or default_preconditioner(comm.size)
-    try:  # alike on every rank, before any communication: rank 0 reports, the others leave quietly
+
+    def check():
         check_supported(scene, opts, comm.size)
         if kind not in PRECONDITIONERS:
             raise InputError(f"preconditioner = {kind!r}: allowed values are {', '.join(PRECONDITIONERS)}")
-    except ValueError:
-        if comm.rank == 0:
-            raise
-        raise SystemExit(2) from None
-    try:
-        return _solve(comm, scene, opts, kind)
-    except (TooFewTetrahedra, SplitCrackFace):  # found alike on every rank: rank 0 reports, no abort needed
-        if comm.rank == 0:
-            raise
-        raise SystemExit(2) from None
-    except Exception as exc:  # noqa: BLE001 -- any failure of one rank stops all of them
-        _fail(comm, comm.rank, exc)
-        raise
+
+    # a too coarse mesh or a split crack face is found alike on every rank
+    return run_on_ranks(comm, check, lambda: _solve(comm, scene, opts, kind), alike=(TooFewTetrahedra, SplitCrackFace))
 
 
 @dataclass

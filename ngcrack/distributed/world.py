@@ -2,8 +2,9 @@
 
 Read from the environment without importing MPI (`world_size`, `world_rank`, `active`), so that a
 serial run pays nothing; `require_mpi` imports mpi4py and checks NGSolve's MPI build; `refuse`
-reports a request every rank finds alike once, on rank 0; `same_exit` ends every rank of a command
-with rank 0's exit status.
+reports a request every rank finds alike once, on rank 0; `run_on_ranks` runs a solve's checks and
+work so that one rank's failure stops them all; `same_exit` ends every rank of a command with rank
+0's exit status.
 """
 
 from __future__ import annotations
@@ -96,3 +97,36 @@ def same_exit(code: int) -> int:
             comm.send(code, dest=other, tag=EXIT_TAG)
         return code
     return int(comm.recv(source=0, tag=EXIT_TAG)) if code == 0 else code
+
+
+def fail(comm, exc: BaseException) -> None:
+    """One line on stderr and the whole communicator stopped: no rank waits for a dead one."""
+    sys.stderr.write(f"ngcrack: distributed solve failed on rank {comm.rank}: {type(exc).__name__}: {exc}\n")
+    sys.stderr.flush()
+    comm.Abort(1)
+
+
+def run_on_ranks(comm, check, work, alike: tuple[type[BaseException], ...] = ()):
+    """`check()` then `work()` on every rank of `comm`, `work`'s answer returned.
+
+    The checks run alike on every rank before any communication, so a ValueError there is
+    found by all: rank 0 raises it, the others leave quietly with the same status (2). An
+    error of a type in `alike` during the work is found alike on every rank too (an agreed
+    refusal) and is reported the same way; any other failure of one rank stops the whole
+    communicator (`fail`) instead of leaving the others waiting for it.
+    """
+    try:
+        check()
+    except ValueError:
+        if comm.rank == 0:
+            raise
+        raise SystemExit(2) from None
+    try:
+        return work()
+    except alike:
+        if comm.rank == 0:
+            raise
+        raise SystemExit(2) from None
+    except Exception as exc:  # noqa: BLE001 -- any failure of one rank stops all of them
+        fail(comm, exc)
+        raise

@@ -21,8 +21,8 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
+from ..core import held_means as held
 from ..core.csr import CSR
-from ..core.hybrid import SUPPORT_RTOL
 from .geometry import boundary_region
 
 
@@ -51,37 +51,10 @@ def segment_mean(disc, gf: ngs.GridFunction, label: str, direction) -> float:
 
 def constraint_rows(disc, held_mean: dict, T: CSR, free: np.ndarray) -> tuple[np.ndarray, list]:
     """B (k x n) on the condensed unknowns y = the columns of T, and (label, direction) per row."""
-    a = disc.a
-    rows, names = [], []
-    for label in sorted(held_mean):
-        for d in held_mean[label]:
-            vec = ngs.BaseVector(disc.fes.ndof)
-            vec.FV().NumPy()[:] = segment_functional(disc, label, d)
-            vec.data += a.harmonic_extension_trans * vec
-            rows.append(disc.sign * (T.T @ vec.FV().NumPy()[free]))
-            names.append((label, tuple(float(c) for c in d)))
-    return np.array(rows).reshape(len(rows), T.shape[1]), names
+    return held.constraint_rows(disc, held_mean, T, free, segment_functional)
 
 
 def reactions(disc, gf: ngs.GridFunction, held_mean: dict) -> dict[str, tuple[float, float]]:
     """label -> the total force (Fx, Fy) the support exerts on the body, from the residual of the
-    solved system on the segment's dofs: sign (A x - f) = sum_d R_d l_d there, R_d the constraint's
-    multiplier. The segment's dofs are global (facet) unknowns, so their rows of the condensed
-    matrix with the condensed load f + E^T f give the full form's residual there (static
-    condensation is exact), at the cost of a few sparse rows instead of an application of the form."""
-    if not held_mean:
-        return {}
-    A = CSR.from_ngsolve(disc.a.mat)
-    fmod = disc.f.vec.CreateVector()
-    fmod.data = disc.f.vec
-    fmod.data += disc.a.harmonic_extension_trans * disc.f.vec
-    f, x = fmod.FV().NumPy(), gf.vec.FV().NumPy()
-    out = {}
-    for label, dirs in held_mean.items():
-        L = np.column_stack([disc.sign * segment_functional(disc, label, d) for d in dirs])
-        sup = np.flatnonzero(np.abs(L).max(axis=1) > SUPPORT_RTOL * np.abs(L).max())
-        r = disc.sign * (A[sup] @ x - f[sup])
-        R, *_ = np.linalg.lstsq(L[sup], r, rcond=None)
-        force = sum(Rd * np.asarray(d, float) for Rd, d in zip(R, dirs))
-        out[label] = (float(force[0]), float(force[1]))
-    return out
+    solved system on the segment's dofs (`ngcrack.core.held_means.reactions`)."""
+    return held.reactions(disc, gf, held_mean, segment_functional)

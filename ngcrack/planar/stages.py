@@ -9,6 +9,8 @@ of a planar solve (`post2d.PLANE`). `ngcrack.core.pipeline` caches each under it
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..core.discretization import Discretization, Loads
@@ -24,6 +26,7 @@ from .scene import BoundaryCondition, Scene
 from .scene.points import held_directions
 from .sizing import check_request
 from .solution import PlanarSolution
+from .tips import effective_modulus
 
 __all__ = ["BODY", "PLANAR", "PlanarBody", "check_pressure_determined", "check_supports", "geometry_key"]
 
@@ -114,6 +117,25 @@ class PlanarBody:
     def held_mean(self, scene: Scene) -> dict:
         """The pin and roller points' held means (label -> directions)."""
         return held_directions(scene.polygon, scene.labels, getattr(scene, "points", ()))
+
+    @staticmethod
+    def crack_volume(sol, cracks: list[int]) -> float:
+        """The area between the faces of the given cracks, per unit thickness: the sum over crack edges of the
+        mid-point normal jump times the edge length (exact for jumps linear on each edge: P0 and P1 jumps)."""
+        return float(sum(np.sum(sol.profiles[k].normal_jump * sol.crack_mesh.cracks[k].length) for k in cracks))
+
+    @staticmethod
+    def volume_compliance(scene: Scene, cracks: list[int]) -> float:
+        """dV/dp of the given cracks as one straight crack of their total length 2a in an infinite plate
+        (Sneddon: V = 2 pi a^2 p / E'): a scale for volume control's first pressure and its strain check."""
+        mat = scene.material
+        a = 0.5 * sum(scene.cracks[k].length for k in cracks)
+        return 2 * math.pi * a * a / effective_modulus(mat.E, mat.nu, mat.plane)
+
+    @staticmethod
+    def effective_modulus(scene: Scene) -> float:
+        """E' of the plane state: E in plane stress, E / (1 - nu^2) in plane strain."""
+        return effective_modulus(scene.material.E, scene.material.nu, scene.material.plane)
 
 
 

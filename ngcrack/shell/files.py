@@ -130,7 +130,6 @@ class Staged:
                 shutil.rmtree(tmp, ignore_errors=True)
                 forget_temporary(tmp)
 
-
     def _commit(self) -> None:
         """Rename every staged file into place; a signal meanwhile is held and raised after the last."""
         _commit["depth"] += 1

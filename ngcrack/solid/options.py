@@ -1,15 +1,19 @@
 """The options of a 3D solve: what a SolveOptions may ask of the solid body, checked before any meshing.
 
 `check_solid(scene, options)` refuses by name what a 3D scene cannot take (the planar body's own
-options, an element or order it has not, the bonded crack model, a QP solver other than the sparse
-active set, an estimate or friction with an element that has none); `solid_options(options)` is the
+options, an element or order it has not, the bonded crack model, an unknown QP solver, an estimate
+or friction with an element that has none). The QP solver solves the crack problem on the Schur
+complement (`ngcrack.core.sparse_contact`, up to `constraints.SCHUR_MAX_M` crack unknowns); the
+sparse active set above that size is its own method, so there only "pdas" is taken); `solid_options(options)` is the
 stages' dictionary of a checked request (`ngcrack.solid.stages.run_solid`).
 """
 
 from __future__ import annotations
 
+from ..core.contact import NATIVE_SOLVERS
 from ..core.errors import InputError
 from ..core.fields import is_finite
+from ..core.options import qp_solvers
 from . import h1
 from .element import ORDERS
 from .scene import SolidScene
@@ -45,8 +49,8 @@ def check_options(options: dict) -> dict:
     if model not in CRACK_MODELS:
         raise InputError(f"crack_model = {model!r}: allowed values in 3D are {', '.join(CRACK_MODELS)}")
     qp = options.get("qp_solver") or "pdas"
-    if qp != "pdas":
-        raise InputError(f"qp_solver = {qp!r}: 3D contact is solved by the sparse active set (allowed values: pdas)")
+    if qp not in NATIVE_SOLVERS and qp not in qp_solvers():
+        raise InputError(f"qp_solver = {qp!r}: allowed values are {', '.join(qp_solvers())}")
     for key in ("maxh", "crack_h", "front_h", "grading"):
         v = options.get(key)
         if v is not None and not (is_finite(v) and v > 0):
@@ -59,7 +63,7 @@ def check_options(options: dict) -> dict:
     if estimate and element not in ESTIMATES:
         raise InputError(f"estimate = True: 3D error estimates are for {', '.join(ESTIMATES)} only (element = "
                          f"{element!r}: its stress C eps(u) is not equilibrated)")
-    return {"element": element, "order": int(order), "crack_model": model, "estimate": estimate,
+    return {"element": element, "order": int(order), "crack_model": model, "estimate": estimate, "qp_solver": qp,
             "linear_solver": options.get("linear_solver") or "auto",
             "fronts": options.get("fronts", True), "front_points": options.get("front_points")}
 
@@ -91,7 +95,7 @@ def solid_options(options) -> dict:
     """The stages' options of a SolveOptions checked for the 3D body (`check_solid`), with the mesh sizes."""
     opts = check_options({"element": options.element, "order": options.order, "crack_model": options.crack_model,
                           "estimate": options.estimate, "linear_solver": options.linear_solver,
-                          "fronts": options.fronts, "front_points": options.front_points})
+                          "qp_solver": options.qp_solver, "fronts": options.fronts, "front_points": options.front_points})
     return {**opts, "maxh": options.maxh, "crack_h": options.crack_h, "front_h": options.front_h,
             "grading": options.grading}
 

@@ -14,8 +14,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from ..core.csr import CSR
-from ..core.hybrid import SUPPORT_RTOL
+from ..core import held_means as held
 
 
 def patch_area(mesh: ngs.Mesh, label: str) -> float:
@@ -42,37 +41,13 @@ def patch_mean(disc, gf: ngs.GridFunction, label: str, direction) -> float:
 
 def constraint_rows(disc, held_mean: dict, T, free: np.ndarray) -> tuple[np.ndarray, list]:
     """B (k x n) on the condensed unknowns y = the columns of T, and (label, direction) per row."""
-    rows, names = [], []
-    for label in sorted(held_mean):
-        for d in held_mean[label]:
-            vec = ngs.BaseVector(disc.fes.ndof)
-            vec.FV().NumPy()[:] = patch_functional(disc, label, d)
-            vec.data += disc.a.harmonic_extension_trans * vec
-            rows.append(disc.sign * (T.T @ vec.FV().NumPy()[free]))
-            names.append((label, tuple(float(c) for c in d)))
-    return np.array(rows).reshape(len(rows), T.shape[1]), names
+    return held.constraint_rows(disc, held_mean, T, free, patch_functional)
 
 
 def reactions(disc, gf: ngs.GridFunction, held_mean: dict) -> dict[str, tuple[float, float, float]]:
-    """label -> the total force (Fx, Fy, Fz) the support exerts on the body: its constraints' multipliers
-    from the residual sign (A x - f) = sum_d R_d l_d on the patch's unknowns (global: static condensation is
-    exact there), times the element's force unit."""
-    if not held_mean:
-        return {}
-    A = CSR.from_ngsolve(disc.a.mat)
-    fmod = disc.f.vec.CreateVector()
-    fmod.data = disc.f.vec
-    fmod.data += disc.a.harmonic_extension_trans * disc.f.vec
-    f, x = fmod.FV().NumPy(), gf.vec.FV().NumPy()
-    out = {}
-    for label, dirs in held_mean.items():
-        L = np.column_stack([disc.sign * patch_functional(disc, label, d) for d in dirs])
-        sup = np.flatnonzero(np.abs(L).max(axis=1) > SUPPORT_RTOL * np.abs(L).max())
-        r = disc.sign * (A[sup] @ x - f[sup])
-        R, *_ = np.linalg.lstsq(L[sup], r, rcond=None)
-        force = disc.force_unit * sum(Rd * np.asarray(d, float) for Rd, d in zip(R, dirs))
-        out[label] = tuple(float(c) for c in force)
-    return out
+    """label -> the total force (Fx, Fy, Fz) the support exerts on the body, in the element's force unit
+    (`ngcrack.core.held_means.reactions`)."""
+    return held.reactions(disc, gf, held_mean, patch_functional, disc.force_unit)
 
 
 def point_values(sol) -> dict[str, dict]:

@@ -452,7 +452,7 @@ class SolidScene(Scene, dimension=3):
                 "grading": float(grading or self.grading or DEFAULT_GRADING)}
 
     def with_(self, **changes: Any) -> SolidScene:
-        """The scene with E, nu, friction or pressure (every crack) or a mesh size changed, validated again."""
+        """The scene with E, nu, friction or pressure (every crack), its cracks or a mesh size changed, validated again."""
         d = self.to_dict()
         for key, value in changes.items():
             if key in ("E", "nu"):
@@ -464,8 +464,10 @@ class SolidScene(Scene, dimension=3):
                 d.setdefault("mesh", {})[key] = value
             elif key == "name":
                 d["name"] = value
+            elif key == "cracks":
+                d["crack"] = [c.to_dict() for c in value]
             else:
-                raise SceneError(f"{key}: not a field a 3D scene changes; allowed: E, nu, friction, pressure, name, "
+                raise SceneError(f"{key}: not a field a 3D scene changes; allowed: E, nu, friction, pressure, cracks, name, "
                                  f"{', '.join(MESH_KEYS)}")
         return SolidScene.from_dict(d)
 

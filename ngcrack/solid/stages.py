@@ -26,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import json
+import math
 import time
 
 from ..core.discretization import Loads
@@ -112,6 +113,26 @@ class SolidBody:
         from .points import held_directions
 
         return held_directions(scene.points)
+
+    @staticmethod
+    def crack_volume(sol, cracks: list[int]) -> float:
+        """The volume between the faces of the given cracks: the integral of the normal jump over their faces
+        (`solid.volume.crack_volume`)."""
+        from .volume import crack_volume
+
+        return float(sum(crack_volume(sol, k) for k in cracks))
+
+    @staticmethod
+    def volume_compliance(scene: SolidScene, cracks: list[int]) -> float:
+        """dV/dp of the given cracks, each as a penny of its area in an infinite body (Sneddon:
+        V = 16 a^3 p / (3 E'), a = sqrt(area / pi)): a scale for volume control's first pressure and its strain check."""
+        a = [math.sqrt(scene.cracks[k].area / math.pi) for k in cracks]
+        return sum(16.0 * r ** 3 / 3.0 for r in a) / SolidBody.effective_modulus(scene)
+
+    @staticmethod
+    def effective_modulus(scene: SolidScene) -> float:
+        """E' = E / (1 - nu^2), the modulus of K_I^2 = E' G along a 3D front."""
+        return scene.material.E / (1.0 - scene.material.nu ** 2)
 
 
 def check_request(scene: SolidScene, opts: dict, max_dof: int | None) -> None:

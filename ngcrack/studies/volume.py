@@ -1,17 +1,18 @@
 """Volume control: the cracks' volume prescribed, their (uniform) face pressure the unknown.
 
-    sol = nc.solve_volume(scene, volume=V)           # V: area between the faces, per unit thickness
+    sol = nc.solve_volume(scene, volume=V)           # V: the volume between the faces (2D: per unit thickness)
     sol.options["volume_control"]                    # {"volume", "pressure", "solves", "method"}
 
-The volume of a crack is V = int [u].nu ds over it (an area per unit thickness;
-`crack_volume`). One uniform pressure p acts in every crack named (all of them by
+The volume of a crack is V = int [u].nu over it (`crack_volume`; the body computes it: an
+area per unit thickness in 2D, a volume in 3D). One uniform pressure p acts in every crack named (all of them by
 default: one connected fluid). Without contact the response is linear, V(p) = V(0) +
 p (V(p_ref) - V(0)) / p_ref, so two solves give p and a third the answer
 ("superposition"); where faces touch, contact makes V(p) piecewise linear (monotone: more
 pressure never closes a face), and a bracketing regula falsi (Illinois) finds p
-("search"). Every solve runs through one `ngcrack.core.pipeline.Pipeline`: the mesh, the
-assembled forms, the factorization and the Schur complement are kept, only the load
-vector changes (a uniform pressure is an NGSolve Parameter of the assembled load).
+("search"). Every solve runs through one `ngcrack.core.pipeline.Pipeline`: the mesh is kept
+and, in 2D, the assembled forms, the factorization and the Schur complement too, only the
+load vector changing (a uniform pressure is an NGSolve Parameter of the assembled load); a 3D
+body assembles its crack pressure with the forms, so each of its solves assembles again.
 """
 
 from __future__ import annotations
@@ -19,15 +20,12 @@ from __future__ import annotations
 import dataclasses
 import math
 
-import numpy as np
-
 from ..core.errors import InputError
 from ..core.options import SolveOptions
 from ..core.pipeline import Pipeline, SolveError
-from ..core.scene import Scene, planar_only
+from ..core.scene import Scene
 from ..core.solution import Solution
 from ..core.solve import as_scene
-from ..planar.tips import effective_modulus
 
 #: relative volume tolerance of the pressure search (the superposition meets it to round-off)
 VOLUME_RTOL = 1e-10
@@ -37,26 +35,27 @@ MAX_SOLVES = 60
 #: MAX_WIDEN times (a compression across the crack holds it closed below its own size)
 WIDEN_FACTOR = 4.0
 MAX_WIDEN = 30
-#: the largest strain scale a prescribed volume may have, V / (2 pi a^2) (Sneddon's p / E'
-#: for a straight crack of half-length a): beyond it small-strain elasticity does not apply
+#: the largest strain scale a prescribed volume may have, Sneddon's p / E' of the cracks in an
+#: infinite body (`reference_pressure`): beyond it small-strain elasticity does not apply
 MAX_STRAIN = 0.1
 
 
 def crack_volume(sol, cracks=None) -> float:
-    """The volume (area per unit thickness) between the faces of the given cracks (all
-    by default): the sum over crack edges of the mid-point normal jump times the edge
-    length (exact for jumps linear on each edge: P0 and P1 jumps, the default orders)."""
+    """The volume between the faces of the given cracks (all by default), as the body
+    computes it: in 2D an area per unit thickness, the sum over crack edges of the
+    mid-point normal jump times the edge length (exact for the P0 and P1 jumps of the
+    default orders); in 3D the integral of the normal jump over the crack's faces."""
     if not isinstance(sol, Solution):
         raise InputError(f"sol = {type(sol).__name__}: must be a solution (what nc.solve returns), not "
                          f"{'a scene: solve it first' if isinstance(sol, Scene) else 'this'}")
-    planar_only(sol.scene, "the crack volume")
-    idx = range(len(sol.profiles)) if cracks is None else check_cracks(sol.scene, cracks)
-    return float(sum(np.sum(sol.profiles[k].normal_jump * sol.crack_mesh.cracks[k].length) for k in idx))
+    return sol.scene.body.crack_volume(sol, check_cracks(sol.scene, cracks))
 
 
 def with_pressure(scene, cracks, p: float):
     """The scene with the uniform pressure p on the given cracks (all when None)."""
     idx = set(range(len(scene.cracks)) if cracks is None else cracks)
+    if idx == set(range(len(scene.cracks))):
+        return scene.with_(pressure=float(p))
     return scene.with_(cracks=tuple(dataclasses.replace(c, pressure=float(p)) if k in idx else c
                                     for k, c in enumerate(scene.cracks)))
 
@@ -80,11 +79,10 @@ def check_cracks(scene, cracks) -> list[int]:
 
 
 def reference_pressure(scene, cracks, volume: float) -> float:
-    """Sneddon's pressure for `volume` in straight cracks of the same total length (a
-    scale for the first trial pressure: V = 2 pi p a^2 / E', a the half-length)."""
-    mat = scene.material
-    a = 0.5 * sum(scene.cracks[k].length for k in cracks)
-    return abs(volume) * effective_modulus(mat.E, mat.nu, mat.plane) / (2 * math.pi * a * a) or 1.0
+    """Sneddon's pressure for `volume` in the cracks alone in an infinite body (the body's
+    `volume_compliance`: one straight crack of their total length in 2D, V = 2 pi p a^2 / E';
+    pennies of their areas in 3D, V = 16 p a^3 / (3 E')): a scale for the first trial pressure."""
+    return abs(volume) / scene.body.volume_compliance(scene, cracks)
 
 
 def solve_volume(scene, volume: float, *, cracks=None, options: SolveOptions | None = None,
@@ -99,9 +97,8 @@ def solve_volume(scene, volume: float, *, cracks=None, options: SolveOptions | N
     Raises SolveError where no pressure reaches the volume (a bonded crack, say).
     """
     scene = as_scene(scene)
-    planar_only(scene, "volume control")
     if isinstance(volume, bool) or not isinstance(volume, (int, float)) or not math.isfinite(volume):
-        raise InputError(f"volume = {volume!r}: must be a finite number (an area per unit thickness)")
+        raise InputError(f"volume = {volume!r}: must be a finite number (the volume between the faces; 2D: per unit thickness)")
     if not (isinstance(rtol, float) and 0 < rtol < 1):
         raise InputError(f"rtol = {rtol!r}: must be a number in (0, 1)")
     idx = check_cracks(scene, cracks)
@@ -112,20 +109,20 @@ def solve_volume(scene, volume: float, *, cracks=None, options: SolveOptions | N
     if volume < 0 and opts.crack_model == "contact":
         raise InputError(f"volume = {volume!r}: must be >= 0 with contact (the faces cannot overlap; "
                          "crack_model='free' lets them)")
-    a = 0.5 * sum(scene.cracks[k].length for k in idx)
-    if abs(volume) > MAX_STRAIN * 2 * math.pi * a * a:
-        raise InputError(f"volume = {volume!r}: the strain scale V / (2 pi a^2) would be {abs(volume) / (2 * math.pi * a * a):.3g} "
-                         f"(a = {a:.4g}, the cracks' half-length); at most {MAX_STRAIN:g} keeps the strains small")
+    strain = reference_pressure(scene, idx, volume) / scene.body.effective_modulus(scene)
+    if strain > MAX_STRAIN:
+        raise InputError(f"volume = {volume!r}: the strain scale p / E' of Sneddon's pressure for it would be {strain:.3g}; "
+                         f"at most {MAX_STRAIN:g} keeps the strains small")
     pipe = pipeline if pipeline is not None else Pipeline()
     solves = 0
 
     def run(p):
         nonlocal solves
         solves += 1
-        sol = pipe.run(with_pressure(scene, idx, p), opts)
+        sol = scene.body.solve(pipe, with_pressure(scene, idx, p), opts)
         return sol, crack_volume(sol, idx)
 
-    p_ref = reference_pressure(scene, idx, volume)
+    p_ref = reference_pressure(scene, idx, volume) or 1.0 / scene.body.volume_compliance(scene, idx)
     sol0, v0 = run(0.0)
     for _ in range(MAX_WIDEN):  # a pressure that opens the crack (an in-situ compression may hold it closed)
         sol1, v1 = run(p_ref)

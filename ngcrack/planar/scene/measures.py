@@ -12,8 +12,8 @@ repeated).
 
 The distances, the point-in-polygon test and the interior point are computed on numpy
 with GEOS's own formulas (shapely's library: the same numbers bit for bit, checked in
-tests/test_scene_measures.py), so that a scene is validated without importing shapely
-(0.01-0.02 s of CPU at import, a tenth of a small solve).
+tests/test_scene_measures.py), so that a scene is validated without importing shapely (its import's cost:
+BENCHMARKS.md, the start-up section).
 """
 
 from __future__ import annotations

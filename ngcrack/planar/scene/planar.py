@@ -6,7 +6,7 @@ may be thinner than the mesher can resolve. Each check refuses with a :class:`Sc
 naming the field, the segments and the points involved. The distances are GEOS's
 formulas on numpy (`measures`: shapely's numbers bit for bit). A small scene (up to
 BRUTE_FORCE_PAIRS pairs of segments or points) compares every pair on numpy and does
-not import shapely (0.01-0.02 s of CPU); a larger one searches through shapely's
+not import shapely; a larger one searches through shapely's
 spatial index (an STRtree), so the checks cost about O(n log n) in the number of
 vertices, not O(n^2).
 

@@ -3,7 +3,8 @@
 criteria.py: the kink criteria (MTS closed form, PLS helpers) as pure functions;
 paths.py: extending a tip, clipping at the boundary, stopping before another crack;
 loop.py: the step loop (a 3D scene goes to loop3d.py: planar growth of its fronts, fronts3d.py the
-front-point rules, result3d.py its result); result.py: GrowthResult (table, JSON, figures); study.py: one path per
+front-point rules, surface3d.py those of surface and corner cracks, newman_raju_growth.py their
+reference life, result3d.py its result); result.py: GrowthResult (table, JSON, figures); study.py: one path per
 parameter value through the sweep's executors; cli.py: `ngcrack grow`.
 
 The names below are imported from their modules on first use (`ngcrack grow --help` and

@@ -40,6 +40,7 @@ import numpy as np
 from ...core.errors import InputError
 from .criteria import mts_angle, mts_keq
 from .fatigue import delta_K
+from .surface3d import check_surface_growable, is_surface_crack, surface_drive
 
 #: quasi-static: the points whose K_eq lies within this fraction of the largest advance by da (as 2D tips
 #: grow together within loop.GROW_TOGETHER_RTOL)
@@ -53,12 +54,15 @@ NEW_POINTS_PER_STATION, MIN_NEW_POINTS = 2, 32
 CLEARANCE_RTOL = 0.05
 
 
-def point_values(front, nu: float) -> dict:
-    """Per front point: K_eq (module docstring) and the MTS kink (radians), as arrays."""
+def point_values(front, nu: float, scene=None) -> dict:
+    """Per front point: K_eq (module docstring) and the MTS kink (radians), as arrays; K_drive the smoothed K_eq
+    (a front ending on the surface of `scene`'s body: surface3d.surface_drive)."""
     k1 = np.where(np.asarray(front.closed, dtype=bool), 0.0, np.maximum(np.asarray(front.K_I, dtype=float), 0.0))
     kink = np.array([mts_angle(a, b) for a, b in zip(k1, front.K_II)])
     k_mts = np.array([mts_keq(a, b, t) for a, b, t in zip(k1, front.K_II, kink)])
     K_eq = np.sqrt(np.maximum(k_mts, 0.0) ** 2 + np.asarray(front.K_III, dtype=float) ** 2 / (1.0 - nu))
+    if scene is not None and is_surface_crack(scene.domain, scene.cracks[front.crack]):
+        return {"K_eq": K_eq, "kink": kink, "K_drive": surface_drive(front.angle, K_eq, scene.cracks[front.crack])}
     return {"K_eq": K_eq, "kink": kink, "K_drive": np.maximum(low_pass(K_eq), 0.0)}
 
 
@@ -141,9 +145,11 @@ def clearance_reason(scene, i: int, crack) -> str:
     """Why the grown crack `i` cannot stay in the scene: it reaches the boundary or another crack ("" if neither)."""
     gap = CLEARANCE_RTOL * crack.size
     clear = scene.domain.clearance(crack.outline(256))
-    if clear.min() < gap:
+    if clear.min() < gap and not is_surface_crack(scene.domain, crack):  # (a surface crack's faces: the scene's check)
         return (f"boundary: crack[{i}]'s front comes within {max(clear.min(), 0.0):.3g} of the body's boundary (at least "
-                f"{gap:.3g} needed); planar growth of a crack reaching a face (a surface crack) is not supported yet")
+                f"{gap:.3g} needed); an embedded front does not grow through a face into a surface crack (the front "
+                f"would split into arcs ending on the surface): start from the surface crack (an ellipse centred on the "
+                f"face) to grow it further")
     for j, other in enumerate(scene.cracks):
         if j == i:
             continue
@@ -162,10 +168,13 @@ def check_growable(scene) -> None:
         if c.shape == "polygon":
             raise InputError(f"crack[{i}]: a polygon's front has corners, where K is not computed, so it cannot grow; "
                              f"give the outline as shape = \"curve\" (a smooth spline through its points)")
+        if is_surface_crack(scene.domain, c):  # a surface or corner crack (surface3d.py)
+            check_surface_growable(scene.domain, i, c)
+            continue
         gap = CLEARANCE_RTOL * c.size
         if float(np.min(scene.domain.clearance(c.outline(256)))) < gap:
-            raise InputError(f"crack[{i}]: reaches or comes within {gap:.3g} of the body's faces; a surface crack does "
-                             f"not grow yet (planar growth of cracks inside the body only)")
+            raise InputError(f"crack[{i}]: comes within {gap:.3g} of the body's faces without crossing them; growth "
+                             f"takes cracks inside the body or crossing a face (surface cracks)")
 
 
 def equivalent_radius(crack) -> float:

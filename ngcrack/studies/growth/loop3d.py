@@ -19,10 +19,18 @@ as a power of the size (a penny: K ~ sqrt(a)), second order otherwise; so the co
 da (a first-order da / (C Delta K_max^m) per step is 6.6% high on a penny after four steps of 0.1 a, m = 3). The
 run stops when K_max reaches K_Ic (fracture).
 
-Stops: after `steps` steps; at fracture; where a grown front comes within the scene's clearance of the
-body's boundary ("boundary: ...", a surface crack does not grow yet) or of another crack ("crack:
-..."); where the grown crack makes no valid scene or its solve fails. A scene whose crack already
-reaches a face, or a polygon (its corners have no K), is refused before any meshing.
+Surface cracks (a disc or an ellipse crossing a face, its front from surface to surface): the same
+rules along the open front, the surface points growing with K taken SURFACE_K_FRACTION of the front's
+length in from the surface and moving along the face, and the grown crack the ellipse with the same
+centre and axes fitted to the advanced points (surface3d.py); the leading point's advance in the
+cycle count is what the fitted ellipse gives it.
+
+Stops: after `steps` steps; at fracture; where a grown embedded front comes within the scene's
+clearance of the body's boundary ("boundary: ...": an embedded front does not turn into a surface
+crack), a grown surface crack nears another face (the scene's sliver check, "boundary: ...") or a
+front nears another crack ("crack: ..."); where the grown crack makes no valid scene or its solve
+fails. A scene whose crack comes near a face without crossing it, a surface crack whose centre is off
+the surface, or a polygon (its corners have no K), is refused before any meshing.
 """
 
 from __future__ import annotations
@@ -48,6 +56,7 @@ from .fronts3d import (
     point_values,
     quasi_static_advance,
 )
+from .surface3d import grown_surface_crack, is_surface_crack
 
 #: da may be at most this fraction of the smallest crack's size (its diameter): a longer step outruns the
 #: front's curvature
@@ -152,7 +161,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
     sol = solve(scene, **solve_options)
     elapsed, K_ref, leader_da = time.perf_counter() - t0, K_Ic, None
     for n in range(steps + 1):
-        values = [point_values(f, nu) for f in sol.fronts]
+        values = [point_values(f, nu, scene) for f in sol.fronts]
         K_top = max(float(np.max(v["K_drive"])) for v in values)
         lead = int(np.argmax([np.max(v["K_drive"]) for v in values]))
         crack_of_lead = sol.fronts[lead].crack
@@ -183,7 +192,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
         if reason:
             result.stopped = reason
             break
-        new_scene, reason = _grown_scene(scene, sol, values, advances, da, cycles is not None)
+        new_scene, reason, lead_advance = _grown_scene(scene, sol, values, advances, da, cycles is not None, lead)
         if reason:
             result.stopped = reason
             result.events.append((n, reason))
@@ -196,22 +205,32 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
         except (RuntimeError, InputError) as exc:  # SolveError, a mesh failure: keep what was done
             result.stopped = f"solve: the solve after step {n} failed ({exc})"
             break
-        scene, elapsed, leader_da = new_scene, time.perf_counter() - t0, da
+        scene, elapsed, leader_da = new_scene, time.perf_counter() - t0, lead_advance
     result.solution = sol
     return result
 
 
-def _grown_scene(scene, sol, values, advances, da, smooth):
-    """(the scene with every front advanced, ""), or (None, why the run stops)."""
+def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0):
+    """(the scene with every front advanced, "", the advance of the leading point), or (None, why the run stops,
+    None). The leading point (the largest K_drive of front `lead`) advanced by da, or, on a surface crack,
+    by what the fitted ellipse gives it (surface3d.py)."""
     from ngcrack.core.fields import SceneError
     from ngcrack.solid.scene import SolidScene, crack_from_dict
 
     d = scene.to_dict()
-    grown = {}
-    for f, adv in zip(sol.fronts, advances):
+    grown, lead_advance, surface = {}, da, set()
+    for k, (f, adv) in enumerate(zip(sol.fronts, advances)):
         if np.max(adv) <= STILL_RTOL * da:
             continue
         crack = scene.cracks[f.crack]
+        if is_surface_crack(scene.domain, crack):  # the ellipse through the advanced points
+            top = int(np.argmax(values[k]["K_drive"])) if values is not None else int(np.argmax(adv))
+            d["crack"][f.crack], moved = grown_surface_crack(scene.domain, crack, f.angle, adv, top)
+            if k == lead:
+                lead_advance = moved
+            grown[f.crack] = None
+            surface.add(f.crack)
+            continue
         points = new_front(crack, adv, f.angle, smooth)
         d["crack"][f.crack] = grown_crack(crack, points)
         grown[f.crack] = points
@@ -224,10 +243,13 @@ def _grown_scene(scene, sol, values, advances, da, smooth):
             except SceneError:
                 why = ""
             if why:
-                return None, why
-        return None, f"scene: the grown fronts make no valid scene ({exc})"
+                return None, why, None
+        if surface:
+            return None, (f"boundary: the grown surface crack is no valid crack ({exc}); a surface crack's front that "
+                          f"nears another face (the body's back face or its sides) stops the growth"), None
+        return None, f"scene: the grown fronts make no valid scene ({exc})", None
     for i in grown:
         why = clearance_reason(new, i, new.cracks[i])
         if why:
-            return None, why
-    return new, ""
+            return None, why, None
+    return new, "", lead_advance

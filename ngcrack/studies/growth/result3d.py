@@ -48,7 +48,10 @@ class SolidGrowthResult:
     solution: object = None
 
     def add_step(self, n, scene, sol, values, advances, load_factor, time_s, cycles=None) -> None:
-        """One step's row: its fronts (with K_eq, kink_deg and the advance), load factor, cost and cycles."""
+        """One step's row: its fronts (with K_eq, kink_deg and the advance; a surface crack's with its `depth` and
+        `half_length`), load factor, cost and cycles."""
+        from .surface3d import depth_and_length, is_surface_crack
+
         ndof = int(sol.ndof["total"])
         kkt = {k: float(v) for k, v in sol.kkt.items()}
         fronts, shapes = [], []
@@ -58,6 +61,8 @@ class SolidGrowthResult:
             size = math.sqrt(float(scene.cracks[f.crack].area) / math.pi)
             d = f.to_json_dict()
             d.update(K_eq=v["K_eq"].tolist(), K_drive=v["K_drive"].tolist(), kink_deg=kink.tolist(), advance=adv.tolist(), size=size)
+            if is_surface_crack(scene.domain, scene.cracks[f.crack]):  # its depth a and half-length c on the surface
+                d["depth"], d["half_length"] = depth_and_length(scene.domain, scene.cracks[f.crack])
             fronts.append(d)
             shapes.append(np.asarray(f.points, dtype=float))
             for j, p in enumerate(f.points):
@@ -94,6 +99,16 @@ class SolidGrowthResult:
         """The equivalent radius sqrt(area / pi) of a crack at every step."""
         return np.array([math.sqrt(float(s.cracks[crack].area) / math.pi) for s in self.scenes])
 
+    def depth_and_length(self, crack: int = 0) -> np.ndarray:
+        """A surface crack's depth a and half-length c on the surface at every step ((steps, 2)): the semi-axes
+        of its ellipse across and along the face its centre lies on (studies.growth.surface3d)."""
+        from .surface3d import depth_and_length, is_surface_crack
+
+        if not self.scenes or not is_surface_crack(self.scenes[0].domain, self.scenes[0].cracks[crack]):
+            raise InputError(f"crack {crack}: not a surface crack (a disc or an ellipse crossing a face), so it has no "
+                             f"depth and surface length")
+        return np.array([depth_and_length(s.domain, s.cracks[crack]) for s in self.scenes])
+
     def to_json_dict(self) -> dict:
         """The `ngcrack grow --json` dictionary of a 3D scene: the 2D grow keys, per step `fronts` (as `ngcrack
         solve`'s, with K_eq, kink_deg, advance and the crack's equivalent radius `size`) and, with paris, `cycles`."""
@@ -120,8 +135,9 @@ class SolidGrowthResult:
         return "\n".join(lines)
 
     def plot(self, path=None, crack: int = 0):
-        """The front shapes of a crack over the steps in its plane (coloured by step), beside the cycles
-        (fatigue) or the load factor (quasi-static) against the crack's equivalent radius."""
+        """The front shapes of a crack over the steps in its plane (coloured by step; a surface crack's part
+        inside the body), beside the cycles (fatigue) or the load factor (quasi-static) against the crack's
+        equivalent radius (a surface crack: its depth)."""
         from ngcrack.planar.plots import new_figure
 
         fig, (ax, ax2) = new_figure(path, ncols=2, figsize=(10, 4.5), constrained_layout=True)
@@ -131,22 +147,31 @@ class SolidGrowthResult:
         cmap = matplotlib.colormaps["viridis"]
         n = max(len(self.scenes) - 1, 1)
         for k, s in enumerate(self.scenes):
-            p = s.cracks[crack].outline(256) - c0.center
+            q = s.cracks[crack].outline(512)
+            p = np.r_[q, q[:1]] - c0.center
             u, v = p @ c0.e_a, p @ c0.e_b
-            ax.plot(np.r_[u, u[:1]], np.r_[v, v[:1]], color=cmap(k / n), lw=1.2, label=f"step {k}" if k in (0, n) else None)
+            outside = s.domain.clearance(np.r_[q, q[:1]]) < 0  # a surface crack: its front, the part inside the body
+            u, v = np.where(outside, np.nan, u), np.where(outside, np.nan, v)
+            if outside.any():  # the arc runs through the outline's start: begin it at an outside point
+                j = int(np.flatnonzero(outside)[0])
+                u, v = np.roll(u[:-1], -j), np.roll(v[:-1], -j)
+            ax.plot(u, v, color=cmap(k / n), lw=1.2, label=f"step {k}" if k in (0, n) else None)
         ax.set_aspect("equal")
         ax.set_xlabel("in-plane $e_a$")
         ax.set_ylabel("in-plane $e_b$")
         ax.set_title(f"crack[{crack}]'s front over {len(self.scenes)} steps")
         ax.legend(fontsize=8)
-        L = self.sizes(crack)
+        from .surface3d import is_surface_crack
+
+        surface = is_surface_crack(self.scene.domain, c0)
+        L = self.depth_and_length(crack)[:, 0] if surface else self.sizes(crack)
         if self.paris is not None:
             ax2.plot(L, self.cycles(), "o-", ms=3)
             ax2.set_ylabel("cycles $N$")
         else:
             ax2.plot(L, [s["load_factor"] for s in self.steps], "o-", ms=3)
             ax2.set_ylabel("load factor")
-        ax2.set_xlabel(r"equivalent radius $\sqrt{A/\pi}$")
+        ax2.set_xlabel("depth $a$" if surface else r"equivalent radius $\sqrt{A/\pi}$")
         ax2.grid(alpha=0.3)
         if path is not None:
             fig.savefig(path, dpi=130)
