@@ -19,8 +19,9 @@ ROOT = pathlib.Path(__file__).resolve().parents[1] / "ngcrack"
 #: low to high: data flows from the scene to the studies and views
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundations", ("core", "planar", "studies", "shell", "planar.materials", "core.memory", "core.parallel", "planar.quadrature",
-                        "core.csr", "core.schur", "core.constraints", "core.contact",
-                     "shell.files", "core.errors", "shell.extras", "core.element_names", "solid", "core.sparse_contact", "core.sparse_friction")),
+                        "core.csr", "core.schur", "core.constraints", "core.contact", "core.quadrature",
+                     "shell.files", "core.errors", "shell.extras", "core.element_names", "solid", "core.sparse_contact", "core.sparse_friction",
+                     "core.coulomb")),
     ("scene", ("core.fields", "core.scene", "planar.scene", "scenes", "studies.references", "planar.sizing", "planar.path_sizes", "solid.scene",
                "solid.parts", "solid.points", "solid.loads",
                "solid.curve")),
@@ -212,8 +213,8 @@ TWO_D = ("planar.scene", "scenes", "studies.references", "planar.sizing", "plana
 #: the modules that must stay free of any 2D assumption: the element's protocol, the
 #: condensed system and the reduction, the crack problem (QP, friction), the KKT residuals,
 #: the stages, the options and the solution
-DIMENSION_FREE = ("core.errors", "core.memory", "core.parallel", "shell.files", "core.csr", "core.constraints", "core.contact",
-                  "core.schur", "core.crack_problem", "core.sparse_contact", "core.sparse_friction",
+DIMENSION_FREE = ("core.errors", "core.quadrature", "core.memory", "core.parallel", "shell.files", "core.csr", "core.constraints", "core.contact",
+                  "core.schur", "core.crack_problem", "core.sparse_contact", "core.sparse_friction", "core.coulomb",
                   "core.element_names", "core.discretization", "core.hybrid", "core.friction", "core.friction_setup",
                   "core.stages", "core.options", "core.solution")
 

@@ -57,6 +57,9 @@ def test_bad_parts_are_refused_by_name(plate, tmp_path):
         SolidScene.from_dict({**d, "boundary": {**d["boundary"], "hole": {"type": "roller"}}})
     with pytest.raises(SceneError, match=r"point\[0\]\.at = .*on face 'hole' \(face6\), which is curved"):
         SolidScene.from_dict({**d, "point": [{"at": [0.0, 0.5, 0.0], "type": "pin"}] + d["point"][1:]})
-    crack = {**d["crack"][0], "center": [0.0, 0.6, 0.0]}  # 0.1 from the hole: it crosses it
-    with pytest.raises(SceneError, match=r"crack\[0\]: reaches or crosses the boundary"):
+    crack = {**d["crack"][0], "center": [0.0, 0.71, 0.0]}  # 0.01 from the hole without crossing it
+    with pytest.raises(SceneError, match=r"crack\[0\]: comes within 0.01 of face hole without crossing it"):
+        SolidScene.from_dict({**d, "crack": [crack]})
+    crack = {**d["crack"][0], "center": [0.0, 0.69, 0.0]}  # crosses the bore by only 0.01
+    with pytest.raises(SceneError, match=r"crack\[0\]: crosses face hole by only 0.01"):
         SolidScene.from_dict({**d, "crack": [crack]})

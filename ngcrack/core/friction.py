@@ -55,6 +55,7 @@ import numpy as np
 
 from .constraints import ACCEPT_KKT, ContactSolverError, _inverse_map, faces_closed, scaled_problem
 from .contact import FEASIBILITY_RTOL, NATIVE_SOLVERS, PDAS_MAX_ITER, ExchangeRule, QPResult, _limited_blas, spd_solve
+from .coulomb import CoulombStep, coulomb_loop
 from .errors import InputError
 
 #: how Coulomb friction is solved (module docstring)
@@ -382,32 +383,34 @@ def _solve(problem, solver, options, method, tol, max_iter, kkt_tol) -> Friction
             raise ContactSolverError(f"friction_method = 'newton' did not converge in {max_iter} steps; "
                                      "try friction_method = 'fixed-point'")
     else:
-        tau = np.zeros(mt)
-        steps, iters = 0, 0
-        prev_sets = None
-        for iters in range(1, max_iter + 1):  # noqa: B007  (the count is reported after the loop)
-            v, g, act, slip, s, raw = _tresca(pf, tau, act, slip, solver, options)
-            steps += s
+        st = {"steps": 0, "prev": None}
+
+        def tresca_step(tau: np.ndarray) -> CoulombStep:
+            """A Tresca problem with the threshold tau, then the threshold mu lam_n of its answer; once two
+            successive answers have the same sets, one Newton step on the Coulomb law itself (`final` if it
+            holds)."""
+            v, g, act, slip, s, raw = _tresca(pf, tau, st["act"], st["slip"], solver, options)
+            st.update(v=v, g=g, act=act, slip=slip, raw=raw, steps=st["steps"] + s)
             lam = np.where(act, g[:m], 0.0)
             L = max(float(np.max(lam, initial=0.0)), np.finfo(float).tiny)
             tau_new = pf.mu_s * np.maximum(lam[pf.p], 0.0)
-            change = float(np.max(np.abs(tau_new - tau), initial=0.0)) / L
-            if change <= tol:
-                break
-            sets = (act.copy(), slip.copy())
-            if prev_sets is not None and np.array_equal(sets[0], prev_sets[0]) and np.array_equal(sets[1], prev_sets[1]):
+            if float(np.max(np.abs(tau_new - tau), initial=0.0)) / L <= tol:
+                return CoulombStep(tau_new, L)
+            sets, prev = (act.copy(), slip.copy()), st["prev"]
+            st["prev"] = sets
+            if prev is not None and np.array_equal(sets[0], prev[0]) and np.array_equal(sets[1], prev[1]):
                 # the sets have settled: one Newton step on the Coulomb law itself
-                vN, gN, aN, sN, sN_steps, ok = _active_set(pf, act, slip, None, max_iter=1)
-                steps += 1
+                vN, gN, aN, sN, _, ok = _active_set(pf, act, slip, None, max_iter=1)
+                st["steps"] += 1
                 if ok:
-                    v, g, act, slip = vN, gN, aN, sN
-                    break
-            prev_sets = sets
-            tau = tau_new
-        else:
-            raise ContactSolverError(f"the Coulomb fixed point did not converge in {max_iter} Tresca problems "
-                                     f"(the slip threshold still changes by {change:.1e} of max lam_n); "
-                                     "try friction_method = 'newton' or a smaller friction coefficient")
+                    st.update(v=vN, g=gN, act=aN, slip=sN)
+                    return CoulombStep(tau_new, L, final=True)
+            return CoulombStep(tau_new, L)
+
+        st.update(act=act, slip=slip)
+        run = coulomb_loop(tresca_step, np.zeros(mt), max_steps=max_iter, bound_rtol=tol, what="the Coulomb fixed point",
+                           unit="Tresca problems", hint="; try friction_method = 'newton' or a smaller friction coefficient")
+        v, g, act, slip, raw, steps, iters = st["v"], st["g"], st["act"], st["slip"], st["raw"], st["steps"], run.steps
     return _result(problem, pf, v, g, act, slip, solver, iters, steps, method if not tresca else "tresca",
                    raw, kkt_tol, time.perf_counter() - t0)
 

@@ -65,6 +65,9 @@ def _congruence(A, column: np.ndarray, coef: np.ndarray, n: int, sign: float) ->
     not along an axis) are summed by scipy, in its order, as before; an axis-aligned
     roller's coefficients are 1 and 0, and every other entry has at most two terms.
     """
+    used = column >= 0
+    if np.all(coef[used] == 1.0) and np.all(np.diff(column[used]) > 0):
+        return _selection(A, column, used, n, sign)
     counts = np.diff(A.indptr)
     i, c_i = np.repeat(column, counts), np.repeat(sign * coef, counts)  # per entry, by its row
     j, c_j = column[A.indices], coef[A.indices]
@@ -80,6 +83,21 @@ def _congruence(A, column: np.ndarray, coef: np.ndarray, n: int, sign: float) ->
         Ks.eliminate_zeros()
         K = CSR.from_scipy(Ks)
     return K
+
+
+def _selection(A, column: np.ndarray, used: np.ndarray, n: int, sign: float) -> CSR:
+    """sign T^T A T where T only selects (coefficients 1, columns increasing with the rows: no roller pairs and no
+    reordering): the rows and columns kept, zeros dropped, in one pass with few temporaries (the same matrix,
+    bitwise, as the general congruence; a 3D system's condensation peaked at 0.5 GB above its result without it)."""
+    rows = np.flatnonzero(used)
+    sub = A[rows][:, rows]  # the kept rows, then the kept columns (in order: column is increasing on them)
+    keep = sub.data != 0.0
+    data = sign * sub.data[keep]
+    indices = column[rows][sub.indices[keep]]
+    kept = np.zeros(len(keep) + 1, dtype=np.int64)
+    np.cumsum(keep, out=kept[1:])
+    indptr = kept[sub.indptr].astype(np.int32 if n < 2**31 - 1 and len(data) < 2**31 - 1 else np.int64)
+    return CSR(data, indices.astype(indptr.dtype), indptr, (n, n))
 
 
 @dataclass

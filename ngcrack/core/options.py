@@ -47,6 +47,13 @@ HP_SIGMA = 0.2
 HP_SIGMA_RANGE = (0.05, 0.7)
 HP_MAX_LAYERS = 12
 
+#: `accuracy`, the relative error of K asked for along the crack fronts (3D scenes): the values a solve honours.
+#: Not below 0.01: at the sizes the rate asks for 0.005 (front_h 0.11a on the penny) the worst front point was
+#: 0.89% off, at 0.1a 0.66%: order 1's error along the front stops falling with front_h below 0.2a (the body's
+#: mesh near the crack and its scatter along the front; BENCHMARKS, "3D memory, the ellipse in 3 GB and
+#: the accuracy option")
+ACCURACY_RANGE = (0.01, 0.5)
+
 
 def qp_solvers() -> tuple[str, ...]:
     """The QP solvers available here: the native ones and cvxpy's installed QP solvers."""
@@ -71,6 +78,15 @@ def whole_number(name: str, value, minimum: int = 1) -> int | None:
     if not is_number(value) or not math.isfinite(float(value)) or float(value) != int(value) or int(value) < minimum:
         raise InputError(f"{name} = {value!r}: must be a whole number >= {minimum}")
     return int(value)
+
+
+def check_accuracy(value) -> float:
+    """`accuracy` as a float in ACCURACY_RANGE, else an InputError naming it and the allowed values."""
+    lo, hi = ACCURACY_RANGE
+    if not is_number(value) or not (math.isfinite(float(value)) and lo <= float(value) <= hi):
+        raise InputError(f"accuracy = {value!r}: the relative error of K along the crack fronts must be a number in "
+                         f"[{lo:g}, {hi:g}] (0.01: the default sizes; a tighter K along a 3D front is not reached yet)")
+    return float(value)
 
 
 def _choice(name: str, value, allowed) -> str:
@@ -98,7 +114,9 @@ class SolveOptions:
     rate, or a `path_sizes.PathGrading` (None, the default: crack_h all along; growth
     grades its path by default, `ngcrack.studies.growth.checks.GROWTH_PATH_GRADING`).
 
-    3D scenes: front_h the mesh size at the crack fronts (> 0); fronts: compute the fracture
+    3D scenes: front_h the mesh size at the crack fronts (> 0); accuracy: the relative error of K
+    asked for along the fronts, in ACCURACY_RANGE, which sets front_h and crack_h from the measured
+    rate of K's error (`ngcrack.solid.sizing.accuracy_sizes`; not with front_h or crack_h); fronts: compute the fracture
     parameters along the fronts; front_points: how many points along each front (None: one per
     two front sizes). estimate: compute the error estimate (None: in 2D when first asked for,
     in 3D not at all; True: during the solve; False: never). preconditioner: the distributed
@@ -126,6 +144,7 @@ class SolveOptions:
     hp_sigma: float | None = None
     path_grading: PathGrading | float | None = None
     front_h: float | None = None
+    accuracy: float | None = None
     fronts: bool = True
     front_points: int | None = None
     estimate: bool | None = None
@@ -142,6 +161,12 @@ class SolveOptions:
         if self.estimate is not None and not isinstance(self.estimate, bool):
             raise InputError(f"estimate = {self.estimate!r}: must be None (when asked for), True or False")
         set_(self, "front_points", whole_number("front_points", self.front_points, minimum=3))
+        if self.accuracy is not None:
+            set_(self, "accuracy", check_accuracy(self.accuracy))
+            given = [k for k in ("front_h", "crack_h") if getattr(self, k) is not None]
+            if given:
+                raise InputError(f"accuracy = {self.accuracy:g} sets front_h and crack_h; give accuracy or {given[0]}, "
+                                 "not both")
         if self.preconditioner is not None and not isinstance(self.preconditioner, str):
             raise InputError(f"preconditioner = {self.preconditioner!r}: must be None or the name of a distributed "
                              "solve's preconditioner")

@@ -148,6 +148,26 @@ _PARDISO_ERRORS = {
 _SPD, _NONSYM, _SYMIND = 2, 11, -2
 
 
+def _pardiso_arrays(K: CSR, upper: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """PARDISO's (a, ia, ja) of a canonical CSR matrix: its upper triangle (diagonal included) for the symmetric
+    types, else all of it; int64 indices. Made in one pass with only short-lived temporaries (no row index of
+    every entry is cached on K, no int32 copy of the triangle kept): what is alive during the factorization
+    is the caller's K and these arrays."""
+    counts = np.diff(K.indptr)
+    if not upper:
+        return (np.ascontiguousarray(K.data, dtype=np.float64), np.ascontiguousarray(K.indptr, dtype=np.int64),
+                np.ascontiguousarray(K.indices, dtype=np.int64))
+    rows = np.repeat(np.arange(K.shape[0], dtype=K.indices.dtype), counts)
+    mask = K.indices >= rows
+    kept = np.bincount(rows[mask], minlength=K.shape[0])
+    del rows
+    ia = np.zeros(K.shape[0] + 1, dtype=np.int64)
+    np.cumsum(kept, out=ia[1:])
+    a = np.ascontiguousarray(K.data[mask], dtype=np.float64)
+    ja = K.indices[mask].astype(np.int64)
+    return a, ia, ja
+
+
 class _Pardiso:
     """One MKL PARDISO factorization (pardiso_64, zero-based CSR), optionally with S.
 
@@ -161,12 +181,10 @@ class _Pardiso:
             raise LinearSolverError("linear_solver = 'pardiso' needs MKL (pip install mkl)")
         self._fn = lib.pardiso_64
         K = as_csr(K).canonical()  # K (a CSR or scipy matrix): columns increasing in each row, no duplicates
-        A = K if mtype == _NONSYM else K.triu()
-        self.n = A.shape[0]
+        self.n = K.shape[0]
         self.mtype = mtype
-        self.a = np.ascontiguousarray(A.data, dtype=np.float64)
-        self.ia = np.ascontiguousarray(A.indptr, dtype=np.int64)
-        self.ja = np.ascontiguousarray(A.indices, dtype=np.int64)
+        self.a, self.ia, self.ja = _pardiso_arrays(K, upper=mtype != _NONSYM)
+        del K  # nothing of the caller's matrix is held beyond PARDISO's own arrays (the factorization's peak)
         self.pt = np.zeros(64, dtype=np.int64)
         self.iparm = np.zeros(64, dtype=np.int64)
         ip = self.iparm

@@ -31,8 +31,14 @@ adds a 2x2 positive semidefinite block per point to K (the exact Jacobian at the
 solution, where xi is along s). One sparse LU factorization per step (the saddle-point
 matrix of K's free unknowns and the sticking points' constraints); nothing of size m^2.
 The step's answer updates the sets: stick where |xi| <= g, slip elsewhere; closed where
-lam_n - c_n w > 0. It ends when the sets repeat and the slip law, the bound
-g = mu omega lam_f and the equations hold to round-off.
+lam_n - c_n w > 0. The sticking points' forces are the multipliers of their constraints,
+not unique where those are redundant: of the forces that balance the step's residual the
+step takes the nearest the cone (`coulomb.cone_forces`; the minimum-norm ones left the cone
+near the smallest coefficient that holds every face, and about 20 points of the inclined
+penny at mu = 2 then alternated between stick and slip without end). It ends when the sets
+repeat and the slip law, the bound g = mu omega lam_f and the equations hold to round-off:
+the outer loop (the bound's update, the test, the record, the failure) is
+`coulomb.coulomb_loop`, shared by every frictional solve.
 
 Reduced to the crack (`method` "schur", the default while the crack's normal and tangential
 unknowns number at most constraints.SCHUR_MAX_M): one sparse factorization of K with those
@@ -43,7 +49,8 @@ whole system. "sparse": every step factorizes the whole system.
 
 The certificate is computed afterwards from the system itself: the normal forces from
 the residual at the constraints (`constraints.discrete_contact_forces`), the friction
-forces at the slipping points set to g s/|s| exactly (on the cone's edge), and the
+forces at the slipping points set to g s/|s| exactly (on the cone's edge), at the sticking
+points the balancing forces nearest the cone (`sticking_forces`), and the
 residual of every other equation (`stationarity`); `friction` in the KKT dictionary is the
 largest of the cone's excess, the slip law's residual and the stationarity, each
 relative to the largest normal force (and the largest slip).
@@ -59,6 +66,7 @@ import scipy.sparse as sp
 
 from . import constraints
 from .constraints import KKT_ZERO_RTOL, ContactSolverError, discrete_contact_forces, kkt_at_constraints
+from .coulomb import STICK_RCOND, CoulombStep, cone_forces, coulomb_loop
 from .schur import Factorization
 from .sparse_contact import MAX_ITERATIONS, _transform
 
@@ -69,8 +77,9 @@ NEWTON_RTOL = 1e-13
 BOUND_RTOL = 1e-11
 #: the sticking points' constraint block: -delta, delta = this / c (iterated: module docstring)
 STICK_REGULARIZATION = 1e-8
-#: singular values of the sticking points' rows below this fraction of the largest are their redundancy
-STICK_RCOND = 1e-10
+#: a sticking point stays stuck while its force exceeds the bound by at most this fraction of the largest
+#: normal force (the round-off of the nearest-to-the-cone forces, `coulomb.cone_forces`, on the cone's edge)
+CONE_SLACK = 1e-12
 #: the most solves of the iterated regularisation per Newton step
 MAX_REFINEMENTS = 30
 #: the reduced ("schur") method corrects its load by the whole system's residual at most this many
@@ -114,6 +123,7 @@ class FrictionResult:
     timings: dict = field(default_factory=dict)
     factorizations: int = 0
     points: FrictionPoints | None = None  # where the slips and friction forces are (set by the caller)
+    record: list = field(default_factory=list)  # the Newton steps (coulomb.coulomb_loop's record)
 
 
 def coulomb_bound(points: FrictionPoints, lam: np.ndarray) -> np.ndarray:
@@ -161,16 +171,12 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
         c = _reduced["c"]
     else:
         c = slip_stiffness(Kw, B)
-    A = np.zeros(m, dtype=bool)
-    stick = np.zeros(nq, dtype=bool)
-    lam_t = np.zeros((nq, 2))
-    g = np.zeros(nq)
-    x = np.zeros(n)
-    t_fact = 0.0
-    history = []
-    iterations = 0
-    for it in range(1, max_iterations + 1):
-        iterations = it
+    st = {"A": np.zeros(m, dtype=bool), "stick": np.zeros(nq, dtype=bool), "lam_t": np.zeros((nq, 2)),
+          "x": np.zeros(n), "t_fact": 0.0}
+
+    def step(g: np.ndarray) -> CoulombStep:
+        """One semismooth Newton step with the bound g (module docstring); the sets move to the step's."""
+        A, stick, lam_t, x = st["A"], st["stick"], st["lam_t"], st["x"]
         s = (B @ x).reshape(nq, 2)
         xi = lam_t + c * s
         nxi = np.linalg.norm(xi, axis=1)
@@ -225,42 +231,47 @@ def solve_friction(K: sp.spmatrix, F: np.ndarray, contact: np.ndarray, G, points
         else:
             fac = _DenseLU(Kf) if _reduced is not None else Factorization(sp.csr_matrix(Kf), linear_solver)
             x_f, mult = fac.solve(rhs), np.zeros(0)
-        t_fact += time.perf_counter() - t1
+        st["t_fact"] += time.perf_counter() - t1
         x[:] = 0.0
         x[fidx] = x_f
         s = (B @ x).reshape(nq, 2)
         new_lam_t = np.zeros((nq, 2))
-        new_lam_t[S_set] = mult.reshape(-1, 2)
         new_lam_t[L_set] = a_q[L_set] + np.einsum("qij,qj->qi", Nblocks[L_set], s[L_set])
-        lam_t = new_lam_t
         # normal forces at the constraints (the friction terms do not touch their rows)
         lam = np.asarray(Kw[contact] @ x - Fw[contact])
         new_A = lam - diag * x[contact] > 0
         # the bound from the closed constraints' forces: an open one's force is zero but for the
         # residual's round-off, which would switch its face's bound on and off from step to step
         new_g = coulomb_bound(points, np.where(new_A, lam, 0.0))
+        new_lam_t[S_set] = mult.reshape(-1, 2)
+        if ns and np.any(np.linalg.norm(new_lam_t[S_set], axis=1) > new_g[S_set] + CONE_SLACK * max(
+                float(np.max(np.abs(lam), initial=0.0)), 1e-300)):
+            # the sticking forces leave the cone: of those that balance the step's residual, the nearest it
+            r_f = Kf @ x_f - rhs
+            cols = np.unique(BS.indices)
+            new_lam_t[S_set] = cone_forces(BS[:, cols].toarray().T, r_f[cols], new_g[S_set], start=mult)
+        lam_t = new_lam_t
         xi = lam_t + c * s
         nxi = np.linalg.norm(xi, axis=1)
-        new_stick = nxi <= new_g
+        scale = max(float(np.max(np.abs(lam), initial=0.0)), 1e-300)
+        new_stick = nxi <= new_g + CONE_SLACK * scale
         # converged: the same sets, the bound settled, the slipping points' law on the cone's edge
         norm_s = np.linalg.norm(s, axis=1)
         law = np.zeros(nq)
         slipping = L_set & (norm_s > 0)
         law[slipping] = np.linalg.norm(lam_t[slipping] - g[slipping, None] * s[slipping] / norm_s[slipping, None],
                                        axis=1)
-        scale = max(float(np.max(np.abs(lam), initial=0.0)), 1e-300)
-        settled = (np.array_equal(new_A, A) and np.array_equal(new_stick & (new_g > 0), S_set)
-                   and np.array_equal(new_g > 0, on))
-        change = float(np.max(np.abs(new_g - g), initial=0.0)) / scale
-        history.append((int(new_A.sum()), int((new_stick & (new_g > 0)).sum()), float(law.max(initial=0.0) / scale), change))
-        if settled and change < BOUND_RTOL and law.max(initial=0.0) < NEWTON_RTOL * scale:
-            break
-        A, stick, g = new_A, new_stick, new_g
-    else:
-        raise ContactSolverError(f"the frictional contact did not settle in {max_iterations} Newton steps "
-                                 f"(last: {history[-1]})")
+        changes = (np.count_nonzero(new_A != A) + np.count_nonzero((new_stick & (new_g > 0)) != S_set)
+                   + np.count_nonzero((new_g > 0) != on))
+        st.update(A=new_A, stick=new_stick, lam_t=lam_t, x=x)
+        return CoulombStep(new_g, scale, int(changes), float(law.max(initial=0.0)) / scale)
+
+    run = coulomb_loop(step, np.zeros(nq), max_steps=max_iterations, bound_rtol=BOUND_RTOL, law_rtol=NEWTON_RTOL,
+                       what="the frictional contact (semismooth Newton)", unit="steps")
+    A, stick, g, x, iterations = st["A"], st["stick"], run.bound, st["x"], run.steps
     result = certificate(K, F, T @ x, x[contact], contact, G, points, A, stick & (g > 0), g, iterations)
-    result.timings = {"factorizations": t_fact, "total": time.perf_counter() - t0}
+    result.timings = {"factorizations": st["t_fact"], "total": time.perf_counter() - t0}
+    result.record = run.record
     return result
 
 
@@ -327,23 +338,28 @@ def _solve_reduced(K, F, contact, G, points: FrictionPoints, crack: np.ndarray, 
         b -= defect
     t2 = time.perf_counter()
     result = certificate(K, F, y, inner.w, contact, G, points, inner.active, inner.stick, inner.bound, inner.iterations)
+    result.record = inner.record
     result.timings = {"factorize": t1 - t0, "newton": newton, "recover": t2 - t1 - newton, "factorizations": t1 - t0,
                       "reduced_unknowns": float(len(crack)), "total": time.perf_counter() - t0}
     return result
 
 
-def sticking_forces(B: sp.csr_matrix, r: np.ndarray, stick: np.ndarray) -> np.ndarray:
+def sticking_forces(B: sp.csr_matrix, r: np.ndarray, stick: np.ndarray, g: np.ndarray | None = None) -> np.ndarray:
     """The sticking points' friction forces (|stick|, 2) that balance the residual `r` (the other forces in it):
-    B_S' lam = -r on B_S's columns, the minimum-norm solution. B_S's rows are redundant (module docstring of
-    `solid.friction_points`), so the forces are not unique; the minimum-norm ones are defined by y alone (B_S's
-    singular values: a clear gap between round-off and the smallest genuine one, 7e-3 of the largest on the
-    inclined penny), the same from any method that finds y."""
+    B_S' lam = -r on B_S's columns. B_S's rows are redundant (module docstring of `solid.friction_points`), so
+    the forces are not unique: of them, the nearest the cones |lam_q| <= g_q (`coulomb.cone_forces`; without
+    `g`, or when they lie in it, the minimum-norm ones). Both are defined by y alone, the same from any
+    method that finds y."""
     rows = np.flatnonzero(np.repeat(stick, 2))
     if not len(rows):
         return np.zeros((0, 2))
     BS = B[rows]
     cols = np.unique(BS.indices)
-    return np.linalg.lstsq(BS[:, cols].toarray().T, -r[cols], rcond=STICK_RCOND)[0].reshape(-1, 2)
+    lam = np.linalg.lstsq(BS[:, cols].toarray().T, -r[cols], rcond=STICK_RCOND)[0].reshape(-1, 2)
+    bound = None if g is None else np.asarray(g, dtype=float)[stick]
+    if bound is not None and np.any(np.linalg.norm(lam, axis=1) > bound * (1 + CONE_SLACK)):
+        return cone_forces(BS[:, cols].toarray().T, r[cols], bound, start=lam)
+    return lam
 
 
 def certificate(K: sp.spmatrix, F: np.ndarray, y: np.ndarray, w: np.ndarray, contact: np.ndarray, G,
@@ -361,13 +377,13 @@ def certificate(K: sp.spmatrix, F: np.ndarray, y: np.ndarray, w: np.ndarray, con
     s = (B @ y).reshape(nq, 2)
     norm_s = np.linalg.norm(s, axis=1)
     # the certificate's friction forces: on the cone's edge along the slip where the points slip, and where
-    # they stick the minimum-norm forces that balance the residual (`sticking_forces`)
+    # they stick the forces that balance the residual nearest the cone (`sticking_forces`)
     cert_t = np.zeros((nq, 2))
     slipping = (g > 0) & ~stick & (norm_s > 0)
     held = (g > 0) & ~slipping  # sticking, or slipping without a slip
     cert_t[slipping] = bound[slipping, None] * s[slipping] / norm_s[slipping, None]
     r = K @ y - F + B.T @ cert_t.ravel()
-    cert_t[held] = sticking_forces(B, r, held)
+    cert_t[held] = sticking_forces(B, r, held, bound)
     r += B.T @ np.where(held[:, None], cert_t, 0.0).ravel()
     r[contact] = 0.0
     # less its rounding-error bound (as the normal forces': constraints.discrete_contact_forces)

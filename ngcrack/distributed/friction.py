@@ -17,7 +17,7 @@ where lam_n < 0, a gap point enters where wn < 0; a sticking point slips where
 |lam_t| > tau, along lam_t; a slipping point sticks where wt runs against s) and tau
 from lam_n: a fixed point on the Coulomb threshold combined with the active-set steps,
 stopped when no rank changes a set and tau moved by less than COULOMB_RTOL of the largest
-lam_n.
+lam_n (the outer loop shared by every frictional solve: `core.coulomb.coulomb_loop`).
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
+from ..core.coulomb import CoulombStep, coulomb_loop
 from .krylov import held_rows, hold, pcg
 
 #: the fixed point on tau = mu lam_n stops when tau changes by less than this fraction of max lam_n
@@ -97,9 +98,13 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
     rhs_c.data = rhs
     op.cumulate(rhs_c)  # consistent values: the slip forces are added on every copy of a shared crack unknown
     load, residual = rhs_c.CreateVector(), rhs_c.CreateVector()
-    steps, cg_steps = 0, []
-    while True:
-        steps += 1
+    cg_steps, pending = [], []
+
+    def step(tau_used: np.ndarray) -> CoulombStep:
+        """One constrained solve with the sets and threshold of the last step (held on entry), then the next."""
+        if pending:  # the last step's sets, now that the loop goes on
+            sets.set(*pending.pop())
+            hold(op, sets)
         load.data = rhs_c
         if len(sets.jt):
             load.FV().NumPy()[sets.jt] += sets.slip_forces()
@@ -123,11 +128,10 @@ def friction_loop(comm, op, rhs: ngs.BaseVector, x: ngs.BaseVector, sets: Fricti
         sign = np.where(rough & ~stick, sign, 0.0)
         changed = comm.allreduce(int(np.count_nonzero((contact != sets.contact) | (stick != sets.stick)
                                                       | (sign != sets.sign))))
-        moved = comm.allreduce(float(np.max(np.abs(tau - sets.tau), initial=0.0)), op=MPI.MAX)
-        if changed == 0 and moved <= COULOMB_RTOL * max(lam_max, 1e-300):
-            return steps, cg_steps
-        if steps >= MAX_FRICTION_STEPS:
-            raise RuntimeError(f"crack problem with friction: no convergence in {steps} steps "
-                               f"({changed} set changes, threshold change {moved:.1e} of {lam_max:.1e})")
-        sets.set(contact, stick, sign, tau)
-        hold(op, sets)
+        pending.append((contact, stick, sign, tau))
+        return CoulombStep(tau, max(lam_max, 1e-300), changed)
+
+    run = coulomb_loop(step, sets.tau, max_steps=MAX_FRICTION_STEPS, bound_rtol=COULOMB_RTOL,
+                       what="the crack problem with friction", unit="steps",
+                       reduce_max=lambda v: comm.allreduce(v, op=MPI.MAX))
+    return run.steps, cg_steps

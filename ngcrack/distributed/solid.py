@@ -137,7 +137,7 @@ def solve_scene(scene, options=None):
     from .world import refuse
 
     options = options if options is not None else SolveOptions()
-    opts = solid_options(options)
+    opts = solid_options(options, scene)
     try:  # alike on every rank, before any work: rank 0 reports, the others leave quietly
         check_request(scene, opts, options.max_dof)
     except ValueError as exc:

@@ -21,11 +21,12 @@ linear solve by CG (`krylov.pcg`, whatever the preconditioner):
 
 After each step the sets are updated from the answer: a contact point leaves where its
 force is negative, a gap point enters where it penetrates; g from the contact points'
-forces; a sticking point slips where its friction force (the minimum-norm multipliers of
-B_S, read from the residual) leaves the cone, along that force; a slipping point sticks
+forces; a sticking point slips where its friction force (of the multipliers of B_S that
+balance the residual, the nearest the cone: `core.coulomb.cone_forces`) leaves the cone, along that force; a slipping point sticks
 where its slip turns against d, and takes the direction of its slip otherwise. The steps
 stop when no set changes, g has settled to BOUND_RTOL and the slip law holds to LAW_RTOL
-(relative to the largest normal force). The decisions on the friction points are taken
+(relative to the largest normal force): the outer loop is `core.coulomb.coulomb_loop`, the
+serial solves' own. The decisions on the friction points are taken
 on rank 0 and broadcast, so that every rank holds the same sets.
 
 (The 2D fixed point of `friction.py`, the slip direction lagged, did not converge in 3D:
@@ -39,7 +40,7 @@ from dataclasses import dataclass, field, fields
 import ngsolve as ngs
 import numpy as np
 
-from ..core.sparse_friction import STICK_RCOND
+from ..core.coulomb import STICK_RCOND, CoulombStep, cone_forces, coulomb_loop
 from .friction import force_residual
 from .krylov import _DEBUG, Operator, hold, pcg
 
@@ -219,7 +220,7 @@ def _update(state: PointState, B: np.ndarray, s: np.ndarray, r_t: np.ndarray, g:
     lam_t = np.zeros((q, 2))
     rows = np.flatnonzero(np.repeat(state.stick, 2))
     if len(rows):
-        lam_t[state.stick] = np.linalg.lstsq(B[rows].T, -r_t, rcond=STICK_RCOND)[0].reshape(-1, 2)
+        lam_t[state.stick] = cone_forces(B[rows].T, r_t, g[state.stick])  # of the balancing forces, the nearest the cone
     lam_t[state.slip] = state.g[state.slip, None] * state.d[state.slip] + np.einsum(
         "qij,qj->qi", state.N()[state.slip], s[state.slip])
     norm_t, norm_s = np.linalg.norm(lam_t, axis=1), np.linalg.norm(s, axis=1)
@@ -268,11 +269,19 @@ def friction_loop(comm, op: Operator, rhs, x, aset, crack: CrackUnknowns, layout
             t = crack.values(vec)
             crack.put(vec, t - state.basis.T @ (state.basis @ t))
 
-    steps, cg_steps = 0, []
+    cg_steps, pending = [], []
     nfaces = int(max(np.max(layout.face, initial=-1), np.max(face_gid, initial=-1)) + 1)
     nfaces = comm.allreduce(nfaces, op=MPI.MAX)
-    while True:
-        steps += 1
+
+    def step(g_used: np.ndarray) -> CoulombStep:
+        """One Newton step with the sets of the last one (held on entry), then the next sets (rank 0's)."""
+        nonlocal state
+        if pending:  # the last step's sets, now that the loop goes on
+            active, new = pending.pop()
+            if active is not None:
+                aset.set(active)
+                hold(op, aset)
+            state = new
         load.data = rhs_c
         crack.add(load, -(B.T @ (state.g[:, None] * state.d * state.slip[:, None]).ravel()))
         slip_op.N = state.N()
@@ -297,20 +306,17 @@ def friction_loop(comm, op: Operator, rhs, x, aset, crack: CrackUnknowns, layout
             state.g[:, None] * state.d * state.slip[:, None] + np.einsum("qij,qj->qi", slip_op.N, s)).ravel()
         if comm.rank == 0:  # decided on one rank: every rank holds the same sets
             new, changed_t, law = _update(state, B, s, r_t, g, lam_max)
-            moved = float(np.max(np.abs(g - state.g), initial=0.0)) / max(lam_max, 1e-300)
         else:
-            new, changed_t, law, moved = None, 0, 0.0, 0.0
-        new, changed_t, law, moved = comm.bcast((new, changed_t, law, moved), root=0)
+            new, changed_t, law = None, 0, 0.0
+        new, changed_t, law = comm.bcast((new, changed_t, law), root=0)
+        g = new.g  # rank 0's bound: the loop's test is then the same on every rank
         if _DEBUG and comm.rank == 0:
-            print(f"friction step {steps}: CG {cg_steps[-1]}, set changes {changed} + {changed_t}, bound moved "
-                  f"{moved:.1e}, slip law {law:.1e}", flush=True)
-        if changed + changed_t == 0 and moved <= BOUND_RTOL and law <= LAW_RTOL:
-            state.lam_t = new.lam_t
-            return steps, cg_steps, state
-        if steps >= MAX_STEPS:
-            raise RuntimeError(f"crack problem with friction: no convergence in {steps} steps ({changed + changed_t} "
-                               f"set changes, bound change {moved:.1e}, slip law {law:.1e} of the largest force)")
-        if changed:
-            aset.set(active)
-            hold(op, aset)
-        state = new
+            print(f"friction step {len(cg_steps)}: CG {cg_steps[-1]}, set changes {changed} + {changed_t}, slip law "
+                  f"{law:.1e}", flush=True)
+        state.lam_t = new.lam_t  # the forces of this step (kept if the loop stops here)
+        pending.append((active if changed else None, new))
+        return CoulombStep(g, max(lam_max, 1e-300), changed + changed_t, law)
+
+    run = coulomb_loop(step, state.g, max_steps=MAX_STEPS, bound_rtol=BOUND_RTOL, law_rtol=LAW_RTOL,
+                       what="the crack problem with friction", unit="steps")
+    return run.steps, cg_steps, state

@@ -32,7 +32,8 @@ __all__ = ["BODY", "PLANAR", "PlanarBody", "check_pressure_determined", "check_s
 
 
 #: the options of a 3D body only (ngcrack.core.options.SolveOptions), with what a 2D scene takes instead
-SOLID_ONLY = {"front_h": "tip_h (the mesh size at the crack tips)", "fronts": "", "front_points": ""}
+SOLID_ONLY = {"front_h": "tip_h (the mesh size at the crack tips)", "fronts": "", "front_points": "",
+              "accuracy": "adapt=TOL (refinement until the relative error estimate is <= TOL)"}
 
 
 def geometry_key(scene: Scene) -> tuple:

@@ -72,6 +72,7 @@ import numpy as np
 
 from ..core.constraints import faces_closed
 from ..core.errors import InputError
+from ..core.quadrature import DOMAIN_INTEGRAL_ORDER
 from .materials import compliance as _compliance
 from .scene import tip_label
 from .scene.measures import point_segment_distance
@@ -90,9 +91,8 @@ PLATEAU_FRACTION = 0.5
 #: Measured on paper-2 (bdm, K_II against a mesh graded to 0.002 at the tips): 0.5 rings
 #: (maxh 0.2) 3.7% off, 1.3 rings (maxh 0.1) 0.1%, 2.4 rings (maxh 0.05) 0.3%
 MIN_RINGS = 1.0
-#: quadrature degree of the domain integral (the fields are polynomials of degree <= 2,
-#: the Williams fields smooth where grad q != 0; measured: degrees 4, 6 and 8 agree to 1e-7)
-QUADRATURE_ORDER = 6
+#: quadrature degree of the domain integral (`ngcrack.core.quadrature`)
+QUADRATURE_ORDER = DOMAIN_INTEGRAL_ORDER
 #: r below this fraction of R is floored (no quadrature point sits at a tip; this only
 #: keeps r^(-1/2) finite in the expression)
 R_FLOOR = 1e-12

@@ -3,7 +3,7 @@
     ngcrack scenes
     ngcrack stability [--quick] [--out DIR]
     ngcrack solve SCENE [--element E] [--order K] [--maxh H] [--nu NU] [--E E] [--friction MU] [--tip-h H]
-                        [--crack-h H] [--qp-solver S] [--crack-model M] [--adapt TOL] [--max-dof N]
+                        [--crack-h H] [--front-h H] [--accuracy E] [--qp-solver S] [--crack-model M] [--adapt TOL] [--max-dof N]
                         [--hp L] [--json OUT] [--plot OUT.png] [--vtk OUT]
     ngcrack sweep SCENE [--element E ...] (--maxh H [H ...] | --adapt TOL [TOL ...]) [--nu NU ...]
                         [--friction MU ...] --out results.csv [--reference-maxh H] [--reference-element E]
@@ -160,7 +160,7 @@ def _solve_scene(args):
 
 #: the options of `ngcrack solve` that are flags of the same name (`front_h` is --front-h)
 SOLVE_FLAGS = ("element", "order", "maxh", "tip_h", "crack_h", "front_h", "qp_solver", "adapt", "hp", "max_dof",
-               "crack_model", "estimate")
+               "crack_model", "estimate", "accuracy")
 
 
 def _solve_options(args):
@@ -439,6 +439,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tip-h", dest="tip_h", type=_positive, help="mesh size at crack tips")
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
     p.add_argument("--front-h", dest="front_h", type=_positive, help="mesh size at crack fronts (3D scenes)")
+    p.add_argument("--accuracy", type=_positive, metavar="E",
+                   help="relative error of K asked for along the crack fronts, in [0.01, 0.5]: sets --front-h and "
+                        "--crack-h (3D scenes; in 2D use --adapt)")
     p.add_argument("--hp", type=_layers, metavar="L",
                    help="L layers of geometric refinement (ratio 0.2) towards every crack tip; with --order 2 or 3")
     p.add_argument("--nu", type=_positive, help="Poisson ratio (overrides the scene)")

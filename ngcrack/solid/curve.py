@@ -151,7 +151,45 @@ def occ_curve_face(crack):
     return occ.Face(occ.Wire([edge]))
 
 
-class CurveFront:
+class ClosedArcs:
+    """Arc lengths along a closed front parametrized by phi in [0, 2 pi): the table of s(phi) from the front's
+    `speed` (|dx/dphi|), its length `periodic`, and the front points equally spaced in arc length. The fronts of
+    discs and ellipses (ngcrack.solid.front.FrontGeometry) and of curves (`CurveFront`) share it."""
+
+    def _tabulate(self, points: int) -> None:
+        """The table of s(phi) at `points` + 1 angles (the mid-point rule on `speed`)."""
+        self._phis = np.linspace(0, 2 * np.pi, points + 1)
+        mid = 0.5 * (self._phis[1:] + self._phis[:-1])
+        self._arc = np.concatenate([[0.0], np.cumsum(self.speed(mid) * np.diff(self._phis))])
+        #: the front's length (the front is closed: arc lengths wrap around it)
+        self.periodic = float(self._arc[-1])
+
+    def arc(self, phi):
+        """The arc length from phi = 0 to phi."""
+        return np.interp(np.asarray(phi) % (2 * np.pi), self._phis, self._arc)
+
+    def arc_unwrapped(self, phi):
+        """The arc length from phi = 0 to phi counted through every turn (increasing in phi)."""
+        phi = np.asarray(phi, dtype=float)
+        return np.floor(phi / (2 * np.pi)) * self.periodic + self.arc(phi)
+
+    def delta(self, s, s0):
+        """The arc length from s0 to s the short way round."""
+        P = self.periodic
+        return (s - s0 + 0.5 * P) % P - 0.5 * P
+
+    def stations(self, h: float, L: float, R: float, n_points: int | None):
+        """The front points: n equally spaced in arc length (default one per 2 h, 8 at least)."""
+        n = n_points or max(8, int(self.periodic / (2 * h)))
+        s_i = np.arange(n) * self.periodic / n
+        return np.interp(s_i, self._arc, self._phis), s_i
+
+    def within(self, phi, pad):
+        """Every angle lies on a closed front."""
+        return np.ones(np.shape(phi), dtype=bool)
+
+
+class CurveFront(ClosedArcs):
     """The front of a curve crack: phi in [0, 2 pi) is 2 pi t / T along the spline's parameter t (the
     protocol of ngcrack.solid.front.FrontGeometry; this module needs no NGSolve, so a scene with a curve is
     validated without it)."""
@@ -161,10 +199,7 @@ class CurveFront:
         self.c, self.n = crack.center, crack.normal
         self.s = spline_of(crack)
         self._scale = self.s.T / (2 * np.pi)
-        self._phis = np.linspace(0, 2 * np.pi, TABLE_POINTS + 1)
-        mid = 0.5 * (self._phis[1:] + self._phis[:-1])
-        self._arc = np.concatenate([[0.0], np.cumsum(self.speed(mid) * np.diff(self._phis))])
-        self.periodic = float(self._arc[-1])
+        self._tabulate(TABLE_POINTS)
         table = self._phis[:-1]
         from scipy.spatial import cKDTree
 
@@ -173,24 +208,6 @@ class CurveFront:
         self._reach_phi = np.linspace(0, 2 * np.pi, REACH_POINTS + 1)
         r = self._medial_radius(self._reach_phi[:-1])
         self._reach = np.r_[r, r[:1]]
-
-    def arc(self, phi):
-        """The arc length from phi = 0 to phi."""
-        return np.interp(np.asarray(phi) % (2 * np.pi), self._phis, self._arc)
-
-    def delta(self, s, s0):
-        """The arc length from s0 to s the short way round."""
-        P = self.periodic
-        return (s - s0 + 0.5 * P) % P - 0.5 * P
-
-    def stations(self, h: float, L: float, R: float, n_points: int | None):
-        """The front points: n equally spaced in arc length (default one per 2 h, 8 at least), as an ellipse's."""
-        n = n_points or max(8, int(self.periodic / (2 * h)))
-        s_i = np.arange(n) * self.periodic / n
-        return np.interp(s_i, self._arc, self._phis), s_i
-
-    def within(self, phi, pad):
-        return np.ones(np.shape(phi), dtype=bool)
 
     def _t(self, phi):
         return (np.asarray(phi) % (2 * np.pi)) * self._scale

@@ -34,8 +34,10 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-#: quadrature order on the crack faces (the auxiliary term has an integrable r^(-1/2))
-QUADRATURE_ORDER = 8
+from ..core.quadrature import FACE_TERM_ORDER
+
+#: quadrature order on the crack faces (the auxiliary term has an integrable r^(-1/2): `ngcrack.core.quadrature`)
+QUADRATURE_ORDER = FACE_TERM_ORDER
 
 
 @dataclass

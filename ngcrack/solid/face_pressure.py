@@ -30,8 +30,10 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-#: quadrature order on the crack faces (the auxiliary term has an integrable r^(-1/2))
-QUADRATURE_ORDER = 8
+from ..core.quadrature import FACE_TERM_ORDER
+
+#: quadrature order on the crack faces (the auxiliary term has an integrable r^(-1/2): `ngcrack.core.quadrature`)
+QUADRATURE_ORDER = FACE_TERM_ORDER
 #: the step of the central difference of a varying pressure along e_1, over the crack's size
 DP_STEP_RTOL = 1e-6
 

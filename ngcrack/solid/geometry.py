@@ -23,21 +23,13 @@ import ngsolve as ngs
 import numpy as np
 
 from .scene import Box, PlanarCrack, SolidScene
+from .sizing import NEAR_H_FACTOR, NEAR_H_FLOOR_RTOL, NEAR_RADIUS  # noqa: F401  (this module's mesh choices)
 from .surface import crosses, on_surface
 
 #: the polynomial order of the curved geometry
 CURVE_ORDER = 2
-#: the body's mesh size near a crack, in its crack_h: netgen's grading alone lets the size grow
-#: from crack_h at the faces by `grading` per unit distance, and the body a crack radius off the
-#: crack then stays too coarse for order 1 (K_I 0.9-1% low on average on the default penny;
-#: BENCHMARKS section 21)
-NEAR_H_FACTOR = 1.25
-#: ... but not below this fraction of the crack's size: what the body needs there is the crack's
-#: scale, not the front's (a finer crack_h would otherwise fill the ball: 18,234 tetrahedra at
-#: front_h = 0.15a against 8,553 at 0.2a)
-NEAR_H_FLOOR_RTOL = 0.25
-#: ... in the ball around the crack's centre of this many times its half size (its radius for a disc)
-NEAR_RADIUS = 2.0
+#: the body's mesh size near a crack (NEAR_H_FACTOR, NEAR_H_FLOOR_RTOL, NEAR_RADIUS): `solid.sizing`, which counts
+#: its tetrahedra too
 
 
 class MeshError(RuntimeError):

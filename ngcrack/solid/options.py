@@ -91,12 +91,19 @@ def check_solid(scene: SolidScene, options) -> None:
     SCENE_CHECKS.get(opts["element"], lambda scene: None)(scene)
 
 
-def solid_options(options) -> dict:
-    """The stages' options of a SolveOptions checked for the 3D body (`check_solid`), with the mesh sizes."""
+def solid_options(options, scene: SolidScene | None = None) -> dict:
+    """The stages' options of a SolveOptions checked for the 3D body (`check_solid`), with the mesh sizes: those
+    `options.accuracy` asks for on `scene` (`sizing.accuracy_sizes`), else the given ones."""
     opts = check_options({"element": options.element, "order": options.order, "crack_model": options.crack_model,
                           "estimate": options.estimate, "linear_solver": options.linear_solver,
                           "qp_solver": options.qp_solver, "fronts": options.fronts, "front_points": options.front_points})
-    return {**opts, "maxh": options.maxh, "crack_h": options.crack_h, "front_h": options.front_h,
-            "grading": options.grading}
+    sizes = {"crack_h": options.crack_h, "front_h": options.front_h}
+    if getattr(options, "accuracy", None) is not None:
+        if scene is None:
+            raise InputError("accuracy: the mesh sizes it asks for need the scene (solid_options(options, scene))")
+        from .sizing import accuracy_sizes
+
+        sizes = accuracy_sizes(scene, options.accuracy)
+    return {**opts, "maxh": options.maxh, **sizes, "grading": options.grading}
 
 

@@ -98,9 +98,11 @@ class SolidSolution(Solution):
             return np.zeros(0)
         mesh = self.smesh.mesh
         pts = self.disc.constraint_points
-        nrm = np.array([c.normal for c in self.smesh.cracks])[self.point_crack()]
-        c = pts.mean(axis=0)
-        # a point just inside the + side's tetrahedron, a little towards the face's centre
+        owner = self.point_crack()
+        nrm = np.array([c.normal for c in self.smesh.cracks])[owner]
+        c = np.array([pts[owner == i].mean(axis=0) for i in range(len(self.smesh.cracks))])[owner]
+        # a point just inside the + side's tetrahedron, a little towards its crack's centre (of its points: inside
+        # the crack's part in the body; the mean over every crack may lie outside the body, in a hole)
         p = pts + 1e-5 * self.scene.size * nrm + 1e-3 * (c - pts)
         vals = np.asarray(self.fields["jump"](mesh(p[:, 0], p[:, 1], p[:, 2])))
         vt = vals - np.sum(vals * nrm, axis=1)[:, None] * nrm

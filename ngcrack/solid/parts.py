@@ -21,7 +21,11 @@ check of the supports) and, for a point support, the planar face a point lies on
 normal and the room around the point on that face (`face_at`).
 
 For a STEP part the clearance is OpenCascade's distance from each point to the solid
-(outside) and to its nearest face (inside): exact for the part as the file describes it.
+(outside) and to its nearest face (inside): exact for the part as the file describes it,
+except that OCC counts a point within about 1e-3 of a face as outside; `face_distances` gives
+the distance to each label's faces (negative, at a point outside, for the label nearest to it),
+which is how a crack crossing a part's free faces (a corner crack at a hole) is checked and
+where its front's ligament is measured (``ngcrack.solid.surface``).
 """
 
 from __future__ import annotations
@@ -250,6 +254,24 @@ class StepPart:
             outside = self._shape.Distance(v)
             out[k] = -outside if outside > 0 else min(f.Distance(v) for f in faces)
         return out
+
+    def face_distances(self, p: np.ndarray) -> dict[str, np.ndarray]:
+        """Per label, the distance of each point to its faces, negative at a point outside the solid for the label
+        nearest to it (the face it crossed): the box's signed face distances (``solid.surface.face_distances``)."""
+        from netgen import occ
+
+        faces = list(self._shape.faces)
+        labels = list(self.aliases().items())
+        out = np.empty((len(labels), len(p)))
+        for k, q in enumerate(np.asarray(p, dtype=float)):
+            v = occ.Vertex(occ.Pnt(*q))
+            d = [f.Distance(v) for f in faces]
+            out[:, k] = [min(d[i] for i in idx) for _, idx in labels]
+            outside = self._shape.Distance(v)
+            if outside > 0:
+                j = int(np.argmin(out[:, k]))
+                out[j, k] = -max(outside, out[j, k])
+        return {lab: out[j] for j, (lab, _) in enumerate(labels)}
 
     def face_points(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Per label, points on its faces' edges (EDGE_SAMPLES per edge) and the faces' normals there (a

@@ -12,24 +12,29 @@ The tetrahedron estimate. Netgen makes tetrahedra of edge about the local mesh s
 so a region of volume dV holds about dV / h^3 of them times a constant. The size is maxh = H
 away from the cracks; each crack's faces ask for crack_h = h_c, its front (the crack's edge)
 for front_h = h_0, and h grows from them with the distance d at the rate g (grading), until
-it reaches H. Integrated in closed form, the three parts of the density are
+it reaches H; around each crack the body's size is at most h_n (`solid.geometry.NEAR_*`) in a ball
+of radius R_n, from which it grows at the rate g too. Integrated, the four parts of the density are
 
     bulk   V / H^3                                                            (V the body's volume)
-    faces  2 A [ (1/(2 g)) (1/h_c^2 - 1/s_c^2) - D / H^3 ],  s_c = h_c + g D, D = min((H - h_c)/g, V/(2A))
-    front  L [ (2 pi / g^2) (1/(2 h_0) - 1/s_0 + h_0/(2 s_0^2)) - pi R^2 / H^3 ],
-           s_0 = h_0 + g R, R = min((H - h_0)/g, sqrt(V/(pi L)))
+    faces  2 A [ (1/(2 g)) (1/h_c^2 - 1/s_c^2) - D / H_b^3 ],  s_c = h_c + g D, D = min((H_b - h_c)/g, V/(2A))
+    front  L [ (2 pi / g^2) (1/(2 h_0) - 1/s_0 + h_0/(2 s_0^2)) - pi R^2 / H_b^3 ],
+           s_0 = h_0 + g R, R = min((H_b - h_0)/g, sqrt(V/(pi L)))
+    near   4/3 pi R_n^3 (1/h_n^3 - 1/H^3) + the shell where h = h_n + g (r - R_n) < H (trapezoidal rule)
 
-(A the cracks' area, L their fronts' length; the faces' band on both sides, the front's tube
-all around it, each less the bulk it replaces), and the tetrahedra are TETS_PER_DENSITY times
-TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT times them (fitted to the largest relative error
-on the measured meshes). Measured against netgen on 19 meshes of 8 scenes (the penny in boxes
-of side 20a and 6a and in a cylinder, the bent beam, the inclined penny, an ellipse and a
-square crack; front_h 0.03a to 0.5a, crack_h = front_h to 8 front_h, grading 0.2 to 0.8; 509
-to 48,727 tetrahedra): estimate / netgen within ESTIMATE_SPREAD, 0.68 to 1.47 (BENCHMARKS.md,
-"The 3D size guard"); the front's tube owes most of the tetrahedra of a penny.
+(A a crack's area, L its front's length; the faces' band on both sides, the front's tube all
+around it, each less what the near ball, of size H_b = h_n, or the bulk, H_b = H without one,
+already counts), and the tetrahedra are TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT and
+TETS_PER_NEAR times them (the bulk's fitted on the meshes before the near balls, the others to
+the largest relative error on today's meshes). Measured against netgen on 18 meshes of 7 scenes
+(the penny in boxes of side 20a and 6a and in a cylinder, the bent beam, the inclined penny, an
+ellipse; front_h 0.05a to 0.5a, crack_h = 2 to 8 front_h, grading 0.2 to 0.5; 509 to 25,463
+tetrahedra): estimate / netgen within ESTIMATE_SPREAD, 0.74 to 1.35 (BENCHMARKS.md, "3D memory,
+the ellipse in 3 GB and the accuracy option"); the front's tube and the near ball owe most of the
+tetrahedra of a penny.
 
 Unknowns per tetrahedron and peak memory per unknown are constants of the element and order
-(UNKNOWNS_PER_TET, BYTES_PER_UNKNOWN above BASE_MEMORY: measured, the constants say where).
+(UNKNOWNS_PER_TET, BYTES_PER_UNKNOWN above BASE_MEMORY: measured, the constants say where; for
+TDNNS order 1 the bytes per unknown grow as the cube root of the unknowns, FILL_GROWS).
 """
 
 from __future__ import annotations
@@ -42,11 +47,16 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, check_max_dof, memory_limits
 from ..core.memory import format_bytes as _bytes
+from .surface import inside_measures
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
-TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 11.31, 5.30
-#: estimate / netgen on those meshes lies in this range (the small meshes and grading 0.2, 0.5 at its ends)
-ESTIMATE_SPREAD = (0.68, 1.47)
+TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 24.67, 4.46
+#: ... and of the body's size near the cracks (`_near_ball`); the bulk's kept from the fit on 19 meshes, the three
+#: others fitted on 18 of today's meshes (the body's size near the cracks included)
+TETS_PER_NEAR = 7.41
+#: estimate / netgen on those meshes lies in this range (the ellipse at front_h 0.1a, crack_h 0.2a at its low end:
+#: netgen makes 21,706 tetrahedra there against 13,535 at crack_h 0.25a)
+ESTIMATE_SPREAD = (0.74, 1.35)
 #: unknowns (total, before condensation) per tetrahedron, by (element, order), measured on the penny (6,809
 #: tetrahedra) and the bent beam (1,170): tdnns 48.6-48.9 and 115.0-115.7, h1p1 0.56-0.64, h1p2 4.2-4.5
 UNKNOWNS_PER_TET = {("tdnns", 1): 49.0, ("tdnns", 2): 116.0, ("h1p1", 1): 0.64, ("h1p2", 2): 4.5}
@@ -54,13 +64,45 @@ UNKNOWNS_PER_TET = {("tdnns", 1): 49.0, ("tdnns", 2): 116.0, ("h1p1", 1): 0.64, 
 #: penny solves of BENCHMARKS.md section 17 (closed faces, two active sets: 5.2 kB at order 1, 6.1 kB at order
 #: 2), h1p2 measured at 59k and 131k unknowns (31 and 33 kB: the 3D fill of its sparse factorization); h1p1 as
 #: h1p2 (its fill per unknown is smaller: an upper bound)
-BYTES_PER_UNKNOWN = {("tdnns", 1): 5800, ("tdnns", 2): 6400, ("h1p1", 1): 33000, ("h1p2", 2): 33000}
+BYTES_PER_UNKNOWN = {("tdnns", 1): 3200, ("tdnns", 2): 6400, ("h1p1", 1): 33000, ("h1p2", 2): 33000}
+#: the elements whose bytes per unknown above are at FILL_REFERENCE unknowns and grow as the cube root of the
+#: unknowns (a nested-dissection factor of a 3D mesh: nnz(L) ~ n^(4/3)); TDNNS order 1 measured with the
+#: symmetric form and one factorization with the crack unknowns last: 2.34 kB per unknown at 415,172 unknowns,
+#: 2.6 kB at 557,303, 2.78 kB at 661,250 (BENCHMARKS, "3D memory, the ellipse in 3 GB
+#: and the accuracy option")
+FILL_GROWS = (("tdnns", 1),)
+FILL_REFERENCE = 1e6
 #: the memory of a 3D solve's process before its unknowns (the interpreter, NGSolve, the mesh): 0.4 GB measured
 BASE_MEMORY = 0.4e9
 #: the smallest mesh size netgen is asked for, as a fraction of the body's diameter (as in 2D)
 MIN_SIZE_RTOL = 1e-6
-#: points per curve of a crack's outline when its front's length is measured
-OUTLINE_POINTS = 512
+#: the body's mesh size near a crack, in its crack_h: netgen's grading alone lets the size grow
+#: from crack_h at the faces by `grading` per unit distance, and the body a crack radius off the
+#: crack then stays too coarse for order 1 (K_I 0.9-1% low on average on the default penny;
+#: BENCHMARKS section 21)
+NEAR_H_FACTOR = 1.25
+#: ... but not below this fraction of the crack's size: what the body needs there is the crack's
+#: scale, not the front's (a finer crack_h would otherwise fill the ball: 18,234 tetrahedra at
+#: front_h = 0.15a against 8,553 at 0.2a)
+NEAR_H_FLOOR_RTOL = 0.25
+#: ... in the ball around the crack's centre of this many times its half size (its radius for a disc)
+NEAR_RADIUS = 2.0
+#: points of the trapezoidal rule over the shell around a crack's near ball
+SHELL_POINTS = 256
+
+#: `accuracy` (the relative error of K asked for along the fronts) to mesh sizes: the worst front point's error of
+#: the default sizes (front_h DEFAULT_FRONT_H_RTOL of the crack's size, crack_h twice that: the penny at 0.2a,
+#: 0.58-0.94% on five boxes, BENCHMARKS section 21)...
+ACCURACY_AT_DEFAULT = 0.01
+#: ... at front_h this fraction of the crack's size (the 3D default, `solid.scene.DEFAULT_FRONT_H_RTOL`) ...
+ACCURACY_FRONT_H_RTOL = 0.1
+#: ... falls as front_h to this power (least squares over front_h = 0.5a-0.1a on the penny, BENCHMARKS section 21) ...
+ACCURACY_RATE = 1.19
+#: ... and front_h is never coarser than this fraction of the crack's size (0.3a on a penny: 1.17%; the rate does
+#: not hold above it: 2.1% at 0.4a, 6.4% at 0.5a)
+ACCURACY_COARSEST_RTOL = 0.15
+#: crack_h is this many times the front_h `accuracy` gives (as the defaults)
+ACCURACY_CRACK_H_RATIO = 2.0
 
 
 def _volume(domain) -> float:
@@ -71,38 +113,78 @@ def _volume(domain) -> float:
     return float(math.pi * domain.radius ** 2 * domain.height)
 
 
-def front_length(crack) -> float:
-    """The length of a crack's front (its outline's perimeter)."""
-    p = crack.outline(OUTLINE_POINTS)
-    return float(np.sum(np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)))
+def _near_ball(crack, hc: float, H: float, g: float, V: float) -> tuple[float, float]:
+    """(h_n, its part of the integral) of the body's size near `crack` (`solid.geometry.NEAR_*`): the ball of
+    NEAR_RADIUS half sizes at h_n and the shell around it where h grows from h_n at the rate g up to H (both within
+    the ball of the body's volume), less the bulk they replace; (H, 0) where there is none."""
+    R = NEAR_RADIUS * 0.5 * crack.size
+    hn = min(max(NEAR_H_FACTOR * hc, NEAR_H_FLOOR_RTOL * crack.size), H)
+    if R <= 0 or hn >= H:
+        return H, 0.0
+    r_body = (3.0 * V / (4.0 * math.pi)) ** (1.0 / 3.0)
+    Rb = min(R, r_body)
+    part = 4.0 / 3.0 * math.pi * Rb ** 3 * (1.0 / hn ** 3 - 1.0 / H ** 3)
+    r_end = min(R + (H - hn) / g, r_body)
+    if r_end > Rb:
+        r = np.linspace(Rb, r_end, SHELL_POINTS)
+        f = 4.0 * math.pi * r ** 2 * (1.0 / (hn + g * (r - R)) ** 3 - 1.0 / H ** 3)
+        part += float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(r)))
+    return hn, part
 
 
 def density_parts(scene, maxh=None, crack_h=None, front_h=None, grading=None) -> dict[str, float]:
-    """The bulk's, the crack faces' and the fronts' parts of the integral of 1 / h^3 (module docstring)."""
+    """The bulk's, the crack faces', the fronts' and the near balls' parts of the integral of 1 / h^3 (module
+    docstring): each crack's faces and front grade into its near ball's size, which grades into maxh."""
     s = scene.mesh_sizes(maxh, crack_h, front_h, grading)
     H, g = s["maxh"], s["grading"]
     hc = min(s["crack_h"], H)
     h0 = min(s["front_h"], hc)
     V = _volume(scene.domain)
-    A = sum(float(c.area) for c in scene.cracks)
-    L = sum(front_length(c) for c in scene.cracks)
-    parts = {"maxh": V / H ** 3, "crack_h": 0.0, "front_h": 0.0}
-    if A > 0:
-        D = min((H - hc) / g, V / (2.0 * A))
-        sc = hc + g * D
-        parts["crack_h"] = max(2.0 * A * ((1.0 / (2.0 * g)) * (1.0 / hc ** 2 - 1.0 / sc ** 2) - D / H ** 3), 0.0)
-    if L > 0:
-        R = min((H - h0) / g, math.sqrt(V / (math.pi * L)))
-        s0 = h0 + g * R
-        tube = (2.0 * math.pi / g ** 2) * (0.5 / h0 - 1.0 / s0 + 0.5 * h0 / s0 ** 2)
-        parts["front_h"] = max(L * (tube - math.pi * R ** 2 / H ** 3), 0.0)
+    parts = {"maxh": V / H ** 3, "crack_h": 0.0, "front_h": 0.0, "near": 0.0}
+    for c in scene.cracks:
+        _, A, L = inside_measures(scene.domain, c)  # a surface crack: its part inside the body
+        Hb, near = _near_ball(c, hc, H, g, V)
+        parts["near"] += near
+        if A > 0 and hc < Hb:
+            D = min((Hb - hc) / g, V / (2.0 * A))
+            sc = hc + g * D
+            parts["crack_h"] += max(2.0 * A * ((1.0 / (2.0 * g)) * (1.0 / hc ** 2 - 1.0 / sc ** 2) - D / Hb ** 3), 0.0)
+        if L > 0 and h0 < Hb:
+            R = min((Hb - h0) / g, math.sqrt(V / (math.pi * L)))
+            s0 = h0 + g * R
+            tube = (2.0 * math.pi / g ** 2) * (0.5 / h0 - 1.0 / s0 + 0.5 * h0 / s0 ** 2)
+            parts["front_h"] += max(L * (tube - math.pi * R ** 2 / Hb ** 3), 0.0)
     return parts
+
+
+def accuracy_sizes(scene, accuracy: float) -> dict[str, float]:
+    """The front_h and crack_h that give K within `accuracy` (relative, at the worst front point) along the fronts
+    of `scene` by the measured rate: front_h = ACCURACY_FRONT_H_RTOL d (accuracy / ACCURACY_AT_DEFAULT)^(1 /
+    ACCURACY_RATE), d the smallest crack's size, at most ACCURACY_COARSEST_RTOL d; crack_h = ACCURACY_CRACK_H_RATIO
+    front_h. Smaller for a smaller accuracy (monotone); the scene's own front_h and crack_h are not used."""
+    d = min((c.size for c in scene.cracks), default=scene.size)
+    h = ACCURACY_FRONT_H_RTOL * d * (float(accuracy) / ACCURACY_AT_DEFAULT) ** (1.0 / ACCURACY_RATE)
+    h = min(h, ACCURACY_COARSEST_RTOL * d)
+    return {"front_h": h, "crack_h": ACCURACY_CRACK_H_RATIO * h}
 
 
 def estimate_tets(scene, maxh=None, crack_h=None, front_h=None, grading=None) -> float:
     """The estimated tetrahedra of netgen's mesh of `scene` at these sizes (the scene's where None)."""
-    p = density_parts(scene, maxh, crack_h, front_h, grading)
-    return TETS_PER_BULK * p["maxh"] + TETS_PER_FACES * p["crack_h"] + TETS_PER_FRONT * p["front_h"]
+    return sum(_weighted(density_parts(scene, maxh, crack_h, front_h, grading)).values())
+
+
+def _weighted(parts: dict[str, float]) -> dict[str, float]:
+    """The tetrahedra of each part of the density integral."""
+    return {"maxh": TETS_PER_BULK * parts["maxh"], "crack_h": TETS_PER_FACES * parts["crack_h"],
+            "front_h": TETS_PER_FRONT * parts["front_h"], "near": TETS_PER_NEAR * parts["near"]}
+
+
+def peak_memory(unknowns: float, element: str = "tdnns", order: int = 1) -> float:
+    """The estimated peak resident memory in bytes of a 3D solve with `unknowns` (module docstring)."""
+    per = BYTES_PER_UNKNOWN[(element, order)]
+    if (element, order) in FILL_GROWS:  # the factor's fill per unknown grows as the cube root of the unknowns
+        per *= (unknowns / FILL_REFERENCE) ** (1.0 / 3.0)
+    return BASE_MEMORY + unknowns * per
 
 
 @dataclass(frozen=True)
@@ -124,14 +206,13 @@ def estimate_size(scene, element: str = "tdnns", order: int | None = None, maxh=
                   grading=None) -> SolidSizeEstimate:
     """Estimated tetrahedra, unknowns and peak memory of a 3D solve of `scene` (module docstring)."""
     order = order or (2 if element == "h1p2" else 1)
-    parts = density_parts(scene, maxh, crack_h, front_h, grading)
-    weighted = {"maxh": TETS_PER_BULK * parts["maxh"], "crack_h": TETS_PER_FACES * parts["crack_h"],
-                "front_h": TETS_PER_FRONT * parts["front_h"]}
+    weighted = _weighted(density_parts(scene, maxh, crack_h, front_h, grading))
     tets = sum(weighted.values())
     unknowns = tets * UNKNOWNS_PER_TET[(element, order)]
+    weighted["crack_h"] += weighted.pop("near")  # the body's size near a crack follows its crack_h
     culprit = max(weighted, key=weighted.get)
     size = scene.mesh_sizes(maxh, crack_h, front_h, grading)[culprit]
-    return SolidSizeEstimate(tets=tets, unknowns=unknowns, memory=BASE_MEMORY + unknowns * BYTES_PER_UNKNOWN[(element, order)],
+    return SolidSizeEstimate(tets=tets, unknowns=unknowns, memory=peak_memory(unknowns, element, order),
                              culprit=culprit, size=size)
 
 

@@ -50,4 +50,4 @@ def solve_solid(scene: SolidScene, options=None, *, smesh: SolidMesh | None = No
 
     opts = SolveOptions.of(options, **changes)
     opts.check_for(scene)
-    return run_solid(pipeline if pipeline is not None else Pipeline(), scene, solid_options(opts), smesh)
+    return run_solid(pipeline if pipeline is not None else Pipeline(), scene, solid_options(opts, scene), smesh)

@@ -58,7 +58,7 @@ class SolidBody:
         """One solve of a checked request (a SolveOptions) through `pipeline`'s stages (`run_solid`)."""
         from .options import solid_options
 
-        opts = solid_options(options)
+        opts = solid_options(options, scene)
         if crack_mesh is None:
             check_request(scene, opts, options.max_dof)
         return run_solid(pipeline, scene, opts, crack_mesh)

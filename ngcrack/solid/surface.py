@@ -8,7 +8,11 @@ module holds the geometry of that clipping in plain numpy, for the scene's check
 and the fronts (``ngcrack.solid.front`` wraps a closed front into an :class:`ArcFront`).
 
 The domain is duck-typed: a box has ``lo`` and ``hi``, a cylinder ``center``, ``axis``,
-``radius`` and ``height`` (``ngcrack.solid.scene.Box`` and ``Cylinder``).
+``radius`` and ``height`` (``ngcrack.solid.scene.Box`` and ``Cylinder``), a STEP part
+(``ngcrack.solid.parts.StepPart``) its own ``clearance`` and ``face_distances`` (OCC's, a few ms
+a point: its outlines are sampled at STEP_SAMPLES points, each end of an arc still refined by
+bisection). `inside_measures` gives the diameter, area and front length of a crack's part inside
+the body, for the default mesh sizes and the size guard.
 """
 
 from __future__ import annotations
@@ -19,6 +23,12 @@ import numpy as np
 ARC_SAMPLES = 4096
 #: bisection steps refining each end of an arc (the angle to 2 pi 2^-40 / ARC_SAMPLES)
 ARC_BISECTIONS = 40
+#: outline samples on a STEP part (OCC's distance takes a few ms a point; ARC_BISECTIONS refine the ends as on a box)
+STEP_SAMPLES = 128
+#: outline samples measuring a crack's part inside the body (`inside_measures`), and the measures kept
+MEASURE_SAMPLES, MEASURE_CACHE = 512, 256
+#: grid points per side measuring the area of a crack's part inside a box or a cylinder (`inside_measures`)
+MEASURE_GRID = 400
 #: a point within this fraction of the body's size of a face is on it (an edge of the clipped crack on the surface)
 ON_SURFACE_RTOL = 1e-7
 #: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
@@ -31,9 +41,22 @@ LIGAMENT_FRONT_H = 1.0
 SURFACE_INSET = 1.0
 
 
+def is_step(domain) -> bool:
+    """Whether the domain is a STEP part (``ngcrack.solid.parts.StepPart``: its distances are OCC's, a few ms a point)."""
+    return not hasattr(domain, "lo") and not hasattr(domain, "axis")
+
+
+def samples(domain, n: int) -> int:
+    """n outline samples on a box or a cylinder, at most STEP_SAMPLES on a STEP part."""
+    return min(n, STEP_SAMPLES) if is_step(domain) else n
+
+
 def face_distances(domain, p: np.ndarray) -> dict[str, np.ndarray]:
-    """The signed distance of each point (rows of p) to each face's surface, positive inside."""
+    """The signed distance of each point (rows of p) to each face's surface, positive inside (a STEP part: the
+    distance to each label's faces, negative at a point outside for the label nearest to it)."""
     p = np.atleast_2d(p)
+    if is_step(domain):
+        return domain.face_distances(p)
     if hasattr(domain, "lo"):
         out = {}
         for k, ax in enumerate("xyz"):
@@ -48,6 +71,8 @@ def face_distances(domain, p: np.ndarray) -> dict[str, np.ndarray]:
 
 def clearance(domain, p: np.ndarray) -> np.ndarray:
     """The signed distance to the body's boundary (positive inside)."""
+    if is_step(domain):
+        return domain.clearance(np.atleast_2d(p))
     return np.min(np.stack(list(face_distances(domain, p).values())), axis=0)
 
 
@@ -58,7 +83,7 @@ def on_surface(domain, p: np.ndarray, size: float) -> np.ndarray:
 
 def crosses(domain, crack) -> bool:
     """Whether the crack's outline leaves the body (the crack reaches the surface)."""
-    return bool(clearance(domain, crack.outline(512)).min() < 0.0)
+    return bool(clearance(domain, crack.outline(samples(domain, 512))).min() < 0.0)
 
 
 def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
@@ -69,14 +94,7 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
     lies partly inside; the body beyond a surface crack's front is at least LIGAMENT_FRONT_H front_h thick
     (`front_h()`, called only then): a thinner sliver the mesh cannot resolve."""
     gap = rtol * crack.size
-    outline = crack.outline(1024)
-    if not hasattr(domain, "lo") and not hasattr(domain, "axis"):  # a STEP part: cracks strictly inside, for now
-        near = float(np.min(domain.clearance(crack.outline(256))))
-        if near < gap:
-            where = "crosses it" if near < 0 else f"comes within {near:.3g} of it"
-            return (f"reaches or crosses the boundary (its outline {where}); in a STEP part a crack stays at least "
-                    f"{gap:.3g} ({rtol:g} of its size) inside (cracks reaching a STEP part's faces are a later step)")
-        return None
+    outline = crack.outline(samples(domain, 1024))
     dist = face_distances(domain, outline)
     crossed = [k for k, d in dist.items() if d.min() < 0]
     if crossed and crack.shape == "curve":
@@ -106,6 +124,66 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
     return None
 
 
+_MEASURES: dict = {}
+
+
+def inside_measures(domain, crack, n: int = MEASURE_SAMPLES) -> tuple[float, float, float]:
+    """(diameter, area, front length) of the crack's part inside the body: the whole crack's if it stays inside,
+    else from n outline samples (at most STEP_SAMPLES on a STEP part), the mouth closed by chords. The default mesh
+    sizes (the diameter) and the size guard (the area and the front's length) use them: a semi-elliptical crack
+    has half its ellipse's area and front, a corner crack a quarter."""
+    key = (id(domain), id(crack), n)
+    hit = _MEASURES.get(key)
+    if hit is not None and hit[0] is domain and hit[1] is crack:
+        return hit[2]
+    p = crack.outline(samples(domain, n))
+    inside = clearance(domain, p) > 0
+    seg = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+    if inside.all():
+        out = (float(crack.size), float(crack.area), float(seg.sum()))
+    elif not inside.any():
+        out = (0.0, 0.0, 0.0)
+    else:
+        q = p[inside]
+        diameter = float(np.max(np.linalg.norm(q[:, None] - q[None], axis=-1)))
+        both, one = inside & np.roll(inside, -1), inside ^ np.roll(inside, -1)  # a crossing segment: half of it
+        out = (diameter, _inside_area(domain, crack), float(seg[both].sum() + 0.5 * seg[one].sum()))
+    if len(_MEASURES) > MEASURE_CACHE:
+        _MEASURES.clear()
+    _MEASURES[key] = (domain, crack, out)
+    return out
+
+
+def _inside_area(domain, crack) -> float:
+    """The area of the crack's part inside the body: OCC's on a STEP part (the crack's face cut by the solid),
+    else a grid of MEASURE_GRID^2 points over the crack (the clearance is numpy's)."""
+    if is_step(domain):
+        return float(sum(f.mass for f in (_occ_face(crack) * domain.occ_shape()).faces))
+    import shapely
+
+    uv = _plane_outline(crack, 1024)
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    m = MEASURE_GRID
+    u, v = np.meshgrid(lo[0] + (np.arange(m) + 0.5) * (hi[0] - lo[0]) / m, lo[1] + (np.arange(m) + 0.5) * (hi[1] - lo[1]) / m)
+    u, v = u.ravel(), v.ravel()
+    p = crack.center + np.multiply.outer(u, crack.e_a) + np.multiply.outer(v, crack.e_b)
+    keep = shapely.contains_xy(shapely.Polygon(uv), u, v) & (clearance(domain, p) > 0)
+    return float(keep.sum() * np.prod(hi - lo) / m ** 2)
+
+
+def _occ_face(crack):
+    """The crack's plane face in OCC (a disc, an ellipse or a polygon: the shapes that may cross a face)."""
+    from netgen import occ
+
+    if crack.shape == "polygon":
+        pts = [occ.Pnt(*p) for p in crack.points]
+        return occ.Face(occ.Wire([occ.Segment(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]))
+    a, b = crack.semi_axes
+    major, (a, b) = (crack.e_a, (a, b)) if a >= b else (crack.e_b, (b, a))
+    wp = occ.WorkPlane(occ.Axes(tuple(crack.center), n=occ.Dir(*crack.normal), h=occ.Dir(*major)))
+    return (wp.Circle(a) if a == b else wp.Ellipse(a, b)).Face()
+
+
 def _ellipse_point(crack, phi):
     a, b = crack.semi_axes
     return crack.center + np.multiply.outer(a * np.cos(phi), crack.e_a) + np.multiply.outer(b * np.sin(phi), crack.e_b)
@@ -115,18 +193,19 @@ def inside_arcs(domain, crack) -> list[tuple[float, float]]:
     """The parametric intervals (phi0, phi1), phi0 < phi1 < phi0 + 2 pi, of a disc's or an ellipse's outline
     inside the body, each end refined by bisection to the face. Empty if the whole outline is outside; one
     interval (0, 2 pi) if the outline does not leave the body."""
-    phi = np.linspace(0.0, 2 * np.pi, ARC_SAMPLES, endpoint=False)
+    m = samples(domain, ARC_SAMPLES)
+    phi = np.linspace(0.0, 2 * np.pi, m, endpoint=False)
     inside = clearance(domain, _ellipse_point(crack, phi)) > 0
     if inside.all():
         return [(0.0, 2 * np.pi)]
     if not inside.any():
         return []
-    step = 2 * np.pi / ARC_SAMPLES
+    step = 2 * np.pi / m
     start = int(np.flatnonzero(~inside)[0])  # walk the circle from an outside sample
-    order = (start + np.arange(ARC_SAMPLES)) % ARC_SAMPLES
+    order = (start + np.arange(m)) % m
     arcs, first = [], None
-    for k in range(1, ARC_SAMPLES + 1):
-        prev, cur = inside[order[k - 1]], inside[order[k % ARC_SAMPLES]]
+    for k in range(1, m + 1):
+        prev, cur = inside[order[k - 1]], inside[order[k % m]]
         t = (start + k) * step  # the angle of sample k (unwrapped)
         if cur and not prev:
             first = _refine(domain, crack, t - step, t)
@@ -150,7 +229,7 @@ def clip_segment(domain, A: np.ndarray, B: np.ndarray) -> tuple[float, float] | 
     """The parameters (t0, t1) in [0, 1] of the part of the segment A B inside the body (None: outside).
 
     A box's section of a line is one interval; a cylinder's too (it is convex)."""
-    t = np.linspace(0.0, 1.0, 1025)
+    t = np.linspace(0.0, 1.0, samples(domain, 1024) + 1)
     inside = clearance(domain, A + np.outer(t, B - A)) > 0
     if not inside.any():
         return None
@@ -270,7 +349,7 @@ def surface_extrapolation(s: np.ndarray, values: np.ndarray, valid: np.ndarray, 
 def ligament(domain, crack, points: np.ndarray) -> float:
     """The least distance from the points (a front's) to the faces the crack does not cross: the body's
     thickness beyond the front, which a domain integral's tube must not span."""
-    crossed = {k for k, d in face_distances(domain, crack.outline(512)).items() if d.min() < 0}
+    crossed = {k for k, d in face_distances(domain, crack.outline(samples(domain, 512))).items() if d.min() < 0}
     rest = [d for k, d in face_distances(domain, points).items() if k not in crossed]
     return float(np.min(rest)) if rest else np.inf
 
@@ -284,7 +363,7 @@ def open_arcs(sol, base) -> list:
     out = []
     for phi0, phi1 in arcs:
         g = ArcFront(base, phi0, phi1)
-        g.ligament = ligament(domain, base.crack, base.point(np.linspace(phi0, phi1, 257)))
+        g.ligament = ligament(domain, base.crack, base.point(np.linspace(phi0, phi1, samples(domain, 256) + 1)))
         out.append(g)
     return out
 

@@ -144,7 +144,9 @@ def solve_volume(scene, volume: float, *, cracks=None, options: SolveOptions | N
 
 
 def _search(run, volume, tol, *tried):
-    """Illinois regula falsi on the monotone V(p) from the tried (p, V, sol)."""
+    """Illinois regula falsi on the monotone V(p) from the tried (p, V, sol): it starts from the superposition's
+    guess, so it needs fewer solves than scipy's brentq from the same bracket (4-8 against 10-11: BENCHMARKS.md,
+    the one path's section)."""
     lo = max((t for t in tried if t[1] <= volume), key=lambda t: t[0], default=None)
     hi = min((t for t in tried if t[1] >= volume), key=lambda t: t[0], default=None)
     n = 0

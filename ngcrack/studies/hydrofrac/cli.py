@@ -1,8 +1,14 @@
 """`ngcrack hydrofrac SCENE (--rate Q0 | --schedule FILE) --K-Ic K (--da D --steps N | [--da D] --time T)
 [--viscosity MU [--leakoff C_L] [--inviscid]] --json OUT [--csv OUT] [--gif OUT] [--crack I]
+<<<<<<< HEAD
 [--injection X Y] [solve options]`: grow a fluid-driven crack and write the result (`--crack I J ...`:
 several cracks fed from one injection at one pressure, `multi.py`). A 3D scene: a radial
 fracture of a disc crack fed at its centre (`radial.py`; --front-h, no --injection)."""
+=======
+[--injection X Y] [solve options]`: grow a fluid-driven crack and write the result. A 3D scene: a radial
+fracture of a disc crack fed at its centre (`radial.py`, with --viscosity `radial_viscous.py`; --front-h, no
+--injection)."""
+>>>>>>> main
 
 from __future__ import annotations
 
@@ -14,7 +20,7 @@ def add_parser(subparsers, positive, count):
     p = subparsers.add_parser("hydrofrac", help="hydraulic fracture: an inviscid fluid (uniform pressure, "
                                                 "toughness-dominated) or a viscous one (--viscosity): time, pressure, "
                                                 "opening and path; 3D scenes: a radial fracture of a disc crack "
-                                                "(toughness-dominated); JSON, CSV, GIF")
+                                                "(inviscid, or viscous with --viscosity); JSON, CSV, GIF")
     p.add_argument("scene", help="built-in scene name or TOML file (its loads are the in-situ stress)")
     p.add_argument("--rate", type=positive, help="injection rate Q0 (area per unit time, per unit thickness)")
     p.add_argument("--schedule", metavar="FILE", help="injection rates against time instead of --rate: lines 't rate' "

@@ -178,28 +178,6 @@ def front_of(sol, crack: int):
     raise SolveError(f"the solve gave no front for crack {crack}")
 
 
-def _jump_at_faces(sol, crack: int):
-    """(quadrature weights, points, normal jump) on the faces of crack `crack` (NGSolve's rule, order 4)."""
-    import ngsolve as ngs
-
-    faces = sol.smesh.cracks[crack]
-    mesh = sol.smesh.mesh
-    rule = ngs.IntegrationRule(ngs.TRIG, 4)
-    k = len(rule.weights)
-    mp = mesh.MapToAllElements(rule, ngs.BND).reshape(mesh.GetNE(ngs.BND), k)[faces.elements].ravel()
-    jac = np.asarray(ngs.specialcf.JacobianMatrix(3, 2)(mp)).reshape(-1, 3, 2)
-    area = np.linalg.norm(np.cross(jac[:, :, 0], jac[:, :, 1]), axis=1)
-    w = area * np.tile(np.array(rule.weights), len(faces.elements))
-    xyz = np.column_stack([np.asarray(c(mp)).ravel() for c in (ngs.x, ngs.y, ngs.z)])
-    return w, xyz, np.asarray(sol.gf.components[sol.disc.jn](mp)).ravel()
-
-
-def crack_volume_3d(sol, crack: int) -> float:
-    """The volume between the faces of crack `crack`: the integral of its normal jump over its faces."""
-    w, _, jump = _jump_at_faces(sol, crack)
-    return float(w @ jump)
-
-
 def opening_along(sol, crack: int, radii) -> np.ndarray:
     """The normal jump at distances `radii` from the disc's centre along its in-plane axis e_a."""
     import ngsolve as ngs
@@ -373,6 +351,7 @@ def radial_run(scene, schedule, K_Ic: float, da: float, steps: int, t_end, crack
                viscosity, leakoff: float, warn):
     """The radial loop (module docstring) into `result`; returns it. `warn(K_m)` is called once, at the first
     step whose dimensionless toughness says viscosity matters."""
+    from ...solid.volume import crack_volume
     from .loop import has_other_loads
 
     in_situ = has_other_loads(scene, crack)
@@ -389,7 +368,7 @@ def radial_run(scene, schedule, K_Ic: float, da: float, steps: int, t_end, crack
         except SolveError as exc:
             stopped = f"solve: step {n}: {exc}"
             break
-        volume = factor * crack_volume_3d(sol, crack)
+        volume = factor * crack_volume(sol, crack)
         t, injected, leaked = step_time(volume, schedule, leakoff, history, R)
         if t is None:
             stopped = f"shut-in: step {n} holds more fluid ({volume:.6g}) than the schedule ever injects"

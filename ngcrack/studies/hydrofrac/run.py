@@ -75,7 +75,7 @@ def read_schedule(path) -> list:
 
 def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedule, inviscid, options) -> tuple:
     """(Schedule, steps) after refusing bad fluid options by name (before any work). A 3D scene's radial
-    fracture takes leak-off with the toughness-only model (the viscous radial model is not implemented)."""
+    fracture takes leak-off with either model; its viscous model needs the 3D mixed element (tdnns)."""
     from .elastic import ELEMENTS
 
     if schedule is not None and rate is not None:
@@ -100,6 +100,9 @@ def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedu
     if viscous and element not in ELEMENTS:
         raise InputError(f"element = {element!r}: the viscous fluid needs one of {', '.join(ELEMENTS)} "
                          "(one mean normal jump per crack edge)")
+    if radial and viscosity is not None and not inviscid and element != "tdnns":
+        raise InputError(f"element = {element!r}: the viscous radial fracture needs 'tdnns' (its crack unknowns, the "
+                         "normal jump, are what a crack-face pressure loads)")
     sched = check_schedule(schedule) if schedule is not None else None
     if sched is None:
         if not (is_number(rate) and math.isfinite(rate) and rate > 0):
@@ -161,9 +164,11 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     centre (`multi.py`, the inviscid fluid).
     progress: called as progress(step, result_so_far) after every step. The other keywords go
     to every solve (element, order, maxh, tip_h, crack_h, grading, crack_model, ...).
-    A 3D scene gives a radial fracture (`radial.py`): a disc crack fed at its centre, the
-    toughness-only model (leak-off allowed; a viscosity gives K_m per step and the warning
-    where it is below K_RADIAL_TOUGHNESS), da the growth of the radius, no injection point.
+    A 3D scene gives a radial fracture: a disc crack fed at its centre, da the growth of the
+    radius, no injection point; with a viscosity the viscous model (`radial_viscous.py`:
+    axisymmetric lubrication on rings, the compliance from the 3D solve), else (or with
+    inviscid) the toughness-only one (`radial.py`; with a viscosity K_m per step and the warning
+    where it is below K_RADIAL_TOUGHNESS); leak-off with either.
     Returns a HydrofracResult.
     """
     from ...core.solve import as_scene
@@ -180,10 +185,14 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
                                         crack, injection, solve_options, progress)
     if scene.dimension == 3:
         return _radial(scene, sched, float(K_Ic), float(da), n_steps, time, int(crack), progress, options, viscosity,
+<<<<<<< HEAD
                        float(leakoff))
     from .multi import crack_list, multi_run
 
     several = crack_list(crack)
+=======
+                       float(leakoff), inviscid)
+>>>>>>> main
     mat = scene.material
     E_prime = effective_modulus(mat.E, mat.nu, mat.plane)
     K_Ic, da, crack = float(K_Ic), float(da), [int(k) for k in several] if several else int(crack)
@@ -204,18 +213,29 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     return toughness_run(scene, sched, K_Ic, da, n_steps, time, crack, injection, progress, options, result, km)
 
 
-def _radial(scene, sched, K_Ic, da, n_steps, end_time, crack, progress, options, viscosity, leakoff):
-    """The radial fracture of a 3D scene (`radial.py`): toughness-only; K_m per step where the viscosity is known."""
+def _radial(scene, sched, K_Ic, da, n_steps, end_time, crack, progress, options, viscosity, leakoff, inviscid=False):
+    """The radial fracture of a 3D scene: viscous (`radial_viscous.py`) with a viscosity, else toughness-only
+    (`radial.py`; K_m per step where the viscosity is known)."""
     from .radial import K_RADIAL_TOUGHNESS, radial_run
     from .result import HydrofracResult
 
+    viscous = viscosity is not None and not inviscid
     result = HydrofracResult(scene=scene, element=options.element, rate=sched.largest_rate, K_Ic=K_Ic, da=da,
-                             viscosity=viscosity, leakoff=leakoff, K_m=None, model="toughness", schedule=sched)
+                             viscosity=viscosity, leakoff=leakoff, K_m=None, model="viscous" if viscous else "toughness",
+                             schedule=sched)
+    if viscous:
+        from .radial_viscous import viscous_radial_run
+
+        viscous_radial_run(scene, sched, K_Ic, da, n_steps, end_time, crack, progress, options, result, float(viscosity),
+                           leakoff)
+        if result.steps:
+            result.K_m = result.steps[0]["K_m"]
+        return result
 
     def warn(km, t):
         warnings.warn(f"K_m = {km:.3g} < {K_RADIAL_TOUGHNESS:g} at t = {t:.4g} (radial): viscosity matters here, and "
-                      "the toughness-only model (uniform pressure; the viscous radial model is not implemented) "
-                      "overestimates the radius", RegimeWarning, stacklevel=3)
+                      "the toughness-only model (uniform pressure) overestimates the radius; leave out inviscid for the "
+                      "viscous model", RegimeWarning, stacklevel=3)
 
     radial_run(scene, sched, K_Ic, da, n_steps, end_time, crack, progress, options, result,
                None if viscosity is None else float(viscosity), leakoff, warn)
