@@ -1,14 +1,8 @@
 """`ngcrack hydrofrac SCENE (--rate Q0 | --schedule FILE) --K-Ic K (--da D --steps N | [--da D] --time T)
 [--viscosity MU [--leakoff C_L] [--inviscid]] --json OUT [--csv OUT] [--gif OUT] [--crack I]
-<<<<<<< HEAD
 [--injection X Y] [solve options]`: grow a fluid-driven crack and write the result (`--crack I J ...`:
-several cracks fed from one injection at one pressure, `multi.py`). A 3D scene: a radial
-fracture of a disc crack fed at its centre (`radial.py`; --front-h, no --injection)."""
-=======
-[--injection X Y] [solve options]`: grow a fluid-driven crack and write the result. A 3D scene: a radial
-fracture of a disc crack fed at its centre (`radial.py`, with --viscosity `radial_viscous.py`; --front-h, no
---injection)."""
->>>>>>> main
+several cracks fed from one injection at one pressure, `multi.py`). A 3D scene: a radial fracture of a
+disc crack fed at its centre (`radial.py`, with --viscosity `radial_viscous.py`; --front-h, no --injection)."""
 
 from __future__ import annotations
 

@@ -185,14 +185,10 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
                                         crack, injection, solve_options, progress)
     if scene.dimension == 3:
         return _radial(scene, sched, float(K_Ic), float(da), n_steps, time, int(crack), progress, options, viscosity,
-<<<<<<< HEAD
-                       float(leakoff))
+                       float(leakoff), inviscid)
     from .multi import crack_list, multi_run
 
     several = crack_list(crack)
-=======
-                       float(leakoff), inviscid)
->>>>>>> main
     mat = scene.material
     E_prime = effective_modulus(mat.E, mat.nu, mat.plane)
     K_Ic, da, crack = float(K_Ic), float(da), [int(k) for k in several] if several else int(crack)
