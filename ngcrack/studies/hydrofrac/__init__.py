@@ -6,7 +6,9 @@ pressure, toughness-dominated: the pressure at propagation, the tips at K_Ic adv
 the growth package's MTS kink and path extension); viscous.py, flow.py, elastic.py: the
 viscous fluid (lubrication along the crack, the tip asymptotes, leak-off, the compliance
 from the mixed solve); radial.py: a 3D scene's radial fracture (a disc crack fed at its centre,
-toughness-dominated, leak-off, K_m per step); result.py: HydrofracResult (the JSON contract,
+toughness-dominated, leak-off, K_m per step); multi.py: several cracks fed from one injection at
+one pressure (the stress shadow decides which grows); transition.py: KGD between its vertices (the
+universal tip asymptote over the whole crack, a reference); result.py: HydrofracResult (the JSON contract,
 the table, the animation); cli.py: `ngcrack hydrofrac`.
 """
 

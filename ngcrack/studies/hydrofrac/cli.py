@@ -1,8 +1,8 @@
 """`ngcrack hydrofrac SCENE (--rate Q0 | --schedule FILE) --K-Ic K (--da D --steps N | [--da D] --time T)
 [--viscosity MU [--leakoff C_L] [--inviscid]] --json OUT [--csv OUT] [--gif OUT] [--crack I]
-[--injection X Y] [solve options]`: grow a fluid-driven crack and write the result. A 3D scene: a radial
-fracture of a disc crack fed at its centre (`radial.py`, with --viscosity `radial_viscous.py`; --front-h, no
---injection)."""
+[--injection X Y] [solve options]`: grow a fluid-driven crack and write the result (`--crack I J ...`:
+several cracks fed from one injection at one pressure, `multi.py`). A 3D scene: a radial fracture of a
+disc crack fed at its centre (`radial.py`, with --viscosity `radial_viscous.py`; --front-h, no --injection)."""
 
 from __future__ import annotations
 
@@ -31,7 +31,9 @@ def add_parser(subparsers, positive, count):
                                                                              "(with --viscosity)")
     p.add_argument("--inviscid", action="store_true", help="the uniform-pressure model even with --viscosity "
                                                            "(K_m recorded; a warning where K_m < 4)")
-    p.add_argument("--crack", type=int, default=0, help="index of the fluid-driven crack (default 0)")
+    p.add_argument("--crack", type=int, nargs="+", default=[0], help="index of the fluid-driven crack (default 0); "
+                                                                    "several indices: cracks fed from one injection at "
+                                                                    "one pressure, each at its centre (inviscid)")
     p.add_argument("--injection", nargs=2, type=float, metavar=("X", "Y"),
                    help="injection point on the crack (default: its centre; 3D: always the disc's centre)")
     add_mesh_options(p, positive)
@@ -57,6 +59,8 @@ def run(args) -> int:
     from .loop import MAX_STEPS
     from .run import RegimeWarning, check_run, default_da, hydrofrac, read_schedule
 
+    if isinstance(args.crack, list):  # one index, or several cracks fed from one injection
+        args.crack = args.crack[0] if len(args.crack) == 1 else args.crack
     paths = output_paths(args, "json", "csv", "gif")
     json_path, csv_path, gif_path = paths.values()
     check_distinct({f"--{name}": path for name, path in paths.items()})

@@ -127,8 +127,10 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
         raise InputError(f"progress = {progress!r}: must be None or a callable progress(step, result)")
 
 
-def has_other_loads(scene, crack: int) -> bool:
-    """Whether the scene loads the body besides the fluid-driven crack's pressure (an in-situ stress)."""
+def has_other_loads(scene, crack) -> bool:
+    """Whether the scene loads the body besides the fluid-driven crack's pressure (an in-situ stress);
+    `crack`: its index, or the indices of several fluid-driven cracks."""
+    fluid = {crack} if isinstance(crack, (int, np.integer)) else set(crack)
     if scene.body_force is not None and any(v != 0.0 for v in scene.body_force):
         return True
     if any(bc.value is not None and any(v != 0.0 for v in bc.value) for bc in scene.boundary.values()):
@@ -136,33 +138,35 @@ def has_other_loads(scene, crack: int) -> bool:
     if any(getattr(pc, "value", None) is not None and any(v != 0.0 for v in pc.value)
            for pc in getattr(scene, "points", ())):
         return True
-    return any(c.pressure not in (None, 0.0) for k, c in enumerate(scene.cracks) if k != crack)
+    return any(c.pressure not in (None, 0.0) for k, c in enumerate(scene.cracks) if k not in fluid)
 
 
-def _drive(sol, crack: int) -> float:
-    """The largest K_eq over the crack's tips (K_I = 0 where the faces at a tip touch)."""
-    values = [v["K_eq"] for v in tip_values(sol) if v["crack"] == crack]
+def _drive(sol, cracks: list) -> float:
+    """The largest K_eq over the tips of the cracks (K_I = 0 where the faces at a tip touch)."""
+    values = [v["K_eq"] for v in tip_values(sol) if v["crack"] in cracks]
     return max(values) if values else -math.inf
 
 
-def propagation(scene, crack: int, K_Ic: float, pipe: Pipeline, options: SolveOptions, in_situ: bool):
+def propagation(scene, crack, K_Ic: float, pipe: Pipeline, options: SolveOptions, in_situ: bool):
     """(solution, pressure, factor, solves): the state at which the crack's first tip reaches K_Ic.
 
     The state is `factor` times `solution` (factor 1 unless the problem is homogeneous in p:
-    `in_situ` False, no other loads, one solve scaled)."""
-    a = 0.5 * scene.cracks[crack].length
+    `in_situ` False, no other loads, one solve scaled). `crack`: an index, or the indices of
+    several cracks filled by one fluid at one pressure (the first tip of any of them)."""
+    cracks = [int(crack)] if isinstance(crack, (int, np.integer)) else [int(k) for k in crack]
+    a = 0.5 * max(scene.cracks[k].length for k in cracks)
     p_ref = K_Ic / math.sqrt(math.pi * a)  # Sneddon's pressure at propagation
     if not in_situ:
-        sol = pipe.run(with_pressure(scene, [crack], p_ref), options)
-        k = _drive(sol, crack)
+        sol = pipe.run(with_pressure(scene, cracks, p_ref), options)
+        k = _drive(sol, cracks)
         if not k > 0:
             raise SolveError(f"the pressure does not drive the tips of crack {crack} (K_eq = {k:.4g} at p = {p_ref:.4g})")
         return sol, p_ref * K_Ic / k, K_Ic / k, 1
     tried = []
 
     def run(p):
-        sol = pipe.run(with_pressure(scene, [crack], p), options)
-        tried.append((p, _drive(sol, crack) - K_Ic, sol))
+        sol = pipe.run(with_pressure(scene, cracks, p), options)
+        tried.append((p, _drive(sol, cracks) - K_Ic, sol))
         return tried[-1]
 
     _, g0, _ = run(0.0)

@@ -94,7 +94,8 @@ class HydrofracResult:
         return {
             "scene": self.scene.name, "element": self.element, "rate": self.rate, "K_Ic": self.K_Ic,
             "stopped": self.stopped,
-            "steps": [{**{k: s[k] for k in step_keys}, "tips": [{k: t[k] for k in tip_keys} for t in s["tips"]]}
+            "steps": [{**{k: s[k] for k in step_keys}, "tips": [{k: t[k] for k in tip_keys} for t in s["tips"]],
+                       **({"fractures": s["fractures"]} if "fractures" in s else {})}  # several cracks (multi.py)
                       for s in self.steps],
             # a radial fracture's disc: shape, center, normal, radius (its pressure left out: the last solve's trial)
             "cracks": [{k: v for k, v in c.to_dict().items() if k != "pressure"} if radial else
@@ -110,24 +111,25 @@ class HydrofracResult:
 
         from ...planar.plots import new_figure
 
-        pts = np.concatenate([np.asarray(f["points"]) for f in self.frames])
+        pts = np.concatenate([np.asarray(c["points"]) for f in self.frames for c in f.get("all", [f])])
         span = float(np.max(np.ptp(pts, axis=0))) or 1.0
-        wmax = max((max(f["opening"], default=0.0) for f in self.frames), default=0.0)
+        wmax = max((max(c["opening"], default=0.0) for f in self.frames for c in f.get("all", [f])), default=0.0)
         scale = FACE_FRACTION * span / wmax if wmax > 0 else 0.0
         center = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
         fig, ax = new_figure(path, figsize=(6, 3.5), constrained_layout=True)
         writer = PillowWriter(fps=fps)
         with writer.saving(fig, str(path), dpi=fig.dpi):
-            for row, f in zip(self.steps, self.frames):
+            for row, frame in zip(self.steps, self.frames):
                 ax.clear()
-                ends = np.asarray(f["points"])[[0, -1]]
-                # the mid-point samples, closed at the crack's ends (zero opening there)
-                xy = np.vstack([ends[:1], np.column_stack([f["x"], f["y"]]), ends[1:]])
-                half = 0.5 * scale * np.asarray(f["opening"])[:, None] * np.asarray(f["normal"])
-                half = np.vstack([np.zeros((1, 2)), half, np.zeros((1, 2))])
-                for sign in (1, -1):
-                    face = xy + sign * half
-                    ax.plot(face[:, 0], face[:, 1], "-", color="tab:blue", lw=1.2)
+                for f in frame.get("all", [frame]):  # several fluid-driven cracks: each
+                    ends = np.asarray(f["points"])[[0, -1]]
+                    # the mid-point samples, closed at the crack's ends (zero opening there)
+                    xy = np.vstack([ends[:1], np.column_stack([f["x"], f["y"]]), ends[1:]])
+                    half = 0.5 * scale * np.asarray(f["opening"])[:, None] * np.asarray(f["normal"])
+                    half = np.vstack([np.zeros((1, 2)), half, np.zeros((1, 2))])
+                    for sign in (1, -1):
+                        face = xy + sign * half
+                        ax.plot(face[:, 0], face[:, 1], "-", color="tab:blue", lw=1.2)
                 ax.set_xlim(center[0] - 0.6 * span, center[0] + 0.6 * span)
                 ax.set_ylim(center[1] - 0.3 * span, center[1] + 0.3 * span)
                 ax.set_aspect("equal")

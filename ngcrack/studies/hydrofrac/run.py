@@ -115,6 +115,11 @@ def check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedu
 def default_da(scene, crack):
     """da where only the end time is given: DEFAULT_DA_FRACTION of the crack's initial half-length (3D: of the
     disc's radius); None where the crack index is not one (refused by the checks)."""
+    from .multi import crack_list
+
+    several = crack_list(crack)
+    if several is not None:  # several fluid-driven cracks: of the first
+        crack = several[0]
     if isinstance(crack, bool) or not isinstance(crack, int) or not 0 <= crack < len(scene.cracks):
         return None
     c = scene.cracks[crack]
@@ -126,7 +131,13 @@ def check_run(scene, rate, K_Ic, da, steps, end_time, viscosity, leakoff, schedu
     """(Schedule, steps, SolveOptions) after refusing every bad input by name, before any meshing (2D and 3D)."""
     options = SolveOptions.of(**{k: v for k, v in solve_options.items() if k not in ("warm_start", "crack_mesh", "loads")})
     sched, n_steps = check_fluid_options(scene, rate, steps, end_time, viscosity, leakoff, schedule, inviscid, options)
-    if getattr(scene, "dimension", 2) == 3:
+    from .multi import check_multi_options, crack_list
+
+    several = crack_list(crack)
+    if several is not None and getattr(scene, "dimension", 2) == 2:
+        check_multi_options(scene, sched.largest_rate, K_Ic, da, n_steps, several, injection, solve_options, progress,
+                            viscous=viscosity is not None and not inviscid)
+    elif getattr(scene, "dimension", 2) == 3:
         from .radial import check_radial_options
 
         check_radial_options(scene, sched.largest_rate, K_Ic, da, n_steps, crack, injection, solve_options, progress)
@@ -137,7 +148,7 @@ def check_run(scene, rate, K_Ic, da, steps, end_time, viscosity, leakoff, schedu
 
 
 def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, viscosity=None, leakoff=0.0,
-              schedule=None, inviscid=False, crack: int = 0, injection=None, progress=None, **solve_options):
+              schedule=None, inviscid=False, crack: int | list = 0, injection=None, progress=None, **solve_options):
     """Grow a fluid-driven crack of `scene` (the scene's loads are the in-situ stress).
 
     rate: Q0, the injected area per unit time (per unit thickness), or `schedule`: rows
@@ -148,7 +159,9 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     (Pa s) of a Newtonian fluid (None: inviscid, uniform pressure); leakoff: Carter's C_L
     (viscous fluid only); inviscid: the uniform-pressure model even where a viscosity is given
     (then K_m is recorded, and a warning given where K_m < 4). crack: the index of the
-    fluid-driven crack; injection: the injection point [x, y] on it (its centre by default).
+    fluid-driven crack; injection: the injection point [x, y] on it (its centre by default); a list
+    of two or more indices: several cracks fed from one injection at one pressure, each at its
+    centre (`multi.py`, the inviscid fluid).
     progress: called as progress(step, result_so_far) after every step. The other keywords go
     to every solve (element, order, maxh, tip_h, crack_h, grading, crack_model, ...).
     A 3D scene gives a radial fracture: a disc crack fed at its centre, da the growth of the
@@ -173,9 +186,12 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
     if scene.dimension == 3:
         return _radial(scene, sched, float(K_Ic), float(da), n_steps, time, int(crack), progress, options, viscosity,
                        float(leakoff), inviscid)
+    from .multi import crack_list, multi_run
+
+    several = crack_list(crack)
     mat = scene.material
     E_prime = effective_modulus(mat.E, mat.nu, mat.plane)
-    K_Ic, da, crack = float(K_Ic), float(da), int(crack)
+    K_Ic, da, crack = float(K_Ic), float(da), [int(k) for k in several] if several else int(crack)
     km = None if viscosity is None else k_m(K_Ic, E_prime, float(viscosity), sched.largest_rate)
     viscous = viscosity is not None and not inviscid
     result = HydrofracResult(scene=scene, element=options.element, rate=sched.largest_rate, K_Ic=K_Ic, da=da,
@@ -185,6 +201,8 @@ def hydrofrac(scene, rate=None, K_Ic=None, da=None, steps=None, *, time=None, vi
         warnings.warn(f"K_m = {km:.3g} < {K_M_TOUGHNESS:g}: viscosity matters here, and the toughness-only model "
                       "(uniform pressure) overestimates the length; leave out inviscid for the viscous model",
                       RegimeWarning, stacklevel=2)
+    if several:
+        return multi_run(scene, sched, K_Ic, da, n_steps, time, crack, progress, options, result, km)
     if viscous:
         return viscous_run(scene, sched, K_Ic, da, n_steps, time, crack, injection, progress, options, result, km,
                            float(viscosity), float(leakoff))
