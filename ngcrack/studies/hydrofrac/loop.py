@@ -47,6 +47,7 @@ from ..growth.criteria import effective_K_I, mts_angle, mts_keq
 from ..growth.loop import KINK_NOISE_RTOL, MAX_DA_FRACTION, MAX_STEPS, tip_values
 from ..growth.paths import body_region, extend_tip, extended_cracks, tip_direction
 from ..volume import crack_volume, with_pressure
+from .propagation import pressure_at_propagation
 
 #: K_eq at the pressure found is within this fraction of K_Ic (else the search goes on)
 KIC_RTOL = 1e-8
@@ -162,43 +163,12 @@ def propagation(scene, crack, K_Ic: float, pipe: Pipeline, options: SolveOptions
         if not k > 0:
             raise SolveError(f"the pressure does not drive the tips of crack {crack} (K_eq = {k:.4g} at p = {p_ref:.4g})")
         return sol, p_ref * K_Ic / k, K_Ic / k, 1
-    tried = []
-
     def run(p):
         sol = pipe.run(with_pressure(scene, cracks, p), options)
-        tried.append((p, _drive(sol, cracks) - K_Ic, sol))
-        return tried[-1]
+        return p, _drive(sol, cracks) - K_Ic, sol
 
-    _, g0, _ = run(0.0)
-    if g0 >= 0:
-        raise SolveError(f"crack {crack} is at propagation without fluid pressure (K_eq = {g0 + K_Ic:.4g} >= K_Ic)")
-    p1 = p_ref
-    for _ in range(MAX_SEARCH):  # a trial pressure that drives the tips (a compression may hold them closed)
-        _, g1, _ = run(p1)
-        if g1 > g0:
-            break
-        p1 *= 4.0
-    else:
-        raise SolveError(f"the pressure does not drive the tips of crack {crack} (up to p = {p1:.4g})")
-    p = p1 * (0.0 - g0) / (g1 - g0)
-    while len(tried) < MAX_SEARCH:
-        p, g, sol = run(p)
-        if abs(g) <= KIC_RTOL * K_Ic:
-            return sol, p, 1.0, len(tried)
-        lo = max((t for t in tried if t[1] < 0), key=lambda t: t[0])
-        his = [t for t in tried if t[1] > 0]
-        if not his:
-            p = max(t[0] for t in tried) * 2.0
-            continue
-        hi = min(his, key=lambda t: t[0])
-        # regula falsi, the interval's half as a safeguard
-        p = (lo[0] * hi[1] - hi[0] * lo[1]) / (hi[1] - lo[1])
-        if not lo[0] < p < hi[0] or len(tried) % 3 == 0:
-            p = 0.5 * (lo[0] + hi[0])
-    best = min(tried, key=lambda t: abs(t[1]))
-    if abs(best[1]) <= 1e3 * KIC_RTOL * K_Ic:
-        return best[2], best[0], 1.0, len(tried)
-    raise SolveError(f"the pressure at propagation was not found in {MAX_SEARCH} solves (K_eq - K_Ic = {best[1]:.3g})")
+    sol, p, solves = pressure_at_propagation(run, p_ref, K_Ic, KIC_RTOL, MAX_SEARCH, f"the tips of crack {crack}")
+    return sol, p, 1.0, solves
 
 
 def straightened(points) -> tuple:

@@ -42,6 +42,7 @@ import numpy as np
 from ...core.errors import InputError
 from ...core.fields import SceneError
 from ...core.pipeline import Pipeline, SolveError
+from .propagation import pressure_at_propagation
 
 #: a front point is at propagation when its K_I is at least (1 - RADIAL_ADVANCE_RTOL) K_Ic, the
 #: front's mean being at K_Ic: the order-1 front integral scatters from point to point, by about 1%
@@ -211,46 +212,12 @@ def propagation_radial(scene, crack: int, R: float, K_Ic: float, pipe: Pipeline,
         if not k > 0:
             raise SolveError(f"the pressure does not drive the front of crack {crack} (mean K_I = {k:.4g} at p = {p_ref:.4g})")
         return sol, p_ref * K_Ic / k, K_Ic / k, 1
-    tried = []
-
     def run(p):
         sol = solve(disc_scene(scene, crack, R, p), options=options, pipeline=pipe)
-        tried.append((p, _drive(sol, crack) - K_Ic, sol))
-        return tried[-1]
+        return p, _drive(sol, crack) - K_Ic, sol
 
-    _, g0, _ = run(0.0)
-    if g0 >= 0:
-        raise SolveError(f"crack {crack} is at propagation without fluid pressure (mean K_I = {g0 + K_Ic:.4g} >= K_Ic)")
-    p = p_ref
-    for _ in range(RADIAL_MAX_SEARCH):  # a trial pressure that drives the front (a compression may hold it shut)
-        _, g1, _ = run(p)
-        if g1 > g0:
-            break
-        p *= 4.0
-    else:
-        raise SolveError(f"the pressure does not drive the front of crack {crack} (up to p = {p:.4g})")
-    while len(tried) < RADIAL_MAX_SEARCH:
-        last = tried[-1]
-        if abs(last[1]) <= RADIAL_KIC_RTOL * K_Ic:
-            return last[2], last[0], 1.0, len(tried)
-        lo = max((t for t in tried if t[1] < 0), key=lambda t: t[0])
-        his = [t for t in tried if t[1] > 0]
-        hi = min(his, key=lambda t: t[0]) if his else None
-        a, b = sorted(tried[-2:], key=lambda t: t[0])
-        # the secant of the last two (exact where the front is open and contact does not change)
-        p = b[0] - b[1] * (b[0] - a[0]) / (b[1] - a[1]) if b[1] != a[1] else math.nan
-        if hi is None:
-            p = p if math.isfinite(p) and p > lo[0] else 2.0 * max(t[0] for t in tried)
-        elif not (math.isfinite(p) and lo[0] < p < hi[0]) or len(tried) % 4 == 0:
-            p = (lo[0] * hi[1] - hi[0] * lo[1]) / (hi[1] - lo[1])  # regula falsi, the half as a safeguard
-            if not lo[0] < p < hi[0] or len(tried) % 4 == 0:
-                p = 0.5 * (lo[0] + hi[0])
-        run(p)
-    best = min(tried, key=lambda t: abs(t[1]))
-    if abs(best[1]) <= 1e3 * RADIAL_KIC_RTOL * K_Ic:
-        return best[2], best[0], 1.0, len(tried)
-    raise SolveError(f"the pressure at propagation was not found in {RADIAL_MAX_SEARCH} solves "
-                     f"(mean K_I - K_Ic = {best[1]:.3g})")
+    sol, p, solves = pressure_at_propagation(run, p_ref, K_Ic, RADIAL_KIC_RTOL, RADIAL_MAX_SEARCH, f"the front of crack {crack}")
+    return sol, p, 1.0, solves
 
 
 # ------------------------------------------------------------------------------ time and leak-off
