@@ -171,6 +171,24 @@ def propagation(scene, crack, K_Ic: float, pipe: Pipeline, options: SolveOptions
     return sol, p, 1.0, solves
 
 
+def step_stop(n: int, row: dict, result, frame, current, progress, t_end, steps: int) -> str | None:
+    """Record step n's row in `result` unless it cannot be (the schedule never injects its fluid, or it holds no
+    more than the step before); the reason the loop stops after it (the end time, the last step), else None."""
+    if row["time"] is None:
+        return f"shut-in: step {n} holds more fluid ({row['volume']:.6g}) than the schedule ever injects"
+    if result.steps and row["time"] <= result.steps[-1]["time"]:
+        return (f"time: step {n} holds no more fluid than step {n - 1} (t = {row['time']:.6g} <= "
+                f"{result.steps[-1]['time']:.6g}); the growth da is below what the mesh resolves")
+    result.add(row, frame, current)
+    if progress is not None:
+        progress(n, result)
+    if t_end is not None and row["time"] >= t_end:
+        return f"time: t = {row['time']:.6g} reached the end time {t_end:.6g} at step {n}"
+    if n == steps:
+        return f"steps: {steps} of {steps} steps done"
+    return None
+
+
 def straightened(points) -> tuple:
     """The polyline without its interior points where it runs straight on (collinear to
     STRAIGHT_RTOL): a tip that grew straight keeps one long tip segment, so that its
@@ -262,21 +280,8 @@ def toughness_run(scene, schedule, K_Ic: float, da: float, steps: int, t_end, cr
             break
         row, frame = step_record(n, current, sol, crack, p, factor, schedule, injection, solves,
                                  time.process_time() - t0, K_Ic, K_m)
-        if row["time"] is None:
-            stopped = f"shut-in: step {n} holds more fluid ({row['volume']:.6g}) than the schedule ever injects"
-            break
-        if result.steps and row["time"] <= result.steps[-1]["time"]:
-            stopped = (f"time: step {n} holds no more fluid than step {n - 1} (t = {row['time']:.6g} <= "
-                       f"{result.steps[-1]['time']:.6g}); the growth da is below what the mesh resolves")
-            break
-        result.add(row, frame, current)
-        if progress is not None:
-            progress(n, result)
-        if t_end is not None and row["time"] >= t_end:
-            stopped = f"time: t = {row['time']:.6g} reached the end time {t_end:.6g} at step {n}"
-            break
-        if n == steps:
-            stopped = f"steps: {steps} of {steps} steps done"
+        stopped = step_stop(n, row, result, frame, current, progress, t_end, steps)
+        if stopped:
             break
         current, stopped = grow_tips(current, region, crack, row["tips"], da)
         if stopped:

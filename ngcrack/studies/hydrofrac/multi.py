@@ -36,7 +36,7 @@ from ...core.options import SolveOptions
 from ...core.pipeline import Pipeline, SolveError
 from ..growth.paths import body_region
 from ..volume import with_pressure
-from .loop import check_hydrofrac_options, grow_tips, has_other_loads, propagation, step_record
+from .loop import check_hydrofrac_options, grow_tips, has_other_loads, propagation, step_record, step_stop
 
 #: the keys of a step's "fractures" entries (one per fluid-driven crack)
 FRACTURE_KEYS = ("crack", "half_length", "volume", "opening_at_injection", "share", "advancing")
@@ -103,21 +103,8 @@ def multi_run(scene, schedule, K_Ic: float, da: float, steps: int, t_end, cracks
             break
         row, frame = multi_record(n, current, sol, cracks, p, factor, schedule, solves, time.process_time() - t0, K_Ic,
                                   K_m, result.steps[-1] if result.steps else None)
-        if row["time"] is None:
-            stopped = f"shut-in: step {n} holds more fluid ({row['volume']:.6g}) than the schedule ever injects"
-            break
-        if result.steps and row["time"] <= result.steps[-1]["time"]:
-            stopped = (f"time: step {n} holds no more fluid than step {n - 1} (t = {row['time']:.6g} <= "
-                       f"{result.steps[-1]['time']:.6g}); the growth da is below what the mesh resolves")
-            break
-        result.add(row, frame, current)
-        if progress is not None:
-            progress(n, result)
-        if t_end is not None and row["time"] >= t_end:
-            stopped = f"time: t = {row['time']:.6g} reached the end time {t_end:.6g} at step {n}"
-            break
-        if n == steps:
-            stopped = f"steps: {steps} of {steps} steps done"
+        stopped = step_stop(n, row, result, frame, current, progress, t_end, steps)
+        if stopped:
             break
         for k in cracks:
             current, stopped = grow_tips(current, region, k, [t for t in row["tips"] if t["crack"] == k], da)
