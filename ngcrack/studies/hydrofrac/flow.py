@@ -409,7 +409,20 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
         J[:, n] = (residual(x2) - r) / eps
         return r, J
 
-    x = np.append(p_guess / p_scale, 0.0)
+    x = damped_newton(residual, np.append(p_guess / p_scale, 0.0))
+    p, dt = unpack(x)
+    t = t_old + dt
+    t0 = np.where(new, t_old + new_frac * dt, t0_old)
+    return FluidState(t=t, p=p, w=C @ p + cells.w_is, t0=t0, injected=schedule.volume(t),
+                      leaked=leaked(t, t0, h, C_L), dt=dt, calls=calls)
+
+
+def damped_newton(residual, x: np.ndarray) -> np.ndarray:
+    """The root of an implicit step's scaled residual (`residual(x)`, `residual(x, True)` -> (r, J)) from x,
+    the last unknown log(dt): Newton's method with the time step's change capped at MAX_LOG_DT_STEP and a
+    backtracking line search on the residual's 2-norm; where the search stalls above the round-off level
+    STALL_RTOL, a Levenberg-Marquardt minimum from there. StepError where neither meets STALL_RTOL."""
+    n = len(x) - 1
     r, J = residual(x, True)
     norm = float(np.max(np.abs(r)))
     for _ in range(MAX_NEWTON):
@@ -424,31 +437,21 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
         lam, merit = 1.0, float(np.linalg.norm(r))
         while lam > 1e-4:  # backtracking on the residual's 2-norm
             x_try = x + lam * dx
-            r_try = residual(x_try)
-            n_try = float(np.linalg.norm(r_try))
+            n_try = float(np.linalg.norm(residual(x_try)))
             if np.isfinite(n_try) and n_try < (1 - 1e-4 * lam) * merit:
                 break
             lam *= 0.5
         else:
-            if norm <= STALL_RTOL:  # round-off: the equations are met as well as they can be
-                break
-            x = _levenberg_marquardt(residual, x)  # a local minimum of the 2-norm: a trust region instead
-            r, J = residual(x, True)
-            norm = float(np.max(np.abs(r)))
             break
         x = x_try
         r, J = residual(x, True)
         norm = float(np.max(np.abs(r)))
-    if not norm <= STALL_RTOL:
+    if not norm <= STALL_RTOL:  # a local minimum of the 2-norm, or round-off: a trust region instead
         x = _levenberg_marquardt(residual, x)
         norm = float(np.max(np.abs(residual(x))))
     if not norm <= STALL_RTOL:
         raise StepError(f"the implicit step did not converge in {MAX_NEWTON} Newton steps (largest scaled residual {norm:.2e})")
-    p, dt = unpack(x)
-    t = t_old + dt
-    t0 = np.where(new, t_old + new_frac * dt, t0_old)
-    return FluidState(t=t, p=p, w=C @ p + cells.w_is, t0=t0, injected=schedule.volume(t),
-                      leaked=leaked(t, t0, h, C_L), dt=dt, calls=calls)
+    return x
 
 
 def _levenberg_marquardt(residual, x):

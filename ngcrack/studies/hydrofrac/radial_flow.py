@@ -36,14 +36,11 @@ import numpy as np
 from .flow import (
     CONTINUATION_DECADES,
     DT_RANGE,
-    MAX_LOG_DT_STEP,
-    MAX_NEWTON,
-    STALL_RTOL,
-    STEP_RTOL,
     THETA,
     FluidState,
     Schedule,
     StepError,
+    damped_newton,
     leaked,
     tip_face_factor,
     tip_opening,
@@ -227,39 +224,7 @@ def _newton(rings: Rings, w_old, p_old, t_old, t0_old, new_frac, schedule: Sched
         J[:, n] = (residual(x2) - r) / eps
         return r, J
 
-    x = np.append(p_guess / p_scale, 0.0)
-    r, J = residual(x, True)
-    norm = float(np.max(np.abs(r)))
-    for _ in range(MAX_NEWTON):
-        if norm <= STEP_RTOL:
-            break
-        try:
-            dx = np.linalg.solve(J, -r)
-        except np.linalg.LinAlgError:
-            dx = np.linalg.lstsq(J, -r, rcond=None)[0]
-        if abs(dx[n]) > MAX_LOG_DT_STEP:
-            dx *= MAX_LOG_DT_STEP / abs(dx[n])
-        lam, merit = 1.0, float(np.linalg.norm(r))
-        while lam > 1e-4:
-            x_try = x + lam * dx
-            n_try = float(np.linalg.norm(residual(x_try)))
-            if np.isfinite(n_try) and n_try < (1 - 1e-4 * lam) * merit:
-                break
-            lam *= 0.5
-        else:
-            break
-        x = x_try
-        r, J = residual(x, True)
-        norm = float(np.max(np.abs(r)))
-    if not norm <= STALL_RTOL:
-        from scipy.optimize import least_squares
-
-        fit = least_squares(lambda z: residual(z), x, jac=lambda z: residual(z, True)[1], method="lm",
-                            xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=100 * (n + 1))
-        x = fit.x
-        norm = float(np.max(np.abs(residual(x))))
-    if not norm <= STALL_RTOL:
-        raise StepError(f"the implicit step did not converge in {MAX_NEWTON} Newton steps (largest scaled residual {norm:.2e})")
+    x = damped_newton(residual, np.append(p_guess / p_scale, 0.0))
     p, dt = unpack(x)
     t = t_old + dt
     t0 = np.where(new, t_old + new_frac * dt, t0_old)
