@@ -371,7 +371,7 @@ penny = SolidScene.from_dict({"name": "penny-box", "domain": {"box": [[-5.0] * 3
                               "crack": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}],
                               "material": {"E": 30e9, "nu": 0.25},
                               "boundary": {k: {"type": "roller"} for k in ("xmin", "ymin", "zmin")},
-                              "mesh": {"maxh": 5.0, "crack_h": 0.4, "front_h": 0.2}})
+                              "mesh": {"maxh": 5.0, "crack_h": 0.6 if SMOKE else 0.4, "front_h": 0.3 if SMOKE else 0.2}})
 radial = nc.hydrofrac(penny, rate=1e-3, K_Ic=1e4, da=0.1, steps=1 if SMOKE else 3, viscosity=1e-3)
 for s in radial.steps:
     ref = m_vertex_radial(s["time"], 30e9 / (1 - 0.25 ** 2), 1e-3, 1e-3)

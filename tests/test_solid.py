@@ -143,7 +143,7 @@ def test_tdnns_does_not_lock_at_nu_04999(cube):
 def penny_mesh():
     from ngcrack.solid.geometry import make_mesh
 
-    s = SolidScene.from_dict(penny())
+    s = SolidScene.from_dict(penny(mesh={"maxh": 5.0, "crack_h": 0.6, "front_h": 0.3}))  # coarser than the defaults
     return s, make_mesh(s)
 
 
@@ -176,7 +176,7 @@ def test_penny_under_tension_matches_sneddon_and_contact_equals_the_linear_solve
     assert all(v < 1e-12 for v in sol.kkt.values())
     (front,) = sol.fronts
     K = 2.0 * math.sqrt(1.0 / math.pi)
-    assert len(front.points) >= 12 and np.allclose(np.linalg.norm(front.points[:, :2], axis=1), 1.0, atol=1e-9)
+    assert len(front.points) >= 10 and np.allclose(np.linalg.norm(front.points[:, :2], axis=1), 1.0, atol=1e-9)
     assert np.all(np.abs(front.K_I / K - 1.0) < 0.06), front.K_I / K
     assert np.all(np.abs(front.K_II) < 0.03 * K) and np.all(np.abs(front.K_III) < 0.03 * K)
     G = K * K * (1 - nu * nu) / E
