@@ -165,6 +165,15 @@ def disc_scene(scene, crack: int, radius: float, pressure: float):
     return type(scene).from_dict(d)
 
 
+def grown_disc(scene, crack: int, R: float, da: float):
+    """(scene, radius, None) with crack `crack` a disc of radius R + da, or (scene, R, the reason) where it does
+    not fit the body: the growth step of the radial loops."""
+    try:
+        return disc_scene(scene, crack, R + da, 0.0), R + da, None
+    except SceneError as exc:
+        return scene, R, f"boundary: the disc of radius {R + da:.6g} does not fit the body ({exc})"
+
+
 def scaled_options(options, sizes: dict, R0: float, R: float):
     """The solve options with the crack's mesh sizes scaled by R / R0 (the body's maxh kept)."""
     f = R / R0
@@ -367,10 +376,8 @@ def radial_run(scene, schedule, K_Ic: float, da: float, steps: int, t_end, crack
                        f"{worst:.3f} K_Ic, the mean at K_Ic); the radial model keeps the crack a disc and cannot "
                        "follow a front that grows in part")
             break
-        try:
-            current, R = disc_scene(current, crack, R + da, 0.0), R + da
-        except SceneError as exc:
-            stopped = f"boundary: the disc of radius {R + da:.6g} does not fit the body ({exc})"
+        current, R, stopped = grown_disc(current, crack, R, da)
+        if stopped:
             break
     result.stopped = stopped
     result.final = current

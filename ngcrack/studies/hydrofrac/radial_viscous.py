@@ -24,12 +24,12 @@ import time
 
 import numpy as np
 
-from ...core.fields import SceneError
 from ...core.pipeline import Pipeline, SolveError
 from .flow import StepError, tip_opening
 from .radial import (
     disc_scene,
     e_prime_3d,
+    grown_disc,
     k_m_radial,
     scaled_options,
 )
@@ -106,10 +106,8 @@ def viscous_radial_run(scene, schedule, K_Ic: float, da: float, steps: int, t_en
         if n == steps:
             stopped = f"steps: {steps} of {steps} steps done"
             break
-        try:
-            current, R = disc_scene(current, crack, R + da, 0.0), R + da
-        except SceneError as exc:
-            stopped = f"boundary: the disc of radius {R + da:.6g} does not fit the body ({exc})"
+        current, R, stopped = grown_disc(current, crack, R, da)
+        if stopped:
             break
     result.stopped = stopped
     result.final = current
