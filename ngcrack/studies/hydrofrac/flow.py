@@ -74,6 +74,8 @@ THETA = 0.6
 #: decades of viscosity of the continuation that starts a step Newton cannot start
 CONTINUATION_DECADES = 8
 MAX_LOG_DT_STEP = 2.0
+#: the step in log(dt) of the Jacobian's time-step column (`dt_column`)
+DT_EPS = 1e-7
 #: the toughness-viscosity tip asymptote: "universal" (Dontsov and Peirce 2015, the delta correction) or
 #: "cubes" (its zeroth order, the cube root of the sum of the vertices' cubes)
 TIP_ASYMPTOTE = "universal"
@@ -403,11 +405,7 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
         for _, _, _, _, _, j, _ in moving:
             J[j, :n] = C[j] / cells.scale.get(j, 1.0) / w_scale * p_scale
         J[n, :n] = hC / (length * w_scale) * p_scale
-        eps = 1e-7  # the time step's column by a difference (the tip speed, leak-off, the schedule)
-        x2 = x.copy()
-        x2[n] += eps
-        J[:, n] = (residual(x2) - r) / eps
-        return r, J
+        return r, dt_column(residual, x, r, J)
 
     x = damped_newton(residual, np.append(p_guess / p_scale, 0.0))
     p, dt = unpack(x)
@@ -415,6 +413,15 @@ def _newton_step(cells: Cells, w_old: np.ndarray, t_old: float, t0_old: np.ndarr
     t0 = np.where(new, t_old + new_frac * dt, t0_old)
     return FluidState(t=t, p=p, w=C @ p + cells.w_is, t0=t0, injected=schedule.volume(t),
                       leaked=leaked(t, t0, h, C_L), dt=dt, calls=calls)
+
+
+def dt_column(residual, x: np.ndarray, r: np.ndarray, J: np.ndarray) -> np.ndarray:
+    """J with its last column, the residual's derivative in log(dt), by a forward difference of DT_EPS (the tip
+    speed, the leak-off and the schedule all move with the time step)."""
+    x2 = x.copy()
+    x2[-1] += DT_EPS
+    J[:, -1] = (residual(x2) - r) / DT_EPS
+    return J
 
 
 def damped_newton(residual, x: np.ndarray) -> np.ndarray:

@@ -41,6 +41,7 @@ from .flow import (
     Schedule,
     StepError,
     damped_newton,
+    dt_column,
     leaked,
     tip_face_factor,
     tip_opening,
@@ -218,11 +219,7 @@ def _newton(rings: Rings, w_old, p_old, t_old, t0_old, new_frac, schedule: Sched
         J[:n, :n] = (A[:, None] * C + dt * theta * dout) / (A * w_scale)[:, None] * p_scale
         J[n - 2, :n] = C[-2] / rings.scale / w_scale * p_scale
         J[n, :n] = AC / (total_area * w_scale) * p_scale
-        eps = 1e-7
-        x2 = x.copy()
-        x2[n] += eps
-        J[:, n] = (residual(x2) - r) / eps
-        return r, J
+        return r, dt_column(residual, x, r, J)
 
     x = damped_newton(residual, np.append(p_guess / p_scale, 0.0))
     p, dt = unpack(x)
