@@ -202,6 +202,9 @@ def _run_solid(args, scene, paris, R, json_path, csv_path, png_path) -> int:
         K = max(max(f["K_drive"]) for f in step["fronts"])
         size = ", ".join(f"{f['size']:.4g}" for f in step["fronts"])
         cycles = f", cycles {step['cycles']:.4g}" if "cycles" in step else ""
+        for e in result.transitions:  # an embedded crack re-characterised as a surface crack this step
+            if e["step"] == n:
+                print(f"step {n}: {e['what']}", flush=True)
         print(f"step {n}: crack sizes {size}, max K_eq {K:.4g}{cycles}, {step['ndof']} dofs, {step['time_s']:.2f} s",
               flush=True)
         check_interrupt()

@@ -43,9 +43,11 @@ import numpy as np
 
 from ...core.errors import InputError
 from ...core.fields import is_finite
+from .breakthrough import recharacterise
 from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION
 from .fatigue import check_paris, delta_K, step_cycles
 from .fronts3d import (
+    CLEARANCE_RTOL,
     GROW_TOGETHER_RTOL,
     check_growable,
     clearance_reason,
@@ -56,7 +58,7 @@ from .fronts3d import (
     point_values,
     quasi_static_advance,
 )
-from .surface3d import grown_surface_crack, is_surface_crack
+from .surface3d import check_surface_growable, grown_surface_crack, is_surface_crack
 
 #: da may be at most this fraction of the smallest crack's size (its diameter): a longer step outruns the
 #: front's curvature
@@ -67,6 +69,9 @@ STILL_RTOL = 1e-6
 PLANAR_GROWTH_ONLY = {"criterion": "3D growth is planar (kink_deg reports the MTS kink a non-planar code would take)",
                       "r_c": "the gmts criterion's critical distance is 2D only",
                       "at_hole": "3D bodies have no holes", "estimate": "3D growth computes no error estimate"}
+#: the power of the size K grows with over the step of a break-through when only one step of the crack is known
+#: (an embedded crack's K ~ sqrt(size))
+BREAKTHROUGH_K_POWER = 0.5
 #: solve options grow sets itself
 _RESERVED = ("warm_start", "crack_mesh", "loads")
 
@@ -141,6 +146,20 @@ class _Cycles:
         self.history.append((L, K_max))
         return self.total
 
+    def breakthrough(self, L: float, da: float) -> float:
+        """The total after the step in which the leading crack, grown by `da` to the size L, broke through a face
+        (breakthrough.py): K at L extrapolated as the power of the size through the last two steps (K ~ sqrt(L) with
+        one); the history starts afresh with the surface crack."""
+        if self.history and L > self.history[-1][0]:
+            (L1, K1), p = self.history[-1], BREAKTHROUGH_K_POWER
+            if len(self.history) > 1 and self.history[-2][0] < L1 and self.history[-2][1] > 0:
+                L0, K0 = self.history[-2]
+                p = math.log(K1 / K0) / math.log(L1 / L0)
+            if K1 > 0:
+                self.total += step_cycles([L1, L], [K1, K1 * (L / L1) ** p], self.C, self.m, self.R, da)
+        self.history = []
+        return self.total
+
 
 def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris=None, R: float = 0.0,
                together: float = GROW_TOGETHER_RTOL, progress=None, frames: bool = True, planar: dict | None = None,
@@ -192,11 +211,18 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
         if reason:
             result.stopped = reason
             break
-        new_scene, reason, lead_advance = _grown_scene(scene, sol, values, advances, da, cycles is not None, lead)
+        broke: list[dict] = []
+        new_scene, reason, lead_advance = _grown_scene(scene, sol, values, advances, da, cycles is not None, lead, broke)
         if reason:
             result.stopped = reason
             result.events.append((n, reason))
             break
+        for info in broke:  # an embedded crack became a surface crack (breakthrough.py)
+            result.events.append((n + 1, info["what"]))
+            result.transitions.append({"step": n + 1, **info})
+            if cycles is not None and info["crack"] == crack_of_lead:
+                cycles.breakthrough(info["embedded_size"], da)
+                lead_advance = None  # the surface crack's cycles count from its first solve
         sol = None  # the old solve's memory goes before the new one's mesh is made (a 3D solve is GBs;
         gc.collect()  # NGSolve's objects hold reference cycles, which only the collector frees)
         t0 = time.perf_counter()
@@ -210,15 +236,16 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
     return result
 
 
-def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0):
+def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events: list | None = None):
     """(the scene with every front advanced, "", the advance of the leading point), or (None, why the run stops,
     None). The leading point (the largest K_drive of front `lead`) advanced by da, or, on a surface crack,
-    by what the fitted ellipse gives it (surface3d.py)."""
+    by what the fitted ellipse gives it (surface3d.py). An embedded crack that nears a face becomes a surface
+    crack (breakthrough.py): what happened is appended to `events` (dictionaries)."""
     from ngcrack.core.fields import SceneError
     from ngcrack.solid.scene import SolidScene, crack_from_dict
 
     d = scene.to_dict()
-    grown, lead_advance, surface = {}, da, set()
+    grown, lead_advance, surface, broke = {}, da, set(), []
     for k, (f, adv) in enumerate(zip(sol.fronts, advances)):
         if np.max(adv) <= STILL_RTOL * da:
             continue
@@ -234,9 +261,28 @@ def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0):
         points = new_front(crack, adv, f.angle, smooth)
         d["crack"][f.crack] = grown_crack(crack, points)
         grown[f.crack] = points
+        try:  # near a face: re-characterised as a surface crack (breakthrough.py)
+            surface_d, info, why = recharacterise(scene.domain, crack_from_dict(d["crack"][f.crack], f.crack), f.crack,
+                                                  CLEARANCE_RTOL)
+        except SceneError:
+            surface_d, info, why = None, None, ""
+        if why:
+            return None, why, None
+        if surface_d is not None:
+            d["crack"][f.crack] = surface_d
+            grown[f.crack] = None
+            broke.append(info)
     try:
         new = SolidScene.from_dict(d)
-    except SceneError as exc:
+        for info in broke:
+            check_surface_growable(new.domain, info["crack"], new.cracks[info["crack"]])
+    except (SceneError, InputError) as exc:
+        if broke:
+            info = broke[0]
+            return None, (f"boundary: crack[{info['crack']}] nears face {info['face']} (ligament {max(info['ligament'], 0):.3g}"
+                          f", half-height {info['half_height']:.3g}), but the surface crack it is re-characterised as "
+                          f"(depth {info['depth']:.4g}, half-length {info['surface_half_length']:.4g}) is no admissible "
+                          f"crack: {exc}"), None
         for i in grown:  # the named reasons first: a face or another crack reached
             try:
                 why = clearance_reason(scene, i, crack_from_dict(d["crack"][i], i))
@@ -252,4 +298,6 @@ def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0):
         why = clearance_reason(new, i, new.cracks[i])
         if why:
             return None, why, None
+    if events is not None:
+        events.extend(broke)
     return new, "", lead_advance
