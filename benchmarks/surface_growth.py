@@ -68,6 +68,7 @@ def main(argv=None) -> int:
     parser.add_argument("--corner", action="store_true", help="a quarter-elliptical corner crack on the edge of the "
                         "plate's face and its side (against Newman and Raju's corner-crack equation)")
     parser.add_argument("--reference", action="store_true", help="print the reference table only")
+    parser.add_argument("--corrector", action="store_true", help="Heun's predictor-corrector step (two solves a step)")
     parser.add_argument("--png", help="write the fronts over the steps here")
     parser.add_argument("--save", help="add the run's depths, lengths and cycles to this JSON file (a list of runs)")
     parser.add_argument("--figure", nargs=2, metavar=("PNG", "RUNS"), help="draw a/c against a/t of the runs saved "
@@ -99,11 +100,13 @@ def main(argv=None) -> int:
         cpu.append(now - clock[0])
         clock[0] = now
 
-    r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C, m), progress=progress)
+    r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C, m), progress=progress,
+                corrector=args.corrector)
     ac = r.depth_and_length()
     ref = trajectory(a0, c0, max(ac[-1, 0], a0 + 1e-9) + 1e-6, T, B, C, m)
     N = r.cycles()
-    print(f"\nfrom a/c = {args.ratio:g}, a/t = {a0 / T:.3g}: da {args.da:g}, front_h {args.front_h:g}; {r.stopped}")
+    print(f"\nfrom a/c = {args.ratio:g}, a/t = {a0 / T:.3g}: da {args.da:g}, front_h {args.front_h:g}"
+          f"{', Heun' if args.corrector else ''}; {r.stopped}")
     print(f"{'step':>4} {'a/t':>6} {'a/c':>6} {'ref':>6} {'ratio':>6} {'cycles':>9} {'ref N':>9} {'N/ref':>6} "
           f"{'K_A':>6} {'K_A NR':>6} {'K_A/NR':>6} {'ndof':>8} {'cpu s':>6}")
     for k, (a, c) in enumerate(ac):

@@ -25,11 +25,23 @@ length in from the surface and moving along the face, and the grown crack the el
 centre and axes fitted to the advanced points (surface3d.py); the leading point's advance in the
 cycle count is what the fitted ellipse gives it.
 
-Stops: after `steps` steps; at fracture; where a grown embedded front comes within the scene's
-clearance of the body's boundary ("boundary: ...": an embedded front does not turn into a surface
-crack), a grown surface crack nears another face (the scene's sliver check, "boundary: ...") or a
-front nears another crack ("crack: ..."); where the grown crack makes no valid scene or its solve
-fails. A scene whose crack comes near a face without crossing it, a surface crack whose centre is off
+Break-through (breakthrough.py): a grown embedded front whose ligament to a face falls below 0.4 of
+its half-height (ASME XI's proximity rule), or that comes within the scene's clearance of the face or
+crosses it, is re-characterised as a surface crack of depth 2a + S centred on the face and grows on
+as one; the event is in `result.events` and `result.transitions` (the JSON's `events`). The step
+that brought it there is counted as the embedded crack's, the break-through takes no cycles.
+
+Heun's step (`corrector=True`): a surface crack's step is solved twice, on the crack and on the
+crack its advance predicts, and grown by the mean of the two advances (the second matched at the
+same fraction of the front's length): second order in da where the one-solve step is first order
+(the rule fed Newman and Raju's K: 0.5% off their a/c at da = 0.1 against 2.7%). Embedded fronts and
+the step of a break-through keep the one-solve step.
+
+Stops: after `steps` steps; at fracture; where a grown embedded front nears a face and cannot be
+re-characterised (parallel to it, the surface crack not admissible: a sliver to the back face, a held
+face; "boundary: ..."), a grown surface crack nears another face (the scene's sliver check,
+"boundary: ...") or a front nears another crack ("crack: ..."); where the grown crack makes no
+valid scene or its solve fails. A scene whose crack comes near a face without crossing it, a surface crack whose centre is off
 the surface, or a polygon (its corners have no K), is refused before any meshing.
 """
 
@@ -38,6 +50,7 @@ from __future__ import annotations
 import gc
 import math
 import time
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -163,13 +176,17 @@ class _Cycles:
 
 def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris=None, R: float = 0.0,
                together: float = GROW_TOGETHER_RTOL, progress=None, frames: bool = True, planar: dict | None = None,
-               **solve_options):
+               corrector: bool = False, **solve_options):
     """Grow the planar cracks of a 3D scene (module docstring); a SolidGrowthResult. `planar`: the 2D-only
-    options the caller was given (refused by name)."""
+    options the caller was given (refused by name). `corrector`: the surface cracks' steps by Heun's
+    predictor-corrector (module docstring: two solves a step, second order in da)."""
     from ngcrack.core.solve import solve
 
     from .result3d import SolidGrowthResult
 
+    if not isinstance(corrector, bool):
+        raise InputError(f"corrector = {corrector!r}: must be True (surface cracks grow by Heun's predictor-corrector "
+                         f"step, two solves a step) or False (one solve a step)")
     fatigue = check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar or {})
     da, steps = float(da), int(steps)
     cycles = None if fatigue is None else _Cycles(*fatigue, R=float(R))
@@ -178,7 +195,15 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
     nu = scene.material.nu
     t0 = time.perf_counter()
     sol = solve(scene, **solve_options)
-    elapsed, K_ref, leader_da = time.perf_counter() - t0, K_Ic, None
+    elapsed, K_ref, leader_da, solves = time.perf_counter() - t0, K_Ic, None, 1
+
+    def rule(values):
+        """The advance of every front's points at a solve's K (fatigue: Paris; else quasi-static)."""
+        top = max(float(np.max(v["K_drive"])) for v in values)
+        if cycles is not None:
+            return [paris_advance(v["K_drive"], da, cycles.m, cycles.R, cycles.dK_th, top=top) for v in values]
+        return [quasi_static_advance(v["K_drive"], da, together, top=top) for v in values]
+
     for n in range(steps + 1):
         values = [point_values(f, nu, scene) for f in sol.fronts]
         K_top = max(float(np.max(v["K_drive"])) for v in values)
@@ -196,14 +221,11 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
         elif cycles is not None and K_Ic is not None and K_top >= K_Ic:
             reason = (f"fracture: K_max = {K_top:.4g} on crack[{crack_of_lead}] reached K_Ic = {K_Ic:.4g} (the crack runs "
                       f"on the next cycle)")
-        if cycles is not None:
-            advances = [paris_advance(v["K_drive"], da, cycles.m, cycles.R, cycles.dK_th, top=K_top) for v in values]
-            if not reason and n < steps and not any(np.max(a) > 0 for a in advances):
-                reason = f"threshold: Delta K is at or below Delta K_th = {cycles.dK_th:g} at every front point"
-        else:
-            advances = [quasi_static_advance(v["K_drive"], da, together, top=K_top) for v in values]
+        advances = rule(values)
+        if cycles is not None and not reason and n < steps and not any(np.max(a) > 0 for a in advances):
+            reason = f"threshold: Delta K is at or below Delta K_th = {cycles.dK_th:g} at every front point"
         grows = not reason and n < steps
-        result.add_step(n, scene, sol, values, advances if grows else None, load_factor, elapsed, total)
+        result.add_step(n, scene, sol, values, advances if grows else None, load_factor, elapsed, total, solves)
         if progress is not None:
             progress(n, result)
         if n == steps:
@@ -213,6 +235,23 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
             break
         broke: list[dict] = []
         new_scene, reason, lead_advance = _grown_scene(scene, sol, values, advances, da, cycles is not None, lead, broke)
+        elapsed, solves = 0.0, 1
+        surface = [k for k, f in enumerate(sol.fronts) if is_surface_crack(scene.domain, scene.cracks[f.crack])]
+        if corrector and not reason and not broke and surface:  # Heun: the step again with the mean advance
+            fronts = SimpleNamespace(fronts=[SimpleNamespace(crack=f.crack, angle=np.asarray(f.angle)) for f in sol.fronts])
+            sol = None
+            gc.collect()
+            t0 = time.perf_counter()
+            try:
+                sol = solve(new_scene, **solve_options)
+            except (RuntimeError, InputError) as exc:
+                result.stopped = f"solve: the predictor's solve after step {n} failed ({exc})"
+                break
+            elapsed, solves = time.perf_counter() - t0, 2
+            mean = corrected(scene, new_scene, fronts, advances, sol, rule([point_values(f, nu, new_scene) for f in sol.fronts]),
+                             surface)
+            sol = None
+            new_scene, reason, lead_advance = _grown_scene(scene, fronts, values, mean, da, cycles is not None, lead)
         if reason:
             result.stopped = reason
             result.events.append((n, reason))
@@ -231,7 +270,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
         except (RuntimeError, InputError) as exc:  # SolveError, a mesh failure: keep what was done
             result.stopped = f"solve: the solve after step {n} failed ({exc})"
             break
-        scene, elapsed, leader_da = new_scene, time.perf_counter() - t0, lead_advance
+        scene, elapsed, leader_da = new_scene, elapsed + time.perf_counter() - t0, lead_advance
     result.solution = sol
     return result
 
@@ -301,3 +340,22 @@ def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events
     if events is not None:
         events.extend(broke)
     return new, "", lead_advance
+
+
+def corrected(scene, predicted, fronts, advances, sol_p, advances_p, surface: list) -> list:
+    """Heun's advance: on the surface cracks' fronts (indices `surface` of `fronts`), the mean of each station's
+    advance on the scene and of the advance at the same fraction of the front's length on the predicted crack (its
+    solve `sol_p`, advances `advances_p`); the other fronts keep theirs."""
+    from .surface3d import ellipse_arc
+
+    out = [np.asarray(a, dtype=float) for a in advances]
+    for k in surface:
+        crack = fronts.fronts[k].crack
+        match = [j for j, f in enumerate(sol_p.fronts) if f.crack == crack]
+        if len(match) != 1:
+            continue
+        f_p = sol_p.fronts[match[0]]
+        s = ellipse_arc(scene.cracks[crack], np.asarray(fronts.fronts[k].angle, dtype=float))
+        s_p = ellipse_arc(predicted.cracks[crack], np.asarray(f_p.angle, dtype=float))
+        out[k] = 0.5 * (out[k] + np.interp(s / s[-1], s_p / s_p[-1], np.asarray(advances_p[match[0]], dtype=float)))
+    return out

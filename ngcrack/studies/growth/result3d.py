@@ -51,7 +51,7 @@ class SolidGrowthResult:
     stopped: str = ""
     solution: object = None
 
-    def add_step(self, n, scene, sol, values, advances, load_factor, time_s, cycles=None) -> None:
+    def add_step(self, n, scene, sol, values, advances, load_factor, time_s, cycles=None, solves: int = 1) -> None:
         """One step's row: its fronts (with K_eq, kink_deg and the advance; a surface crack's with its `depth` and
         `half_length`), load factor, cost and cycles."""
         from .surface3d import depth_and_length, is_surface_crack
@@ -75,10 +75,10 @@ class SolidGrowthResult:
                                   "K_III": float(f.K_III[j]), "G": float(f.G[j]), "K_eq": float(v["K_eq"][j]),
                                   "kink_deg": float(kink[j]), "closed": bool(f.closed[j]), "advance": float(adv[j]),
                                   "load_factor": _finite_or_none(load_factor), "crack_size": size, "ndof": ndof,
-                                  "solves": 1, "time_s": float(time_s), "kkt": max(kkt.values(), default=0.0),
+                                  "solves": int(solves), "time_s": float(time_s), "kkt": max(kkt.values(), default=0.0),
                                   **({} if cycles is None else {"cycles": float(cycles)})})
         self.steps.append({"step": n, "load_factor": _finite_or_none(load_factor), "ndof": ndof, "time_s": float(time_s),
-                           "solves": 1, "kkt": kkt, "error_estimate": None, "tips": [], "force": {}, "displacement": {},
+                           "solves": int(solves), "kkt": kkt, "error_estimate": None, "tips": [], "force": {}, "displacement": {},
                            "fronts": fronts, **({} if cycles is None else {"cycles": float(cycles)})})
         self.scenes.append(scene)
         self.fronts.append(shapes)
