@@ -7,13 +7,14 @@ grows until its ligament is below 0.4 of its half-height (ASME XI's proximity ru
 re-characterised as a semi-elliptical surface crack of depth 2a + S centred on the face
 (ngcrack.studies.growth.breakthrough), which grows on with the surface stepper.
 
-Printed per step: the crack's kind, its ligament to the face (embedded) or a/t and a/c (surface),
-K_I at the point nearest the face and at the farthest point (embedded; the farthest against
-Sneddon's 2 S sqrt(r/pi) at the radius through the far point... the equivalent radius), or at the
-deepest point and at the 5% surface point against Newman and Raju's (surface), the reference's a/c
-at the same depth (Newman and Raju's trajectory from the re-characterised crack), the cumulative
-cycles against the reference (Paris with Sneddon's K at the equivalent radius while embedded, then
-the event's count plus the Newman-Raju trajectory's), the unknowns and the CPU seconds of the step.
+Printed per step: the crack's kind; embedded, its ligament to the face and K_I at the point nearest
+the face and at the farthest point against Sneddon's 2 S sqrt(L/pi) at its equivalent radius L (an
+ellipse's: a scale only); surface, a/t, a/c, the reference's a/c at the same depth (Newman and Raju's
+trajectory from the re-characterised crack, ngcrack.studies.growth.newman_raju_growth) and K_I at the
+deepest point and the growth's K at the 5% surface point against Newman and Raju's there; the
+cumulative cycles against the reference (Paris with Sneddon's K at the equivalent radius while
+embedded; after the event the count on arriving at the surface crack plus the Newman-Raju
+trajectory's); the unknowns and the CPU seconds of the step (process time).
 
     python benchmarks/breakthrough.py --r0 0.3 --ligament 0.15 --da 0.075 --steps 5 --front-h 0.06
 
@@ -45,7 +46,9 @@ def sneddon_cycles(L0: float, L1: float, m: float) -> float:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--r0", type=float, default=0.3, help="the penny's radius")
+    parser.add_argument("--r0", type=float, default=0.3, help="the penny's radius (an ellipse's semi-axis across the face)")
+    parser.add_argument("--c0", type=float, help="an ellipse: its semi-axis along the face (default: a penny)")
+    parser.add_argument("--png", help="draw the fronts over the steps and the cycles here")
     parser.add_argument("--ligament", type=float, default=0.15, help="the ligament from the penny to the face z = t")
     parser.add_argument("--da", type=float, default=0.075)
     parser.add_argument("--steps", type=int, default=4)
@@ -63,6 +66,9 @@ def main(argv=None) -> int:
     d = copy.deepcopy(nc.scenes.load("surface-crack").to_dict())
     d["crack"][0] = {"shape": "disc", "center": [0.0, 0.0, T - args.ligament - args.r0], "normal": [0.0, 1.0, 0.0],
                      "radius": args.r0}
+    if args.c0 is not None:
+        d["crack"][0] = {"shape": "ellipse", "center": d["crack"][0]["center"], "normal": [0.0, 1.0, 0.0],
+                         "semi_axes": [args.c0, args.r0], "major_axis": [1.0, 0.0, 0.0]}
     d["mesh"] = {"front_h": args.front_h, "crack_h": 2 * args.front_h}
     clock, cpu = [time.process_time()], []
 
@@ -73,7 +79,8 @@ def main(argv=None) -> int:
 
     r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C_P, m), progress=progress)
     N = r.cycles()
-    print(f"\npenny r0 = {args.r0:g}, ligament {args.ligament:g}, da {args.da:g}, front_h {args.front_h:g}, m {m:g}: "
+    what = "penny" if args.c0 is None else f"ellipse c0 = {args.c0:g} along the face,"
+    print(f"\n{what} r0 = {args.r0:g}, ligament {args.ligament:g}, da {args.da:g}, front_h {args.front_h:g}, m {m:g}: "
           f"{r.stopped}")
     for e in r.transitions:
         print(f"event at step {e['step']}: {e['what']}")
@@ -95,7 +102,7 @@ def main(argv=None) -> int:
             near, far = int(np.argmax(p[:, 2])), int(np.argmin(p[:, 2]))
             lig = T - p[:, 2].max()
             L = math.sqrt(crack.area / math.pi)
-            K_ref = 2.0 / math.sqrt(math.pi) * math.sqrt(L)
+            K_ref = 2.0 / math.sqrt(math.pi) * math.sqrt(L)  # (an ellipse: a scale only)
             N_ref = sneddon_cycles(L0, L, m)
             print(f"{k:4d} {'embedded':>8} {lig:7.3f} {'':>6} {'':>7} {K[near]:8.3f} {K_ref:6.3f} {K[near] / K_ref:6.3f} "
                   f"{K[far]:7.3f} {K_ref:6.3f} {K[far] / K_ref:6.3f} {N[k]:8.4g} {N_ref:8.4g} "
@@ -110,6 +117,9 @@ def main(argv=None) -> int:
         print(f"{k:4d} {'surface':>8} {a / T:7.3f} {a / c:6.3f} {want:7.3f} {K_A:8.3f} {nr_A:6.3f} {K_A / nr_A:6.3f} "
               f"{K_C:7.3f} {nr_C:6.3f} {K_C / nr_C:6.3f} {N[k]:8.4g} {N_ref:8.4g} {N[k] / N_ref:6.3f} "
               f"{step['ndof']:8d} {cpu[k]:6.1f}")
+    if args.png:
+        r.plot(args.png)
+        print(f"wrote {args.png}")
     if args.json:
         import json
 

@@ -80,6 +80,24 @@ def test_a_penny_grown_near_the_face_becomes_a_surface_crack_containing_it():
     assert inside.max() <= 1 + 1e-3 and inside.max() > 0.95  # the grown front inside the new crack, and touching it
 
 
+def test_the_result_draws_the_cycles_against_the_depth_below_the_face_across_the_event(tmp_path):
+    """plot(): before and after the event, the crack's depth below the face it broke through (the embedded penny's
+    deepest point 0.65 below it, the surface crack's a = 0.71), continuous where the equivalent radius jumps."""
+    from ngcrack.studies.growth.result3d import SolidGrowthResult
+
+    d = plate_with_penny(0.25, 0.15)
+    new, _, events = grow_evenly(d, 0.06)
+    scene = SolidScene.from_dict(d)
+    r = SolidGrowthResult(scene=scene, element="tdnns", da=0.06, K_Ic=None, paris=(C_P, M), scenes=[scene, new],
+                          steps=[{"cycles": 0.0}, {"cycles": 10.0}], transitions=[{"step": 1, **events[0]}])
+    fig = r.plot(tmp_path / "f.png")
+    x = fig.axes[1].lines[0].get_xdata()
+    assert x == pytest.approx([0.65, 0.71], abs=2e-3) and (tmp_path / "f.png").stat().st_size > 0
+    ac = r.depth_and_length()
+    assert np.isnan(ac[0]).all() and ac[1, 0] == pytest.approx(0.71, abs=2e-3)
+    assert r.sizes()[1] > 1.5 * r.sizes()[0]  # (the equivalent radius of the whole ellipse jumps)
+
+
 def test_a_front_crossing_the_face_in_one_step_is_re_characterised_too():
     new, why, events = grow_evenly(plate_with_penny(0.25, 0.15), 0.2)
     assert why == "" and events and events[0]["ligament"] < 0 and "crossed face zmax" in events[0]["what"]
@@ -106,6 +124,17 @@ def test_a_crack_parallel_to_the_face_it_nears_is_not_re_characterised():
     assert new is None and why.startswith("boundary: crack[0] nears face zmax") and "nearly parallel" in why, why
     far = crack_from_dict({"shape": "disc", "center": [0.0, 0.0, T - 0.05], "normal": [0.0, 0.0, 1.0], "radius": 0.3}, 0)
     assert recharacterise(domain, far, 0, 0.05) == (None, None, "")  # outside the clearance: it grows on embedded
+
+
+@pytest.mark.parametrize("scene, value, words", [("surface-crack", "yes", "corrector = 'yes': must be True"),
+                                                ("griffith", True, "corrector = True: an option of 3D growth")])
+def test_the_corrector_option_is_refused_by_name_before_meshing(monkeypatch, scene, value, words):
+    import ngcrack.core.solve as core_solve
+    from ngcrack.core.errors import InputError
+
+    monkeypatch.setattr(core_solve, "solve", lambda *a, **k: pytest.fail("solved before refusing"))
+    with pytest.raises(InputError, match=words.replace("(", r"\(")):
+        nc.grow(scene, da=0.1, steps=1, paris=(C_P, M), corrector=value)
 
 
 # ------------------------------------------------------------------------------------ the cycles

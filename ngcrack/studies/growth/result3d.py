@@ -175,16 +175,25 @@ class SolidGrowthResult:
         from .surface3d import is_surface_crack
 
         surface = is_surface_crack(self.scene.domain, c0)
+        broke = [e for e in self.transitions if e["crack"] == crack]
         L = self.depth_and_length(crack)[:, 0] if surface else self.sizes(crack)
+        label = "depth $a$" if surface else r"equivalent radius $\sqrt{A/\pi}$"
+        if broke:  # before and after a break-through: the depth below the face it broke through
+            from ngcrack.solid.surface import face_distances
+
+            face = broke[0]["face"]
+            L = np.array([float(np.max(face_distances(s.domain, q[s.domain.clearance(q) > 0])[face]))
+                          for s in self.scenes for q in [s.cracks[crack].outline(512)]])
+            label = f"depth below face {face} (the surface crack's $a$)"
         if self.paris is not None:
             ax2.plot(L, self.cycles(), "o-", ms=3)
             ax2.set_ylabel("cycles $N$")
         else:
             ax2.plot(L, [s["load_factor"] for s in self.steps], "o-", ms=3)
             ax2.set_ylabel("load factor")
-        ax2.set_xlabel("depth $a$" if surface else r"equivalent radius $\sqrt{A/\pi}$")
-        for e in self.transitions:  # an embedded crack broke through a face
-            if e["crack"] == crack and e["step"] < len(L):
+        ax2.set_xlabel(label)
+        for e in broke:  # an embedded crack broke through a face
+            if e["step"] < len(L):
                 ax2.axvline(L[e["step"]], color="0.6", ls=":", lw=1)
         ax2.grid(alpha=0.3)
         if path is not None:
