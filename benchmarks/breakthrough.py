@@ -49,6 +49,7 @@ def main(argv=None) -> int:
     parser.add_argument("--r0", type=float, default=0.3, help="the penny's radius (an ellipse's semi-axis across the face)")
     parser.add_argument("--c0", type=float, help="an ellipse: its semi-axis along the face (default: a penny)")
     parser.add_argument("--png", help="draw the fronts over the steps and the cycles here")
+    parser.add_argument("--corrector", action="store_true", help="the surface crack's steps by Heun's predictor-corrector")
     parser.add_argument("--ligament", type=float, default=0.15, help="the ligament from the penny to the face z = t")
     parser.add_argument("--da", type=float, default=0.075)
     parser.add_argument("--steps", type=int, default=4)
@@ -77,11 +78,12 @@ def main(argv=None) -> int:
         cpu.append(now - clock[0])
         clock[0] = now
 
-    r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C_P, m), progress=progress)
+    r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C_P, m), progress=progress,
+                corrector=args.corrector)
     N = r.cycles()
     what = "penny" if args.c0 is None else f"ellipse c0 = {args.c0:g} along the face,"
-    print(f"\n{what} r0 = {args.r0:g}, ligament {args.ligament:g}, da {args.da:g}, front_h {args.front_h:g}, m {m:g}: "
-          f"{r.stopped}")
+    print(f"\n{what} r0 = {args.r0:g}, ligament {args.ligament:g}, da {args.da:g}, front_h {args.front_h:g}, m {m:g}"
+          f"{', Heun' if args.corrector else ''}; {r.stopped}")
     for e in r.transitions:
         print(f"event at step {e['step']}: {e['what']}")
     event = r.transitions[0] if r.transitions else None

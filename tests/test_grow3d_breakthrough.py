@@ -31,6 +31,14 @@ def plate_with_penny(r: float, ligament: float, normal=(0.0, 1.0, 0.0), mesh=Non
     return d
 
 
+def plate_with_ellipse(mesh=None) -> dict:
+    """The plate with an embedded ellipse of semi-axes 0.45 along the face z = t and 0.25 across it, 0.15 below it."""
+    d = plate_with_penny(0.25, 0.15, mesh=mesh)
+    d["crack"][0] = {"shape": "ellipse", "center": d["crack"][0]["center"], "normal": [0.0, 1.0, 0.0],
+                     "semi_axes": [0.45, 0.25], "major_axis": [1.0, 0.0, 0.0]}
+    return d
+
+
 def grow_evenly(d: dict, advance: float, n: int = 32):
     """_grown_scene with every point of the scene's one front advanced by `advance` (no solve)."""
     scene = SolidScene.from_dict(d)
@@ -55,10 +63,11 @@ def test_the_proximity_rule_breaks_a_ligament_below_0_4_of_the_half_height(facto
         assert info["depth"] == pytest.approx(2 * r + factor * r, rel=1e-6)  # the codes' 2a + S
 
 
-def test_a_penny_grown_near_the_face_becomes_a_surface_crack_containing_it():
+def test_a_penny_grown_near_the_face_becomes_the_codes_surface_crack():
     """A penny of radius 0.25 with a ligament 0.15 to the face z = t: grown by 0.02 it stays embedded (0.13 > 0.4 x
-    0.27); grown by 0.06 (ligament 0.09 < 0.4 x 0.31) it becomes an ellipse centred on the face, depth 2a + S = 0.71,
-    whose half-length contains the grown front, a surface crack the surface stepper takes."""
+    0.27); grown by 0.06 (ligament 0.09 < 0.4 x 0.31) it becomes the ellipse centred on the face of depth 2a + S =
+    0.71 and half-length the penny's, 0.31, through the grown front's deepest point: a surface crack the surface
+    stepper takes."""
     d = plate_with_penny(0.25, 0.15)
     new, why, events = grow_evenly(d, 0.02)
     assert why == "" and not events and new.cracks[0].shape == "curve"
@@ -69,15 +78,14 @@ def test_a_penny_grown_near_the_face_becomes_a_surface_crack_containing_it():
     assert e["event"] == "surface" and e["face"] == "zmax" and e["crack"] == 0
     assert e["ligament"] == pytest.approx(0.09, abs=2e-3) and e["half_height"] == pytest.approx(0.31, abs=2e-3)
     assert e["depth"] == pytest.approx(2 * e["half_height"] + e["ligament"], rel=1e-6)
+    assert e["surface_half_length"] == e["half_length"] == pytest.approx(0.31, abs=2e-3)
     assert crack.shape == "ellipse" and is_surface_crack(new.domain, crack)
     assert np.allclose(crack.center, [0.0, 0.0, T], atol=1e-9)
     check_surface_growable(new.domain, 0, crack)
     a, c = depth_and_length(new.domain, crack)
-    assert a == pytest.approx(e["depth"]) and c == pytest.approx(e["surface_half_length"])
-    assert c >= e["half_length"]  # never shorter than the codes' length
-    p = np.array([[0.31 * math.cos(t), 0.0, T - 0.09 - 0.31 + 0.31 * math.sin(t)] for t in np.linspace(0, 2 * np.pi, 200)])
-    inside = (p[:, 0] / c) ** 2 + ((T - p[:, 2]) / a) ** 2
-    assert inside.max() <= 1 + 1e-3 and inside.max() > 0.95  # the grown front inside the new crack, and touching it
+    assert a == pytest.approx(e["depth"]) and c == pytest.approx(e["half_length"])
+    bottom = crack.center + a * np.array([0.0, 0.0, -1.0])  # the grown penny's deepest point, 0.09 + 2 x 0.31 deep
+    assert bottom[2] == pytest.approx(T - 0.09 - 2 * 0.31, abs=2e-3)
 
 
 def test_the_result_draws_the_cycles_against_the_depth_below_the_face_across_the_event(tmp_path):
@@ -156,15 +164,16 @@ def test_the_step_of_the_break_through_is_counted_as_the_embedded_crack_grows(hi
 
 
 # ------------------------------------------------------------------------------------ a growth run
-def test_a_penny_near_the_face_breaks_through_and_grows_as_a_surface_crack(tmp_path, capsys):
-    """`ngcrack grow` on a penny (radius 0.3, ligament 0.15) in the plate, one Paris step of 0.075 on a coarse mesh
-    (front_h 0.12, about 20 s): the step brings the ligament below 0.4 of the half-height; the crack of step 1 is the
-    semi-ellipse of depth 2a + S on the face; K at its deepest point and at the 5% surface point within 3% and 4% of
-    Newman and Raju's; the cycles continue across the event (the step's between Paris's law with step 0's K and with
-    the extrapolated K at the grown front); the JSON's event."""
+def test_an_ellipse_near_the_face_breaks_through_and_grows_as_a_surface_crack(tmp_path, capsys):
+    """`ngcrack grow` on an embedded ellipse (semi-axes 0.45 along the face, 0.25 across it, ligament 0.15) in the
+    plate, one Paris step of 0.075 on a coarse mesh (front_h 0.12, about 25 s): the step brings the ligament below
+    0.4 of the half-height; the crack of step 1 is the semi-ellipse of depth 2a + S on the face (a/c about 1.5, in
+    Newman and Raju's range); K at its deepest point within 4% of theirs, at the 5% surface point 7%; the cycles
+    continue across the event (the step's between Paris's law with step 0's K and with the extrapolated K at the
+    grown front); the JSON's event."""
     from ngcrack.shell.cli import main
 
-    d = plate_with_penny(0.3, 0.15, mesh={"front_h": 0.12, "crack_h": 0.24})
+    d = plate_with_ellipse(mesh={"front_h": 0.12, "crack_h": 0.24})
     path, out = tmp_path / "penny.toml", tmp_path / "g.json"
     path.write_text(SolidScene.from_dict(d).to_toml_string())
     code = main(["grow", str(path), "--da", "0.075", "--steps", "1", "--paris", str(C_P), str(M), "--json", str(out)])
@@ -183,8 +192,9 @@ def test_a_penny_near_the_face_breaks_through_and_grows_as_a_surface_crack(tmp_p
     K = np.asarray(f1["K_I"])
     nr_A = float(surface_K_any(1.0, a, c, T, B, 0.5 * math.pi))
     nr_C = float(surface_K_any(1.0, a, c, T, B, phi_in_from_surface(a, c, SURFACE_K_FRACTION)))
-    assert abs(K[len(K) // 2] / nr_A - 1) < 0.03, (K[len(K) // 2], nr_A)
-    assert abs(f1["K_drive"][0] / nr_C - 1) < 0.04 and abs(f1["K_drive"][-1] / nr_C - 1) < 0.04
+    assert 1.2 < a / c < 1.8 and abs(K[len(K) // 2] / nr_A - 1) < 0.04, (a / c, K[len(K) // 2], nr_A)
+    # the surface point on this coarse mesh (front_h a/5): 5.4% above theirs (2.5% at front_h 0.05: BENCHMARKS)
+    assert abs(f1["K_drive"][0] / nr_C - 1) < 0.07 and abs(f1["K_drive"][-1] / nr_C - 1) < 0.07
     p = np.asarray(f1["points"])
     assert abs(p[0, 2] - T) < 1e-9 and abs(p[-1, 2] - T) < 1e-9 and np.max(np.abs(p[:, 1])) < 1e-9
     N0, N1 = data["steps"][0]["cycles"], data["steps"][1]["cycles"]
@@ -196,9 +206,10 @@ def test_a_penny_near_the_face_breaks_through_and_grows_as_a_surface_crack(tmp_p
 
 @pytest.mark.slow
 def test_after_the_break_through_the_surface_crack_follows_newman_raju():
-    """Three steps (front_h 0.1): a/c after the event within 2% of Newman and Raju's trajectory from the
-    re-characterised crack, and the cycles after the event within 3% of its count."""
-    d = plate_with_penny(0.3, 0.15, mesh={"front_h": 0.1, "crack_h": 0.2})
+    """The embedded ellipse, three steps (front_h 0.1): after the event (a/c about 1.5) a/c falls and stays within 4%
+    of Newman and Raju's trajectory from the re-characterised crack (the rule alone, fed their K, is 2.5% off there),
+    and the cycles after the event within 5% of its count."""
+    d = plate_with_ellipse(mesh={"front_h": 0.1, "crack_h": 0.2})
     r = nc.grow(nc.Scene.from_dict(d), da=0.075, steps=3, paris=(C_P, M))
     (e,) = r.transitions
     assert e["step"] == 1
@@ -207,7 +218,7 @@ def test_after_the_break_through_the_surface_crack_follows_newman_raju():
     ref = trajectory(ac[1, 0], ac[1, 1], 1.3, T, B, C_P, M)
     ratio = ac[1:, 0] / ac[1:, 1]
     want = np.interp(ac[1:, 0], ref["a"], ref["a"] / ref["c"])
-    assert ratio[-1] < ratio[0] and np.max(np.abs(ratio / want - 1)) < 0.02, (ratio, want)
+    assert ratio[-1] < ratio[0] and np.max(np.abs(ratio / want - 1)) < 0.04, (ratio, want)
     N = r.cycles()
     N_ref = np.interp(ac[1:, 0], ref["a"], ref["N"])
-    assert abs((N[-1] - N[1]) / N_ref[-1] - 1) < 0.03
+    assert abs((N[-1] - N[1]) / N_ref[-1] - 1) < 0.05

@@ -14,15 +14,17 @@ factors of their own). The grown front is tested after every step; a front that 
 scene's clearance of a face (fronts3d.CLEARANCE_RTOL of its size), or crosses it, in a step longer
 than the ligament is re-characterised too.
 
-The new crack is the ellipse the surface stepper grows (surface3d.py): in the old crack's plane,
-centred on the face where the line through the grown front's deepest point (its farthest point from
-the face, along the in-plane direction e_d towards the face) meets it, its depth semi-axis a' along
-e_d and its half-length c' on the surface along e_l = normal x e_d. The codes keep the embedded
-flaw's half-length c; a crack does not heal, so c' here is the least half-length whose ellipse of
-depth a' contains the whole grown front (at least c): on a penny of radius r with a ligament 0.34 r
-it is 1.5 r, against the codes' r. The front of any shape (disc, ellipse or the curve of a grown
-front) becomes an ellipse: the scene's cracks that cross a face are planar shapes (a curve crack
-crossing a face is refused by the scene).
+The new crack is the ellipse the surface stepper grows (surface3d.py), the codes' re-characterised
+flaw: in the old crack's plane, its depth semi-axis a' = 2a + S along the in-plane direction e_d
+towards the face and its half-length on the surface the embedded flaw's half-length c (its
+containment rectangle's, along e_l = normal x e_d), centred on the face where the line through the
+rectangle's mid-length at its deepest level meets it. The ellipse is the codes' idealisation of the
+broken-through crack (the embedded crack and the ligament it broke): it need not contain the whole
+grown front (a penny's sides at mid-depth lie just outside it; the ellipse of depth a' that contains
+them depends on the front's curvature at its deepest point, 0.69 or 0.98 for the same penny on two
+meshes, where the codes' c is the same). The front of any shape (disc, ellipse or the curve of a
+grown front) becomes an ellipse: the scene's cracks that cross a face are planar shapes (a curve
+crack crossing a face is refused by the scene).
 
 What stops the run instead, by name: a crack nearly parallel to the face it nears (its plane within
 PARALLEL_SINE of the face's: a delamination, not a surface crack), a front whose deepest point is
@@ -107,7 +109,9 @@ def recharacterise(domain, crack, i: int, clearance_rtol: float) -> tuple[dict |
                             f"of the angle {sine:.3g} < {PARALLEL_SINE:g}): it is not re-characterised as a surface "
                             f"crack")
     deep = int(np.argmin(u))
-    q = p[deep]
+    q = c0 + 0.5 * (w.max() + w.min()) * np.cross(n, e_d) + u[deep] * e_d  # the containment's mid-length, deepest
+    if float(_face_distance(domain, key, q)[0]) <= 0:
+        q = p[deep]
     if float(_face_distance(domain, key, q)[0]) <= 0:
         return None, None, f"boundary: crack[{i}] has crossed face {key} wholly; it is not re-characterised"
     lo, hi = 0.0, 2.0 * (u.max() - u.min()) + abs(S) + size  # along e_d from the deepest point to the face
@@ -121,11 +125,7 @@ def recharacterise(domain, crack, i: int, clearance_rtol: float) -> tuple[dict |
             hi = mid
     depth = 0.5 * (lo + hi)  # 2 a + S (the ligament measured along e_d)
     centre = q + depth * e_d
-    d_i = depth - (u - u[deep])  # the depth of each outline point below the face, along e_d
-    w_i = w - w[deep]
-    inside = (d_i > 0) & (d_i < depth * (1 - 1e-9))
-    need = np.abs(w_i[inside]) / np.sqrt(1.0 - (d_i[inside] / depth) ** 2)
-    half = max(c, float(need.max()) if need.size else 0.0)
+    half = c  # the codes': the embedded flaw's half-length
     e_l = np.cross(n, e_d)
     d = {"shape": "ellipse", "center": centre.tolist(), "normal": n.tolist(), "semi_axes": [half, depth],
          "major_axis": (e_l / np.linalg.norm(e_l)).tolist()}
