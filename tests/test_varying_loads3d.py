@@ -12,8 +12,8 @@ this coarse mesh at the default order (1).
 
 The error estimate uses the applied loads: a uniform load given as a callable has the
 estimate of the same load given as a number (to round-off), a crack-face pressure is load
-data (an open pressurized penny's crack term is ~1e-7 of eta^2, not 17% of it as with
--sigma_nn alone), a traction linear over a face has no data term and a quadratic one a
+data (an open pressurized penny's crack term is 7e-5 of eta^2, where -sigma_nn alone made
+it 66% of eta^2), a traction linear over a face has no data term and a quadratic one a
 data term that falls with the order. Bad varying loads are refused by field before meshing.
 """
 
@@ -95,7 +95,7 @@ def test_a_uniform_load_as_a_callable_has_the_estimate_of_the_number():
     for other in (call, table):
         assert other["total"] == pytest.approx(number["total"], rel=1e-10)
         assert other["contact"] == pytest.approx(number["contact"], rel=1e-6, abs=1e-12 * number["total"] ** 2)
-    # the pressure is data: the open penny's crack term is round-off of eta^2 (with -sigma_nn alone: 17% of it)
+    # the pressure is data: the open penny's crack term is 7e-5 of eta^2 (with -sigma_nn alone: 66% of it)
     assert sol.contact.active.sum() == 0 and abs(number["contact"]) < 1e-3 * number["total"] ** 2
     assert number["data"] < 1e-10 * number["total"]  # a uniform traction's sigma_nn = g.n exactly
     record = sol.to_json_dict()["error_estimate"]
@@ -168,3 +168,14 @@ def test_a_callable_pressure_follows_a_changed_crack():
     assert scene.cracks[0].pressure.cf()(mesh(1.5, 0.0, 0.0)) < 2.1
     assert field.values(np.array([[1.5, 0.0, 0.0]]))[0, 0] == 2.5
     assert scene.with_(E=2000.0).cracks[0].pressure is scene.cracks[0].pressure  # an unchanged crack keeps its grid
+
+
+def test_the_explorer_scales_varying_tractions_with_its_load():
+    from ngcrack.shell.explorer.solid_view import SolidExplorer
+
+    for value in ({"axis": [1, 0, 0], "table": [[-3, 0, 0, 0.0], [3, 0, 0, 0.6]]}, lambda x, y, z: [0, 0, 0.1 * (x + 3)]):
+        scene = SolidScene.from_dict(_penny(lambda x, y, z: 1.0 + 0.5 * x, traction=value))
+        made = SolidExplorer(scene, solve_now=False, load=2.0).make_scene()
+        g = made.tractions["zmax"].value.values(np.array([[3.0, 0.0, 3.0], [0.0, 1.0, 3.0]]))
+        assert np.allclose(g, [[0, 0, 1.2], [0, 0, 0.6]], atol=1e-14, rtol=0)
+        assert made.cracks[0].pressure.fn is scene.cracks[0].pressure.fn

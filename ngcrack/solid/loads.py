@@ -273,6 +273,23 @@ def coefficients(scene, traction: Mapping) -> tuple[list, dict]:
     return pressure, {**traction, **{k: c.value.cf() for k, c in getattr(scene, "tractions", {}).items()}}
 
 
+def scaled(value: Any, factor: float) -> Any:
+    """A load of a scene's dict times `factor`: a number or a vector, a table (its values, not its s), a
+    VaryingField (a callable's values on its grid as well)."""
+    factor = float(factor)
+    if isinstance(value, VaryingField):
+        if value.is_table:
+            return dataclasses.replace(value, rows=tuple((r[0], *(factor * v for v in r[1:])) for r in value.rows))
+        fn = value.fn
+        return dataclasses.replace(value, fn=lambda x, y, z: factor * np.asarray(fn(x, y, z), dtype=float),
+                                   grid=None if value.grid is None else factor * value.grid)
+    if isinstance(value, Mapping):
+        return {**value, "table": [[r[0], *(factor * float(v) for v in r[1:])] for r in value["table"]]}
+    if isinstance(value, (int, float)):
+        return factor * float(value)
+    return [factor * float(v) for v in value]
+
+
 def element_pressure(p: Any):
     """A crack's pressure as the elements take it: a CoefficientFunction when it varies, a number, None for none."""
     return p.cf() if is_varying(p) else (float(p or 0.0) or None)

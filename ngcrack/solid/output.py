@@ -31,6 +31,9 @@ import numpy as np
 from ..core.constraints import KKT_KEYS
 from ..core.solution import Solution, summary_line
 
+#: the estimate's traction data term is printed when above this fraction of the estimate (below: round-off)
+DATA_SHOWN_RTOL = 1e-8
+
 
 @dataclass
 class SolidSolution(Solution):
@@ -211,7 +214,8 @@ class SolidSolution(Solution):
         if "error_estimate" in result:
             e = result["error_estimate"]
             lines.append(f"error estimate (Prager-Synge, stress in the energy norm): {e['total']:.4g} (crack term "
-                         f"{e['contact']:.2g}" + (f", traction data {e['data']:.2g}" if e.get("data") else "")
+                         f"{e['contact']:.2g}" + (f", traction data {e['data']:.2g}"
+                                                   if e.get("data", 0.0) > DATA_SHOWN_RTOL * e["total"] else "")
                          + f"), {t['estimate']:.2f} s")
         for c, crack in enumerate(result["cracks"]):
             lines.append(f"crack {c}: max opening {crack['max_opening']:.4g}, max sliding {crack['max_sliding']:.4g}, "
