@@ -5,7 +5,7 @@ shear traction varying linearly over the end face (a table) and a crack-face pre
 p = 0.4 (y^2 + z^2) (a Python callable, built alike on every rank): the distributed solve
 builds the same CoefficientFunctions as the serial one (`solid.loads.coefficients`), so K_I,
 K_II, K_III along the front, the normal jumps and the error estimate equal the serial ones to
-the Krylov tolerance (measured 1e-12), with a mixed active set.
+the Krylov tolerance (measured: K 1.1e-12, the estimate 1.1e-13), with a mixed active set.
 """
 
 from __future__ import annotations
