@@ -91,10 +91,8 @@ def _estimate(p, traction, order=1) -> dict:
 def test_a_uniform_load_as_a_callable_has_the_estimate_of_the_number():
     number, sol = _estimate(1.0, [0.3, 0.0, 0.5])
     call, _ = _estimate(lambda x, y, z: 1.0, lambda x, y, z: (0.3, 0.0, 0.5))
-    table, _ = _estimate({"axis": [1, 0, 0], "table": [[-1, 1.0], [1, 1.0]]}, [0.3, 0.0, 0.5])
-    for other in (call, table):
-        assert other["total"] == pytest.approx(number["total"], rel=1e-10)
-        assert other["contact"] == pytest.approx(number["contact"], rel=1e-6, abs=1e-12 * number["total"] ** 2)
+    assert call["total"] == pytest.approx(number["total"], rel=1e-10)  # measured 1e-14
+    assert call["contact"] == pytest.approx(number["contact"], rel=1e-6, abs=1e-12 * number["total"] ** 2)
     # the pressure is data: the open penny's crack term is 7e-5 of eta^2 (with -sigma_nn alone: 66% of it)
     assert sol.contact.active.sum() == 0 and abs(number["contact"]) < 1e-3 * number["total"] ** 2
     assert number["data"] < 1e-10 * number["total"]  # a uniform traction's sigma_nn = g.n exactly
@@ -105,11 +103,15 @@ def test_a_uniform_load_as_a_callable_has_the_estimate_of_the_number():
 def test_the_estimate_has_the_data_term_of_a_varying_traction():
     linear, _ = _estimate(1.0, {"axis": [1, 0, 0], "table": [[-3, 0, 0, 0.0], [3, 0, 0, 1.0]]})
     assert linear["data"] < 1e-10 * linear["total"]  # a linear g.n is in the normal-facet space
+    quad, _ = _estimate(1.0, lambda x, y, z: (0.0, 0.0, 0.25 * x * x))
+    assert 0.03 * quad["total"] < quad["data"] < 0.3 * quad["total"]  # measured 0.0050 of eta 0.065
+    assert quad["total"] == pytest.approx(math.sqrt(quad["stress"] ** 2 + quad["contact"] + quad["data"] ** 2))
+
+
+@pytest.mark.slow
+def test_the_data_term_falls_with_the_order():
     quad = [_estimate(1.0, lambda x, y, z: (0.0, 0.0, 0.25 * x * x), order=k)[0] for k in (1, 2)]
-    # measured 0.0050 (order 1) and 6.0e-5 (order 2) of eta 0.065 and 0.053
-    assert 1e-3 * quad[0]["total"] < quad[0]["data"] and quad[1]["data"] < 0.05 * quad[0]["data"]
-    for q in quad:
-        assert q["total"] == pytest.approx(math.sqrt(q["stress"] ** 2 + q["contact"] + q["data"] ** 2))
+    assert quad[1]["data"] < 0.05 * quad[0]["data"]  # measured 6.0e-5 against 0.0050
 
 
 #: x = 1.125 is a plane of the traction's interpolation grid over the box [-3, 3] (33 points), not a probe point
