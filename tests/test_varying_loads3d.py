@@ -181,3 +181,15 @@ def test_the_explorer_scales_varying_tractions_with_its_load():
         g = made.tractions["zmax"].value.values(np.array([[3.0, 0.0, 3.0], [0.0, 1.0, 3.0]]))
         assert np.allclose(g, [[0, 0, 1.2], [0, 0, 0.6]], atol=1e-14, rtol=0)
         assert made.cracks[0].pressure.fn is scene.cracks[0].pressure.fn
+
+
+def test_a_table_pressure_keeps_its_origin_on_a_moved_crack_and_in_the_file():
+    scene = SolidScene.from_dict(_penny({"axis": [1, 0, 0], "table": [[-1, 0.0], [1, 2.0]]}))
+    # the grown crack's dict takes the crack's field itself, as 3D growth's does (studies.growth.fronts3d)
+    moved = dict(scene.cracks[0].to_dict(), center=[0.5, 0.0, 0.0], radius=1.2, pressure=scene.cracks[0].pressure)
+    other = SolidScene.from_dict(dict(_penny(0.0), crack=[moved]))
+    assert other.cracks[0].pressure.given_origin and not scene.cracks[0].pressure.given_origin
+    again = SolidScene.from_toml_string(other.with_(E=2000.0).to_toml_string())
+    pts = np.array([[0.0, 0.0, 0.0], [1.4, 0.3, 0.0]])
+    for s in (other, again):  # p = 1 + x about the first crack's centre, not the moved one's
+        assert s.cracks[0].pressure.values(pts)[:, 0].tolist() == [1.0, 2.0]

@@ -27,7 +27,8 @@ non-finite numbers.
 A pressure is a field in space: the table's origin (the crack's centre when not given) and the
 callable stay where they are when the crack changes (3D growth re-validates the grown crack):
 the grown crack's new parts take the field's values there. A callable's grid is re-fitted to
-the new crack (the grid covers the crack it was made for only); a table needs nothing.
+the new crack (the grid covers the crack it was made for only); a table keeps its origin, written
+out (`origin`) once it is no longer the crack's centre, so that the scene's file says the same.
 
 A table's CoefficientFunction is exact (a sum of ramps in s). A callable cannot be written to a
 scene file (refused by name in ``to_toml_string``).
@@ -196,7 +197,9 @@ def _field(v: Any, fld: str, ncomp: int, origin: np.ndarray, frame: np.ndarray, 
            in_plane: np.ndarray | None = None) -> VaryingField:
     what = "3 numbers [gx, gy, gz]" if ncomp == 3 else "a number"
     if isinstance(v, VaryingField):  # an existing field on a changed crack or face (module docstring)
-        if v.is_table or (v.grid is not None and np.array_equal(v.frame, frame) and np.array_equal(v.lo, lo)
+        if v.is_table:  # its origin stays; written out once it is no longer the crack's centre
+            return v if v.given_origin or np.array_equal(v.origin, origin) else dataclasses.replace(v, given_origin=True)
+        if (v.grid is not None and np.array_equal(v.frame, frame) and np.array_equal(v.lo, lo)
                           and np.array_equal(v.hi, hi)):
             return v
         return dataclasses.replace(v, frame=frame, lo=np.asarray(lo, float), hi=np.asarray(hi, float), name=fld,
