@@ -18,7 +18,7 @@ import ngcrack as nc
 from ngcrack.core.fields import SceneError
 from ngcrack.solid.scene import SolidScene
 from ngcrack.solid.surface import bump_inside, clip_segment, inside_arcs, surface_take
-from ngcrack.studies.newman_raju import STATED_ACCURACY, corner_crack_K, surface_crack_K
+from ngcrack.studies.newman_raju import STATED_ACCURACY, corner_crack_K, opening_K_I, surface_crack_K
 
 A, C, T, B = 0.6, 1.0, 1.5, 5.0  # the built-in scene's depth, half-length, thickness, half-width
 
@@ -126,6 +126,16 @@ def test_surface_crack_against_newman_raju(surface_solution):
     assert np.max(np.abs(err)) < STATED_ACCURACY
     assert abs(f.points[0, 2] - T) < 1e-9 and abs(f.points[-1, 2] - T) < 1e-9  # the surface points are in
     assert sol.kkt["max_penetration"] < 1e-8
+
+
+def test_the_opening_behind_the_deepest_point_gives_the_same_K(surface_solution):
+    """The crack's opening behind the deepest point (fitted to the plane-strain sqrt(r) law) is an extraction
+    independent of the domain integral: it agrees with it and with Newman-Raju's equation within 3%."""
+    f = surface_solution.fronts[0]
+    k = int(np.argmin(np.abs(f.points[:, 0])))
+    K_open = opening_K_I(surface_solution, f.points[k], [0.0, 0.0, 1.0], A)
+    ref = float(surface_crack_K(1.0, A, C, T, B, 0.5 * math.pi))
+    assert abs(K_open / f.K_I[k] - 1) < 0.03 and abs(K_open / ref - 1) < 0.03
 
 
 # ------------------------------------------------------------------------------ slow: corner and through cracks
