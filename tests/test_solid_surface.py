@@ -3,7 +3,8 @@
 Every figure fails on a wrong answer: the arcs where an outline leaves the body against their closed
 form, the crack faces' area against the exact clipped area, Newman and Raju's equation at a value
 worked by hand, and K_I along the front of the built-in `surface-crack` against their equation (the
-deepest point within 3%, every point within their stated 5%).
+deepest point within 3%, every point within their stated 5%) and against the K of the crack's
+opening behind the deepest point; a deep semicircular crack (a/t = 0.8) the same way.
 """
 
 from __future__ import annotations
@@ -140,8 +141,10 @@ def test_the_opening_behind_the_deepest_point_gives_the_same_K(surface_solution)
 
 def test_a_deep_semicircular_crack_against_newman_raju():
     """a/c = 1, a/t = 0.8 (the ligament below the front 0.25 a, 1.5 front_h): the domain integral's tube is
-    squeezed ahead of the front; the deepest point within 2% of Newman-Raju's equation and of the opening's K,
-    every point off the surface within 3% (measured: +0.07%, -2.7% and 1.8%)."""
+    squeezed ahead of the front. At this default mesh the deepest point is within 2% of Newman-Raju's equation
+    and every point off the surface within 3% (measured +0.07% and 1.8%; a guard of the squeezed tube: refined,
+    the deepest point settles 2-6% below the equation, BENCHMARKS "Deep and slender surface cracks"), and the
+    opening's K, an extraction without the tube, within 4% of the domain integral's (measured 2.8% below)."""
     a, t, b = 0.6, 0.75, 3.0
     d = {"name": "deep", "domain": {"box": [[-b, -2 * b, 0.0], [b, 2 * b, t]]},
          "crack": [{"shape": "disc", "center": [0.0, 0.0, t], "normal": [0.0, 1.0, 0.0], "radius": a}],
