@@ -222,3 +222,15 @@ def test_after_the_break_through_the_surface_crack_follows_newman_raju():
     N = r.cycles()
     N_ref = np.interp(ac[1:, 0], ref["a"], ref["N"])
     assert abs((N[-1] - N[1]) / N_ref[-1] - 1) < 0.05
+
+
+def test_the_example_penny_breaks_through_at_its_first_step():
+    """examples/breakthrough-penny.toml (the benchmark's penny): grown evenly by 0.075 (its leading point's step),
+    the ligament 0.075 is below 0.4 x 0.375, and the surface crack is 2 x 0.375 + 0.075 = 0.825 deep."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "examples" / "breakthrough-penny.toml").read_text()
+    d = nc.Scene.from_toml_string(text).to_dict()
+    new, why, events = grow_evenly(d, 0.075)
+    assert why == "" and events[0]["face"] == "zmax", why
+    assert events[0]["depth"] == pytest.approx(0.825, abs=2e-3) and new.cracks[0].semi_axes[1] == pytest.approx(0.825, abs=2e-3)
