@@ -193,7 +193,10 @@ def fitted_traction(B: sp.spmatrix, lam: np.ndarray, face: np.ndarray, share: np
     P = sp.csr_matrix((w, (q, 2 * np.repeat(face, 2) + q % 2)), shape=(len(w), 2 * n_faces))
     G = (A @ sp.diags(w) @ A.T).tocsc()
     M = (A @ P).toarray()
-    X = spla.splu(G).solve(M)
+    try:
+        X = spla.splu(G).solve(M)
+    except RuntimeError:  # G singular (jump functions the points do not separate): its least-squares solutions
+        X = np.linalg.lstsq(G.toarray(), M, rcond=None)[0]
     t, *_ = np.linalg.lstsq(M.T @ X, X.T @ (A @ np.asarray(lam, dtype=float).ravel()), rcond=None)
     out = np.zeros((n_faces, 3))
     out[face] = np.einsum("qi,qij->qj", t.reshape(n_faces, 2)[face], basis)
