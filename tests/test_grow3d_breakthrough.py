@@ -145,6 +145,27 @@ def test_the_corrector_option_is_refused_by_name_before_meshing(monkeypatch, sce
         nc.grow(scene, da=0.1, steps=1, paris=(C_P, M), corrector=value)
 
 
+def test_the_command_line_takes_the_corrector_in_3d_and_refuses_it_in_2d(monkeypatch, tmp_path, capsys):
+    """`ngcrack grow --corrector`: handed to the 3D loop as corrector=True; on a 2D scene one line and exit 2, no file."""
+    import ngcrack.studies.growth.loop3d as loop3d
+    from ngcrack.shell.cli import main
+
+    seen = {}
+
+    def grow_solid(*args, corrector=False, **kwargs):
+        seen["corrector"] = corrector
+        raise nc.InputError("stopped by the test")
+
+    monkeypatch.setattr(loop3d, "grow_solid", grow_solid)
+    out = tmp_path / "g.json"
+    assert main(["grow", "surface-crack", "--da", "0.1", "--steps", "1", "--corrector", "--json", str(out)]) == 2
+    assert seen == {"corrector": True} and not out.exists()
+    capsys.readouterr()
+    assert main(["grow", "griffith", "--da", "0.1", "--steps", "1", "--corrector", "--json", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--corrector: an option of 3D growth" in err and not out.exists()
+
+
 # ------------------------------------------------------------------------------------ the cycles
 @pytest.mark.parametrize("history", [2, 1])
 def test_the_step_of_the_break_through_is_counted_as_the_embedded_crack_grows(history):
