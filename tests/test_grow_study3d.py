@@ -70,3 +70,66 @@ def test_a_3d_study_refuses_bad_input_by_name_before_any_run(monkeypatch, kw, fi
     with pytest.raises(nc.InputError, match=field) as info:
         grow_study(penny(), "nu", [0.2, 0.3], **args)
     assert "\n" not in str(info.value)
+
+
+def _no_solve_row(scene, da, steps, K_Ic, criterion, options) -> dict:
+    return {"steps": 1, "final_length": 1.25, "lambda_first": 2.0, "lambda_last": 2.0, "lambda_max": 2.0,
+            "cycles": math.nan, "stopped": "", "time_s": 0.0, "ndof": 7}
+
+
+@pytest.mark.parametrize("header, field", [("nu,steps,final_length,lambda_first,lambda_last,lambda_max,stopped,time_s,ndof\n"
+                                            "0.2,1,1.0,1.0,1.0,1.0,,0.1,5\n", "columns"),
+                                           (f"nu,{','.join(STUDY_COLUMNS)}\n0.2,x,1,1,1,1,,,0.1,5\n", "line 2, column steps")])
+def test_a_study_file_of_other_columns_or_bad_cells_is_refused_before_any_run(monkeypatch, tmp_path, header, field):
+    """A rerun on a CSV written with another column set (or a bad cell) would append misaligned lines: refused."""
+    from ngcrack.studies.growth import study
+
+    monkeypatch.setattr(study, "_run_path", _no_solve_row)
+    out = tmp_path / "study.csv"
+    out.write_text(header)
+    with pytest.raises(nc.InputError, match=field):
+        grow_study(penny(), "nu", [0.2, 0.3], da=0.1, steps=1, out=out)
+    assert out.read_text() == header
+
+
+def test_a_study_writes_no_nan_and_a_header_to_an_empty_file(monkeypatch, tmp_path):
+    from ngcrack.studies.growth import study
+
+    monkeypatch.setattr(study, "_run_path", _no_solve_row)
+    out = tmp_path / "study.csv"
+    out.touch()
+    grow_study(penny(), "nu", [0.3], da=0.1, steps=1, out=out)
+    assert out.read_text() == f"nu,{','.join(STUDY_COLUMNS)}\n0.3,1,1.25,2.0,2.0,2.0,,,0.0,7\n"
+    again = grow_study(penny(), "nu", [0.3], da=0.1, steps=1, out=out)  # read back: the empty cell is NaN
+    assert math.isnan(again["cycles"].iloc[0]) and again["ndof"].iloc[0] == 7
+
+
+def _scene_function(radius=1.0):
+    d = coarse_penny()
+    d["mesh"] = dict(MESH)
+    d["crack"][0]["radius"] = 1.0 / 0.0 if radius == 2.0 else radius
+    return SolidScene.from_dict(d)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: grow_study(_scene_function, "depth", [1.0], da=0.1, steps=1), "parameter = 'depth': not a keyword of the "
+     "scene function; allowed: radius, K_Ic"),
+    (lambda: grow_study(_scene_function, "radius", [2.0], da=0.1, steps=1), "scene: the scene function failed at "
+     "radius = 2.0 \\(ZeroDivisionError"),
+    (lambda: grow_study(5, "nu", [0.3], da=0.1, steps=1), "scene = 5: must be a Scene"),
+    (lambda: grow_study(penny(), "nu", 0.3, da=0.1, steps=1), "values = 0.3: must be a list"),
+    (lambda: grow_study(penny(), "nu", [0.3], da=0.1, steps=1, out=5), "out = 5: must be None or the path"),
+    (lambda: grow_study(penny(), "nu", [0.3], da=0.1, steps=1, out="."), "out = '.': is a directory")])
+def test_a_study_refuses_a_bad_scene_function_values_or_out_by_name(monkeypatch, call, message):
+    from ngcrack.studies.growth import study
+
+    monkeypatch.setattr(study, "_run_path", _no_solve_row)
+    with pytest.raises(nc.InputError, match=message):
+        call()
+
+
+def test_a_scene_functions_K_Ic_study_calls_the_function_with_its_defaults(monkeypatch):
+    from ngcrack.studies.growth import study
+
+    monkeypatch.setattr(study, "_run_path", _no_solve_row)
+    assert list(grow_study(_scene_function, "K_Ic", [1.0, 2.0], da=0.1, steps=1)["K_Ic"]) == [1.0, 2.0]

@@ -21,15 +21,20 @@ skips the values already in the file (resumable like a sweep).
 from __future__ import annotations
 
 import csv
+import inspect
 import math
+import os
 import time
 from pathlib import Path
 
 from ...core.errors import InputError
+from ...core.fields import SceneError
 
 #: the columns of a growth study's table, after the parameter's
 STUDY_COLUMNS = ("steps", "final_length", "lambda_first", "lambda_last", "lambda_max", "cycles", "stopped", "time_s",
                  "ndof")
+#: the columns of STUDY_COLUMNS holding whole numbers and text; the others hold numbers (NaN: an empty CSV cell)
+_INT_COLUMNS, _TEXT_COLUMNS = ("steps", "ndof"), ("stopped",)
 
 
 def _run_path(scene, da, steps, K_Ic, criterion, options) -> dict:
@@ -71,19 +76,61 @@ def _check_case(scene, da, steps, K_Ic, criterion, options: dict) -> None:
 
 
 def _scene_for(scene, parameter: str, value):
-    if callable(scene) and not hasattr(scene, "with_"):
-        return scene(**{parameter: value})
-    if parameter == "K_Ic":
-        return scene
-    return scene.with_(**{parameter: value})
+    if _is_function(scene):
+        try:
+            made = scene() if parameter == "K_Ic" else scene(**{parameter: value})
+        except (InputError, SceneError):
+            raise
+        except Exception as exc:  # the user's function: its failure reported with the value
+            raise InputError(f"scene: the scene function failed at {parameter} = {value!r} ({type(exc).__name__}: "
+                             f"{exc})") from None
+        return made
+    return scene if parameter == "K_Ic" else scene.with_(**{parameter: value})
+
+
+def _is_function(scene) -> bool:
+    return callable(scene) and not hasattr(scene, "with_")
+
+
+def _check_parameter(scene, parameter: str) -> None:
+    """A scene function's parameter must be one of its keywords (K_Ic aside)."""
+    if parameter == "K_Ic" or not _is_function(scene):
+        return
+    try:
+        params = inspect.signature(scene).parameters
+    except (TypeError, ValueError):  # no signature to read: the call itself is the check
+        return
+    if any(p.kind == p.VAR_KEYWORD for p in params.values()) or parameter in params:
+        return
+    names = [n for n, p in params.items() if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+    raise InputError(f"parameter = {parameter!r}: not a keyword of the scene function; allowed: "
+                     f"{', '.join(names + ['K_Ic'])}")
 
 
 def _done(path: Path | None, parameter: str) -> dict:
-    """The rows already in the study's CSV file, by their value's text."""
-    if path is None or not path.exists():
+    """The rows already in the study's CSV file, by their value's text, their cells typed; a file that is not this
+    study's (other columns, a cell of the wrong type) is refused naming it, before any run."""
+    if path is None or not path.exists() or path.stat().st_size == 0:
         return {}
+    columns = [parameter, *STUDY_COLUMNS]
     with open(path, newline="") as fh:
-        return {row[parameter]: row for row in csv.DictReader(fh)}
+        reader = csv.DictReader(fh)
+        if reader.fieldnames != columns:
+            raise InputError(f"out = {str(path)!r}: its columns ({', '.join(reader.fieldnames or [])}) are not this "
+                             f"study's ({', '.join(columns)}); give another file or move this one away")
+        rows = {}
+        for i, row in enumerate(reader, start=2):
+            for col in STUDY_COLUMNS:
+                if col in _TEXT_COLUMNS:
+                    continue
+                try:
+                    row[col] = int(row[col]) if col in _INT_COLUMNS else (float(row[col]) if row[col] else math.nan)
+                except (TypeError, ValueError):
+                    raise InputError(f"out = {str(path)!r}: line {i}, column {col} = {row[col]!r} is not "
+                                     f"{'a whole number' if col in _INT_COLUMNS else 'a number'}; give another "
+                                     f"file or mend this one") from None
+            rows[row[parameter]] = row
+    return rows
 
 
 def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float | None = None,
@@ -92,6 +139,7 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     import pandas as pd
 
     from ngcrack.studies.sweeps.executors import _executor
+    from ngcrack.studies.sweeps.results import csv_line
 
     if not isinstance(parameter, str) or not parameter:
         raise InputError(f"parameter = {parameter!r}: must be a scene field (friction, nu, E), K_Ic, or a keyword "
@@ -100,14 +148,24 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
         from ngcrack.core.solve import as_scene
 
         scene = as_scene(scene)
+    if not (hasattr(scene, "with_") or callable(scene)):
+        raise InputError(f"scene = {scene!r}: must be a Scene, the name of a built-in scene or a function returning "
+                         f"a Scene")
+    _check_parameter(scene, parameter)
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
+        raise InputError(f"values = {values!r}: must be a list of the parameter's values")
     values = list(values)
     if not values:
         raise InputError("values: give at least one value of the parameter")
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise InputError(f"jobs = {jobs!r}: must be a whole number >= 1")
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise InputError(f"out = {out!r}: must be None or the path of a CSV file")
     path = Path(out) if out is not None else None
     if path is not None and not path.parent.exists():
         raise InputError(f"out = {str(out)!r}: the directory {str(path.parent)!r} does not exist")
+    if path is not None and path.is_dir():
+        raise InputError(f"out = {str(out)!r}: is a directory; give the path of a CSV file")
     cases = []
     for v in values:  # every case checked before any run
         sc = _scene_for(scene, parameter, v)
@@ -118,7 +176,7 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     todo = [c for c in cases if str(c[0]) not in done]
     rows = {str(v): dict(row, **{parameter: v}) for v, row in
             ((v, done[str(v)]) for v, _, _ in cases if str(v) in done)}
-    header = not (path is not None and path.exists())
+    header = not (path is not None and path.exists() and path.stat().st_size > 0)
     ex = _executor(jobs, dask)
     try:
         pending = {ex.submit(_run_path, sc, da, steps, k, criterion, dict(solve_options)): v for v, sc, k in todo}
@@ -129,12 +187,10 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
                 row = {parameter: v, **fut.result()}
                 rows[str(v)] = row
                 if path is not None:
+                    columns = [parameter, *STUDY_COLUMNS]
                     with open(path, "a", newline="") as fh:  # one complete line per finished path
-                        writer = csv.DictWriter(fh, fieldnames=[parameter, *STUDY_COLUMNS])
-                        if header:
-                            writer.writeheader()
-                            header = False
-                        writer.writerow(row)
+                        fh.write((",".join(columns) + "\n" if header else "") + csv_line(row, columns))  # NaN: an empty cell
+                        header = False
     finally:
         ex.close(cancel=True)
     table = pd.DataFrame([rows[str(v)] for v, _, _ in cases], columns=[parameter, *STUDY_COLUMNS])
