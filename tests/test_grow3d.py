@@ -158,6 +158,7 @@ def test_a_polygon_and_a_crack_near_a_face_are_refused(no_solve):
     (["penny", "--paris", "1e-3"], "--paris 0.001"), (["penny", "--R", "0.2"], "R = 0.2"),
     (["penny", "--paris", "-1", "3"], "paris"), (["penny", "--tip-h", "0.1"], "--tip-h"),
     (["penny", "--criterion", "mts"], "--criterion mts"), (["penny", "--gif", "x.gif"], "--gif"),
+    (["penny", "--at-hole", "0.1"], "--at-hole 0.1: an option of 2D growth; scene 'penny' is 3D (3D bodies have no holes)"),
     (["griffith", "--front-h", "0.1"], "--front-h"), (["griffith", "--paris", "1e-3", "3", "-1"], "paris"),
     (["griffith", "--R", "0.5"], "R = 0.5"),
 ])

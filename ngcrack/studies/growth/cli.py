@@ -181,17 +181,16 @@ PLANAR_FLAGS = {"tip_h": "--tip-h (3D: --front-h)", "path_grading": "--path-grad
 def _run_solid(args, scene, paris, R, json_path, csv_path, png_path) -> int:
     """`ngcrack grow` on a 3D scene: planar growth of its fronts (loop3d.py)."""
     from .fronts3d import GROW_TOGETHER_RTOL
-    from .loop3d import check_solid_grow, grow_solid, planar_options
+    from .loop3d import PLANAR_GROWTH_ONLY, check_solid_grow, grow_solid, planar_options
 
     for key, flag in PLANAR_FLAGS.items():
         if getattr(args, key) is not None:
             raise InputError(f"{flag}: an option of 2D growth; scene {scene.name!r} is 3D (planar growth of its fronts)")
     planar = planar_options(args.criterion, None, args.at_hole, False)
-    planar = {("--" + k.replace("_", "-")): v for k, v in planar.items()}
     if planar:
-        flag, value = next(iter(planar.items()))
-        raise InputError(f"{flag} {value}: an option of 2D growth; scene {scene.name!r} is 3D (its fronts grow in their "
-                         f"planes; kink_deg reports the MTS kink)")
+        key, value = next(iter(planar.items()))
+        raise InputError(f"--{key.replace('_', '-')} {value}: an option of 2D growth; scene {scene.name!r} is 3D "
+                         f"({PLANAR_GROWTH_ONLY[key]})")
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
