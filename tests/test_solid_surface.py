@@ -156,6 +156,7 @@ def test_a_deep_semicircular_crack_against_newman_raju():
     phi = np.arctan2((t - f.points[:, 2]) / a, f.points[:, 0] / a)
     err = f.K_I / surface_crack_K(1.0, a, a, t, b, phi) - 1
     deep = int(np.argmin(np.abs(phi - math.pi / 2)))
+    assert f.points[deep, 2] == pytest.approx(t - a, abs=1e-9)  # a front point at the deepest point
     assert abs(err[deep]) < 0.02 and np.max(np.abs(err[1:-1])) < 0.03
     K_open = opening_K_I(sol, f.points[deep], [0.0, 0.0, 1.0], a)
     assert abs(K_open / f.K_I[deep] - 1) < 0.04
