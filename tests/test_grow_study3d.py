@@ -133,3 +133,16 @@ def test_a_scene_functions_K_Ic_study_calls_the_function_with_its_defaults(monke
 
     monkeypatch.setattr(study, "_run_path", _no_solve_row)
     assert list(grow_study(_scene_function, "K_Ic", [1.0, 2.0], da=0.1, steps=1)["K_Ic"]) == [1.0, 2.0]
+
+
+@pytest.mark.parametrize("scene, value, message", [
+    ("griffith", False, "corrector = False: an option of 3D growth \\(Heun's step of surface cracks\\); scene 'griffith' is 2D"),
+    ("surface-crack", "yes", "corrector = 'yes': must be True \\(surface cracks grow by Heun's predictor-corrector step")])
+def test_a_study_checks_the_corrector_as_grow_does(monkeypatch, scene, value, message):
+    from ngcrack.studies.growth import study
+
+    monkeypatch.setattr(study, "_run_path", _no_solve_row)
+    with pytest.raises(nc.InputError, match=message):
+        grow_study(scene, "nu", [0.3], da=0.1, steps=1, corrector=value)
+    with pytest.raises(nc.InputError, match=message):
+        nc.grow(scene, da=0.1, steps=1, corrector=value)

@@ -90,6 +90,18 @@ def check_flag(value, name: str, what: str) -> bool:
     return bool(value)
 
 
+def check_corrector(corrector, scene) -> bool:
+    """grow's `corrector`: True or False on a 3D scene (Heun's step of surface cracks, loop3d.py); given at all on a
+    2D scene, refused."""
+    if getattr(scene, "dimension", 2) != 3:
+        raise InputError(f"corrector = {corrector!r}: an option of 3D growth (Heun's step of surface cracks); scene "
+                         f"{getattr(scene, 'name', scene)!r} is 2D: leave it out")
+    if not isinstance(corrector, (bool, np.bool_)):
+        raise InputError(f"corrector = {corrector!r}: must be True (surface cracks grow by Heun's predictor-corrector "
+                         f"step, two solves a step) or False (one solve a step)")
+    return bool(corrector)
+
+
 def check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c, paris, R, at_hole, solve_options,
                     estimate=False, frames=True):
     """grow's input checks, in order, before any work: (the scene, r_c, the Paris law or None, the hole crack)."""

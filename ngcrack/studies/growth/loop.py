@@ -63,7 +63,7 @@ from ngcrack.planar.scene import SceneError, tip_label
 from ...core.errors import InputError
 from .checks import MAX_DA_FRACTION as MAX_DA_FRACTION
 from .checks import MAX_STEPS as MAX_STEPS
-from .checks import check_grow_call
+from .checks import check_corrector, check_grow_call
 from .checks import check_growth_options as check_growth_options
 from .criteria import (
     PLS_SLOPE,
@@ -183,8 +183,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
         return grow_solid(scene, da, steps, K_Ic, paris=paris, R=R, together=together, progress=progress, frames=frames,
                           planar=planar_options(criterion, r_c, at_hole, estimate), **solve_options)
     if "corrector" in solve_options:
-        raise InputError(f"corrector = {solve_options['corrector']!r}: an option of 3D growth (Heun's step of surface "
-                         f"cracks); scene {getattr(scene, 'name', scene)!r} is 2D: leave it out")
+        check_corrector(solve_options["corrector"], scene)
     scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
                                                     paris, R, at_hole, solve_options, estimate, frames)
     da, steps = float(da), int(steps)

@@ -57,7 +57,7 @@ import numpy as np
 from ...core.errors import InputError
 from ...core.fields import is_finite
 from .breakthrough import recharacterise
-from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION
+from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION, check_corrector
 from .fatigue import check_paris, delta_K, step_cycles
 from .fronts3d import (
     CLEARANCE_RTOL,
@@ -184,9 +184,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
 
     from .result3d import SolidGrowthResult
 
-    if not isinstance(corrector, bool):
-        raise InputError(f"corrector = {corrector!r}: must be True (surface cracks grow by Heun's predictor-corrector "
-                         f"step, two solves a step) or False (one solve a step)")
+    corrector = check_corrector(corrector, scene)
     fatigue = check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar or {})
     da, steps = float(da), int(steps)
     cycles = None if fatigue is None else _Cycles(*fatigue, R=float(R))

@@ -57,6 +57,7 @@ def _run_path(scene, da, steps, K_Ic, criterion, options) -> dict:
 
 def _check_case(scene, da, steps, K_Ic, criterion, options: dict) -> None:
     """grow's own checks of one path, before any run: the 3D loop's for a 3D scene, the 2D loop's otherwise."""
+    from .checks import check_corrector
     from .loop import GROW_TOGETHER_RTOL, check_grow_call
 
     opts = dict(options)
@@ -66,11 +67,11 @@ def _check_case(scene, da, steps, K_Ic, criterion, options: dict) -> None:
 
         planar = planar_options(criterion, opts.pop("r_c", None), opts.pop("at_hole", "stop"), opts.pop("estimate", False))
         together = opts.pop("together", GROW_TOGETHER_RTOL)
-        corrector = opts.pop("corrector", False)
-        if not isinstance(corrector, bool):
-            raise InputError(f"corrector = {corrector!r}: must be True (Heun's step of surface cracks) or False")
+        check_corrector(opts.pop("corrector", False), scene)
         check_solid_grow(scene, da, steps, K_Ic, paris, R, together, None, opts, planar)
         return
+    if "corrector" in opts:
+        check_corrector(opts["corrector"], scene)
     check_grow_call(scene, da, steps, K_Ic, criterion, opts.pop("together", GROW_TOGETHER_RTOL), None,
                     opts.pop("r_c", None), paris, R, opts.pop("at_hole", "stop"), opts, opts.pop("estimate", False))
 
