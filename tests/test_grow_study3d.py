@@ -146,3 +146,12 @@ def test_a_study_checks_the_corrector_as_grow_does(monkeypatch, scene, value, me
         grow_study(scene, "nu", [0.3], da=0.1, steps=1, corrector=value)
     with pytest.raises(nc.InputError, match=message):
         nc.grow(scene, da=0.1, steps=1, corrector=value)
+
+
+def test_a_study_on_worker_processes_refuses_a_scene_it_cannot_send_before_any_run(monkeypatch):
+    from ngcrack.studies.growth import study
+
+    monkeypatch.setattr(study, "_run_path", _no_solve_row)
+    with pytest.raises(nc.InputError, match="pressure = <function .*: the scene cannot be sent to a worker process "
+                                            ".*module-level functions, or jobs=1"):
+        grow_study(penny(), "pressure", [lambda x, y, z: 1.0], da=0.1, steps=1, jobs=2)

@@ -24,6 +24,7 @@ import csv
 import inspect
 import math
 import os
+import pickle
 import time
 from pathlib import Path
 
@@ -108,6 +109,16 @@ def _check_parameter(scene, parameter: str) -> None:
                      f"{', '.join(names + ['K_Ic'])}")
 
 
+def _check_picklable(scene, parameter: str, value) -> None:
+    """A path run in a worker process is sent there pickled: a scene that cannot be (a lambda or a local function as
+    a load, solid.loads) is refused before any run."""
+    try:
+        pickle.dumps(scene)
+    except Exception as exc:  # pickle raises several types (PicklingError, AttributeError, TypeError)
+        raise InputError(f"{parameter} = {value!r}: the scene cannot be sent to a worker process ({type(exc).__name__}: "
+                         f"{exc}); give its callables as module-level functions, or jobs=1") from None
+
+
 def _done(path: Path | None, parameter: str) -> dict:
     """The rows already in the study's CSV file, by their value's text, their cells typed; a file that is not this
     study's (other columns, a cell of the wrong type) is refused naming it, before any run."""
@@ -172,6 +183,8 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
         sc = _scene_for(scene, parameter, v)
         k = v if parameter == "K_Ic" else K_Ic
         _check_case(sc, da, steps, k, criterion, solve_options)
+        if jobs > 1 or dask is not None:
+            _check_picklable(sc, parameter, v)
         cases.append((v, sc, k))
     done = _done(path, parameter)
     todo = [c for c in cases if str(c[0]) not in done]
