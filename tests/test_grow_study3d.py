@@ -155,3 +155,15 @@ def test_a_study_on_worker_processes_refuses_a_scene_it_cannot_send_before_any_r
     with pytest.raises(nc.InputError, match="pressure = <function .*: the scene cannot be sent to a worker process "
                                             ".*module-level functions, or jobs=1"):
         grow_study(penny(), "pressure", [lambda x, y, z: 1.0], da=0.1, steps=1, jobs=2)
+
+
+def test_a_study_refuses_a_value_whose_first_mesh_is_too_large_before_any_run(monkeypatch):
+    """The size guard of each path's first solve runs with the checks: no path grows before a later value fails it."""
+    from ngcrack.studies.growth import study
+
+    ran = []
+    monkeypatch.setattr(study, "_run_path", lambda *args: ran.append(args) or _no_solve_row(*args))
+    with pytest.raises(nc.InputError, match="front_h = 0.001: scene 'penny-coarse', element 'tdnns' would need about "
+                                            "9.79e\\+05 tetrahedra.*exceeds the default ceiling of 5000000 unknowns"):
+        grow_study(penny(), "front_h", [0.4, 0.001], da=0.1, steps=1)
+    assert ran == []

@@ -102,6 +102,8 @@ def planar_options(criterion, r_c, at_hole, estimate) -> dict:
 def check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar: dict):
     """grow's checks on a 3D scene, before any meshing; the Paris law (C, m, dK_th) or None."""
     from ngcrack.core.options import SolveOptions
+    from ngcrack.solid.options import solid_options
+    from ngcrack.solid.stages import check_request
 
     for key, value in planar.items():
         raise InputError(f"{key} = {value!r}: not an option of 3D growth ({PLANAR_GROWTH_ONLY[key]}); leave it out")
@@ -128,6 +130,7 @@ def check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve
     except TypeError as exc:
         raise InputError(str(exc)) from None
     options.check_for(scene)
+    check_request(scene, solid_options(options, scene), options.max_dof)  # the first solve's size guard, before any run
     front_h = scene.mesh_sizes(solve_options.get("maxh"), solve_options.get("crack_h"), solve_options.get("front_h"),
                                solve_options.get("grading"))["front_h"]
     if da < MIN_DA_TIP_FRACTION * front_h:
