@@ -119,7 +119,9 @@ def _scene_function(radius=1.0):
     (lambda: grow_study(5, "nu", [0.3], da=0.1, steps=1), "scene = 5: must be a Scene"),
     (lambda: grow_study(penny(), "nu", 0.3, da=0.1, steps=1), "values = 0.3: must be a list"),
     (lambda: grow_study(penny(), "nu", [0.3], da=0.1, steps=1, out=5), "out = 5: must be None or the path"),
-    (lambda: grow_study(penny(), "nu", [0.3], da=0.1, steps=1, out="."), "out = '.': is a directory")])
+    (lambda: grow_study(penny(), "nu", [0.3], da=0.1, steps=1, out="."), "out = '.': is a directory"),
+    (lambda: grow_study(penny(), "nu", [0.3], da=0.1, steps=1, frames=True), "frames = True: a growth study keeps no frames"),
+    (lambda: grow_study(penny(), "nu", [0.3], da=0.1, steps=1, progress=5), "progress = 5: must be None or a callable")])
 def test_a_study_refuses_a_bad_scene_function_values_or_out_by_name(monkeypatch, call, message):
     from ngcrack.studies.growth import study
 

@@ -59,21 +59,27 @@ def _run_path(scene, da, steps, K_Ic, criterion, options) -> dict:
 def _check_case(scene, da, steps, K_Ic, criterion, options: dict) -> None:
     """grow's own checks of one path, before any run: the 3D loop's for a 3D scene, the 2D loop's otherwise."""
     from .checks import check_corrector
-    from .loop import GROW_TOGETHER_RTOL, check_grow_call
+    from .loop import check_grow_call
 
+    if "frames" in options:
+        raise InputError(f"frames = {options['frames']!r}: a growth study keeps no frames (its rows are the paths' "
+                         f"summaries); leave it out")
     opts = dict(options)
-    paris, R = opts.pop("paris", None), opts.pop("R", 0.0)
+    paris, R, progress = opts.pop("paris", None), opts.pop("R", 0.0), opts.pop("progress", None)
     if getattr(scene, "dimension", 2) == 3:
+        from .fronts3d import GROW_TOGETHER_RTOL
         from .loop3d import check_solid_grow, planar_options
 
         planar = planar_options(criterion, opts.pop("r_c", None), opts.pop("at_hole", "stop"), opts.pop("estimate", False))
         together = opts.pop("together", GROW_TOGETHER_RTOL)
         check_corrector(opts.pop("corrector", False), scene)
-        check_solid_grow(scene, da, steps, K_Ic, paris, R, together, None, opts, planar)
+        check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, opts, planar)
         return
+    from .loop import GROW_TOGETHER_RTOL
+
     if "corrector" in opts:
         check_corrector(opts["corrector"], scene)
-    check_grow_call(scene, da, steps, K_Ic, criterion, opts.pop("together", GROW_TOGETHER_RTOL), None,
+    check_grow_call(scene, da, steps, K_Ic, criterion, opts.pop("together", GROW_TOGETHER_RTOL), progress,
                     opts.pop("r_c", None), paris, R, opts.pop("at_hole", "stop"), opts, opts.pop("estimate", False))
 
 
