@@ -37,7 +37,7 @@ The curvature terms are weighted by q itself and grow as 1/r at the front, where
 the tetrahedra that touch it integrates them poorly (the pointwise K scattered by 0.5% along the default
 penny's front and sat 0.3-0.75% low): on q's plateau they are blended from the tetrahedra into their
 closed form for the front's asymptotic fields, linear in the point's K, and each point's three K solve
-I = I(tetrahedra) + C I (`ngcrack.solid.front_near`, NEAR_DISC).
+I = I(tetrahedra) + C I (`ngcrack.solid.front_near`, NEAR_DISC_H).
 
 Each point's integral is the average of the pointwise K over h(s - s_k) / L; along a
 closed front that average is undone mode by mode in the front's Fourier series (_unsmooth),
@@ -101,11 +101,15 @@ PLATEAU_FRACTION = 0.25
 #: distance inwards to the crack's medial axis, at most the radius of curvature: b^2 / a at the
 #: ends of an ellipse's major axis), so that every point of the tube has one foot on the front
 REACH_FRACTION = 0.8
-#: the curvature terms on q's plateau (r < PLATEAU_FRACTION R, times NEAR_DISC) come from the front's asymptotic
-#: fields in closed form, blended into the tetrahedra's quadrature (`ngcrack.solid.front_near`); 0: from the
-#: tetrahedra alone, whose fixed Gauss rule meets their 1/r growth at the front (on the default penny the worst front
-#: point 0.71% off Sneddon and 0.62% at QUADRATURE_ORDER 8; 0.14% with the disc). BENCHMARKS, "3D K tighter than 1%"
-NEAR_DISC = 1.0
+#: the curvature terms within r0 = NEAR_DISC_H front_h of the front (at most q's plateau, PLATEAU_FRACTION R) come
+#: from the front's asymptotic fields in closed form, blended into the tetrahedra's quadrature
+#: (`ngcrack.solid.front_near`); 0: from the tetrahedra alone, whose fixed Gauss rule meets their 1/r growth at the
+#: front (the default penny's worst front point 0.71% off Sneddon; 0.14% with the disc). r0 shrinks with the mesh:
+#: the asymptotic fields leave out the terms that do not grow at the front, whose part grows as r0^(3/2) (the disc
+#: over the whole plateau, 0.2a on the penny, left K_I 0.4% high at front_h 0.1a). The penny's worst front point
+#: at front_h 0.3a, 0.2a, 0.15a, 0.1a: 0.32, 0.14, 0.46, 0.41% at 1 front_h; 0.32, 0.14, 0.26, 0.14% at 1.5 (taken);
+#: 0.32, 0.14, 0.26, 0.51% over the plateau. BENCHMARKS, "3D K tighter than 1%"
+NEAR_DISC_H = 1.5
 #: undo the bump average along closed fronts (Fourier modes divided by the bump's transfer, at least MIN_TRANSFER)
 DECONVOLVE, MIN_TRANSFER = True, 0.75
 #: quadrature order on the tetrahedra in the tube of a closed front: two above the 2D domain integrals'
@@ -400,7 +404,7 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
         # part q turn delta_k3 delta_j3 (e1 rotates towards e3 along the front)
         qt = hk[sel] * g[sel] * turn[sel]
         # next to the front (r < r0, on q's plateau) the curvature terms come from the disc's closed form (front_near)
-        r0 = NEAR_DISC * inner / max(float(ahead[k]), 1.0)
+        r0 = min(NEAR_DISC_H * h, inner) / max(float(ahead[k]), 1.0)
         cut = blend(np.hypot(x1[sel], x2[sel]), r0)
         J[k] = wk @ (np.sum(du1[sel] * sig_gq, axis=1) - W[sel] * gqk[:, 0]
                      + qt * (np.sum(sig_l[sel][:, :, 2] * du3[sel], axis=1) - W[sel]))
