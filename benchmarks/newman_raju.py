@@ -1,11 +1,16 @@
 """Semi-elliptical surface cracks in plates in tension against Newman and Raju's equation.
 
     python benchmarks/newman_raju.py [--quick] [--order K]
+    python benchmarks/newman_raju.py --deep      # the deepest point of deep cracks by mesh, order and extraction
+    python benchmarks/newman_raju.py --slender   # the points near the surface of a slender crack by mesh
 
 For each (a/c, a/t): a plate of thickness t, half-width b = 5c and half-length 2b, one end clamped and
-the other pulled (S = 1), the crack an ellipse centred on the face zmax; mesh front_h = a/6, crack_h = a/3
-(the built-in scene `surface-crack`'s sizes), front_h at most a third of the ligament t - a. Prints per front point phi (from the surface), K_I ours,
-Newman-Raju's (ngcrack.studies.newman_raju), the error, the unknowns and the CPU time of the solve; the
+the other pulled (S = 1; the pulled end is free, so the bending of the cracked section is the one
+Newman and Raju's plate under uniform stress on both ends has), the crack an ellipse centred on the
+face zmax; mesh front_h = a/6, crack_h = a/3 (the built-in scene `surface-crack`'s sizes; on a/t = 0.8
+the ligament t - a below the front is 1.5 front_h). Prints per front point phi (the ellipse's parametric
+angle from the surface, Newman and Raju's), K_I ours, Newman-Raju's (ngcrack.studies.newman_raju, with
+their finite-width factor for c/b = 0.2), the error, the unknowns and the CPU time of the solve; the
 surface points (phi = 0, 90 deg at the deepest point) carry the value a bump half-width inside.
 """
 
@@ -18,14 +23,16 @@ import time
 import numpy as np
 
 from ngcrack.solid.scene import SolidScene
-from ngcrack.studies.newman_raju import corner_crack_K, surface_crack_K
+from ngcrack.studies.newman_raju import corner_crack_K, opening_K_I, surface_crack_K
 
 CASES = [(0.6, 0.4), (0.2, 0.2), (0.2, 0.5), (0.4, 0.6), (1.0, 0.2), (1.0, 0.5), (1.0, 0.8), (0.6, 0.8)]
 QUICK = [(0.6, 0.4), (1.0, 0.2)]
 
 
-def surface_scene(a_over_c: float, a_over_t: float, a: float = 0.6, front_h_per_a: float = 1 / 6) -> SolidScene:
-    """A plate with a semi-elliptical surface crack of depth a (the benchmark's geometry), front_h = a/6."""
+def surface_scene(a_over_c: float, a_over_t: float, a: float = 0.6, front_h_per_a: float = 1 / 6,
+                  crack_h_per_front_h: float = 2.0) -> SolidScene:
+    """A plate with a semi-elliptical surface crack of depth a (the benchmark's geometry), front_h = a/6 and
+    crack_h = 2 front_h by default."""
     c, t = a / a_over_c, a / a_over_t
     front_h = front_h_per_a * a
     b = 5.0 * c
@@ -35,7 +42,7 @@ def surface_scene(a_over_c: float, a_over_t: float, a: float = 0.6, front_h_per_
                     "major_axis": [1.0, 0.0, 0.0] if c >= a else [0.0, 0.0, 1.0]}],
          "material": {"E": 1000.0, "nu": 0.3},
          "boundary": {"ymin": {"type": "clamped"}, "ymax": {"type": "traction", "value": [0.0, 1.0, 0.0]}},
-         "mesh": {"front_h": front_h, "crack_h": 2 * front_h}}
+         "mesh": {"front_h": front_h, "crack_h": crack_h_per_front_h * front_h}}
     return SolidScene.from_dict(d)
 
 
@@ -59,6 +66,64 @@ def run(a_over_c: float, a_over_t: float, order: int = 1, a: float = 0.6, corner
     phi = np.arctan2(depth / a, (f.points[:, 0] - x0) / c)  # the parametric angle from the surface (0 to pi)
     ref = corner_crack_K(1.0, a, c, t, 10.0 * c, phi) if corner else surface_crack_K(1.0, a, c, t, 5.0 * c, phi)
     return phi, np.asarray(f.K_I), ref, sol.ndof["total"], cpu
+
+
+#: the deepest point's study (`deep_study`): (a/c, a/t, element, order, front_h / a, crack_h / front_h); TDNNS (the
+#: default, mixed) and the displacement element h1p2 bracket the answer from either side; the controls a/c = 1,
+#: a/t = 0.8 (the same ligament, 0.25 a) and the built-in a/c = 0.6, a/t = 0.4 last
+DEEP = [(0.6, 0.8, "tdnns", 1, 1 / 6, 2.0), (0.6, 0.8, "tdnns", 1, 1 / 9, 2.0), (0.6, 0.8, "tdnns", 1, 1 / 12, 2.0),
+        (0.6, 0.8, "tdnns", 2, 1 / 6, 2.0), (0.6, 0.8, "tdnns", 2, 1 / 6, 1.0),
+        (0.6, 0.8, "h1p2", None, 1 / 6, 2.0), (0.6, 0.8, "h1p2", None, 1 / 9, 2.0), (1.0, 0.8, "tdnns", 1, 1 / 6, 2.0),
+        (1.0, 0.8, "tdnns", 2, 1 / 6, 2.0), (1.0, 0.8, "h1p2", None, 1 / 9, 2.0), (0.6, 0.4, "tdnns", 2, 1 / 6, 2.0),
+        (0.6, 0.4, "h1p2", None, 1 / 9, 2.0)]
+#: the slender crack's study (`slender_study`): a/c = 0.2, a/t = 0.5, order 1, these front_h / a
+SLENDER = [1 / 6, 1 / 8]
+
+
+def deep_study(a: float = 0.6, element: str | None = None, aspect: float | None = None) -> None:
+    """The deepest point by the domain integral (the reported K_I) and by the opening behind it
+    (`ngcrack.studies.newman_raju.opening_K_I`), against Newman-Raju's equation, by mesh, order and element
+    (`element`, `aspect`: only that element's, that a/c's rows)."""
+    import ngcrack as nc
+
+    print("| a/c | a/t | element | front_h | crack_h | unknowns | K domain integral | K opening | Newman-Raju | CPU s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r, s, elem, order, fh, ch in DEEP:
+        if (element and elem != element) or (aspect is not None and abs(r - aspect) > 1e-9):
+            continue
+        scene = surface_scene(r, s, a, fh, ch)
+        c, t = a / r, a / s
+        t0 = time.process_time()
+        sol = nc.solve(scene, element=elem, order=order, max_dof=3_000_000)
+        cpu = time.process_time() - t0
+        f = sol.fronts[0]
+        k = int(np.argmin(np.abs(f.points[:, 0])))  # the deepest point (x = 0)
+        ref = float(surface_crack_K(1.0, a, c, t, 5.0 * c, 0.5 * math.pi))
+        K = float(f.K_I[k])
+        Ko = opening_K_I(sol, f.points[k], [0.0, 0.0, 1.0], a)
+        name = elem if order is None else f"{elem} {order}"
+        print(f"| {r:g} | {s:g} | {name} | a/{1 / fh:.0f} | {ch:g} front_h | {sol.ndof['total']:,} | "
+              f"{K:.4f} ({K / ref - 1:+.2%}) | {Ko:.4f} ({Ko / ref - 1:+.2%}) | {ref:.4f} | {cpu:.1f} |", flush=True)
+
+
+def slender_study(a: float = 0.6) -> None:
+    """K_I at the points up to 45 deg from the surface of a/c = 0.2, a/t = 0.5 against Newman-Raju's, by front_h."""
+    import ngcrack as nc
+
+    r, s = 0.2, 0.5
+    c, t = a / r, a / s
+    print("| front_h | phi (deg) | K ours | Newman-Raju | error | unknowns | CPU s |")
+    print("|---|---|---|---|---|---|---|")
+    for fh in SLENDER:
+        t0 = time.process_time()
+        sol = nc.solve(surface_scene(r, s, a, fh))
+        cpu = time.process_time() - t0
+        f = sol.fronts[0]
+        phi = np.arctan2(np.maximum(t - f.points[:, 2], 0.0) / a, f.points[:, 0] / c)
+        ref = surface_crack_K(1.0, a, c, t, 5.0 * c, phi)
+        for k in np.flatnonzero((phi > 1e-9) & (phi <= 0.25 * math.pi + 1e-9)):
+            print(f"| a/{1 / fh:.0f} | {math.degrees(phi[k]):.1f} | {f.K_I[k]:.4f} | {ref[k]:.4f} | {f.K_I[k] / ref[k] - 1:+.2%} | "
+                  f"{sol.ndof['total']:,} | {cpu:.1f} |", flush=True)
 
 
 def plot(out: str, order: int = 1) -> None:
@@ -89,10 +154,17 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="two cases only")
     ap.add_argument("--order", type=int, default=1)
+    ap.add_argument("--deep", action="store_true", help="the deepest point of deep cracks by mesh, order and extraction")
+    ap.add_argument("--element", help="with --deep: only this element's rows (tdnns or h1p2)")
+    ap.add_argument("--aspect", type=float, help="with --deep: only the rows of this a/c")
+    ap.add_argument("--slender", action="store_true", help="the points near the surface of a/c = 0.2 by mesh")
     ap.add_argument("--plot", metavar="OUT.png", help="only draw K_I along the front of the first case against Newman-Raju's")
     args = ap.parse_args()
     if args.plot:
         plot(args.plot, args.order)
+        return
+    if args.deep or args.slender:
+        deep_study(element=args.element, aspect=args.aspect) if args.deep else slender_study()
         return
     print("| a/c | a/t | phi (deg) | K ours | K Newman-Raju | error | unknowns | CPU s |")
     print("|---|---|---|---|---|---|---|---|")

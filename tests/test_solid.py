@@ -268,19 +268,11 @@ def test_square_crack_sides_carry_mode_i_symmetric_and_converged():
     assert np.max(np.abs(front.K_II)) < 0.005 * unit and np.max(np.abs(front.K_III)) < 0.005 * unit
 
 
-def test_2d_only_entry_points_refuse_a_3d_scene_by_name():
-    """What takes 2D scenes only so far refuses a 3D one in one line from one place (core.scene.NOT_YET_3D).
-    (nc.hydrofrac takes a 3D scene: a radial fracture, tests/test_hydrofrac_radial.py; nc.grow grows it,
-    tests/test_grow3d.py.)"""
-    from ngcrack.core.scene import NOT_YET_3D
-    from ngcrack.studies.growth import grow_study
-
+def test_2d_arguments_refuse_a_3d_scene_by_name():
+    """The arguments that only a 2D scene has are refused on a 3D one in one line (every entry point takes 3D
+    scenes: nc.hydrofrac a radial fracture, tests/test_hydrofrac_radial.py; nc.grow and growth studies,
+    tests/test_grow3d.py)."""
     s = nc.scenes.load("penny")
-    calls = {"growth studies": lambda: grow_study(s, "nu", [0.2, 0.3], da=0.1, steps=1)}  # (nc.explore("penny") opens the 3D explorer)
-    for what, call in calls.items():
-        with pytest.raises(nc.InputError, match=f"scene 'penny' is 3D: {what} takes 2D scenes") as info:
-            call()
-        assert NOT_YET_3D[what] in str(info.value) and "\n" not in str(info.value)
     with pytest.raises(nc.InputError, match="maxh: a sweep argument of 2D scenes"):
         nc.sweep("penny", elements=["tdnns"], maxh=[1.0], front_h=[0.5])
     with pytest.raises(nc.InputError, match="loads: not available for a 3D scene"):

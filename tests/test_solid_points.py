@@ -128,5 +128,5 @@ def test_points_are_refused_by_the_distributed_solve_by_name():
     from ngcrack.core.errors import InputError
     from ngcrack.distributed.solid import check_supported
 
-    with pytest.raises(InputError, match=r"point\[0\]: point supports and loads varying in space are solved serially"):
+    with pytest.raises(InputError, match=r"point\[0\]: point supports are solved serially"):
         check_supported(SolidScene.from_dict(_box()), {"element": "tdnns"}, size=2)

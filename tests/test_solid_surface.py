@@ -3,7 +3,8 @@
 Every figure fails on a wrong answer: the arcs where an outline leaves the body against their closed
 form, the crack faces' area against the exact clipped area, Newman and Raju's equation at a value
 worked by hand, and K_I along the front of the built-in `surface-crack` against their equation (the
-deepest point within 3%, every point within their stated 5%).
+deepest point within 3%, every point within their stated 5%) and against the K of the crack's
+opening behind the deepest point; a deep semicircular crack (a/t = 0.8) the same way.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import ngcrack as nc
 from ngcrack.core.fields import SceneError
 from ngcrack.solid.scene import SolidScene
 from ngcrack.solid.surface import bump_inside, clip_segment, inside_arcs, surface_take
-from ngcrack.studies.newman_raju import STATED_ACCURACY, corner_crack_K, surface_crack_K
+from ngcrack.studies.newman_raju import STATED_ACCURACY, corner_crack_K, opening_K_I, surface_crack_K
 
 A, C, T, B = 0.6, 1.0, 1.5, 5.0  # the built-in scene's depth, half-length, thickness, half-width
 
@@ -126,6 +127,38 @@ def test_surface_crack_against_newman_raju(surface_solution):
     assert np.max(np.abs(err)) < STATED_ACCURACY
     assert abs(f.points[0, 2] - T) < 1e-9 and abs(f.points[-1, 2] - T) < 1e-9  # the surface points are in
     assert sol.kkt["max_penetration"] < 1e-8
+
+
+def test_the_opening_behind_the_deepest_point_gives_the_same_K(surface_solution):
+    """The crack's opening behind the deepest point (fitted to the plane-strain sqrt(r) law) is an extraction
+    independent of the domain integral: it agrees with it and with Newman-Raju's equation within 3%."""
+    f = surface_solution.fronts[0]
+    k = int(np.argmin(np.abs(f.points[:, 0])))
+    K_open = opening_K_I(surface_solution, f.points[k], [0.0, 0.0, 1.0], A)
+    ref = float(surface_crack_K(1.0, A, C, T, B, 0.5 * math.pi))
+    assert abs(K_open / f.K_I[k] - 1) < 0.03 and abs(K_open / ref - 1) < 0.03
+
+
+def test_a_deep_semicircular_crack_against_newman_raju():
+    """a/c = 1, a/t = 0.8 (the ligament below the front 0.25 a, 1.5 front_h): the domain integral's tube is
+    squeezed ahead of the front. At this default mesh the deepest point is within 2% of Newman-Raju's equation
+    and every point off the surface within 3% (measured +0.07% and 1.8%; a guard of the squeezed tube: refined,
+    the deepest point settles 2-6% below the equation, BENCHMARKS "Deep and slender surface cracks"), and the
+    opening's K, an extraction without the tube, within 4% of the domain integral's (measured 2.8% below)."""
+    a, t, b = 0.6, 0.75, 3.0
+    d = {"name": "deep", "domain": {"box": [[-b, -2 * b, 0.0], [b, 2 * b, t]]},
+         "crack": [{"shape": "disc", "center": [0.0, 0.0, t], "normal": [0.0, 1.0, 0.0], "radius": a}],
+         "material": {"E": 1000.0, "nu": 0.3},
+         "boundary": {"ymin": {"type": "clamped"}, "ymax": {"type": "traction", "value": [0.0, 1.0, 0.0]}},
+         "mesh": {"front_h": a / 6, "crack_h": a / 3}}
+    sol = nc.solve(SolidScene.from_dict(d))
+    f = sol.fronts[0]
+    phi = np.arctan2((t - f.points[:, 2]) / a, f.points[:, 0] / a)
+    err = f.K_I / surface_crack_K(1.0, a, a, t, b, phi) - 1
+    deep = int(np.argmin(np.abs(phi - math.pi / 2)))
+    assert abs(err[deep]) < 0.02 and np.max(np.abs(err[1:-1])) < 0.03
+    K_open = opening_K_I(sol, f.points[deep], [0.0, 0.0, 1.0], a)
+    assert abs(K_open / f.K_I[deep] - 1) < 0.04
 
 
 # ------------------------------------------------------------------------------ slow: corner and through cracks

@@ -18,7 +18,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, ClassVar
 
-__all__ = ["KINDS", "NOT_YET_3D", "SOLID_DOMAINS", "Scene", "dimension_of", "planar_only"]
+__all__ = ["KINDS", "SOLID_DOMAINS", "Scene", "dimension_of"]
 
 #: the module of each kind by dimension, imported by name when first needed (so that this
 #: module imports neither body); the planar kind is the one `Scene(...)` makes from fields
@@ -26,20 +26,6 @@ __all__ = ["KINDS", "NOT_YET_3D", "SOLID_DOMAINS", "Scene", "dimension_of", "pla
 KINDS = {2: "ngcrack.planar.scene.body", 3: "ngcrack.solid.scene"}
 #: the ``[domain]`` keys of a 3D body
 SOLID_DOMAINS = ("box", "cylinder", "step")
-
-
-#: what takes 2D scenes only for now, and why: the one place a capability refuses a 3D scene
-NOT_YET_3D = {
-    "growth studies": "nc.grow grows one 3D scene; a study over a parameter of 3D growths is a later step",
-}
-
-
-def planar_only(scene: Any, what: str) -> None:
-    """Refuse a 3D scene, in one line, for a capability that takes 2D scenes only so far (NOT_YET_3D)."""
-    if getattr(scene, "dimension", 2) == 3:
-        from .errors import InputError
-
-        raise InputError(f"scene {scene.name!r} is 3D: {what} takes 2D scenes ({NOT_YET_3D[what]})")
 
 
 def dimension_of(d: Any) -> int:

@@ -6,8 +6,9 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
   netgen distributes a copy; every rank curves its subdomain with the scene's geometry
   and finds its crack faces and interior crack edges again (`solid_mesh`);
 - system: every rank builds the hybridized TDNNS element (`solid.element.build`) on its
-  subdomain and assembles the condensed facet system in parallel; the crack's constraint
-  map G is made on rank 0's serial mesh and its per-face blocks placed on each rank;
+  subdomain, the face tractions and crack pressures that vary in space as the serial
+  solve's CoefficientFunctions (`solid.loads.coefficients`), and assembles the condensed
+  facet system in parallel; the crack's constraint map G is made on rank 0's serial mesh and its per-face blocks placed on each rank;
 - crack problem: the active-set steps of the 2D solve (`solve.normal_loop`), each step a
   projected CG with the active constraint values of a crack face held at zero by a
   projection on that face's unknowns (`FaceActiveSet`); preconditioner: BDDC with one
@@ -23,12 +24,13 @@ The 2D distributed solve's stages (`distributed.planar`) on the 3D element:
 With Coulomb friction the crack problem's steps are those of `solid_friction` (the serial
 law at the friction points, Newton steps by the same projected CG). Not distributed yet
 (refused by name before any work): the displacement baselines h1p1 / h1p2 (their
-constraints sit at vertices), and above 3 ranks a prescribed displacement (NGSolve interpolates
+constraints sit at vertices), point supports, and above 3 ranks a prescribed displacement (NGSolve interpolates
 it through its own exchange, exchange.py).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 
@@ -65,12 +67,8 @@ def check_supported(scene, opts: dict, size: int = 2) -> None:
     if opts["element"] != "tdnns":
         raise InputError(f"element = {opts['element']!r}: a distributed 3D solve takes element = 'tdnns' (the "
                          "displacement baselines' crack constraints sit at vertices); run it without mpiexec")
-    if getattr(scene, "points", ()) or getattr(scene, "tractions", {}) or any(
-            not isinstance(c.pressure, (int, float)) for c in scene.cracks):  # (solid.points, solid.loads)
-        what = ("point[0]" if scene.points else f"boundary.{next(iter(scene.tractions))}.value" if scene.tractions
-                else "crack.pressure")
-        raise InputError(f"{what}: point supports and loads varying in space are solved serially only; run the "
-                         "scene without mpiexec")
+    if getattr(scene, "points", ()):  # (solid.points)
+        raise InputError("point[0]: point supports are solved serially only; run the scene without mpiexec")
     shifted = [label for label, bc in scene.boundary.items() if bc.type == "displacement"]
     if shifted and size > MAX_RANKS_DISPLACEMENT:
         raise InputError(f"boundary[{shifted[0]!r}].type = 'displacement': a prescribed displacement in 3D is "
@@ -184,6 +182,7 @@ def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
     from ..core.pipeline import Pipeline
     from ..solid.element import build
     from ..solid.geometry import CURVE_ORDER
+    from ..solid.loads import coefficients
     from ..solid.solve import scene_loads
     from .solid_friction import friction_layout
 
@@ -213,9 +212,10 @@ def local_system(comm, scene, opts: dict, timings: dict) -> LocalSystem:
 
     t0 = time.perf_counter()
     loads = scene_loads(scene)
-    pressure = [c.pressure for c in scene.cracks]
+    pressure, traction = coefficients(scene, loads.traction)  # loads varying in space as CoefficientFunctions
+    loads = dataclasses.replace(loads, traction=traction)
     disc = build(lsm, scene.material.E, scene.material.nu, loads, opts["order"],
-                 pressure if any(pressure) else None, constraints=False)
+                 pressure if any(p is not None for p in pressure) else None, constraints=False)
     timings["assemble"] = time.perf_counter() - t0
     return LocalSystem(pipe, smesh, mesh, lsm, placed, loads, disc, layout, friction, points)
 

@@ -447,8 +447,11 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
         kept, take = surface_take(s_i, geom.length, L, geom.surface_ends)
         K_I, K_II, K_III, J, closed, scale = (v[take] for v in (K_I, K_II, K_III, J, closed, scale))
         phi_i, angle = phi_i[kept], angle[kept]
-    return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, angle,
-                           scaled_to_J=scale[:, None] * np.column_stack([K_I, K_II, K_III]))
+    out = FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, angle,
+                          scaled_to_J=scale[:, None] * np.column_stack([K_I, K_II, K_III]))
+    if fric is not None:  # less the K of the friction's uniform shear (ngcrack.solid.face_friction)
+        out = fric.consistent(out, lambda uniform: _one_front(uniform, index, geom, n_points))
+    return out
 
 
 def _radial(r, inner: float, R: float):

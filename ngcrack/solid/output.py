@@ -6,7 +6,10 @@ JSON (`ngcrack solve --json` on a 3D scene): the 2D keys that apply ("scene",
 "cracks": [{"max_opening", "max_sliding", "closed_fraction", "area"}]. max_opening
 is the largest normal jump at the constraint points, max_sliding the largest tangential
 jump |[u]_t| at the same points, closed_fraction the area fraction of the crack faces
-whose constraint points are all closed. With point supports or loads (``[[point]]``),
+whose constraint points are all closed; a crack with a pressure (uniform or varying,
+`solid.loads`) adds "pressure_force", the pressure's resultant on one face (int p dA,
+the load the element took). "error_estimate": {"total", "stress", "contact", "data"}
+(`solid.estimate`; "data" the traction faces' data term). With point supports or loads (``[[point]]``),
 "points": {label: {"type", "force", "displacement"}}: each point's force on the body (the
 applied one, or a support's reaction) and its patch's mean displacement
 (`solid.point_means.point_values`).
@@ -27,6 +30,9 @@ import numpy as np
 
 from ..core.constraints import KKT_KEYS
 from ..core.solution import Solution, summary_line
+
+#: the estimate's traction data term is printed when above this fraction of the estimate (below: round-off)
+DATA_SHOWN_RTOL = 1e-8
 
 
 @dataclass
@@ -150,9 +156,22 @@ class SolidSolution(Solution):
             face_closed = np.where(rows >= 0, closed[np.maximum(rows, 0)], True).all(axis=1)
             mine = owner == i
             out.append({"max_opening": float(max(w[mine].max(), 0.0)), "max_sliding": float(s[mine].max()),
-                        "closed_fraction": float(areas[face_closed].sum() / areas.sum()), "area": float(c.area)})
+                        "closed_fraction": float(areas[face_closed].sum() / areas.sum()), "area": float(c.area),
+                        **self._pressure_force(c)})
             start += nf
         return out
+
+    def _pressure_force(self, c) -> dict:
+        """{"pressure_force": the applied pressure's resultant on one face, int p dA} for a crack with a pressure
+        (uniform or varying: the CoefficientFunction the element took, solid.loads); {} without one."""
+        from .loads import element_pressure
+
+        pressure = element_pressure(getattr(self.scene.cracks[c.index], "pressure", 0.0))
+        if pressure is None:
+            return {}
+        mesh = self.smesh.mesh
+        force = ngs.Integrate(ngs.CF(pressure), mesh, ngs.BND, definedon=mesh.Boundaries(c.label), order=6)
+        return {"pressure_force": float(force)}
 
     # ------------------------------------------------------------------------ outputs
     def to_json_dict(self) -> dict:
@@ -171,7 +190,8 @@ class SolidSolution(Solution):
             "contact_iterations": 0 if self.contact is None else int(self.contact.iterations),
             "fronts": [f.to_json_dict() for f in self.fronts],
             "cracks": self.crack_summaries(),
-            **({} if estimate is None else {"error_estimate": {k: estimate[k] for k in ("total", "stress", "contact")}}),
+            **({} if estimate is None else {"error_estimate": {k: float(estimate.get(k, 0.0))
+                                                               for k in ("total", "stress", "contact", "data")}}),
             **({} if self.distributed is None else {"distributed": self.distributed}),
             **({} if not getattr(self.scene, "points", ()) else {"points": self._point_values()}),
         }
@@ -194,7 +214,9 @@ class SolidSolution(Solution):
         if "error_estimate" in result:
             e = result["error_estimate"]
             lines.append(f"error estimate (Prager-Synge, stress in the energy norm): {e['total']:.4g} (crack term "
-                         f"{e['contact']:.2g}), {t['estimate']:.2f} s")
+                         f"{e['contact']:.2g}" + (f", traction data {e['data']:.2g}"
+                                                   if e.get("data", 0.0) > DATA_SHOWN_RTOL * e["total"] else "")
+                         + f"), {t['estimate']:.2f} s")
         for c, crack in enumerate(result["cracks"]):
             lines.append(f"crack {c}: max opening {crack['max_opening']:.4g}, max sliding {crack['max_sliding']:.4g}, "
                          f"closed {crack['closed_fraction']:.1%} of area {crack['area']:.4g}")
@@ -277,3 +299,4 @@ class SolidSolution(Solution):
             sv = np.asarray(sig(mesh(y[:, 0], y[:, 1], y[:, 2]))).reshape(-1, 3, 3)
             out -= 0.5 * np.einsum("ki,kij,kj->k", nrm, sv, nrm)
         return out - applied
+

@@ -178,7 +178,7 @@ def crack_from_dict(c: Any, i: int) -> PlanarCrack:
     p = c.get("pressure", 0.0)
     crack = _crack_shape(c, shape, fld, mu)
     if isinstance(p, (Mapping, VaryingField)) or callable(p):  # a pressure varying over the crack (solid.loads)
-        return dataclasses.replace(crack, pressure=p if is_varying(p) else pressure_field(p, f"{fld}.pressure", crack))
+        return dataclasses.replace(crack, pressure=pressure_field(p, f"{fld}.pressure", crack))  # a callable's grid on this crack
     if isinstance(p, bool) or not isinstance(p, (int, float)) or not math.isfinite(p):
         raise SceneError(f"{fld}.pressure = {short(p)}: must be a finite number (a uniform pressure on the faces), "
                          "a table {axis, table = [[s, p], ...]} or in Python a callable p(x, y, z)")

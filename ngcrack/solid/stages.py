@@ -92,11 +92,10 @@ class SolidBody:
     def build(self, scene: SolidScene, smesh: SolidMesh, options: dict, loads: Loads):
         """The element's spaces and assembled forms (BUILDERS: `solid.element`, `solid.h1`); the tractions
         and pressures that vary over a face or a crack as CoefficientFunctions of position (`solid.loads`)."""
-        from .loads import is_varying
+        from .loads import coefficients
         from .point_means import patch_area
 
-        pressure = [c.pressure.cf() if is_varying(c.pressure) else (float(c.pressure) or None) for c in scene.cracks]
-        traction = {**loads.traction, **{k: c.value.cf() for k, c in scene.tractions.items()}}
+        pressure, traction = coefficients(scene, loads.traction)  # as the distributed solve's (distributed.solid)
         for pc in scene.points:  # the patch's traction scaled to its meshed area: the force's resultant exact
             if pc.label in traction:
                 traction[pc.label] = traction[pc.label] * (pc.area / patch_area(smesh.mesh, pc.label))

@@ -114,13 +114,14 @@ class SolidExplorer:
 
     def make_scene(self):
         """The scene the controls describe: loads scaled, nu, friction, the cracks turned, front_h."""
+        from ...solid.loads import scaled
         from ...solid.scene import SolidScene
 
         st = self.state
         d = self.base.to_dict()
         for bc in d["boundary"].values():
             if bc.get("type") in ("traction", "displacement") and bc.get("value") is not None:
-                bc["value"] = [st["load"] * float(v) for v in bc["value"]]
+                bc["value"] = scaled(bc["value"], st["load"])  # a traction varying over the face too (solid.loads)
         if "load" in d and d["load"].get("body_force") is not None:
             d["load"]["body_force"] = [st["load"] * float(v) for v in d["load"]["body_force"]]
         d["material"]["nu"] = st["nu"]

@@ -11,7 +11,6 @@ import numpy as np
 
 from ...core.errors import InputError
 from ...core.fields import is_number
-from ...core.scene import planar_only
 from .criteria import check_criterion, check_r_c
 from .fatigue import check_paris
 from .holes import check_at_hole
@@ -36,9 +35,6 @@ def check_growth_options(scene, da, steps, K_Ic, criterion, solve_options) -> No
     from ngcrack.planar.tips import tip_labels
 
     check_criterion(criterion)
-    planar_only(scene, "growth studies")  # (nc.grow hands a 3D scene to its 3D loop first)
-
-
     check_growth_solve_options(scene, solve_options)
 
     if K_Ic is not None and not (is_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):

@@ -8,8 +8,12 @@ with `scene` a function returning a Scene (a scene function such as
 nc.scenes.inclined_crack), any of its keywords ("angle", "half_length", ...). Each path
 runs `grow` in this process, in worker processes (jobs > 1) or on a Dask cluster
 (dask = an address or a Client), like a sweep's runs. One row per path (STUDY_COLUMNS): the
-value, the steps taken, the final crack length (all cracks), the first, last and largest
-load factor, the stop reason, the run time and the unknowns of the last solve. With `out`
+value, the steps taken, the final crack size (all cracks: their lengths in 2D, their equivalent radii
+sqrt(area / pi) in 3D), the first, last and largest load factor, the cycles at the end (fatigue runs,
+paris=(C, m); NaN otherwise), the stop reason, the run time and the unknowns of the last solve. A 3D scene
+grows its fronts in their planes (loop3d.py): its parameter is a scene field (E, nu, friction, pressure),
+K_Ic, or a keyword of its scene function, and the 2D-only options (criterion, r_c, at_hole) are refused
+by name before any run. With `out`
 (a CSV file) each finished path is written as one complete line at once, and a rerun
 skips the values already in the file (resumable like a sweep).
 """
@@ -24,7 +28,8 @@ from pathlib import Path
 from ...core.errors import InputError
 
 #: the columns of a growth study's table, after the parameter's
-STUDY_COLUMNS = ("steps", "final_length", "lambda_first", "lambda_last", "lambda_max", "stopped", "time_s", "ndof")
+STUDY_COLUMNS = ("steps", "final_length", "lambda_first", "lambda_last", "lambda_max", "cycles", "stopped", "time_s",
+                 "ndof")
 
 
 def _run_path(scene, da, steps, K_Ic, criterion, options) -> dict:
@@ -34,10 +39,32 @@ def _run_path(scene, da, steps, K_Ic, criterion, options) -> dict:
     t0 = time.perf_counter()
     res = grow(scene, da, steps, K_Ic=K_Ic, criterion=criterion, frames=False, **options)
     lam = [s["load_factor"] for s in res.steps if s["load_factor"] is not None]
-    return {"steps": len(res.steps) - 1, "final_length": float(sum(c.length for c in res.final_scene.cracks)),
+    final = res.final_scene
+    if getattr(final, "dimension", 2) == 3:  # the cracks' equivalent radii
+        size = sum(math.sqrt(float(c.area) / math.pi) for c in final.cracks)
+    else:
+        size = sum(c.length for c in final.cracks)
+    return {"steps": len(res.steps) - 1, "final_length": float(size),
             "lambda_first": lam[0] if lam else math.nan, "lambda_last": lam[-1] if lam else math.nan,
-            "lambda_max": max(lam) if lam else math.nan, "stopped": res.stopped,
-            "time_s": time.perf_counter() - t0, "ndof": res.steps[-1]["ndof"]}
+            "lambda_max": max(lam) if lam else math.nan, "cycles": float(res.steps[-1].get("cycles", math.nan)),
+            "stopped": res.stopped, "time_s": time.perf_counter() - t0, "ndof": res.steps[-1]["ndof"]}
+
+
+def _check_case(scene, da, steps, K_Ic, criterion, options: dict) -> None:
+    """grow's own checks of one path, before any run: the 3D loop's for a 3D scene, the 2D loop's otherwise."""
+    from .loop import GROW_TOGETHER_RTOL, check_grow_call
+
+    opts = dict(options)
+    paris, R = opts.pop("paris", None), opts.pop("R", 0.0)
+    if getattr(scene, "dimension", 2) == 3:
+        from .loop3d import check_solid_grow, planar_options
+
+        planar = planar_options(criterion, opts.pop("r_c", None), opts.pop("at_hole", "stop"), opts.pop("estimate", False))
+        together = opts.pop("together", GROW_TOGETHER_RTOL)
+        check_solid_grow(scene, da, steps, K_Ic, paris, R, together, None, opts, planar)
+        return
+    check_grow_call(scene, da, steps, K_Ic, criterion, opts.pop("together", GROW_TOGETHER_RTOL), None,
+                    opts.pop("r_c", None), paris, R, opts.pop("at_hole", "stop"), opts, opts.pop("estimate", False))
 
 
 def _scene_for(scene, parameter: str, value):
@@ -63,11 +90,13 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
 
     from ngcrack.studies.sweeps.executors import _executor
 
-    from .loop import check_growth_options
-
     if not isinstance(parameter, str) or not parameter:
         raise InputError(f"parameter = {parameter!r}: must be a scene field (friction, nu, E), K_Ic, or a keyword "
                           f"of the scene function")
+    if isinstance(scene, str):  # a built-in scene's name
+        from ngcrack.core.solve import as_scene
+
+        scene = as_scene(scene)
     values = list(values)
     if not values:
         raise InputError("values: give at least one value of the parameter")
@@ -80,7 +109,7 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     for v in values:  # every case checked before any run
         sc = _scene_for(scene, parameter, v)
         k = v if parameter == "K_Ic" else K_Ic
-        check_growth_options(sc, da, steps, k, criterion, solve_options)
+        _check_case(sc, da, steps, k, criterion, solve_options)
         cases.append((v, sc, k))
     done = _done(path, parameter)
     todo = [c for c in cases if str(c[0]) not in done]
@@ -108,6 +137,6 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     table = pd.DataFrame([rows[str(v)] for v, _, _ in cases], columns=[parameter, *STUDY_COLUMNS])
     for col in ("steps", "ndof"):
         table[col] = table[col].astype(int)
-    for col in ("final_length", "lambda_first", "lambda_last", "lambda_max", "time_s"):
+    for col in ("final_length", "lambda_first", "lambda_last", "lambda_max", "cycles", "time_s"):
         table[col] = table[col].astype(float)
     return table
