@@ -57,6 +57,29 @@ def reference_table(m: float) -> None:
         print(f"  from {ratio:g}, the rule fed their K (da 0.05): " + "  ".join(f"{v:.3f}" for v in row))
 
 
+def rule_orders(m: float) -> None:
+    """The rule of a step fed Newman and Raju's K, one solve a step (K at the step's start) against Heun's
+    predictor-corrector (the mean of the advances on the crack and on the predicted one): the largest |a/c / the
+    reference's - 1| from a/t 0.2 to 0.6, at da = 0.1, 0.05, 0.025, from a/c = 0.4 and 1.2."""
+    import ngcrack as nc
+    from ngcrack.solid.scene import SolidScene
+    from ngcrack.studies.growth.newman_raju_growth import rule_trajectory, trajectory
+
+    print(f"the rule of a step fed Newman-Raju's K (m = {m:g}): max |a/c error| over a/t 0.2-0.6")
+    for ratio in (0.4, 1.2):
+        a0, c0 = 0.3, 0.3 / ratio
+        d = copy.deepcopy(nc.scenes.load("surface-crack").to_dict())
+        d["crack"][0]["semi_axes"] = [c0, a0]
+        ref = trajectory(a0, c0, 1.2, T, B, 1e-3, m)
+        for heun in (False, True):
+            errs = []
+            for da in (0.1, 0.05, 0.025):
+                r = rule_trajectory(SolidScene.from_dict(d), da, int(round(0.6 / da)), m, heun=heun)
+                want = np.interp(r["a"], ref["a"], ref["a"] / ref["c"])
+                errs.append(float(np.max(np.abs(r["a"] / r["c"] / want - 1))))
+            print(f"  from {ratio:g}, {'Heun' if heun else 'one solve':9s}: " + "  ".join(f"{e:.4f}" for e in errs))
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ratio", type=float, default=0.4, help="the initial a/c")
@@ -68,6 +91,9 @@ def main(argv=None) -> int:
     parser.add_argument("--corner", action="store_true", help="a quarter-elliptical corner crack on the edge of the "
                         "plate's face and its side (against Newman and Raju's corner-crack equation)")
     parser.add_argument("--reference", action="store_true", help="print the reference table only")
+    parser.add_argument("--corrector", action="store_true", help="Heun's predictor-corrector step (two solves a step)")
+    parser.add_argument("--orders", action="store_true", help="print the rule's errors, one solve a step against "
+                        "Heun's, at da 0.1, 0.05, 0.025, and stop")
     parser.add_argument("--png", help="write the fronts over the steps here")
     parser.add_argument("--save", help="add the run's depths, lengths and cycles to this JSON file (a list of runs)")
     parser.add_argument("--figure", nargs=2, metavar=("PNG", "RUNS"), help="draw a/c against a/t of the runs saved "
@@ -75,6 +101,9 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.figure:
         figure(*args.figure, args.m)
+        return 0
+    if args.orders:
+        rule_orders(args.m)
         return 0
     print(f"{os.uname().nodename}: {os.cpu_count()} cores; load {os.getloadavg()[0]:.1f}")
     reference_table(args.m)
@@ -99,11 +128,13 @@ def main(argv=None) -> int:
         cpu.append(now - clock[0])
         clock[0] = now
 
-    r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C, m), progress=progress)
+    r = nc.grow(nc.Scene.from_dict(d), da=args.da, steps=args.steps, paris=(C, m), progress=progress,
+                corrector=args.corrector)
     ac = r.depth_and_length()
     ref = trajectory(a0, c0, max(ac[-1, 0], a0 + 1e-9) + 1e-6, T, B, C, m)
     N = r.cycles()
-    print(f"\nfrom a/c = {args.ratio:g}, a/t = {a0 / T:.3g}: da {args.da:g}, front_h {args.front_h:g}; {r.stopped}")
+    print(f"\nfrom a/c = {args.ratio:g}, a/t = {a0 / T:.3g}: da {args.da:g}, front_h {args.front_h:g}"
+          f"{', Heun' if args.corrector else ''}; {r.stopped}")
     print(f"{'step':>4} {'a/t':>6} {'a/c':>6} {'ref':>6} {'ratio':>6} {'cycles':>9} {'ref N':>9} {'N/ref':>6} "
           f"{'K_A':>6} {'K_A NR':>6} {'K_A/NR':>6} {'ndof':>8} {'cpu s':>6}")
     for k, (a, c) in enumerate(ac):

@@ -54,6 +54,8 @@ def add_parser(subparsers, positive, count):
                    help="C m [DK_TH], fatigue: Paris's law da/dN = C Delta_K^m (C > 0, m > 0; DK_TH >= 0 a threshold); the scene's load "
                         "is the cycle's maximum, the JSON and CSV gain the cumulative cycles")
     p.add_argument("--R", dest="R", type=float, help="the load ratio K_min / K_max of a fatigue cycle (< 1; with --paris only)")
+    p.add_argument("--corrector", action="store_true",
+                   help="3D surface cracks: Heun's predictor-corrector step (two solves a step, second order in --da)")
     add_mesh_options(p, positive)
     p.add_argument("--front-h", dest="front_h", type=positive, help="mesh size at the crack fronts (3D scenes)")
     p.add_argument("--path-grading", dest="path_grading", type=_path_grading, metavar="RATE|none",
@@ -85,6 +87,8 @@ def run(args) -> int:
     scene = scenes.resolve(args.scene)
     if scene.dimension == 3:
         return _run_solid(args, scene, paris, R, json_path, csv_path, png_path)
+    if args.corrector:
+        raise InputError(f"--corrector: an option of 3D growth (Heun's step of surface cracks); scene {scene.name!r} is 2D")
     if args.front_h is not None:
         raise InputError(f"--front-h: an option of 3D scenes (the mesh size at their crack fronts); scene {scene.name!r} "
                          f"is 2D: use --tip-h")
@@ -202,12 +206,16 @@ def _run_solid(args, scene, paris, R, json_path, csv_path, png_path) -> int:
         K = max(max(f["K_drive"]) for f in step["fronts"])
         size = ", ".join(f"{f['size']:.4g}" for f in step["fronts"])
         cycles = f", cycles {step['cycles']:.4g}" if "cycles" in step else ""
+        for e in result.transitions:  # an embedded crack re-characterised as a surface crack this step
+            if e["step"] == n:
+                print(f"step {n}: {e['what']}", flush=True)
         print(f"step {n}: crack sizes {size}, max K_eq {K:.4g}{cycles}, {step['ndof']} dofs, {step['time_s']:.2f} s",
               flush=True)
         check_interrupt()
 
     def work():
-        result = grow_solid(scene, args.da, args.steps, args.K_Ic, paris=paris, R=R, progress=progress, **options)
+        result = grow_solid(scene, args.da, args.steps, args.K_Ic, paris=paris, R=R, progress=progress,
+                            corrector=args.corrector, **options)
         data = result.to_json_dict()
         check_finite(data)
         check_interrupt()

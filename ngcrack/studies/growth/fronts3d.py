@@ -147,9 +147,7 @@ def clearance_reason(scene, i: int, crack) -> str:
     clear = scene.domain.clearance(crack.outline(256))
     if clear.min() < gap and not is_surface_crack(scene.domain, crack):  # (a surface crack's faces: the scene's check)
         return (f"boundary: crack[{i}]'s front comes within {max(clear.min(), 0.0):.3g} of the body's boundary (at least "
-                f"{gap:.3g} needed); an embedded front does not grow through a face into a surface crack (the front "
-                f"would split into arcs ending on the surface): start from the surface crack (an ellipse centred on the "
-                f"face) to grow it further")
+                f"{gap:.3g} needed)")
     for j, other in enumerate(scene.cracks):
         if j == i:
             continue

@@ -167,7 +167,7 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
     `steps` steps, when no tip is left inside the body, or when none can grow.
     estimate: also compute every step's error estimate (the table's `error_estimate` column,
     empty otherwise; it costs about 5% of a step).
-    A 3D scene grows its fronts in their planes (loop3d.grow_solid: da, steps, K_Ic, paris, R and the solve options).
+    A 3D scene grows its fronts in their planes (loop3d.grow_solid: da, steps, K_Ic, paris, R, corrector and the solve options).
     Under `mpiexec -n N` (N > 1) growth is not distributed: rank 0 grows and returns the result, the other
     ranks return None after the same input checks (as `nc.solve` returns None there).
     """
@@ -182,6 +182,9 @@ def grow(scene, da: float, steps: int, K_Ic: float | None = None, criterion: str
 
         return grow_solid(scene, da, steps, K_Ic, paris=paris, R=R, together=together, progress=progress, frames=frames,
                           planar=planar_options(criterion, r_c, at_hole, estimate), **solve_options)
+    if "corrector" in solve_options:
+        raise InputError(f"corrector = {solve_options['corrector']!r}: an option of 3D growth (Heun's step of surface "
+                         f"cracks); scene {getattr(scene, 'name', scene)!r} is 2D: leave it out")
     scene, r_c, fatigue, hole_crack = check_grow_call(scene, da, steps, K_Ic, criterion, together, progress, r_c,
                                                     paris, R, at_hole, solve_options, estimate, frames)
     da, steps = float(da), int(steps)

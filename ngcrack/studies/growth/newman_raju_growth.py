@@ -113,16 +113,18 @@ class _OutOfRange(Exception):
 
 
 def rule_trajectory(scene, da: float, steps: int, m: float, stations: int = 17, inset: float = 0.0,
-                    t: float | None = None, b: float | None = None) -> dict:
+                    t: float | None = None, b: float | None = None, heun: bool = False) -> dict:
     """The depth a and half-length c of scene's surface crack (crack[0]) grown by 3D growth's rule of a step
     (ngcrack.studies.growth.surface3d) with Newman and Raju's K at the front's stations in place of the solve's:
     `stations` inner points equally spaced in arc length from `inset` (a fraction of the front's length) inside
     either end, the ends carrying the values of the nearest inner point as a solve's do. It separates the rule's
-    own error (the fitted ellipse, the advance of a step) from the error of the computed K. {"a", "c"} arrays."""
+    own error (the fitted ellipse, the advance of a step) from the error of the computed K. {"a", "c"} arrays.
+
+    `heun`: the predictor-corrector step (Heun's): the advance of each station the mean of its advance on the
+    crack and on the crack grown by that advance (the predictor; a second K per step), second order in da."""
     from ngcrack.solid.scene import SolidScene
 
-    from .fronts3d import paris_advance
-    from .surface3d import depth_and_length, depth_axis, ellipse_arc, grown_surface_crack, surface_drive
+    from .surface3d import depth_and_length, grown_surface_crack
 
     domain = scene.domain
     lo, hi = np.asarray(domain.lo), np.asarray(domain.hi)
@@ -135,20 +137,32 @@ def rule_trajectory(scene, da: float, steps: int, m: float, stations: int = 17, 
         a, c = depth_and_length(domain, crack)
         out_a.append(a)
         out_c.append(c)
-        grid = np.linspace(0.0, np.pi, 4001)  # the front from the surface point at phi = 0 round to phi = pi
-        s_grid = ellipse_arc(crack, grid)
-        length = s_grid[-1]
-        s_in = np.linspace(inset * length, (1 - inset) * length, stations)
-        phi = np.interp(np.r_[0.0, s_in, length], s_grid, grid)
-        A, B = crack.semi_axes
-        u, v = A * np.cos(phi), B * np.sin(phi)
-        x, y = (v, u) if depth_axis(domain, crack) == 0 else (u, v)  # along the surface, in depth
-        nr_phi = np.arctan2(np.abs(y) / a, x / c)  # Newman and Raju's angle: the point (c cos phi, a sin phi)
-        K = surface_K_any(1.0, a, c, t, b, np.minimum(nr_phi, np.pi - nr_phi))
-        K[0], K[-1] = K[1], K[-2]
-        drive = surface_drive(phi, K, crack)
-        adv = paris_advance(drive, da, m, 0.0)
-        new, _ = grown_surface_crack(domain, crack, phi, adv, int(np.argmax(drive)))
-        d["crack"][0] = new
+        phi, adv, top = _rule_advance(domain, crack, da, m, stations, inset, t, b)
+        if heun:
+            d["crack"][0] = grown_surface_crack(domain, crack, phi, adv, top)[0]
+            _, adv_p, _ = _rule_advance(domain, SolidScene.from_dict(d).cracks[0], da, m, stations, inset, t, b)
+            adv = 0.5 * (adv + adv_p)
+        d["crack"][0] = grown_surface_crack(domain, crack, phi, adv, top)[0]
         crack = SolidScene.from_dict(d).cracks[0]
     return {"a": np.array(out_a), "c": np.array(out_c)}
+
+
+def _rule_advance(domain, crack, da, m, stations, inset, t, b):
+    """(the stations' angles, their advance by the rule with Newman and Raju's K, the leading station)."""
+    from .fronts3d import paris_advance
+    from .surface3d import depth_and_length, depth_axis, ellipse_arc, surface_drive
+
+    a, c = depth_and_length(domain, crack)
+    grid = np.linspace(0.0, np.pi, 4001)  # the front from the surface point at phi = 0 round to phi = pi
+    s_grid = ellipse_arc(crack, grid)
+    length = s_grid[-1]
+    s_in = np.linspace(inset * length, (1 - inset) * length, stations)
+    phi = np.interp(np.r_[0.0, s_in, length], s_grid, grid)
+    A, B = crack.semi_axes
+    u, v = A * np.cos(phi), B * np.sin(phi)
+    x, y = (v, u) if depth_axis(domain, crack) == 0 else (u, v)  # along the surface, in depth
+    nr_phi = np.arctan2(np.abs(y) / a, x / c)  # Newman and Raju's angle: the point (c cos phi, a sin phi)
+    K = surface_K_any(1.0, a, c, t, b, np.minimum(nr_phi, np.pi - nr_phi))
+    K[0], K[-1] = K[1], K[-2]
+    drive = surface_drive(phi, K, crack)
+    return phi, paris_advance(drive, da, m, 0.0), int(np.argmax(drive))

@@ -29,7 +29,10 @@ class SolidGrowthResult:
     K_eq; fatigue: 1, the cycle's maximum), crack_size the crack's equivalent radius sqrt(area / pi), and
     with paris a `cycles` column (cumulative, 0 at step 0). `scenes[n]`: the scene of step n (its cracks
     `curve` cracks once grown); `fronts[n]`: per front the points of step n; `stopped`: why the run ended;
-    `solution`: the last solve.
+    `events`: (step, what) as cracks broke through a face or the run stopped; `transitions`: per embedded crack
+    re-characterised as a surface crack (breakthrough.py) a dictionary: `step` (the first step of the surface
+    crack), `crack`, `event` ("surface"), `face`, the embedded front's `ligament`, `half_height` and `half_length`,
+    the surface crack's `depth` and `surface_half_length`, and `what`; `solution`: the last solve.
     """
 
     scene: object
@@ -44,10 +47,11 @@ class SolidGrowthResult:
     scenes: list = field(default_factory=list)
     fronts: list = field(default_factory=list)
     events: list = field(default_factory=list)
+    transitions: list = field(default_factory=list)
     stopped: str = ""
     solution: object = None
 
-    def add_step(self, n, scene, sol, values, advances, load_factor, time_s, cycles=None) -> None:
+    def add_step(self, n, scene, sol, values, advances, load_factor, time_s, cycles=None, solves: int = 1) -> None:
         """One step's row: its fronts (with K_eq, kink_deg and the advance; a surface crack's with its `depth` and
         `half_length`), load factor, cost and cycles."""
         from .surface3d import depth_and_length, is_surface_crack
@@ -71,10 +75,10 @@ class SolidGrowthResult:
                                   "K_III": float(f.K_III[j]), "G": float(f.G[j]), "K_eq": float(v["K_eq"][j]),
                                   "kink_deg": float(kink[j]), "closed": bool(f.closed[j]), "advance": float(adv[j]),
                                   "load_factor": _finite_or_none(load_factor), "crack_size": size, "ndof": ndof,
-                                  "solves": 1, "time_s": float(time_s), "kkt": max(kkt.values(), default=0.0),
+                                  "solves": int(solves), "time_s": float(time_s), "kkt": max(kkt.values(), default=0.0),
                                   **({} if cycles is None else {"cycles": float(cycles)})})
         self.steps.append({"step": n, "load_factor": _finite_or_none(load_factor), "ndof": ndof, "time_s": float(time_s),
-                           "solves": 1, "kkt": kkt, "error_estimate": None, "tips": [], "force": {}, "displacement": {},
+                           "solves": int(solves), "kkt": kkt, "error_estimate": None, "tips": [], "force": {}, "displacement": {},
                            "fronts": fronts, **({} if cycles is None else {"cycles": float(cycles)})})
         self.scenes.append(scene)
         self.fronts.append(shapes)
@@ -101,21 +105,27 @@ class SolidGrowthResult:
 
     def depth_and_length(self, crack: int = 0) -> np.ndarray:
         """A surface crack's depth a and half-length c on the surface at every step ((steps, 2)): the semi-axes
-        of its ellipse across and along the face its centre lies on (studies.growth.surface3d)."""
+        of its ellipse across and along the face its centre lies on (studies.growth.surface3d); NaN at the steps
+        before an embedded crack broke through a face."""
         from .surface3d import depth_and_length, is_surface_crack
 
-        if not self.scenes or not is_surface_crack(self.scenes[0].domain, self.scenes[0].cracks[crack]):
+        surface = [is_surface_crack(s.domain, s.cracks[crack]) for s in self.scenes]
+        if not any(surface):
             raise InputError(f"crack {crack}: not a surface crack (a disc or an ellipse crossing a face), so it has no "
                              f"depth and surface length")
-        return np.array([depth_and_length(s.domain, s.cracks[crack]) for s in self.scenes])
+        return np.array([depth_and_length(s.domain, s.cracks[crack]) if on else (math.nan, math.nan)
+                         for s, on in zip(self.scenes, surface)])
 
     def to_json_dict(self) -> dict:
         """The `ngcrack grow --json` dictionary of a 3D scene: the 2D grow keys, per step `fronts` (as `ngcrack
-        solve`'s, with K_eq, kink_deg, advance and the crack's equivalent radius `size`) and, with paris, `cycles`."""
+        solve`'s, with K_eq, kink_deg, advance and the crack's equivalent radius `size`) and, with paris, `cycles`;
+        `events`: the embedded cracks re-characterised as surface cracks (`transitions`)."""
         fatigue = {} if self.paris is None else {"paris": list(self.paris), "R": self.R}
         return {"scene": self.scene.name, "element": self.element, "criterion": self.criterion, "da": float(self.da),
                 "K_Ic": self.K_Ic, **fatigue, "stopped": self.stopped, "steps": self.steps,
-                "cracks": [c.to_dict() for c in self.final_scene.cracks] if self.scenes else []}
+                "cracks": [c.to_dict() for c in self.final_scene.cracks] if self.scenes else [],
+                "events": [{k: (float(v) if isinstance(v, (float, np.floating)) else v) for k, v in e.items()}
+                           for e in self.transitions]}
 
     def __repr__(self) -> str:
         K_Ic = "relative load factors" if self.K_Ic is None else f"K_Ic {self.K_Ic:g}"
@@ -132,6 +142,7 @@ class SolidGrowthResult:
             sizes = ", ".join(f"{f['size']:.4g}" for f in s["fronts"])
             lines.append(f"step {s['step']}: sizes {sizes}, max K_eq "
                          f"{max(K):.4g}, max |kink| {max(kink):.3g} deg{extra}")
+        lines += [f"step {e['step']}: {e['what']}" for e in self.transitions]
         return "\n".join(lines)
 
     def plot(self, path=None, crack: int = 0):
@@ -164,14 +175,26 @@ class SolidGrowthResult:
         from .surface3d import is_surface_crack
 
         surface = is_surface_crack(self.scene.domain, c0)
+        broke = [e for e in self.transitions if e["crack"] == crack]
         L = self.depth_and_length(crack)[:, 0] if surface else self.sizes(crack)
+        label = "depth $a$" if surface else r"equivalent radius $\sqrt{A/\pi}$"
+        if broke:  # before and after a break-through: the depth below the face it broke through
+            from ngcrack.solid.surface import face_distances
+
+            face = broke[0]["face"]
+            L = np.array([float(np.max(face_distances(s.domain, q[s.domain.clearance(q) > 0])[face]))
+                          for s in self.scenes for q in [s.cracks[crack].outline(512)]])
+            label = f"depth below face {face} (the surface crack's $a$)"
         if self.paris is not None:
             ax2.plot(L, self.cycles(), "o-", ms=3)
             ax2.set_ylabel("cycles $N$")
         else:
             ax2.plot(L, [s["load_factor"] for s in self.steps], "o-", ms=3)
             ax2.set_ylabel("load factor")
-        ax2.set_xlabel("depth $a$" if surface else r"equivalent radius $\sqrt{A/\pi}$")
+        ax2.set_xlabel(label)
+        for e in broke:  # an embedded crack broke through a face
+            if e["step"] < len(L):
+                ax2.axvline(L[e["step"]], color="0.6", ls=":", lw=1)
         ax2.grid(alpha=0.3)
         if path is not None:
             fig.savefig(path, dpi=130)

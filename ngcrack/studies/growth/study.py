@@ -61,6 +61,9 @@ def _check_case(scene, da, steps, K_Ic, criterion, options: dict) -> None:
 
         planar = planar_options(criterion, opts.pop("r_c", None), opts.pop("at_hole", "stop"), opts.pop("estimate", False))
         together = opts.pop("together", GROW_TOGETHER_RTOL)
+        corrector = opts.pop("corrector", False)
+        if not isinstance(corrector, bool):
+            raise InputError(f"corrector = {corrector!r}: must be True (Heun's step of surface cracks) or False")
         check_solid_grow(scene, da, steps, K_Ic, paris, R, together, None, opts, planar)
         return
     check_grow_call(scene, da, steps, K_Ic, criterion, opts.pop("together", GROW_TOGETHER_RTOL), None,
