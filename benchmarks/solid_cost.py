@@ -31,6 +31,9 @@ front.CLOSED_TUBE_REACH: the defaults).
     python benchmarks/solid_cost.py --accuracy 0.02 0.01 0.005         # the sizes `accuracy=` asks for
     python benchmarks/solid_cost.py --scene ellipse --front-h 0.09 --crack-h-ratio 2.78   # Irwin's ellipse, b/a = 0.5
 
+`--integral before`: the front integral without its closed-form disc next to the front and with the Gauss rule of
+order 6 (front.NEAR_DISC_H = 0, front.QUADRATURE_ORDER = 6): the "before" column of BENCHMARKS, "3D K tighter than 1%".
+
 `--scene ellipse`: an elliptical crack of semi-axes a = 1 and b = 0.5 in the same block, K_I against Irwin's
 p sqrt(pi b) / E(k) (sin^2 phi + (b/a)^2 cos^2 phi)^(1/4). `--accuracy`: each value's front_h and crack_h
 (`ngcrack.solid.sizing.accuracy_sizes`), the requested accuracy beside the error obtained. Every row also
@@ -83,7 +86,7 @@ def reference_K_I(kind: str, front, load: float):
 
 
 def run_level(front_h: float, order: int, levers: str, load: float, estimate: bool, kind: str = "penny",
-              ratio: float = 2.0) -> dict:
+              ratio: float = 2.0, integral: str = "now") -> dict:
     """One size in this process: the stages timed one by one (module docstring)."""
     import numpy as np
 
@@ -100,6 +103,10 @@ def run_level(front_h: float, order: int, levers: str, load: float, estimate: bo
         geometry.NEAR_RADIUS = 0.0
     if levers != "all":
         front_module.BUMP_REACH = front_module.CLOSED_TUBE_REACH = 0.0
+    if integral == "before":
+        from ngcrack.core.quadrature import DOMAIN_INTEGRAL_ORDER
+
+        front_module.NEAR_DISC_H, front_module.QUADRATURE_ORDER = 0.0, DOMAIN_INTEGRAL_ORDER
     factorize = [0.0]
     original = schur.schur_complement
 
@@ -154,10 +161,10 @@ def run_level(front_h: float, order: int, levers: str, load: float, estimate: bo
 
 
 def _child(front_h: float, order: int, levers: str, load: float, estimate: bool, kind: str = "penny",
-           ratio: float = 2.0) -> dict:
+           ratio: float = 2.0, integral: str = "now") -> dict:
     env = dict(os.environ, OMP_NUM_THREADS="1", NGCRACK_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
     cmd = [sys.executable, __file__, "--level", str(front_h), "--order", str(order), "--levers", levers,
-           "--load", str(load), "--scene", kind, "--crack-h-ratio", str(ratio)] + (["--estimate"] if estimate else [])
+           "--load", str(load), "--scene", kind, "--crack-h-ratio", str(ratio), "--integral", integral] + (["--estimate"] if estimate else [])
     out = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
     if out.returncode:
         return {"front_h": front_h, "levers": levers, "error": out.stderr.strip().splitlines()[-1:]}
@@ -213,12 +220,14 @@ def main(argv=None) -> int:
     p.add_argument("--crack-h-ratio", dest="ratio", type=float, default=2.0, help="crack_h / front_h (default 2)")
     p.add_argument("--accuracy", nargs="+", type=float,
                    help="run the sizes these accuracies ask for (sizing.accuracy_sizes) instead of --front-h")
+    p.add_argument("--integral", choices=("now", "before"), default="now",
+                   help="the front integral as it is, or without its closed-form disc and with the rule of order 6")
     p.add_argument("--out", help="write the rows as JSON")
     p.add_argument("--level", type=float, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.level is not None:
         print(json.dumps(run_level(args.level, args.order, args.levers[0], args.load, args.estimate, args.scene,
-                                   args.ratio)))
+                                   args.ratio, args.integral)))
         return 0
     rows = []
     if args.accuracy:
@@ -226,12 +235,12 @@ def main(argv=None) -> int:
 
         for a in args.accuracy:
             h = accuracy_sizes(scene_of(args.scene), a)["front_h"]
-            row = _child(h, args.order, "all", args.load, args.estimate, args.scene, ACCURACY_CRACK_H_RATIO)
+            row = _child(h, args.order, "all", args.load, args.estimate, args.scene, ACCURACY_CRACK_H_RATIO, args.integral)
             rows.append({**row, "accuracy": a})
             print(f"# done accuracy {a}: front_h {h:.4g}", flush=True)
     for levers in args.levers if not args.accuracy else ():
         for h in args.front_h:
-            rows.append(_child(h, args.order, levers, args.load, args.estimate, args.scene, args.ratio))
+            rows.append(_child(h, args.order, levers, args.load, args.estimate, args.scene, args.ratio, args.integral))
             print(f"# done {levers} front_h {h}", flush=True)
     report(rows)
     if args.out:

@@ -30,7 +30,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
                         "core.held_means", "planar.held_means", "solid.element", "solid.friction_points",
                         "solid.h1", "solid.point_means")),
     ("post-processing", ("planar.post", "planar.post2d", "planar.tips", "planar.tstress", "planar.local_fields", "planar.estimate",
-                        "planar.vtk", "planar.load_points", "solid.front",
+                        "planar.vtk", "planar.load_points", "solid.front", "solid.front_near",
                          "solid.face_pressure", "solid.estimate", "solid.face_friction", "solid.volume")),
     ("options and solution", ("core.options", "core.solution", "planar.solution", "solid.options",
                                "core.stages", "core.friction_checks", "solid.output")),
@@ -285,7 +285,7 @@ CORE_SEAMS = {
 #: Williams fields, the facet helpers and the TOML writer (to move to the core, never to grow)
 SOLID_FROM_PLANAR = {
     "solid.element": {"planar.elements.tdnns"},
-    "solid.front": {"planar.tips"},
+    "solid.front_near": {"planar.tips"},  # the Williams fields of the front integral
     "solid.h1": {"planar.elements.base", "planar.geometry"},
     "solid.output": {"planar.vtk"},
     "solid.scene": {"planar.scene.toml"},

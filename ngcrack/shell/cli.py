@@ -440,7 +440,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--crack-h", dest="crack_h", type=_positive, help="mesh size along cracks")
     p.add_argument("--front-h", dest="front_h", type=_positive, help="mesh size at crack fronts (3D scenes)")
     p.add_argument("--accuracy", type=_positive, metavar="E",
-                   help="relative error of K asked for along the crack fronts, in [0.01, 0.5]: sets --front-h and "
+                   help="relative error of K asked for along the crack fronts, in [0.005, 0.5]: sets --front-h and "
                         "--crack-h (3D scenes; in 2D use --adapt)")
     p.add_argument("--hp", type=_layers, metavar="L",
                    help="L layers of geometric refinement (ratio 0.2) towards every crack tip; with --order 2 or 3")
