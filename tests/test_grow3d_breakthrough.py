@@ -255,3 +255,19 @@ def test_the_example_penny_breaks_through_at_its_first_step():
     new, why, events = grow_evenly(d, 0.075)
     assert why == "" and events[0]["face"] == "zmax", why
     assert events[0]["depth"] == pytest.approx(0.825, abs=2e-3) and new.cracks[0].semi_axes[1] == pytest.approx(0.825, abs=2e-3)
+
+
+def test_a_new_crack_shape_carries_the_cracks_friction_and_pressure():
+    """The grown curve, the grown surface ellipse and the re-characterised crack keep friction and pressure alike."""
+    from ngcrack.solid.scene import crack_from_dict
+    from ngcrack.studies.growth.fronts3d import grown_crack
+    from ngcrack.studies.growth.surface3d import carried
+
+    table = {"axis": [1, 0, 0], "table": [[-1, 1.0], [1, 3.0]]}
+    crack = crack_from_dict({"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0, "friction": 0.25,
+                             "pressure": table}, 0)
+    kept = carried(crack)
+    assert kept["friction"] == 0.25 and kept["pressure"].rows == ((-1.0, 1.0), (1.0, 3.0))
+    plain = crack_from_dict({"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}, 0)
+    assert carried(plain) == {}
+    assert set(grown_crack(plain, np.eye(3))) == {"shape", "points"}

@@ -127,12 +127,10 @@ def recharacterise(domain, crack, i: int, clearance_rtol: float) -> tuple[dict |
     centre = q + depth * e_d
     half = c  # the codes': the embedded flaw's half-length
     e_l = np.cross(n, e_d)
+    from .surface3d import carried
+
     d = {"shape": "ellipse", "center": centre.tolist(), "normal": n.tolist(), "semi_axes": [half, depth],
-         "major_axis": (e_l / np.linalg.norm(e_l)).tolist()}
-    if crack.friction:
-        d["friction"] = crack.friction
-    if crack.pressure:
-        d["pressure"] = crack.pressure
+         "major_axis": (e_l / np.linalg.norm(e_l)).tolist(), **carried(crack)}
     info = {"crack": i, "event": "surface", "face": key, "ligament": S, "half_height": a, "half_length": c,
             "depth": depth, "surface_half_length": half, "embedded_size": math.sqrt(float(crack.area) / math.pi),
             "what": (f"surface: crack[{i}] broke through face {key}: {rule}; re-characterised as a surface crack of depth "

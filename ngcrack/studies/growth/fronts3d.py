@@ -40,7 +40,7 @@ import numpy as np
 from ...core.errors import InputError
 from .criteria import mts_angle, mts_keq
 from .fatigue import delta_K
-from .surface3d import check_surface_growable, is_surface_crack, surface_drive
+from .surface3d import carried, check_surface_growable, is_surface_crack, surface_drive
 
 #: quasi-static: the points whose K_eq lies within this fraction of the largest advance by da (as 2D tips
 #: grow together within loop.GROW_TOGETHER_RTOL)
@@ -133,12 +133,7 @@ def new_front(crack, advance: np.ndarray, angles: np.ndarray, smooth: bool) -> n
 
 def grown_crack(crack, points: np.ndarray) -> dict:
     """The scene dictionary of the grown crack: a curve through `points`, the crack's friction and pressure."""
-    d = {"shape": "curve", "points": np.asarray(points, dtype=float).tolist()}
-    if crack.friction:
-        d["friction"] = crack.friction
-    if crack.pressure:
-        d["pressure"] = crack.pressure
-    return d
+    return {"shape": "curve", "points": np.asarray(points, dtype=float).tolist(), **carried(crack)}
 
 
 def clearance_reason(scene, i: int, crack) -> str:

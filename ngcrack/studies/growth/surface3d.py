@@ -167,6 +167,12 @@ def fit_ellipse(crack, points: np.ndarray, start: tuple[float, float]) -> tuple[
     return float(A), float(B)
 
 
+def carried(crack) -> dict:
+    """What a crack's new shape keeps of it (a grown or re-characterised crack's scene dictionary): its friction and its
+    pressure (a number, a table or a callable: a field in space, solid.loads), where it has them."""
+    return {k: v for k, v in (("friction", crack.friction), ("pressure", crack.pressure)) if v}
+
+
 def grown_surface_crack(domain, crack, angles: np.ndarray, advance: np.ndarray, lead: int) -> tuple[dict, float]:
     """(the grown crack's scene dictionary, the actual advance of the station `lead`): module docstring, step 4."""
     moved = advanced_points(domain, crack, angles, advance)
@@ -174,11 +180,7 @@ def grown_surface_crack(domain, crack, angles: np.ndarray, advance: np.ndarray, 
     mean = float(np.mean(advance))
     A, B = fit_ellipse(crack, moved, (A0 + mean, B0 + mean))
     d = {"shape": "ellipse", "center": crack.center.tolist(), "normal": crack.normal.tolist(),
-         "semi_axes": [A, B], "major_axis": crack.e_a.tolist()}
-    if crack.friction:
-        d["friction"] = crack.friction
-    if crack.pressure:
-        d["pressure"] = crack.pressure
+         "semi_axes": [A, B], "major_axis": crack.e_a.tolist(), **carried(crack)}
     phi = np.asarray(angles, dtype=float)
     p, ray = _rays(domain, crack, phi[[lead]], lead in (0, len(phi) - 1))
     return d, _ray_to_ellipse(crack, A, B, p[0], ray[0])
