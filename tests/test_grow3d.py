@@ -170,6 +170,7 @@ def test_the_command_line_refuses_the_new_options_by_name(tmp_path, capsys, no_s
 
 
 # ----------------------------------------------------------------------------------- growth runs
+@pytest.mark.slow
 def test_grow_3d_from_the_command_line_writes_fronts_and_cycles(tmp_path, capsys):
     """One Paris step of a coarse penny: the JSON contract, a front that grew by da all round."""
     path = tmp_path / "penny.toml"

@@ -23,6 +23,7 @@ def penny() -> SolidScene:
     return SolidScene.from_dict(d)
 
 
+@pytest.mark.slow
 def test_a_3d_study_over_K_Ic_scales_the_load_factor_exactly():
     """Quasi-static planar growth: the load factor is K_Ic / max K_eq, so doubling K_Ic doubles it to round-off,
     and the crack grows the same (every front point at K_Ic advances by da)."""

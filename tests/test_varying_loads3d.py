@@ -88,6 +88,7 @@ def _estimate(p, traction, order=1) -> dict:
     return sol.error_estimate, sol
 
 
+@pytest.mark.slow
 def test_a_uniform_load_as_a_callable_has_the_estimate_of_the_number():
     number, sol = _estimate(1.0, [0.3, 0.0, 0.5])
     call, _ = _estimate(lambda x, y, z: 1.0, lambda x, y, z: (0.3, 0.0, 0.5))
