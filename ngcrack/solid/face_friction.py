@@ -39,7 +39,7 @@ of the frictionless ones, and that was nearly the whole residue of a crack whose
 everywhere (0.061, 0.089). So the term is split: tau_bar, the mean traction near the front
 (weighted as the face term weighs it, w / sqrt(r)), is taken out of the face traction (the
 face integral of t - tau_bar only) and the domain integral of the uniform shear with traction
-tau_bar is subtracted from the front's K (`FaceFriction.consistent`: the same front integral
+tau_bar is subtracted from the front's K (`FaceFriction.less_uniform`: the same front integral
 on the same points, run on the uniform field: one more run of the integral). Both changes add
 K = 0 in the continuum; the extraction becomes exact for a uniform face traction, and at full
 stick the residue falls to the extraction's own error on the remaining uniform stress (normal
@@ -81,7 +81,6 @@ class FaceFriction:
     sol: object = None  # the solution (for the uniform field's run)
     tau_bar: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # the mean traction taken out (in the plane)
     normal: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))  # the crack's normal
-    moduli: tuple[float, float] = (1.0, 1.0)  # E' and the shear modulus
 
     def terms(self, q: np.ndarray) -> np.ndarray:
         """(the mode II, the mode III interaction term) for the q-function's values at the points."""
@@ -92,19 +91,12 @@ class FaceFriction:
         n = np.asarray(self.normal, dtype=float)
         return uniform_stress_solution(self.sol, np.outer(self.tau_bar, n) + np.outer(n, self.tau_bar))
 
-    def consistent(self, front, run: Callable):
-        """`front` (a FrontParameters) less the K_II, K_III of the uniform shear, `run` the front integral of a solution."""
+    def less_uniform(self, K_II: np.ndarray, K_III: np.ndarray, run: Callable) -> tuple[np.ndarray, np.ndarray]:
+        """K_II, K_III less those of the uniform shear, `run` the front integral of a solution (its FrontParameters)."""
         if not np.any(self.tau_bar):
-            return front
+            return K_II, K_III
         ref = run(self.uniform_solution())
-        K_II, K_III = front.K_II - ref.K_II, front.K_III - ref.K_III
-        e_prime, shear = self.moduli
-        J, K_I = front.G, front.K_I
-        J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * shear)
-        ok = (J_K > 0) & (J > 0) & ~front.closed
-        scale = np.where(ok, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
-        return dataclasses.replace(front, K_II=K_II, K_III=K_III,
-                                   scaled_to_J=scale[:, None] * np.column_stack([K_I, K_II, K_III]))
+        return K_II - ref.K_II, K_III - ref.K_III
 
 
 def uniform_stress_solution(sol, stress: np.ndarray):
@@ -172,7 +164,7 @@ def face_friction(sol, index: int, geom, R: float, e_prime: float, mu: float) ->
         tau_bar -= (tau_bar @ n) * n
     rest = traction[near] - tau_bar
     weights = np.column_stack([8.0 / e_prime * d * np.sum(rest * e1, axis=1), 4.0 / mu * d * np.sum(rest * e3, axis=1)])
-    return FaceFriction(phi[near], r[near], weights, sol, tau_bar, n, (e_prime, mu))
+    return FaceFriction(phi[near], r[near], weights, sol, tau_bar, n)
 
 
 def fitted_traction(B: sp.spmatrix, lam: np.ndarray, face: np.ndarray, share: np.ndarray, basis: np.ndarray,

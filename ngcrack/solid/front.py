@@ -444,19 +444,22 @@ def _one_front(sol, index: int, geom, n_points: int | None) -> FrontParameters |
     K_I, K_II, K_III = 0.5 * e_prime * K[:, 0], 0.5 * e_prime * K[:, 1], mu * K[:, 2]
     closed = _closed_at(sol, index, geom.point(phi_i))
     K_I = np.where(closed, 0.0, K_I)
-    # G = J; the K with it scaled to J's energy are kept as `scaled_to_J` (a check: both converge)
-    J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * mu)
-    scale = np.where((J_K > 0) & (J > 0) & ~closed, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
     angle = phi_i if geom.periodic else geom.start + phi_i
     if getattr(geom, "surface_ends", None):  # the surface points carry the values a little inside (surface_take)
         kept, take = surface_take(s_i, geom.length, L, geom.surface_ends)
-        K_I, K_II, K_III, J, closed, scale = (v[take] for v in (K_I, K_II, K_III, J, closed, scale))
+        K_I, K_II, K_III, J, closed = (v[take] for v in (K_I, K_II, K_III, J, closed))
         phi_i, angle = phi_i[kept], angle[kept]
-    out = FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, angle,
-                          scaled_to_J=scale[:, None] * np.column_stack([K_I, K_II, K_III]))
     if fric is not None:  # less the K of the friction's uniform shear (ngcrack.solid.face_friction)
-        out = fric.consistent(out, lambda uniform: _one_front(uniform, index, geom, n_points))
-    return out
+        K_II, K_III = fric.less_uniform(K_II, K_III, lambda uniform: _one_front(uniform, index, geom, n_points))
+    return FrontParameters(index, geom.point(phi_i), K_I, K_II, K_III, J, closed, angle,
+                           scaled_to_J=_scaled_to_J(K_I, K_II, K_III, J, closed, e_prime, mu))
+
+
+def _scaled_to_J(K_I, K_II, K_III, J, closed, e_prime: float, mu: float) -> np.ndarray:
+    """(n, 3): G = J; the K scaled per point to J's energy (`FrontParameters.scaled_to_J`, a check: both converge)."""
+    J_K = (K_I ** 2 + K_II ** 2) / e_prime + K_III ** 2 / (2 * mu)
+    scale = np.where((J_K > 0) & (J > 0) & ~closed, np.sqrt(np.maximum(J, 0.0) / np.where(J_K > 0, J_K, 1.0)), 1.0)
+    return scale[:, None] * np.column_stack([K_I, K_II, K_III])
 
 
 def _radial(r, inner: float, R: float):
