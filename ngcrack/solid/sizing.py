@@ -47,7 +47,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, check_max_dof, memory_limits
 from ..core.memory import format_bytes as _bytes
-from .surface import inside_measures
+from .surface import clearance, face_distances, inside_measures, samples
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
 TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 24.67, 4.46
@@ -106,6 +106,88 @@ ACCURACY_RATE = 1.19
 ACCURACY_COARSEST_RTOL = 0.15
 #: crack_h is this many times the front_h `accuracy` gives (as the defaults)
 ACCURACY_CRACK_H_RATIO = 2.0
+
+
+#: The default sizes of a crack whose front comes near a face it does not cross (a deep surface crack's back face, an
+#: embedded crack near a face; `ligament_caps`). front_h is at most the ligament (the body between the front and that
+#: face) over this many elements, and crack_h at most its default ratio to front_h times that: at a/t = 0.8 the
+#: crack-sized default left the ligament 0.25a 0.75 to 1.5 elements thick and the deepest point's K moved by 5-6% when
+#: refined to a/9-a/12 (the guide's advice, front_h <= (t - a)/3; BENCHMARKS, "Deep and slender surface cracks")
+LIGAMENT_ELEMENTS = 3.0
+#: ... but front_h not below this fraction of the crack's size (a quarter of the default front_h: the a/c = 0.6,
+#: a/t = 0.8 plate's ligament / 3 exactly); thinner ligaments keep this size and the scene refuses a sliver thinner
+#: than one front_h (`solid.surface.LIGAMENT_FRONT_H`), the size guard one that would not fit in memory
+LIGAMENT_FLOOR_RTOL = 0.025
+#: where the body through the front's point nearest that face, along the way to it (a plate's thickness at a surface
+#: crack), is thinner than this many times the crack's size, the default maxh is at most ...
+THIN_BODY_RTOL = 1.0
+#: ... this many times that thickness: the far field at maxh = t instead of 4-7 t raised the deepest point's K of the
+#: a/t = 0.8 plates by 1.8% and brought the domain integral and the opening's K within 0.4% of each other
+MAXH_THICKNESS = 1.0
+#: steps along the way back through the body measuring its thickness (then bisected LIGAMENT_BISECTIONS times)
+THICKNESS_STEPS, LIGAMENT_BISECTIONS = 256, 40
+#: outline samples measuring a front's ligament (at most `solid.surface.STEP_SAMPLES` on a STEP part)
+LIGAMENT_SAMPLES = 512
+
+_LIGAMENTS: dict = {}
+
+
+def ligament_thickness(domain, crack) -> tuple[float, float]:
+    """(ligament, thickness) of the crack's front: the least distance from the front (the outline's points inside the
+    body) to a face the crack does not cross, and the body's thickness through that point along the way to that face
+    (the distance to the face plus the way back until the body ends: a plate's thickness at a surface crack's deepest
+    point). (inf, inf) where every face is crossed or the outline lies outside."""
+    key = (id(domain), id(crack))
+    hit = _LIGAMENTS.get(key)
+    if hit is not None and hit[0] is domain and hit[1] is crack:
+        return hit[2]
+    out = _ligament_thickness(domain, crack)
+    if len(_LIGAMENTS) > 256:
+        _LIGAMENTS.clear()
+    _LIGAMENTS[key] = (domain, crack, out)
+    return out
+
+
+def _ligament_thickness(domain, crack) -> tuple[float, float]:
+    outline = crack.outline(samples(domain, LIGAMENT_SAMPLES))
+    dist = face_distances(domain, outline)
+    inside = clearance(domain, outline) > 0
+    rest = {k: d[inside] for k, d in dist.items() if d.min() >= 0}  # the faces the crack does not cross
+    if not inside.any() or not rest:
+        return math.inf, math.inf
+    face = min(rest, key=lambda k: rest[k].min())
+    j = int(np.argmin(rest[face]))
+    p, ell = outline[inside][j], float(rest[face][j])
+    eps = 1e-6 * domain.size  # the way to the face: the gradient of the distance to it
+    grad = np.array([(face_distances(domain, p + eps * e)[face][0] - face_distances(domain, p - eps * e)[face][0])
+                     / (2 * eps) for e in np.eye(3)])
+    if not np.linalg.norm(grad) > 0:
+        return ell, math.inf
+    back = grad / np.linalg.norm(grad)  # the distance grows away from the face
+    s = np.linspace(0.0, domain.size, samples(domain, THICKNESS_STEPS) + 1)[1:]
+    out = np.flatnonzero(clearance(domain, p + np.outer(s, back)) <= 0)
+    if not len(out):
+        return ell, math.inf
+    hi = s[out[0]]
+    lo = s[out[0] - 1] if out[0] > 0 else 0.0
+    for _ in range(LIGAMENT_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if clearance(domain, p + mid * back)[0] > 0 else (lo, mid)
+    return ell, ell + 0.5 * (lo + hi)
+
+
+def ligament_caps(domain, cracks, crack_size: float) -> tuple[float, float]:
+    """(front_h cap, maxh cap) of the default sizes near faces the fronts do not cross (LIGAMENT_ELEMENTS,
+    LIGAMENT_FLOOR_RTOL, THIN_BODY_RTOL, MAXH_THICKNESS; `crack_size` the smallest crack's, as the defaults'): inf
+    where no front comes near a face or the body is not thin."""
+    front, maxh = math.inf, math.inf
+    for c in cracks:
+        ell, T = ligament_thickness(domain, c)
+        size = inside_measures(domain, c)[0]
+        front = min(front, ell / LIGAMENT_ELEMENTS)
+        if T < THIN_BODY_RTOL * size:
+            maxh = min(maxh, MAXH_THICKNESS * T)
+    return (max(front, LIGAMENT_FLOOR_RTOL * crack_size) if math.isfinite(front) else front), maxh
 
 
 def _volume(domain) -> float:
