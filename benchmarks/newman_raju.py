@@ -164,8 +164,8 @@ def defaults_study(before: bool = False, a: float = 0.6) -> None:
     import subprocess
     import sys
 
-    print("| a/c | a/t | maxh | crack_h | front_h | tets (estimate) | unknowns | K domain integral | K opening | "
-          "converged | Newman-Raju | CPU s | peak MB |")
+    print("| a/c | a/t | maxh | crack_h | front_h | tets (estimate / netgen) | unknowns | K domain integral | K opening | "
+          "converged | Newman-Raju | CPU s | peak MB (estimate) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r, s in DEFAULTS:
         code = (f"import json, benchmarks.newman_raju as m; print('@@' + json.dumps(m.default_case({r}, {s}, {before})))")
@@ -182,7 +182,8 @@ def defaults_study(before: bool = False, a: float = 0.6) -> None:
         conv = "" if ref is None else f"{ref:g} ({d['K'] / ref - 1:+.1%}, {d['Ko'] / ref - 1:+.1%})"
         print(f"| {r:g} | {s:g} | {z['maxh']:.3g} | a/{a / z['crack_h']:.3g} | a/{a / z['front_h']:.3g} | {d['tets']:,} "
               f"({d['est_tets'] / d['tets']:.2f}) | {d['ndof']:,} | {d['K']:.4f} | {d['Ko']:.4f} | {conv} | "
-              f"{d['nr']:.4f} ({d['K'] / d['nr'] - 1:+.1%}) | {d['cpu']:.1f} | {d['peak_mb']:.0f} |", flush=True)
+              f"{d['nr']:.4f} ({d['K'] / d['nr'] - 1:+.1%}) | {d['cpu']:.1f} | {d['peak_mb']:.0f} ({d['est_memory'] / 2 ** 20:.0f}) |",
+              flush=True)
 
 
 def slender_study(a: float = 0.6) -> None:

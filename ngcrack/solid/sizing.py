@@ -30,7 +30,13 @@ the largest relative error on today's meshes). Measured against netgen on 18 mes
 ellipse; front_h 0.05a to 0.5a, crack_h = 2 to 8 front_h, grading 0.2 to 0.5; 509 to 25,463
 tetrahedra): estimate / netgen within ESTIMATE_SPREAD, 0.74 to 1.35 (BENCHMARKS.md, "3D memory,
 the ellipse in 3 GB and the accuracy option"); the front's tube and the near ball owe most of the
-tetrahedra of a penny.
+tetrahedra of a penny. A surface crack's near ball (centred on the face it crosses) and front tube (cut by a
+back face near a deep front) are integrated inside the body only (sampled), and its scene's parts are then
+SURFACE_TETS times that: on 8 meshes of plates with surface cracks within the same spread.
+
+The default sizes near faces (`ligament_caps`, used by `solid.scene.SolidScene.mesh_sizes`): front_h at most the
+ligament between a front and a face it does not cross over LIGAMENT_ELEMENTS, maxh at most a thin body's
+thickness there.
 
 Unknowns per tetrahedron and peak memory per unknown are constants of the element and order
 (UNKNOWNS_PER_TET, BYTES_PER_UNKNOWN above BASE_MEMORY: measured, the constants say where; for
