@@ -3,7 +3,7 @@
     python benchmarks/newman_raju.py [--quick] [--order K]
     python benchmarks/newman_raju.py --deep      # the deepest point of deep cracks by mesh, order and extraction
     python benchmarks/newman_raju.py --slender   # the points near the surface of a slender crack by mesh
-    python benchmarks/newman_raju.py --defaults [--before]  # the deepest point at the library's default sizes
+    python benchmarks/newman_raju.py --defaults [--before] [--cases 0.6,0.4 ...]  # the deepest point at the default sizes
 
 For each (a/c, a/t): a plate of thickness t, half-width b = 5c and half-length 2b, one end clamped and
 the other pulled (S = 1; the pulled end is free, so the bending of the cracked section is the one
@@ -107,28 +107,28 @@ def deep_study(a: float = 0.6, element: str | None = None, aspect: float | None 
               f"{K:.4f} ({K / ref - 1:+.2%}) | {Ko:.4f} ({Ko / ref - 1:+.2%}) | {ref:.4f} | {cpu:.1f} |", flush=True)
 
 
-#: the default sizes' study (`defaults_study`): (a/c, a/t) of plates whose scene sets no [mesh] sizes, and the
-#: converged deepest-point K_I of the deep ones (BENCHMARKS, "Deep and slender surface cracks": 1.33 +- 0.03 and
-#: 0.95-0.96)
-DEFAULTS = [(0.6, 0.8), (1.0, 0.8), (0.4, 0.6), (0.6, 0.4), (1.0, 0.2)]
+#: the default sizes' study (`defaults_study`): (a/c, a/t) of plates whose scene sets no [mesh] sizes (the first four
+#: the ones `--defaults` runs unless --cases), and the converged deepest-point K_I of the deep ones (BENCHMARKS, "Deep
+#: and slender surface cracks": 1.33 +- 0.03 and 0.95-0.96)
+DEFAULTS = [(0.6, 0.4), (0.4, 0.6), (0.2, 0.5), (1.0, 0.2), (0.6, 0.8), (1.0, 0.8), (0.2, 0.2), (0.4, 0.4), (0.6, 0.6),
+            (1.0, 0.4), (1.0, 0.6), (0.2, 0.4), (0.4, 0.2), (0.6, 0.2), (0.4, 0.8), (0.2, 0.6), (0.2, 0.8)]
 CONVERGED = {(0.6, 0.8): 1.33, (1.0, 0.8): 0.955}
 
 
 def default_scene(a_over_c: float, a_over_t: float, a: float = 0.6, before: bool = False) -> SolidScene:
-    """The benchmark's plate without [mesh] sizes (the library's defaults); `before`: with the crack-sized defaults
-    of before the ligament rule set explicitly (maxh a quarter of the body's size, at most 2.5 crack sizes; crack_h
-    and front_h 0.2 and 0.1 of the crack's size)."""
-    from ngcrack.solid.scene import DEFAULT_CRACK_H_RTOL, DEFAULT_FRONT_H_RTOL, DEFAULT_MAXH_CRACK_RTOL, DEFAULT_MAXH_RTOL
-    from ngcrack.solid.surface import inside_measures
+    """The benchmark's plate without [mesh] sizes (the library's defaults); `before`: with the defaults of before the
+    depth rule set explicitly (the crack-sized ones with the ligament's caps: `mesh_sizes` without the depth cap)."""
+    from unittest import mock
+
+    from ngcrack.solid import sizing
 
     d = surface_scene(a_over_c, a_over_t, a).to_dict()
     d.pop("mesh")
     if before:
-        scene = SolidScene.from_dict({**d, "mesh": {"front_h": 1e-3}})  # only its size and its crack's measures
-        size, crack = scene.size, inside_measures(scene.domain, scene.cracks[0])[0]
-        maxh = min(DEFAULT_MAXH_RTOL * size, DEFAULT_MAXH_CRACK_RTOL * crack)
-        crack_h = min(DEFAULT_CRACK_H_RTOL * crack, maxh)
-        d["mesh"] = {"maxh": maxh, "crack_h": crack_h, "front_h": min(DEFAULT_FRONT_H_RTOL * crack, crack_h)}
+        with mock.patch.object(sizing, "depth_cap", lambda domain, cracks: math.inf):
+            scene = SolidScene.from_dict(d)
+            z = scene.mesh_sizes()
+        d["mesh"] = {k: z[k] for k in ("maxh", "crack_h", "front_h")}
     return SolidScene.from_dict(d)
 
 
@@ -147,7 +147,7 @@ def default_case(a_over_c: float, a_over_t: float, before: bool = False, a: floa
         return {"refused": str(e)}
     sizes, est = scene.mesh_sizes(), estimate_size(scene)
     t0 = time.process_time()
-    sol = nc.solve(scene)
+    sol = nc.solve(scene, max_dof=3_000_000)
     cpu = time.process_time() - t0
     f = sol.fronts[0]
     k = int(np.argmin(np.abs(f.points[:, 0])))
@@ -157,17 +157,33 @@ def default_case(a_over_c: float, a_over_t: float, before: bool = False, a: floa
             "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
 
 
-def defaults_study(before: bool = False, a: float = 0.6) -> None:
-    """The deepest point of the DEFAULTS plates at the library's default sizes (`before`: the crack-sized ones), one
-    process each (its peak memory), against our converged K and Newman-Raju's equation."""
+def _published(a_over_c: float, a_over_t: float, a: float = 0.6) -> float | None:
+    """The mean of Shiratori's and ASME XI's deepest-point K on the plate (`studies.newman_raju.published_K`; the
+    tables' own where only one covers the case), None where neither does."""
+    from ngcrack.studies.newman_raju import published_K
+
+    c, t = a / a_over_c, a / a_over_t
+    ks = []
+    for source in ("shiratori", "asme"):
+        try:
+            ks.append(published_K(source, "deepest", 1.0, a, c, t, 5.0 * c))
+        except ValueError:
+            pass
+    return float(np.mean(ks)) if ks else None
+
+
+def defaults_study(before: bool = False, cases=None, a: float = 0.6) -> None:
+    """The deepest point of the DEFAULTS plates (`cases`, else the first four) at the library's default sizes
+    (`before`: without the depth rule), one process each (its peak memory), against the published tables
+    (`_published`), our converged K and Newman-Raju's equation."""
     import json
     import subprocess
     import sys
 
     print("| a/c | a/t | maxh | crack_h | front_h | tets (estimate / netgen) | unknowns | K domain integral | K opening | "
-          "converged | Newman-Raju | CPU s | peak MB (estimate) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for r, s in DEFAULTS:
+          "published (errors) | converged (errors) | Newman-Raju (errors) | CPU s | peak MB (estimate) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r, s in cases or DEFAULTS[:4]:
         code = (f"import json, benchmarks.newman_raju as m; print('@@' + json.dumps(m.default_case({r}, {s}, {before})))")
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
         line = next((x for x in out.stdout.splitlines() if x.startswith("@@")), None)
@@ -178,11 +194,14 @@ def defaults_study(before: bool = False, a: float = 0.6) -> None:
         if "refused" in d:
             print(f"| {r:g} | {s:g} | refused: {d['refused']} |", flush=True)
             continue
-        z, ref = d["sizes"], CONVERGED.get((r, s))
-        conv = "" if ref is None else f"{ref:g} ({d['K'] / ref - 1:+.1%}, {d['Ko'] / ref - 1:+.1%})"
+        z, conv, pub = d["sizes"], CONVERGED.get((r, s)), _published(r, s, a)
+
+        def versus(ref, d=d):
+            return "" if ref is None else f"{ref:.4f} ({d['K'] / ref - 1:+.1%}, {d['Ko'] / ref - 1:+.1%})"
+
         print(f"| {r:g} | {s:g} | {z['maxh']:.3g} | a/{a / z['crack_h']:.3g} | a/{a / z['front_h']:.3g} | {d['tets']:,} "
-              f"({d['est_tets'] / d['tets']:.2f}) | {d['ndof']:,} | {d['K']:.4f} | {d['Ko']:.4f} | {conv} | "
-              f"{d['nr']:.4f} ({d['K'] / d['nr'] - 1:+.1%}) | {d['cpu']:.1f} | {d['peak_mb']:.0f} ({d['est_memory'] / 2 ** 20:.0f}) |",
+              f"({d['est_tets'] / d['tets']:.2f}) | {d['ndof']:,} | {d['K']:.4f} | {d['Ko']:.4f} | {versus(pub)} | "
+              f"{versus(conv)} | {versus(d['nr'])} | {d['cpu']:.1f} | {d['peak_mb']:.0f} ({d['est_memory'] / 2 ** 20:.0f}) |",
               flush=True)
 
 
@@ -238,7 +257,8 @@ def main() -> None:
     ap.add_argument("--element", help="with --deep: only this element's rows (tdnns or h1p2)")
     ap.add_argument("--aspect", type=float, help="with --deep: only the rows of this a/c")
     ap.add_argument("--defaults", action="store_true", help="the deepest point at the library's default sizes")
-    ap.add_argument("--before", action="store_true", help="with --defaults: the crack-sized defaults of before")
+    ap.add_argument("--before", action="store_true", help="with --defaults: the defaults of before the depth rule")
+    ap.add_argument("--cases", nargs="+", metavar="A/C,A/T", help="with --defaults: these plates (e.g. 0.6,0.4 1,0.2)")
     ap.add_argument("--slender", action="store_true", help="the points near the surface of a/c = 0.2 by mesh")
     ap.add_argument("--plot", metavar="OUT.png", help="only draw K_I along the front of the first case against Newman-Raju's")
     args = ap.parse_args()
@@ -246,7 +266,8 @@ def main() -> None:
         plot(args.plot, args.order)
         return
     if args.defaults:
-        defaults_study(args.before)
+        cases = [tuple(float(x) for x in case.split(",")) for case in args.cases] if args.cases else None
+        defaults_study(args.before, cases)
         return
     if args.deep or args.slender:
         deep_study(element=args.element, aspect=args.aspect) if args.deep else slender_study()

@@ -454,7 +454,9 @@ class SolidScene(Scene, dimension=3):
         `sizing.LIGAMENT_ELEMENTS` (not below `sizing.LIGAMENT_FLOOR_RTOL` of the crack's size) and crack_h
         its default ratio to front_h times that, unless the call gives crack_h or front_h; and where the body is
         thinner than the crack (a plate), maxh is at most `sizing.MAXH_THICKNESS` times its thickness there, unless
-        the call gives maxh. Cracks far from the faces keep the crack-sized defaults exactly."""
+        the call gives maxh. A crack that crosses a face (a surface or corner crack) has front_h moreover at most its
+        depth over `sizing.DEPTH_ELEMENTS` (`sizing.crack_depth`, not below `sizing.DEPTH_FLOOR_RTOL` of its size;
+        the same conditions). Embedded cracks far from the faces keep the crack-sized defaults exactly."""
         crack = min((inside_measures(self.domain, c)[0] for c in self.cracks), default=self.size)  # the parts inside
         front_cap = maxh_cap = math.inf
         if self.maxh is None and self.crack_h is None and self.front_h is None and self.cracks:

@@ -36,7 +36,7 @@ SURFACE_TETS times that: on 8 meshes of plates with surface cracks within the sa
 
 The default sizes near faces (`ligament_caps`, used by `solid.scene.SolidScene.mesh_sizes`): front_h at most the
 ligament between a front and a face it does not cross over LIGAMENT_ELEMENTS, maxh at most a thin body's
-thickness there.
+thickness there; and front_h at most the depth of a crack that crosses a face over DEPTH_ELEMENTS (`depth_cap`).
 
 Unknowns per tetrahedron and peak memory per unknown are constants of the element and order
 (UNKNOWNS_PER_TET, BYTES_PER_UNKNOWN above BASE_MEMORY: measured, the constants say where; for
@@ -135,6 +135,15 @@ THICKNESS_STEPS, LIGAMENT_BISECTIONS = 256, 40
 #: outline samples measuring a front's ligament (at most `solid.surface.STEP_SAMPLES` on a STEP part)
 LIGAMENT_SAMPLES = 512
 
+#: The default sizes of a crack that crosses a face (a surface or corner crack; `depth_cap`): front_h is at most the
+#: crack's depth (`crack_depth`) over this many elements: the crack-sized default (0.1 of the inside diameter, ~2c)
+#: gave a/3 on a/c = 0.6 and a/2 on a/c = 0.4, and the deepest point's K came 4.8-6% below Newman-Raju's equation
+#: where the built-in `surface-crack` at a/6 is 2.8% below (BENCHMARKS, "Default sizes for surface cracks by depth")
+DEPTH_ELEMENTS = 6.0
+#: ... but front_h not below this fraction of the crack's size (its inside diameter, 2c on a semi-ellipse): a/6 on
+#: a/c = 0.2, the most slender plate measured (2c = 10a); a shallower, longer crack keeps this size (its memory)
+DEPTH_FLOOR_RTOL = 1.0 / 60.0
+
 _LIGAMENTS: dict = {}
 
 
@@ -143,23 +152,45 @@ def ligament_thickness(domain, crack) -> tuple[float, float]:
     body) to a face the crack does not cross, and the body's thickness through that point along the way to that face
     (the distance to the face plus the way back until the body ends: a plate's thickness at a surface crack's deepest
     point). (inf, inf) where every face is crossed or the outline lies outside."""
+    return _front_measures(domain, crack)[:2]
+
+
+def crack_depth(domain, crack) -> float:
+    """The depth of a crack that crosses faces: its extent into the body from the faces it crosses, the least over
+    those faces of the largest distance of the outline's points inside the body from that face (a semi-ellipse's a
+    from the face it crosses, a corner crack's smaller extent, min(a, c), from its two faces). inf for a crack that
+    crosses no face (embedded) or lies outside."""
+    return _front_measures(domain, crack)[2]
+
+
+def _front_measures(domain, crack) -> tuple[float, float, float]:
+    """(ligament, thickness, depth), cached per (domain, crack)."""
     key = (id(domain), id(crack))
     hit = _LIGAMENTS.get(key)
     if hit is not None and hit[0] is domain and hit[1] is crack:
         return hit[2]
-    out = _ligament_thickness(domain, crack)
+    out = _measure_front(domain, crack)
     if len(_LIGAMENTS) > 256:
         _LIGAMENTS.clear()
     _LIGAMENTS[key] = (domain, crack, out)
     return out
 
 
-def _ligament_thickness(domain, crack) -> tuple[float, float]:
+def _measure_front(domain, crack) -> tuple[float, float, float]:
     outline = crack.outline(samples(domain, LIGAMENT_SAMPLES))
     dist = face_distances(domain, outline)
     inside = clearance(domain, outline) > 0
+    if not inside.any():
+        return math.inf, math.inf, math.inf
+    crossed = [float(d[inside].max()) for d in dist.values() if d.min() < 0]  # the faces the crack crosses
+    depth = min(crossed, default=math.inf)
+    ell, T = _ligament_thickness(domain, outline, dist, inside)
+    return ell, T, depth
+
+
+def _ligament_thickness(domain, outline, dist, inside) -> tuple[float, float]:
     rest = {k: d[inside] for k, d in dist.items() if d.min() >= 0}  # the faces the crack does not cross
-    if not inside.any() or not rest:
+    if not rest:
         return math.inf, math.inf
     face = min(rest, key=lambda k: rest[k].min())
     j = int(np.argmin(rest[face]))
@@ -184,8 +215,9 @@ def _ligament_thickness(domain, crack) -> tuple[float, float]:
 
 def ligament_caps(domain, cracks, crack_size: float) -> tuple[float, float]:
     """(front_h cap, maxh cap) of the default sizes near faces the fronts do not cross (LIGAMENT_ELEMENTS,
-    LIGAMENT_FLOOR_RTOL, THIN_BODY_RTOL, MAXH_THICKNESS; `crack_size` the smallest crack's, as the defaults'): inf
-    where no front comes near a face or the body is not thin."""
+    LIGAMENT_FLOOR_RTOL, THIN_BODY_RTOL, MAXH_THICKNESS; `crack_size` the smallest crack's, as the defaults') and of
+    cracks that cross faces (`depth_cap`), the smaller: inf where no front comes near a face, no crack crosses one
+    and the body is not thin."""
     front, maxh = math.inf, math.inf
     for c in cracks:
         ell, T = ligament_thickness(domain, c)
@@ -193,7 +225,19 @@ def ligament_caps(domain, cracks, crack_size: float) -> tuple[float, float]:
         front = min(front, ell / LIGAMENT_ELEMENTS)
         if T < THIN_BODY_RTOL * size:
             maxh = min(maxh, MAXH_THICKNESS * T)
-    return (max(front, LIGAMENT_FLOOR_RTOL * crack_size) if math.isfinite(front) else front), maxh
+    front = max(front, LIGAMENT_FLOOR_RTOL * crack_size) if math.isfinite(front) else front
+    return min(front, depth_cap(domain, cracks)), maxh
+
+
+def depth_cap(domain, cracks) -> float:
+    """The front_h cap of cracks that cross faces: the least over them of the depth (`crack_depth`) over
+    DEPTH_ELEMENTS, each not below DEPTH_FLOOR_RTOL of that crack's size inside the body; inf without such a crack."""
+    cap = math.inf
+    for c in cracks:
+        depth = crack_depth(domain, c)
+        if math.isfinite(depth):
+            cap = min(cap, max(depth / DEPTH_ELEMENTS, DEPTH_FLOOR_RTOL * inside_measures(domain, c)[0]))
+    return cap
 
 
 #: A crack crossing a face of a box or a cylinder (a surface crack): its near ball (centred on the face, half of it
