@@ -156,7 +156,7 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     """Grow one path per value of `parameter`; a pandas DataFrame, one row per path (module docstring)."""
     import pandas as pd
 
-    from ngcrack.studies.sweeps.executors import _executor
+    from ngcrack.studies.sweeps.executors import _executor, check_dask
     from ngcrack.studies.sweeps.results import csv_line
 
     if not isinstance(parameter, str) or not parameter:
@@ -177,6 +177,7 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
         raise InputError("values: give at least one value of the parameter")
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise InputError(f"jobs = {jobs!r}: must be a whole number >= 1")
+    check_dask(dask)
     if out is not None and not isinstance(out, (str, os.PathLike)):
         raise InputError(f"out = {out!r}: must be None or the path of a CSV file")
     path = Path(out) if out is not None else None
