@@ -334,6 +334,8 @@ def _read_step(path: str, fld: str):
     """The shape of a STEP file, or a SceneError naming `fld`."""
     from netgen import occ
 
+    if os.path.isdir(path):
+        raise SceneError(f"{fld} = {path!r}: is a directory; give the path of a STEP file")
     if not os.path.isfile(path):
         raise SceneError(f"{fld} = {path!r}: no such file (a relative path is taken from the scene file's folder)")
     try:
