@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
+from ..core.errors import InputError
 from .scene import Box, PlanarCrack, SolidScene
 from .sizing import NEAR_H_FACTOR, NEAR_H_FLOOR_RTOL, NEAR_RADIUS  # noqa: F401  (this module's mesh choices)
-from ..core.errors import InputError
 from .surface import crosses, inside_measures, on_surface
 
 #: the polynomial order of the curved geometry
