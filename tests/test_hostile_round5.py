@@ -391,3 +391,21 @@ def test_the_3d_explorers_load_control_refuses_in_one_line_without_a_solve(value
     assert words in model.error_detail and "\n" not in model.error and "Traceback" not in model.error
     assert model.solution is None and model.state["load"] == 1.0
     assert math.isfinite(model.state["load"])
+
+
+def test_the_3d_explorer_takes_a_polygon_crack_and_turns_it():
+    """A polygon's semi_axes are zeros and its dictionary has no normal: its front_h comes from its size (it was
+    0, every solve refused) and `tilt` turns it about its own normal's axis (a KeyError before)."""
+    from pathlib import Path
+
+    from ngcrack.shell.explorer.solid_view import SolidExplorer
+
+    scene = nc.Scene.from_toml(Path(__file__).resolve().parent.parent / "examples" / "hole-through-crack.toml")
+    model = SolidExplorer(scene, solve_now=False)
+    half = 0.5 * scene.cracks[0].size
+    assert model.state["front_h"] == pytest.approx(0.5 * half) and model.ranges["front_h"].low == pytest.approx(0.15 * half)
+    model.state["tilt"] = 5.0
+    turned = model.make_scene()
+    cos = abs(float(np.dot(turned.cracks[0].normal, scene.cracks[0].normal)))
+    assert math.degrees(math.acos(min(cos, 1.0))) == pytest.approx(5.0, abs=1e-9)
+    assert turned.front_h == pytest.approx(0.5 * half) and turned.crack_h == pytest.approx(2 * turned.front_h)
