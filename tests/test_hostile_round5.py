@@ -409,3 +409,31 @@ def test_the_3d_explorer_takes_a_polygon_crack_and_turns_it():
     cos = abs(float(np.dot(turned.cracks[0].normal, scene.cracks[0].normal)))
     assert math.degrees(math.acos(min(cos, 1.0))) == pytest.approx(5.0, abs=1e-9)
     assert turned.front_h == pytest.approx(0.5 * half) and turned.crack_h == pytest.approx(2 * turned.front_h)
+
+
+# ------------------------------------------------------------------ 3D sweeps
+@pytest.mark.parametrize("kwargs, words", [
+    ({"front_h": [0.4], "solve_options": {"colour": 1}}, r"solve_options: unknown solve option colour; allowed: accuracy,"),
+    ({"front_h": [0.4], "solve_options": {"corrector": True}}, r"solve_options: unknown solve option corrector"),
+    ({"front_h": [0.4], "solve_options": {"element": "tdnns"}}, r"solve_options.element: the sweep's own axis; give it as elements"),
+    ({"front_h": [0.4], "solve_options": {"accuracy": float("nan")}}, r"accuracy = nan: .* \[0.005, 0.5\]"),
+    ({"front_h": object()}, r"front_h = <object object .*>: must be a number or a list of numbers"),
+    ({"front_h": "0.4"}, r"front_h = '0.4': must be a number or a list of numbers"),
+    ({"front_h": [float("nan")]}, r"front_h = nan: must be finite numbers > 0"),
+    ({"front_h": []}, r"front_h: give at least one value"),
+    ({"front_h": [0.4], "friction": [-1.0]}, r"friction = -1.0: must be finite numbers >= 0"),
+    ({"front_h": [0.4], "jobs": 2}, r"jobs = 2: a 3D sweep runs in this process"),
+    ({"front_h": [1e-6]}, r"front_h = 1e-06: below the smallest mesh size netgen meshes"),
+])
+def test_a_3d_sweep_refuses_bad_arguments_by_name_before_any_run(kwargs, words, penny, tmp_path):
+    out = tmp_path / "sweep.csv"
+    with pytest.raises(InputError, match=words):
+        nc.sweep(penny, out=out, **kwargs)
+    assert not out.exists()
+
+
+def test_a_3d_sweep_runs_a_repeated_value_once():
+    from ngcrack.studies.sweeps.fronts import _values
+
+    assert _values([0.4, 0.4, np.float64(0.4), 0.2], "front_h") == [0.4, 0.2]
+    assert _values(0.3, "nu") == [0.3]
