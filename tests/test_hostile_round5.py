@@ -437,3 +437,24 @@ def test_a_3d_sweep_runs_a_repeated_value_once():
 
     assert _values([0.4, 0.4, np.float64(0.4), 0.2], "front_h") == [0.4, 0.2]
     assert _values(0.3, "nu") == [0.3]
+
+
+# ------------------------------------------------------------------ 3D growth's other options
+@pytest.mark.parametrize("kwargs, words", [
+    ({"fronts": False}, r"fronts = False: growth computes the fronts' K at every step itself"),
+    ({"fronts": "yes"}, r"fronts = 'yes': growth computes the fronts' K"),
+    ({"frames": "yes"}, r"frames = 'yes': must be True or False"),
+    ({"frames": None}, r"frames = None: must be True or False"),
+    ({"together": float("nan")}, r"together = nan: must be a number in \(0, 0.5\)"),
+    ({"R": 0.5}, r"R = 0.5: the load ratio of a fatigue cycle acts only with paris"),
+    ({"paris": (1e-3, 3, -1)}, r"paris = \(0.001, 3, -1\): must be a pair \(C, m\)"),
+    ({"estimate": True}, r"estimate = True: not an option of 3D growth"),
+    ({"at_hole": 0.1}, r"at_hole = 0.1: not an option of 3D growth"),
+    ({"steps": True}, r"steps = True: must be a whole number in \[1, 1000\]"),
+    ({"da": 1e-9}, r"da = 1e-09: must be at least 0.1 of the mesh size at the fronts"),
+    ({"max_dof": 10}, r"exceeds max_dof of 10 unknowns"),
+])
+def test_3d_growth_refuses_bad_options_before_any_solve(kwargs, words, penny):
+    args = {"da": 0.1, "steps": 1, **kwargs}
+    with pytest.raises(InputError, match=words):
+        nc.grow(penny, **args)
