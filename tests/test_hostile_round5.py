@@ -458,3 +458,19 @@ def test_3d_growth_refuses_bad_options_before_any_solve(kwargs, words, penny):
     args = {"da": 0.1, "steps": 1, **kwargs}
     with pytest.raises(InputError, match=words):
         nc.grow(penny, **args)
+
+
+def test_a_3d_grow_study_rerun_takes_its_rows_from_the_file_without_a_run(penny, tmp_path):
+    """A rerun with every value already in the out file: the rows are the file's (no run, no meshing), the file
+    unchanged; a value with another text (0.30 is 0.3) is the same path."""
+    from ngcrack.studies.growth.study import grow_study
+
+    out = tmp_path / "study.csv"
+    text = ("nu,steps,final_length,lambda_first,lambda_last,lambda_max,cycles,stopped,time_s,ndof\n"
+            "0.3,1,0.899998,1.0,0.93,1.0,,steps: 1 of 1 steps done,1.7,4125\n")
+    out.write_text(text)
+    table = grow_study(penny, "nu", [0.30], da=0.1, steps=1, out=out)
+    assert out.read_text() == text
+    assert table["steps"].tolist() == [1] and table["ndof"].tolist() == [4125]
+    assert table["final_length"].tolist() == [0.899998] and table["lambda_last"].tolist() == [0.93]
+    assert math.isnan(table["cycles"].iloc[0]) and table["stopped"].iloc[0] == "steps: 1 of 1 steps done"
