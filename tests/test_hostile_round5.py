@@ -474,3 +474,26 @@ def test_a_3d_grow_study_rerun_takes_its_rows_from_the_file_without_a_run(penny,
     assert table["steps"].tolist() == [1] and table["ndof"].tolist() == [4125]
     assert table["final_length"].tolist() == [0.899998] and table["lambda_last"].tolist() == [0.93]
     assert math.isnan(table["cycles"].iloc[0]) and table["stopped"].iloc[0] == "steps: 1 of 1 steps done"
+
+
+@pytest.mark.parametrize("name, words", [
+    ("a|b", r"face 5 is named 'a\|b', which the mesh reads as a pattern \(a regular expression\) naming 'a', 'b'"),
+    ("f(1)", r"face 5 is named 'f\(1\)', .* naming no face"),
+    ("x[", r"face 5 is named 'x\[', .* naming no face"),
+    ("crack0", r"face 5 is named 'crack0'; the names crack<i>, front<i> and point<k> are the solver's own"),
+])
+def test_a_step_face_name_the_mesh_would_misread_is_refused(name, words, tmp_path):
+    """A traction on a face named 'a|b' was put on the faces a and b too (NGSolve finds regions by regular
+    expression): K_I 0.83 to 0.91 where the same box with plain names gives 1.08."""
+    from netgen import occ
+
+    box = occ.Box(occ.Pnt(-2, -2, -2), occ.Pnt(2, 2, 2))
+    for face, label in zip(box.faces, ["a", "b", "c", "d", "lo", name]):
+        face.name = label
+    box.WriteStep(str(tmp_path / "named.step"))
+    d = body(domain={"step": str(tmp_path / "named.step")}, boundary={"lo": {"type": "clamped"}}, crack=[])
+    with pytest.raises(InputError, match=r"domain.step: " + words):
+        nc.Scene.from_dict(d)
+    box.faces[5].name = "Cube.001"  # a dot names only itself here: accepted
+    box.WriteStep(str(tmp_path / "dot.step"))
+    assert "Cube.001" in nc.Scene.from_dict(dict(d, domain={"step": str(tmp_path / "dot.step")})).domain.labels
