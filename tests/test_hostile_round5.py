@@ -497,3 +497,12 @@ def test_a_step_face_name_the_mesh_would_misread_is_refused(name, words, tmp_pat
     box.faces[5].name = "Cube.001"  # a dot names only itself here: accepted
     box.WriteStep(str(tmp_path / "dot.step"))
     assert "Cube.001" in nc.Scene.from_dict(dict(d, domain={"step": str(tmp_path / "dot.step")})).domain.labels
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(reason="solid.surface.face_problem: a surface crack's part inside the body thinner than front_h is "
+                          "not refused (its body-sliver rule has no counterpart for the crack): meshed, K_I 0.68 comes out "
+                          "where a crack 0.05 deep has about 0.44", strict=False)
+def test_a_surface_crack_thinner_than_front_h_is_refused_before_meshing():
+    with pytest.raises(InputError, match=r"crack\[0\]"):
+        nc.Scene.from_dict(body(crack=[dict(ELLIPSE, center=[0, 0, 2.45])], boundary=FREE))
