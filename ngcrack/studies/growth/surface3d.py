@@ -53,16 +53,22 @@ NORMAL_STEP_RTOL = 1e-6
 
 
 def is_surface_crack(domain, crack) -> bool:
-    """A disc or an ellipse crossing the body's faces (its front ends on the surface)."""
+    """A disc, an ellipse or a curve crossing the body's faces (its front ends on the surface)."""
     from ngcrack.solid.surface import crosses
 
-    return crack.shape in ("disc", "ellipse") and crosses(domain, crack)
+    return crack.shape in ("disc", "ellipse", "curve") and crosses(domain, crack)
 
 
 def check_surface_growable(domain, i: int, crack) -> None:
-    """Refuse, by name, a crack crossing the faces that grows off its ellipse (module docstring)."""
+    """Refuse, by name, a crack crossing the faces that grows off its ellipse, or a curve that cannot be completed
+    beyond the faces (module docstring)."""
     from ngcrack.solid.surface import clearance, inside_arcs
 
+    if crack.shape == "curve":
+        from .surface_curve import check_curve_growable
+
+        check_curve_growable(domain, i, crack)
+        return
     off = abs(float(clearance(domain, crack.center[None])[0]))
     if off > CENTRE_ON_SURFACE_RTOL * crack.size:
         raise InputError(f"crack[{i}]: crosses the body's faces with its centre {off:.3g} off them; a crack reaching "
@@ -75,7 +81,12 @@ def check_surface_growable(domain, i: int, crack) -> None:
 
 
 def ellipse_arc(crack, phi: np.ndarray) -> np.ndarray:
-    """The arc length along the crack's ellipse from phi[0] to each phi (phi increasing, unwrapped)."""
+    """The arc length along the crack's ellipse (a curve's spline: surface_curve.curve_arc) from phi[0] to each phi
+    (phi increasing, unwrapped)."""
+    if crack.shape == "curve":
+        from .surface_curve import curve_arc
+
+        return curve_arc(crack, phi)
     a, b = crack.semi_axes
     grid = np.linspace(phi[0], phi[-1], 4001)
     mid = 0.5 * (grid[1:] + grid[:-1])
@@ -123,10 +134,15 @@ def _face_normal(domain, p: np.ndarray, size: float) -> np.ndarray:
 def _rays(domain, crack, phi: np.ndarray, ends: bool):
     """(the front's points at the angles phi, their directions of advance): the outward in-plane normal, at the
     first and last point (`ends`: the front's ends on the surface) projected into their faces."""
-    a, b = crack.semi_axes
-    p = crack.center + np.outer(a * np.cos(phi), crack.e_a) + np.outer(b * np.sin(phi), crack.e_b)
-    d = np.outer(b * np.cos(phi), crack.e_a) + np.outer(a * np.sin(phi), crack.e_b)  # the outward in-plane normal
-    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    if crack.shape == "curve":
+        from .surface_curve import point_and_normal
+
+        p, d = point_and_normal(crack, phi)
+    else:
+        a, b = crack.semi_axes
+        p = crack.center + np.outer(a * np.cos(phi), crack.e_a) + np.outer(b * np.sin(phi), crack.e_b)
+        d = np.outer(b * np.cos(phi), crack.e_a) + np.outer(a * np.sin(phi), crack.e_b)  # the outward in-plane normal
+        d /= np.linalg.norm(d, axis=1, keepdims=True)
     for k in ((0, len(phi) - 1) if ends else ()):  # the ends move along their faces, in the crack's plane
         nf = _face_normal(domain, p[k], crack.size)
         t = d[k] - np.dot(d[k], nf) * nf
@@ -174,7 +190,12 @@ def carried(crack) -> dict:
 
 
 def grown_surface_crack(domain, crack, angles: np.ndarray, advance: np.ndarray, lead: int) -> tuple[dict, float]:
-    """(the grown crack's scene dictionary, the actual advance of the station `lead`): module docstring, step 4."""
+    """(the grown crack's scene dictionary, the actual advance of the station `lead`): module docstring, step 4 (a
+    curve: the curve through the advanced points completed beyond the faces, surface_curve.py)."""
+    if crack.shape == "curve":
+        from .surface_curve import grown_surface_curve
+
+        return grown_surface_curve(domain, crack, angles, advance, lead)
     moved = advanced_points(domain, crack, angles, advance)
     A0, B0 = crack.semi_axes
     mean = float(np.mean(advance))
@@ -240,6 +261,11 @@ def domain_size(domain) -> float:
 
 def depth_and_length(domain, crack) -> tuple[float, float]:
     """(a, c) of a surface crack: the semi-axis across the face its centre lies on (the depth) and the other one
-    (the half-length on the surface; a corner crack's length along its second face)."""
+    (the half-length on the surface; a corner crack's length along its second face); a curve's measured on its
+    front (surface_curve.curve_depth_and_length)."""
+    if crack.shape == "curve":
+        from .surface_curve import curve_depth_and_length
+
+        return curve_depth_and_length(domain, crack)
     A, B = crack.semi_axes
     return (A, B) if depth_axis(domain, crack) == 0 else (B, A)
