@@ -10,9 +10,9 @@ ngcrack.studies.growth.surface_curve), on the same mesh sizes (front_h `--front-
 
 Printed per step: the depth a and half-length c of both runs and the curve's against the ellipse's, the
 cycles of both, and the front's smoothness: the largest turning of the curve's front between neighbouring
-chords of FRONT_SAMPLES points equally spaced in arc length, against the same circle's (a kink shows as a
-turning far above the neighbours'; `kink` is the largest turning over the median one), and the curvature
-range max/min along the front. The CPU seconds of each run (process time; the machine is shared).
+chords of FRONT_SAMPLES points equally spaced in arc length, `kink` the largest jump of that turning from
+the mean of its neighbours' over the median turning (a smooth front's is small, a corner's of order 1),
+and the curvature range max/min along the front. The CPU seconds of each run (process time; the machine is shared).
 
     python benchmarks/surface_curve_growth.py --a0 0.5 --steps 4 --m 3
     python benchmarks/surface_curve_growth.py --corner --a0 0.5 --steps 3
@@ -87,15 +87,17 @@ def run(crack: dict, front_h: float, da: float, steps: int, m: float):
 
 
 def smoothness(scene) -> tuple[float, float, float]:
-    """(the largest turning between neighbouring chords of the front, the largest over the median, the range
-    max/min of the curvature) of a curve crossing the faces."""
+    """(the largest turning between neighbouring chords of the front, the kink: the largest jump of the turning
+    from the mean of its two neighbours' over the median turning (a smooth front's is small, a corner's of order
+    1), the range max/min of the curvature) of a curve crossing the faces."""
     from ngcrack.studies.growth.surface_curve import front_points
 
     p = front_points(scene.domain, scene.cracks[0], FRONT_SAMPLES)
     t = turning(p)
+    around = 0.5 * (np.r_[t[1], t[:-1]] + np.r_[t[1:], t[-2]])
     ds = np.linalg.norm(np.diff(p, axis=0), axis=1)
     kappa = t / (0.5 * (ds[1:] + ds[:-1]))
-    return float(t.max()), float(t.max() / np.median(t)), float(kappa.max() / kappa.min())
+    return float(t.max()), float(np.max(np.abs(t - around)) / np.median(t)), float(kappa.max() / kappa.min())
 
 
 def main() -> None:
@@ -130,14 +132,11 @@ def main() -> None:
     print(f"stopped: ellipse {res_e.stopped!r}; curve {res_c.stopped!r}")
     print(f"{'step':>4} {'a ell':>7} {'a crv':>7} {'a/a':>7} {'c ell':>7} {'c crv':>7} {'c/c':>7} {'N ell':>8} {'N crv':>8}"
           f" {'turn max':>8} {'kink':>6} {'k range':>7}")
-    circle = np.linspace(0.0, np.pi, FRONT_SAMPLES)
-    t_circ = turning(np.column_stack([np.cos(circle), np.sin(circle)]))[0]
     for n in range(min(len(ac_e), len(ac_c))):
         t_max, kink, k_range = smoothness(res_c.scenes[n])
         print(f"{n:>4} {ac_e[n, 0]:>7.4f} {ac_c[n, 0]:>7.4f} {ac_c[n, 0] / ac_e[n, 0]:>7.4f} {ac_e[n, 1]:>7.4f} "
               f"{ac_c[n, 1]:>7.4f} {ac_c[n, 1] / ac_e[n, 1]:>7.4f} {N_e[n]:>8.2f} {N_c[n]:>8.2f} {t_max:>8.5f} "
-              f"{kink:>6.2f} {k_range:>7.3f}")
-    print(f"(the semicircle's turning between neighbouring chords: {t_circ:.5f})")
+              f"{kink:>6.4f} {k_range:>7.3f}")
 
 
 if __name__ == "__main__":

@@ -175,10 +175,10 @@ def symmetric_interpolant(s_i: np.ndarray, values: np.ndarray):
     from scipy.interpolate import CubicSpline
 
     s_i, values = np.asarray(s_i, dtype=float), np.asarray(values, dtype=float)
-    L = s_i[-1]
-    s = np.r_[-s_i[:0:-1], s_i, 2 * L - s_i[-2::-1]]
-    v = np.r_[values[:0:-1], values, values[-2::-1]]
-    return CubicSpline(s, v)
+    L = s_i[-1]  # the even extension about both ends is periodic (period 2 L): its periodic spline is even
+    s = np.r_[s_i, 2 * L - s_i[-2::-1]]
+    v = np.r_[values, values[-2::-1]]
+    return CubicSpline(s, v, bc_type="periodic")
 
 
 def grown_surface_curve(domain, crack, angles: np.ndarray, advance: np.ndarray, lead: int) -> tuple[dict, float]:
