@@ -160,3 +160,59 @@ def test_a_curve_through_the_ellipse_gives_the_ellipses_K():
     assert np.allclose(c.points, e.points, atol=2e-4)  # the same stations along the same front
     dev = np.abs(c.K_I / e.K_I - 1)
     assert dev.max() < 0.03 and dev.mean() < 0.012, dev
+
+
+def test_the_example_is_a_semicircular_surface_curve():
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "examples" / "surface-curve.toml").read_text()
+    s = nc.Scene.from_toml_string(text)
+    assert s.cracks[0].shape == "curve" and is_surface_crack(s.domain, s.cracks[0])
+    assert depth_and_length(s.domain, s.cracks[0]) == pytest.approx((0.5, 0.5), abs=1e-4)
+    check_surface_growable(s.domain, 0, s.cracks[0])
+
+
+# ------------------------------------------------------------------------------ growth
+def test_one_paris_step_of_the_example_grows_the_curve_by_its_advance(tmp_path, capsys):
+    """`ngcrack grow` on the example (a semicircle as a curve, front_h 0.15): one Paris step grows a curve whose depth
+    is the semicircle's plus the deepest point's advance and whose half-length is its plus the surface points'
+    (the front passes through the advanced points), its front in the crack's plane, its ends on the face, no kink."""
+    import json
+    from pathlib import Path
+
+    from ngcrack.shell.cli import main
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "surface-curve.toml"
+    out = tmp_path / "g.json"
+    code = main(["grow", str(path), "--da", "0.1", "--steps", "1", "--paris", "1e-3", "3", "--json", str(out)])
+    assert code == 0, capsys.readouterr().err
+    data = json.loads(out.read_text())
+    assert data["stopped"].startswith("steps") and data["cracks"][0]["shape"] == "curve"
+    f0, f1 = (s["fronts"][0] for s in data["steps"])
+    adv = np.asarray(f0["advance"])
+    mid = len(adv) // 2
+    assert f1["depth"] == pytest.approx(0.5 + adv[mid], abs=2e-3)
+    assert f1["half_length"] == pytest.approx(0.5 + 0.5 * (adv[0] + adv[-1]), abs=1e-3)
+    assert max(adv) == pytest.approx(0.1)
+    p = np.asarray(f1["points"])
+    assert np.max(np.abs(p[:, 1])) < 1e-9 and np.allclose(p[[0, -1], 2], T, atol=1e-9)
+    grown = nc.Scene.from_dict({**nc.Scene.from_toml_string(path.read_text()).to_dict(), "crack": data["cracks"]})
+    assert kink(grown) < 0.02
+
+
+@pytest.mark.slow
+def test_a_semicircle_grown_as_a_curve_follows_the_ellipse_fit():
+    """A semicircular crack (a = 0.5, front_h 0.15, m = 3) grown three Paris steps of 0.1 as a curve and as the
+    fitted ellipse: a within 3.5% and c within 2% at every step (measured 2.9% at the first step, where the fit
+    pulls the deepest point to the front's mean shape, then under 1%; c 0.3-1.5%), the cycles within 10% (the
+    curve's leading point advances by da, the fitted ellipse's by what the fit gives it: 2-9% more), the curve's
+    front without kinks at every step (about 50 s)."""
+    d = plate(ellipse(axes=(0.5, 0.5)), front_h=0.15, crack_h=0.3, maxh=1.5)
+    runs = [nc.grow(SolidScene.from_dict(d), da=0.1, steps=3, paris=(1e-3, 3.0))]
+    runs.append(nc.grow(SolidScene.from_dict({**d, "crack": [as_curve(d["crack"][0])]}), da=0.1, steps=3,
+                        paris=(1e-3, 3.0)))
+    (ac_e, ac_c), (N_e, N_c) = (r.depth_and_length() for r in runs), (r.cycles() for r in runs)
+    assert len(ac_c) == len(ac_e) == 4, runs[1].stopped
+    assert np.max(np.abs(ac_c[:, 0] / ac_e[:, 0] - 1)) < 0.035 and np.max(np.abs(ac_c[:, 1] / ac_e[:, 1] - 1)) < 0.02
+    assert np.max(np.abs(N_c[1:] / N_e[1:] - 1)) < 0.10
+    assert all(kink(s) < 0.02 for s in runs[1].scenes)

@@ -1,6 +1,6 @@
-"""Planar growth of surface and corner cracks: fronts that end on the free surface, grown as ellipses.
+"""Planar growth of surface and corner cracks: fronts that end on the free surface, grown as ellipses (or curves).
 
-A surface crack (ngcrack.solid.surface) is a disc or an ellipse that crosses the body's faces; its
+A surface crack (ngcrack.solid.surface) is a disc, an ellipse or a curve that crosses the body's faces; its
 front is the arc inside the body, its two end points on the surface. It grows as the engineering
 codes grow it (NASGRO, BS 7910; FRANC3D fits a curve through the advanced points), keeping a shape
 the scene and its mesh support:
@@ -24,11 +24,17 @@ the scene and its mesh support:
    equally spaced along the front (the radial distance from the centre): a smooth front whose ends
    lie on the face to round-off, and a scene the mesh and the open fronts already handle.
 
+A surface crack given as a ``curve`` (a spline crossing the faces) grows by steps 1-3 and, in place of
+step 4, becomes the curve through the advanced points completed beyond the faces by its mirror images
+(surface_curve.py): a free front shape. The functions here dispatch on the shape (the arc length along
+the front, the rays, the grown crack, its depth and length); the ellipse fit stays the rule for ellipses.
+
 The reference, ngcrack.studies.growth.newman_raju_growth, integrates Newman and Raju's K at the
 deepest point and at the same SURFACE_K_FRACTION point with the same Paris law.
 
-Refused by name (before meshing): a crack crossing the faces whose centre is off the surface (it
-would not stay an ellipse centred where it grows from), and one crossing them in more than one arc.
+Refused by name (before meshing): an ellipse crossing the faces whose centre is off the surface (it
+would not stay an ellipse centred where it grows from), a crack crossing them in more than one arc, and
+a curve that its mirror images cannot complete (surface_curve.py).
 """
 
 from __future__ import annotations
