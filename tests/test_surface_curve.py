@@ -19,8 +19,9 @@ import pytest
 import ngcrack as nc
 from ngcrack.core.errors import InputError
 from ngcrack.core.fields import SceneError
+from ngcrack.solid.curve import curve_point
 from ngcrack.solid.scene import SolidScene
-from ngcrack.solid.surface import inside_arcs, outline_point
+from ngcrack.solid.surface import inside_arcs
 from ngcrack.studies.growth.surface3d import (
     check_surface_growable,
     depth_and_length,
@@ -67,8 +68,8 @@ def test_a_curve_through_the_ellipse_has_the_ellipses_front():
     s = SolidScene.from_dict(plate(as_curve(ellipse())))
     crack = s.cracks[0]
     assert is_surface_crack(s.domain, crack)
-    (phi0, phi1), = inside_arcs(s.domain, crack)
-    ends = outline_point(crack)(np.array([phi0, phi1]))
+    (phi0, phi1), = inside_arcs(s.domain, crack, curve_point(crack))
+    ends = curve_point(crack)(np.array([phi0, phi1]))
     assert np.allclose(ends[:, 2], T, atol=1e-9) and np.allclose(np.abs(ends[:, 0]), C, atol=1e-5)
     assert depth_and_length(s.domain, crack) == pytest.approx((A, C), abs=1e-4)
     e = SolidScene.from_dict(plate(ellipse())).cracks[0]
@@ -115,7 +116,7 @@ def test_a_curve_ending_on_a_cylinders_side_does_not_grow():
 ])
 def test_a_uniform_advance_grows_the_curve_by_it_and_the_front_ends_where_the_advanced_ends_do(center, axes, grown):
     s = SolidScene.from_dict(plate(as_curve(ellipse(center, axes))))
-    (phi0, phi1), = inside_arcs(s.domain, s.cracks[0])
+    (phi0, phi1), = inside_arcs(s.domain, s.cracks[0], curve_point(s.cracks[0]))
     angles = np.linspace(phi0, phi1, 11)
     d, lead = grown_surface_crack(s.domain, s.cracks[0], angles, np.full(11, 0.1), 5)
     assert lead == pytest.approx(0.1)
@@ -132,7 +133,7 @@ def test_a_non_uniform_advance_leaves_a_front_without_kinks():
     no kink (measured 0.0016 on a semicircle, 0.0074 on a quarter ellipse at a corner; the advance interpolated
     linearly between the stations put kinks of 0.67 and 2.7 there)."""
     s = SolidScene.from_dict(plate(as_curve(ellipse(axes=(0.5, 0.5)))))
-    (phi0, phi1), = inside_arcs(s.domain, s.cracks[0])
+    (phi0, phi1), = inside_arcs(s.domain, s.cracks[0], curve_point(s.cracks[0]))
     angles = np.linspace(phi0, phi1, 7)
     advance = 0.1 - 0.04 * np.sin(np.linspace(0.0, math.pi, 7)) ** 2
     d, _ = grown_surface_crack(s.domain, s.cracks[0], angles, advance, 0)

@@ -3,8 +3,9 @@
 A planar crack (disc, ellipse, polygon, curve) may cross the faces of its box or cylinder: the crack
 is its part inside the body, and its front the part of its outline inside the body: open
 arcs (or polygon sides) that end on the free surface, where the crack's mouth lies. A curve's
-arcs are found as an ellipse's, along its spline's parameter (`outline_point`), so that a surface
-or corner crack may have a free front shape (a grown one: ngcrack.studies.growth.surface3d). This
+arcs are found as an ellipse's, along its spline's parameter (`inside_arcs` takes its point
+function, which ngcrack.solid.curve, a layer above, gives), so that a surface or corner crack
+may have a free front shape (a grown one: ngcrack.studies.growth.surface3d). This
 module holds the geometry of that clipping in plain numpy, for the scene's checks
 (``ngcrack.solid.scene``), the mesh (``ngcrack.solid.geometry`` names the clipped face's edges)
 and the fronts (``ngcrack.solid.front`` wraps a closed front into an :class:`ArcFront`).
@@ -31,6 +32,8 @@ STEP_SAMPLES = 128
 MEASURE_SAMPLES, MEASURE_CACHE = 512, 256
 #: grid points per side measuring the area of a crack's part inside a box or a cylinder (`inside_measures`)
 MEASURE_GRID = 400
+#: outline points of the polygon standing for a curve's face when its area inside a STEP part is measured
+CURVE_AREA_POINTS = 1024
 #: a point within this fraction of the body's size of a face is on it (an edge of the clipped crack on the surface)
 ON_SURFACE_RTOL = 1e-7
 #: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
@@ -171,15 +174,11 @@ def _inside_area(domain, crack) -> float:
 
 
 def _occ_face(crack):
-    """The crack's plane face in OCC (a disc, an ellipse, a polygon or a curve)."""
+    """The crack's plane face in OCC (a disc, an ellipse, a polygon or a curve), for its area inside a STEP part."""
     from netgen import occ
 
-    if crack.shape == "curve":
-        from .curve import occ_curve_face
-
-        return occ_curve_face(crack)
-    if crack.shape == "polygon":
-        pts = [occ.Pnt(*p) for p in crack.points]
+    if crack.shape in ("polygon", "curve"):  # a curve: the polygon of CURVE_AREA_POINTS of its outline (its area to ~1e-6)
+        pts = [occ.Pnt(*map(float, p)) for p in (crack.points if crack.shape == "polygon" else crack.outline(CURVE_AREA_POINTS))]
         return occ.Face(occ.Wire([occ.Segment(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]))
     a, b = crack.semi_axes
     major, (a, b) = (crack.e_a, (a, b)) if a >= b else (crack.e_b, (b, a))
@@ -188,23 +187,22 @@ def _occ_face(crack):
 
 
 def outline_point(crack):
-    """The crack's outline as a function of phi in [0, 2 pi): a disc's or an ellipse's parametric angle, a curve's
-    spline parameter scaled to 2 pi (the angle of its front, ngcrack.solid.curve.CurveFront)."""
-    if crack.shape == "curve":
-        from .curve import spline_of
-
-        spline = spline_of(crack)
-        return lambda phi: spline.xyz(np.asarray(phi) * (spline.T / (2 * np.pi)))
+    """A disc's or an ellipse's outline as a function of its parametric angle phi (a curve's is its spline's,
+    ngcrack.solid.curve.curve_point, which this module's layer does not import: give it to `inside_arcs`)."""
+    if crack.shape not in ("disc", "ellipse"):
+        raise ValueError(f"outline_point: a {crack.shape}'s outline is not an ellipse's; give inside_arcs its point "
+                         f"function (a curve's: ngcrack.solid.curve.curve_point)")
     a, b = crack.semi_axes
     return lambda phi: (crack.center + np.multiply.outer(a * np.cos(phi), crack.e_a)
                         + np.multiply.outer(b * np.sin(phi), crack.e_b))
 
 
-def inside_arcs(domain, crack) -> list[tuple[float, float]]:
-    """The parametric intervals (phi0, phi1), phi0 < phi1 < phi0 + 2 pi, of a disc's, an ellipse's or a curve's
-    outline inside the body (`outline_point`), each end refined by bisection to the face. Empty if the whole
-    outline is outside; one interval (0, 2 pi) if the outline does not leave the body."""
-    point = outline_point(crack)
+def inside_arcs(domain, crack, point=None) -> list[tuple[float, float]]:
+    """The parametric intervals (phi0, phi1), phi0 < phi1 < phi0 + 2 pi, of a closed outline inside the body, each
+    end refined by bisection to the face: `point(phi)` the outline (default a disc's or an ellipse's, `outline_point`;
+    a curve's spline, its parameter scaled to 2 pi: ngcrack.solid.curve.curve_point, or its front's ``point``). Empty
+    if the whole outline is outside; one interval (0, 2 pi) if the outline does not leave the body."""
+    point = point or outline_point(crack)
     m = samples(domain, ARC_SAMPLES)
     phi = np.linspace(0.0, 2 * np.pi, m, endpoint=False)
     inside = clearance(domain, point(phi)) > 0
@@ -369,7 +367,7 @@ def ligament(domain, crack, points: np.ndarray) -> float:
 def open_arcs(sol, base) -> list:
     """A disc's, an ellipse's or a curve's front in the body: [base] if it stays inside, else one ArcFront per arc."""
     domain = sol.scene.domain
-    arcs = inside_arcs(domain, base.crack)
+    arcs = inside_arcs(domain, base.crack, base.point)  # (the front's angle: an ellipse's, a curve's spline's)
     if arcs == [(0.0, 2 * np.pi)]:
         return [base]
     out = []

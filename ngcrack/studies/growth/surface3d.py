@@ -44,6 +44,7 @@ import math
 import numpy as np
 
 from ...core.errors import InputError
+from .faces3d import NORMAL_STEP_RTOL, along_faces, carried, domain_size, thickness  # noqa: F401  (carried: fronts3d's)
 
 #: the surface point grows with K this fraction of the front's length in from the surface (module docstring)
 SURFACE_K_FRACTION = 0.05
@@ -54,8 +55,6 @@ SMOOTH_DEGREE = 4
 FIT_POINTS = 65
 #: a surface crack's centre lies on the body's surface within this fraction of its size
 CENTRE_ON_SURFACE_RTOL = 1e-6
-#: the step of the central differences that give a face's normal, a fraction of the body's size
-NORMAL_STEP_RTOL = 1e-6
 
 
 def is_surface_crack(domain, crack) -> bool:
@@ -125,18 +124,6 @@ def surface_drive(angles: np.ndarray, K_eq: np.ndarray, crack, fraction: float =
     return np.maximum(drive, 0.0)
 
 
-def _face_normal(domain, p: np.ndarray, size: float) -> np.ndarray:
-    """The outward unit normal of the face nearest to the point p."""
-    from ngcrack.solid.surface import face_distances
-
-    dist = face_distances(domain, p[None])
-    key = min(dist, key=lambda k: abs(dist[k][0]))
-    h = NORMAL_STEP_RTOL * size
-    grad = np.array([(face_distances(domain, (p + h * e)[None])[key][0] - face_distances(domain, (p - h * e)[None])[key][0])
-                     / (2 * h) for e in np.eye(3)])
-    return -grad / np.linalg.norm(grad)  # the distance grows inwards
-
-
 def _rays(domain, crack, phi: np.ndarray, ends: bool):
     """(the front's points at the angles phi, their directions of advance): the outward in-plane normal, at the
     first and last point (`ends`: the front's ends on the surface) projected into their faces."""
@@ -149,12 +136,7 @@ def _rays(domain, crack, phi: np.ndarray, ends: bool):
         p = crack.center + np.outer(a * np.cos(phi), crack.e_a) + np.outer(b * np.sin(phi), crack.e_b)
         d = np.outer(b * np.cos(phi), crack.e_a) + np.outer(a * np.sin(phi), crack.e_b)  # the outward in-plane normal
         d /= np.linalg.norm(d, axis=1, keepdims=True)
-    for k in ((0, len(phi) - 1) if ends else ()):  # the ends move along their faces, in the crack's plane
-        nf = _face_normal(domain, p[k], crack.size)
-        t = d[k] - np.dot(d[k], nf) * nf
-        t -= np.dot(t, crack.normal) * crack.normal
-        d[k] = t / np.linalg.norm(t)
-    return p, d
+    return p, along_faces(domain, crack, p, d) if ends else d
 
 
 def advanced_points(domain, crack, angles: np.ndarray, advance: np.ndarray, n: int = FIT_POINTS) -> np.ndarray:
@@ -189,12 +171,6 @@ def fit_ellipse(crack, points: np.ndarray, start: tuple[float, float]) -> tuple[
     return float(A), float(B)
 
 
-def carried(crack) -> dict:
-    """What a crack's new shape keeps of it (a grown or re-characterised crack's scene dictionary): its friction and its
-    pressure (a number, a table or a callable: a field in space, solid.loads), where it has them."""
-    return {k: v for k, v in (("friction", crack.friction), ("pressure", crack.pressure)) if v}
-
-
 def grown_surface_crack(domain, crack, angles: np.ndarray, advance: np.ndarray, lead: int) -> tuple[dict, float]:
     """(the grown crack's scene dictionary, the actual advance of the station `lead`): module docstring, step 4 (a
     curve: the curve through the advanced points completed beyond the faces, surface_curve.py)."""
@@ -224,18 +200,6 @@ def _ray_to_ellipse(crack, A: float, B: float, p: np.ndarray, d: np.ndarray) -> 
     return float((-qb + math.sqrt(disc)) / (2 * qa))
 
 
-def _thickness(domain, p: np.ndarray, inward: np.ndarray, size: float) -> float:
-    """The body's thickness from the surface point p along the inward direction (bisection to where it leaves)."""
-    lo, hi = 0.0, 4.0 * size
-    while hi - lo > 1e-6 * size:
-        mid = 0.5 * (lo + hi)
-        if float(domain.clearance((p + (mid + 1e-9 * size) * inward)[None])[0]) > 0 or mid < 1e-9 * size:
-            lo = mid
-        else:
-            hi = mid
-    return lo
-
-
 def depth_axis(domain, crack) -> int:
     """0 if the crack's first axis (e_a) crosses the face its centre lies on (it measures the depth), else 1; a
     corner crack's centre lies on two faces: the depth runs through the body's thinner direction of the two (a
@@ -253,16 +217,9 @@ def depth_axis(domain, crack) -> int:
         normals.append(g / np.linalg.norm(g))  # inward
     if len(normals) > 1:  # the thinner direction; probed from a point inside both faces' edge, along each normal
         probe = crack.center + 1e-3 * size * sum(normals)
-        normals.sort(key=lambda n: _thickness(domain, probe, n, domain_size(domain)))
+        normals.sort(key=lambda n: thickness(domain, probe, n, domain_size(domain)))
     nf = normals[0]
     return 0 if abs(np.dot(crack.e_a, nf)) > abs(np.dot(crack.e_b, nf)) else 1
-
-
-def domain_size(domain) -> float:
-    """The body's diameter (its bounding box's), the scale of a probe."""
-    if hasattr(domain, "lo"):
-        return float(np.linalg.norm(np.asarray(domain.hi) - np.asarray(domain.lo)))
-    return float(np.hypot(2 * domain.radius, domain.height))
 
 
 def depth_and_length(domain, crack) -> tuple[float, float]:

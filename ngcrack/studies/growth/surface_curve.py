@@ -37,6 +37,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...core.errors import InputError
+from .faces3d import along_faces, carried, domain_size, face_normal, thickness
 
 #: advanced points along the front through which the new curve passes (at least two per station)
 CURVE_FRONT_POINTS = 65
@@ -78,9 +79,10 @@ def point_and_normal(crack, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _arc(domain, crack, i: int | None = None) -> tuple[float, float]:
+    from ngcrack.solid.curve import curve_point
     from ngcrack.solid.surface import inside_arcs
 
-    arcs = inside_arcs(domain, crack)
+    arcs = inside_arcs(domain, crack, curve_point(crack))
     if len(arcs) != 1:
         raise InputError(f"crack[{i}]: its front inside the body is {len(arcs)} arcs; a surface crack grows with one "
                          f"front from surface to surface")
@@ -100,11 +102,9 @@ def _trace(domain, crack, p: np.ndarray) -> tuple[str, np.ndarray, float]:
     pointing out of the body, the sine of the angle between the face and the crack's plane)."""
     from ngcrack.solid.surface import face_distances
 
-    from .surface3d import _face_normal
-
     dist = face_distances(domain, p[None])
     key = min(dist, key=lambda k: abs(dist[k][0]))
-    nf = _face_normal(domain, p, crack.size)
+    nf = face_normal(domain, p, crack.size)
     m = nf - np.dot(nf, crack.normal) * crack.normal
     sine = float(np.linalg.norm(m))
     return key, m / max(sine, 1e-300), sine
@@ -183,8 +183,6 @@ def symmetric_interpolant(s_i: np.ndarray, values: np.ndarray):
 
 def grown_surface_curve(domain, crack, angles: np.ndarray, advance: np.ndarray, lead: int) -> tuple[dict, float]:
     """(the grown curve's scene dictionary, the advance of the station `lead`): module docstring, step 4'."""
-    from .surface3d import _rays, carried
-
     phi_i = np.asarray(angles, dtype=float)
     adv_i = np.asarray(advance, dtype=float)
     s_i = curve_arc(crack, phi_i)
@@ -193,8 +191,8 @@ def grown_surface_curve(domain, crack, angles: np.ndarray, advance: np.ndarray, 
     s = np.linspace(0.0, s_i[-1], n)
     phi = np.interp(s, curve_arc(crack, grid), grid)
     adv = np.maximum(symmetric_interpolant(s_i, adv_i)(s), 0.0)
-    p, d = _rays(domain, crack, phi, True)
-    moved = p + adv[:, None] * d
+    p, d = point_and_normal(crack, phi)
+    moved = p + adv[:, None] * along_faces(domain, crack, p, d)
     outline = completed(moved, _mirrors(domain, crack, moved[[0, -1]]))
     d_new = {"shape": "curve", "points": outline.tolist(), **carried(crack)}
     return d_new, float(adv_i[lead])
@@ -204,8 +202,6 @@ def curve_depth_and_length(domain, crack) -> tuple[float, float]:
     """(a, c) of a curve crossing the faces (module docstring)."""
     from ngcrack.solid.surface import face_distances
 
-    from .surface3d import _thickness, domain_size
-
     p = front_points(domain, crack, 513)
     (k0, m0, _), (k1, m1, _) = (_trace(domain, crack, e) for e in p[[0, -1]])
     dist = face_distances(domain, p)
@@ -213,7 +209,7 @@ def curve_depth_and_length(domain, crack) -> tuple[float, float]:
         return float(dist[k0].max()), 0.5 * float(np.linalg.norm(p[-1] - p[0]))
     size = domain_size(domain)
     # the depth runs through the body's thinner direction of the two faces' (a plate's thickness)
-    t0, t1 = (_thickness(domain, e, -m, size) for e, m in ((p[0], m0), (p[-1], m1)))
+    t0, t1 = (thickness(domain, e, -m, size) for e, m in ((p[0], m0), (p[-1], m1)))
     a_key, c_key = (k0, k1) if t0 <= t1 else (k1, k0)
     return float(dist[a_key].max()), float(dist[c_key].max())
 
@@ -224,6 +220,4 @@ def curve_of_ellipse(crack, n: int = ELLIPSE_CURVE_POINTS) -> dict:
     a, b = crack.semi_axes
     phi = 2 * np.pi * (np.arange(n) + 0.5) / n
     p = crack.center + np.outer(a * np.cos(phi), crack.e_a) + np.outer(b * np.sin(phi), crack.e_b)
-    from .surface3d import carried
-
     return {"shape": "curve", "points": p.tolist(), **carried(crack)}
