@@ -19,7 +19,8 @@ and the curvature range max/min along the front. The CPU seconds of each run (pr
 
 Also `--k-only`: K along the front of the built-in `surface-crack` (a/c = 0.6) as the ellipse, as curves
 through 24, 32 and 48 points of it, and as the ellipse moved by 1e-3 (another mesh of the same crack:
-the mesh-to-mesh spread), at `--front-h`.
+the mesh-to-mesh spread), at `--front-h`; with `--corner` the same ellipse centred on the edge of the
+faces xmin and zmax (a corner crack; moved by 1e-3 along z).
 
 No number here is a test threshold.
 """
@@ -54,18 +55,22 @@ def plate(front_h: float, crack: dict) -> dict:
     return d
 
 
-def k_only(front_h: float) -> None:
+def k_only(front_h: float, corner: bool) -> None:
     import ngcrack as nc
     from ngcrack.solid.scene import SolidScene
     from ngcrack.studies.growth.surface_curve import curve_of_ellipse
 
     d = plate(front_h, {})
     base = copy.deepcopy(nc.scenes.load("surface-crack").to_dict()["crack"][0])
+    if corner:
+        base["center"] = [-B, 0.0, T]
     ellipse = SolidScene.from_dict({**d, "crack": [base]}).cracks[0]
-    cases = [("ellipse", base), ("ellipse moved 1e-3", {**base, "center": [1e-3, 0.0, 1.5]})]
+    moved = [c + 1e-3 * (k == 2) for k, c in enumerate(base["center"])] if corner else [1e-3, 0.0, T]
+    cases = [("ellipse", base), ("ellipse moved 1e-3", {**base, "center": moved})]
     cases += [(f"curve, {n} points", curve_of_ellipse(ellipse, n)) for n in (24, 32, 48)]
     ref = None
-    print(f"K_I along the front of surface-crack (a/c = 0.6), front_h {front_h}; against the ellipse's")
+    where = "on the edge of xmin and zmax (a corner crack)" if corner else "(a/c = 0.6)"
+    print(f"K_I along the front of surface-crack's ellipse {where}, front_h {front_h}; against the ellipse's")
     print(f"{'crack':>20} {'points':>6} {'max dev':>8} {'mean dev':>8} {'cpu s':>6}")
     for name, crack in cases:
         t0 = time.process_time()
@@ -112,7 +117,7 @@ def main() -> None:
     args = ap.parse_args()
     print(f"machine: {os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")
     if args.k_only:
-        k_only(args.front_h)
+        k_only(args.front_h, args.corner)
         return
     from ngcrack.solid.scene import SolidScene
     from ngcrack.studies.growth.surface_curve import curve_of_ellipse
