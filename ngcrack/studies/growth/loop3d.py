@@ -19,11 +19,12 @@ as a power of the size (a penny: K ~ sqrt(a)), second order otherwise; so the co
 da (a first-order da / (C Delta K_max^m) per step is 6.6% high on a penny after four steps of 0.1 a, m = 3). The
 run stops when K_max reaches K_Ic (fracture).
 
-Surface cracks (a disc or an ellipse crossing a face, its front from surface to surface): the same
-rules along the open front, the surface points growing with K taken SURFACE_K_FRACTION of the front's
-length in from the surface and moving along the face, and the grown crack the ellipse with the same
-centre and axes fitted to the advanced points (surface3d.py); the leading point's advance in the
-cycle count is what the fitted ellipse gives it.
+Surface cracks (a disc, an ellipse or a curve crossing a face, its front from surface to surface): the
+same rules along the open front, the surface points growing with K taken SURFACE_K_FRACTION of the
+front's length in from the surface and moving along the face. A disc or an ellipse grows as the ellipse
+with the same centre and axes fitted to the advanced points (surface3d.py), the leading point's advance
+in the cycle count being what the fitted ellipse gives it; a curve grows as the curve through the
+advanced points, a free front shape (surface_curve.py).
 
 Break-through (breakthrough.py): a grown embedded front whose ligament to a face falls below 0.4 of
 its half-height (ASME XI's proximity rule), or that comes within the scene's clearance of the face or
@@ -57,7 +58,7 @@ import numpy as np
 from ...core.errors import InputError
 from ...core.fields import is_finite
 from .breakthrough import recharacterise
-from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION, check_corrector
+from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION, check_corrector, check_flag
 from .fatigue import check_paris, delta_K, step_cycles
 from .fronts3d import (
     CLEARANCE_RTOL,
@@ -122,6 +123,9 @@ def check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve
     if isinstance(together, bool) or not (isinstance(together, (int, float)) and 0 < together < 0.5):
         raise InputError(f"together = {together!r}: must be a number in (0, 0.5) (the points within it of the largest "
                          f"K_eq advance)")
+    if solve_options.get("fronts", True) is not True:  # every step advances the fronts by their K
+        raise InputError(f"fronts = {solve_options['fronts']!r}: growth computes the fronts' K at every step itself; "
+                         f"leave it out")
     bad = [k for k in _RESERVED if k in solve_options]
     if bad:
         raise InputError(f"{bad[0]}: grow sets it for every step itself; give the scene and the mesh options only")
@@ -188,6 +192,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
     from .result3d import SolidGrowthResult
 
     corrector = check_corrector(corrector, scene)
+    check_flag(frames, "frames", "keep every step's deformed body for the animation")
     fatigue = check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar or {})
     da, steps = float(da), int(steps)
     cycles = None if fatigue is None else _Cycles(*fatigue, R=float(R))
@@ -279,7 +284,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
 def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events: list | None = None):
     """(the scene with every front advanced, "", the advance of the leading point), or (None, why the run stops,
     None). The leading point (the largest K_drive of front `lead`) advanced by da, or, on a surface crack,
-    by what the fitted ellipse gives it (surface3d.py). An embedded crack that nears a face becomes a surface
+    by what the fitted ellipse gives it (surface3d.py; a curve: da). An embedded crack that nears a face becomes a surface
     crack (breakthrough.py): what happened is appended to `events` (dictionaries)."""
     from ngcrack.core.fields import SceneError
     from ngcrack.solid.scene import SolidScene, crack_from_dict
@@ -290,7 +295,7 @@ def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events
         if np.max(adv) <= STILL_RTOL * da:
             continue
         crack = scene.cracks[f.crack]
-        if is_surface_crack(scene.domain, crack):  # the ellipse through the advanced points
+        if is_surface_crack(scene.domain, crack):  # the ellipse (or the curve) through the advanced points
             top = int(np.argmax(values[k]["K_drive"])) if values is not None else int(np.argmax(adv))
             d["crack"][f.crack], moved = grown_surface_crack(scene.domain, crack, f.angle, adv, top)
             if k == lead:
