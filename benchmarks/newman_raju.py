@@ -153,20 +153,21 @@ def default_case(a_over_c: float, a_over_t: float, before: bool = False, a: floa
     k = int(np.argmin(np.abs(f.points[:, 0])))
     return {"sizes": sizes, "est_tets": est.tets, "est_memory": est.memory, "tets": sol.smesh.mesh.ne,
             "ndof": sol.ndof["total"], "K": float(f.K_I[k]), "Ko": opening_K_I(sol, f.points[k], [0.0, 0.0, 1.0], a),
+            "Ks": 0.5 * float(f.K_I[0] + f.K_I[-1]), "nr_s": float(surface_crack_K(1.0, a, c, t, 5.0 * c, 0.0)),
             "nr": float(surface_crack_K(1.0, a, c, t, 5.0 * c, 0.5 * math.pi)), "cpu": cpu,
             "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
 
 
-def _published(a_over_c: float, a_over_t: float, a: float = 0.6) -> float | None:
-    """The mean of Shiratori's and ASME XI's deepest-point K on the plate (`studies.newman_raju.published_K`; the
-    tables' own where only one covers the case), None where neither does."""
+def _published(a_over_c: float, a_over_t: float, a: float = 0.6, point: str = "deepest") -> float | None:
+    """The mean of Shiratori's and ASME XI's K at the deepest (or surface) point of the plate
+    (`studies.newman_raju.published_K`; the tables' own where only one covers the case), None where neither does."""
     from ngcrack.studies.newman_raju import published_K
 
     c, t = a / a_over_c, a / a_over_t
     ks = []
     for source in ("shiratori", "asme"):
         try:
-            ks.append(published_K(source, "deepest", 1.0, a, c, t, 5.0 * c))
+            ks.append(published_K(source, point, 1.0, a, c, t, 5.0 * c))
         except ValueError:
             pass
     return float(np.mean(ks)) if ks else None
@@ -183,6 +184,7 @@ def defaults_study(before: bool = False, cases=None, a: float = 0.6) -> None:
     print("| a/c | a/t | maxh | crack_h | front_h | tets (estimate / netgen) | unknowns | K domain integral | K opening | "
           "published (errors) | converged (errors) | Newman-Raju (errors) | CPU s | peak MB (estimate) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    surface = []
     for r, s in cases or DEFAULTS[:4]:
         code = (f"import json, benchmarks.newman_raju as m; print('@@' + json.dumps(m.default_case({r}, {s}, {before})))")
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
@@ -203,6 +205,13 @@ def defaults_study(before: bool = False, cases=None, a: float = 0.6) -> None:
               f"({d['est_tets'] / d['tets']:.2f}) | {d['ndof']:,} | {d['K']:.4f} | {d['Ko']:.4f} | {versus(pub)} | "
               f"{versus(conv)} | {versus(d['nr'])} | {d['cpu']:.1f} | {d['peak_mb']:.0f} ({d['est_memory'] / 2 ** 20:.0f}) |",
               flush=True)
+        pub_s = _published(r, s, a, "surface")
+        surface.append(f"| {r:g} | {s:g} | {d['Ks']:.4f} | " + ("" if pub_s is None else f"{pub_s:.4f} ({d['Ks'] / pub_s - 1:+.1%})")
+                       + f" | {d['nr_s']:.4f} ({d['Ks'] / d['nr_s'] - 1:+.1%}) |")
+    print("\nThe surface points (the mean of the two; the value a bump half-width inside, `solid.surface.SURFACE_INSET`):\n")
+    print("| a/c | a/t | K surface points | published (error) | Newman-Raju (error) |")
+    print("|---|---|---|---|---|")
+    print("\n".join(surface))
 
 
 def slender_study(a: float = 0.6) -> None:
