@@ -136,12 +136,15 @@ THICKNESS_STEPS, LIGAMENT_BISECTIONS = 256, 40
 LIGAMENT_SAMPLES = 512
 
 #: The default sizes of a crack that crosses a face (a surface or corner crack; `depth_cap`): front_h is at most the
-#: crack's depth (`crack_depth`) over this many elements: the crack-sized default (0.1 of the inside diameter, ~2c)
-#: gave a/3 on a/c = 0.6 and a/2 on a/c = 0.4, and the deepest point's K came 4.8-6% below Newman-Raju's equation
-#: where the built-in `surface-crack` at a/6 is 2.8% below (BENCHMARKS, "Default sizes for surface cracks by depth")
+#: crack's depth (`crack_depth`) over this many elements (the built-in `surface-crack`'s a/6): the crack-sized default
+#: (0.1 of the inside diameter, ~2c) gave a/1 to a/5 on a/c = 0.2-1, the deepest point's K -20.7% to +4.6% from the
+#: published tables and the opening's up to 22% off the domain integral; at a/6 the domain integral is within 1.7% of
+#: the tables on 14 plates (a/c 0.2-1, a/t 0.2-0.8), and a/8 moves it by 0.4% at most for 19-46% more unknowns
+#: (BENCHMARKS, "Default sizes for surface cracks by depth")
 DEPTH_ELEMENTS = 6.0
 #: ... but front_h not below this fraction of the crack's size (its inside diameter, 2c on a semi-ellipse): a/6 on
-#: a/c = 0.2, the most slender plate measured (2c = 10a); a shallower, longer crack keeps this size (its memory)
+#: a/c = 0.2, the most slender plate measured (2c = 10a; at a/t = 0.6 1.0M unknowns and 2.4 GB peak); a shallower,
+#: longer crack keeps this size (its memory)
 DEPTH_FLOOR_RTOL = 1.0 / 60.0
 
 _LIGAMENTS: dict = {}
