@@ -170,3 +170,28 @@ def opening_K_I(sol, point, inward, depth: float, crack: int = 0, window=OPENING
     delta = normal_u(p + eps * n) - normal_u(p - eps * n)
     k_r = e_prime * delta * np.sqrt(2.0 * np.pi / r) / 8.0
     return float(np.polyfit(r, k_r, 1)[-1])
+
+
+#: `front_opening_K_I`'s window ends at most this fraction of the station's reach behind it (the distance inwards to
+#: the crack's medial axis: on a surface crack the free face, near its ends)
+OPENING_REACH_FRACTION = 0.8
+
+
+def front_opening_K_I(sol, crack: int = 0, window=OPENING_WINDOW) -> np.ndarray:
+    """`opening_K_I` at every station of a disc's or an ellipse's front (``sol.fronts``), read along the station's
+    in-plane normal behind it over `window` fractions of the crack's smaller semi-axis, the window's far end at most
+    OPENING_REACH_FRACTION of the station's reach (NaN where the window closes)."""
+    from ..solid.front import FrontGeometry
+
+    c = sol.scene.cracks[crack]
+    geom = FrontGeometry(c)
+    front = next(f for f in sol.fronts if f.crack == crack)
+    e1, _, _ = geom.frame(np.asarray(front.angle, dtype=float))
+    ell = min(geom.a, geom.b)
+    far = np.minimum(window[1] * ell, OPENING_REACH_FRACTION * geom.reach(np.asarray(front.angle, dtype=float)))
+    out = np.full(len(front.angle), np.nan)
+    for k, p in enumerate(front.points):
+        lo = window[0] * ell
+        if far[k] > 1.5 * lo:
+            out[k] = opening_K_I(sol, p, -e1[k], 1.0, crack, (lo, far[k]))
+    return out
