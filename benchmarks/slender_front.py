@@ -116,9 +116,6 @@ def surface_study(per_a: float = 6.0, crack_ratio: float = 2.0, a: float = 0.6, 
     print(f"a/c = {r}, a/t = {s}, front_h = a/{per_a:g}, order {order}: {sol.ndof['total']:,} unknowns, "
           f"{cpu:.1f} CPU s, peak {_peak_gb():.2f} GB", flush=True)
     variants = {"reported": fr.front_parameters(sol)[0]}
-    fr.FOOT_REACH = False
-    variants["tube of the station's radius"] = fr.front_parameters(sol)[0]
-    fr.FOOT_REACH = True
     keep = fr.NEAR_DISC_H
     fr.NEAR_DISC_H = 0.0
     variants["no disc"] = fr.front_parameters(sol)[0]
@@ -257,9 +254,6 @@ def mirror_study(per_a: float = 6.0, a: float = 0.6) -> None:
           f"peak {_peak_gb():.2f} GB", flush=True)
     f = fr.front_parameters(sol)[0]
     others = {}
-    fr.FOOT_REACH = False
-    others["tube of the station's radius"] = fr.front_parameters(sol)[0].K_I
-    fr.FOOT_REACH = True
     for reach in (0.5, 0.3):
         keep = fr.REACH_FRACTION
         fr.REACH_FRACTION = reach
