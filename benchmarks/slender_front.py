@@ -1,20 +1,27 @@
 """K_I near the free surface of a slender surface crack: the domain integral against independent checks.
 
-    python benchmarks/slender_front.py surface [--front-h-per-a 6]   # a/c = 0.2, a/t = 0.5 (BENCHMARKS "Deep and slender")
-    python benchmarks/slender_front.py ellipse [--aspect 0.2]         # an embedded ellipse against Irwin's closed form
+    python benchmarks/slender_front.py surface [--front-h-per-a 6]   # a/c = 0.2, a/t = 0.5, the free face
+    python benchmarks/slender_front.py mirror [--front-h-per-a 6]    # the same half-ellipse on a symmetry plane
+    python benchmarks/slender_front.py ellipse [--aspect 0.33 --front-h-per-a 4]   # a closed ellipse (memory!)
 
-`surface`: the plate of benchmarks/newman_raju.py (a = 0.6, c = 3, t = 1.2, order 1). At each front station
-up to 50 deg from the surface (phi the parametric angle, Newman and Raju's): the reported K_I (the domain
-integral), the same integral with parts changed on the same solution (no curvature terms; the Gauss rule of
-the closed fronts), the part of the integral that the free face z = t contributes where the tube meets it
+`surface`: the plate of benchmarks/newman_raju.py (a = 0.6, c = 3, t = 1.2, order 1, front_h = a/6). At each
+front station up to 50 deg from the surface (phi the parametric angle, Newman and Raju's): the reported K_I (the
+domain integral), the same integral with parts changed on the same solution (no closed-form disc of the curvature
+terms; the Gauss rule of the closed fronts; the tube at 0.5 and 0.3 of the reach instead of 0.8; no curvature
+terms at all), the part of the integral that the free face z = t contributes where the tube meets it
 (`free_face_term`: the divergence theorem turns the domain integral into the front's integral plus the flux of
 q v P^m through every face of the tube that is not the crack's; on the free face sigma n = 0 but neither
 sigma^m n nor v . n vanishes), and K_I from the crack's opening behind the station along its in-plane normal
-(`ngcrack.studies.newman_raju.opening_K_I`), against Newman and Raju's equation.
+(`ngcrack.studies.newman_raju.front_opening_K_I`), against Newman and Raju's equation.
+
+`mirror`: the same crack, mesh sizes and open-front code with the face the crack crosses on rollers and t = 4a
+(`mirror_scene`): half of an embedded ellipse, against Irwin's closed form times Newman and Raju's finite-size
+factor of the embedded crack (`embedded_F_factor`); the ratio of `surface`'s K to `mirror`'s at a station is the
+free face's share, with what the extraction does to both taken out.
 
 `ellipse`: an embedded elliptical crack of semi-axes 1 and `aspect` in the penny's block under remote
 tension 1: the domain integral's K_I against Irwin's p sqrt(pi b) / E(k) (sin^2 phi + (b/a)^2 cos^2 phi)^(1/4)
-at the stations, with their curvature, and the opening's.
+at the stations, with their curvature, and the opening's (b/a = 0.2 at front_h = b/5 passed 4 GB here).
 """
 
 from __future__ import annotations
