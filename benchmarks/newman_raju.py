@@ -3,6 +3,7 @@
     python benchmarks/newman_raju.py [--quick] [--order K]
     python benchmarks/newman_raju.py --deep      # the deepest point of deep cracks by mesh, order and extraction
     python benchmarks/newman_raju.py --slender   # the points near the surface of a slender crack by mesh
+    python benchmarks/newman_raju.py --defaults [--before]  # the deepest point at the library's default sizes
 
 For each (a/c, a/t): a plate of thickness t, half-width b = 5c and half-length 2b, one end clamped and
 the other pulled (S = 1; the pulled end is free, so the bending of the cracked section is the one
@@ -106,6 +107,85 @@ def deep_study(a: float = 0.6, element: str | None = None, aspect: float | None 
               f"{K:.4f} ({K / ref - 1:+.2%}) | {Ko:.4f} ({Ko / ref - 1:+.2%}) | {ref:.4f} | {cpu:.1f} |", flush=True)
 
 
+#: the default sizes' study (`defaults_study`): (a/c, a/t) of plates whose scene sets no [mesh] sizes, and the
+#: converged deepest-point K_I of the deep ones (BENCHMARKS, "Deep and slender surface cracks": 1.33 +- 0.03 and
+#: 0.95-0.96)
+DEFAULTS = [(0.6, 0.8), (1.0, 0.8), (0.4, 0.6), (0.6, 0.4), (1.0, 0.2)]
+CONVERGED = {(0.6, 0.8): 1.33, (1.0, 0.8): 0.955}
+
+
+def default_scene(a_over_c: float, a_over_t: float, a: float = 0.6, before: bool = False) -> SolidScene:
+    """The benchmark's plate without [mesh] sizes (the library's defaults); `before`: with the crack-sized defaults
+    of before the ligament rule set explicitly (maxh a quarter of the body's size, at most 2.5 crack sizes; crack_h
+    and front_h 0.2 and 0.1 of the crack's size)."""
+    from ngcrack.solid.scene import DEFAULT_CRACK_H_RTOL, DEFAULT_FRONT_H_RTOL, DEFAULT_MAXH_CRACK_RTOL, DEFAULT_MAXH_RTOL
+    from ngcrack.solid.surface import inside_measures
+
+    d = surface_scene(a_over_c, a_over_t, a).to_dict()
+    d.pop("mesh")
+    if before:
+        scene = SolidScene.from_dict({**d, "mesh": {"front_h": 1e-3}})  # only its size and its crack's measures
+        size, crack = scene.size, inside_measures(scene.domain, scene.cracks[0])[0]
+        maxh = min(DEFAULT_MAXH_RTOL * size, DEFAULT_MAXH_CRACK_RTOL * crack)
+        crack_h = min(DEFAULT_CRACK_H_RTOL * crack, maxh)
+        d["mesh"] = {"maxh": maxh, "crack_h": crack_h, "front_h": min(DEFAULT_FRONT_H_RTOL * crack, crack_h)}
+    return SolidScene.from_dict(d)
+
+
+def default_case(a_over_c: float, a_over_t: float, before: bool = False, a: float = 0.6) -> dict:
+    """One plate at the default sizes: the sizes, the estimate and netgen's tetrahedra, the unknowns, the deepest
+    point's K by both extractions, CPU seconds and the peak resident memory (run in its own process)."""
+    import resource
+
+    import ngcrack as nc
+    from ngcrack.solid.sizing import estimate_size
+
+    c, t = a / a_over_c, a / a_over_t
+    try:
+        scene = default_scene(a_over_c, a_over_t, a, before)
+    except ValueError as e:
+        return {"refused": str(e)}
+    sizes, est = scene.mesh_sizes(), estimate_size(scene)
+    t0 = time.process_time()
+    sol = nc.solve(scene)
+    cpu = time.process_time() - t0
+    f = sol.fronts[0]
+    k = int(np.argmin(np.abs(f.points[:, 0])))
+    return {"sizes": sizes, "est_tets": est.tets, "est_memory": est.memory, "tets": sol.smesh.mesh.ne,
+            "ndof": sol.ndof["total"], "K": float(f.K_I[k]), "Ko": opening_K_I(sol, f.points[k], [0.0, 0.0, 1.0], a),
+            "nr": float(surface_crack_K(1.0, a, c, t, 5.0 * c, 0.5 * math.pi)), "cpu": cpu,
+            "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+def defaults_study(before: bool = False, a: float = 0.6) -> None:
+    """The deepest point of the DEFAULTS plates at the library's default sizes (`before`: the crack-sized ones), one
+    process each (its peak memory), against our converged K and Newman-Raju's equation."""
+    import json
+    import subprocess
+    import sys
+
+    print("| a/c | a/t | maxh | crack_h | front_h | tets (estimate / netgen) | unknowns | K domain integral | K opening | "
+          "converged | Newman-Raju | CPU s | peak MB (estimate) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r, s in DEFAULTS:
+        code = (f"import json, benchmarks.newman_raju as m; print('@@' + json.dumps(m.default_case({r}, {s}, {before})))")
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+        line = next((x for x in out.stdout.splitlines() if x.startswith("@@")), None)
+        if line is None:
+            print(f"| {r:g} | {s:g} | failed: {out.stderr.strip().splitlines()[-1:]} |", flush=True)
+            continue
+        d = json.loads(line[2:])
+        if "refused" in d:
+            print(f"| {r:g} | {s:g} | refused: {d['refused']} |", flush=True)
+            continue
+        z, ref = d["sizes"], CONVERGED.get((r, s))
+        conv = "" if ref is None else f"{ref:g} ({d['K'] / ref - 1:+.1%}, {d['Ko'] / ref - 1:+.1%})"
+        print(f"| {r:g} | {s:g} | {z['maxh']:.3g} | a/{a / z['crack_h']:.3g} | a/{a / z['front_h']:.3g} | {d['tets']:,} "
+              f"({d['est_tets'] / d['tets']:.2f}) | {d['ndof']:,} | {d['K']:.4f} | {d['Ko']:.4f} | {conv} | "
+              f"{d['nr']:.4f} ({d['K'] / d['nr'] - 1:+.1%}) | {d['cpu']:.1f} | {d['peak_mb']:.0f} ({d['est_memory'] / 2 ** 20:.0f}) |",
+              flush=True)
+
+
 def slender_study(a: float = 0.6) -> None:
     """K_I at the points up to 45 deg from the surface of a/c = 0.2, a/t = 0.5 against Newman-Raju's, by front_h."""
     import ngcrack as nc
@@ -157,11 +237,16 @@ def main() -> None:
     ap.add_argument("--deep", action="store_true", help="the deepest point of deep cracks by mesh, order and extraction")
     ap.add_argument("--element", help="with --deep: only this element's rows (tdnns or h1p2)")
     ap.add_argument("--aspect", type=float, help="with --deep: only the rows of this a/c")
+    ap.add_argument("--defaults", action="store_true", help="the deepest point at the library's default sizes")
+    ap.add_argument("--before", action="store_true", help="with --defaults: the crack-sized defaults of before")
     ap.add_argument("--slender", action="store_true", help="the points near the surface of a/c = 0.2 by mesh")
     ap.add_argument("--plot", metavar="OUT.png", help="only draw K_I along the front of the first case against Newman-Raju's")
     args = ap.parse_args()
     if args.plot:
         plot(args.plot, args.order)
+        return
+    if args.defaults:
+        defaults_study(args.before)
         return
     if args.deep or args.slender:
         deep_study(element=args.element, aspect=args.aspect) if args.deep else slender_study()

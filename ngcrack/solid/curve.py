@@ -136,6 +136,13 @@ def curve_frame(v: Any, fld: str) -> dict[str, np.ndarray]:
     return {"points": p, "center": center, "normal": normal, "e_a": e_a}
 
 
+def curve_point(crack):
+    """The curve as a function of phi in [0, 2 pi) (its spline's parameter scaled to 2 pi: the angle of its front,
+    CurveFront), for ngcrack.solid.surface.inside_arcs (a curve crossing the body's faces)."""
+    s = spline_of(crack)
+    return lambda phi: s.xyz(np.asarray(phi) * (s.T / (2 * np.pi)))
+
+
 def curve_outline(crack, n: int) -> np.ndarray:
     """n points of the curve, equally spaced in its parameter."""
     s = spline_of(crack)

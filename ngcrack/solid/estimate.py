@@ -43,6 +43,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from . import h1
+from .loads import coefficients, is_varying
 
 #: quadrature order on the crack faces for the contact term
 FACE_ORDER = 6
@@ -87,8 +88,8 @@ def _admissible_jump(w: ngs.GridFunction, disc) -> None:
 
 
 def _applied(pressure, xyz: np.ndarray) -> np.ndarray:
-    """A crack's applied pressure at the points: a number or a varying field (solid.loads)."""
-    if hasattr(pressure, "values"):
+    """A crack's applied pressure at the points: a number (None: none) or a varying field (solid.loads.is_varying)."""
+    if is_varying(pressure):
         return pressure.values(xyz)[:, 0]
     return np.full(len(xyz), float(pressure or 0.0))
 
@@ -119,8 +120,6 @@ def _crack_term(sol, wdisc, w) -> float:
 
 def traction_data(sol) -> float:
     """The data term of the traction faces (module docstring): sqrt(sum_F h_F ||sigma_h,nn - g.n||_F^2 / (2 mu))."""
-    from .loads import coefficients
-
     scene, mesh = sol.scene, sol.smesh.mesh
     patches = {pc.label for pc in getattr(scene, "points", ())}
     constant = {k: ngs.CF(tuple(map(float, c.value))) for k, c in scene.boundary.items() if c.type == "traction"}

@@ -311,11 +311,8 @@ def front_parameters(sol, points: int | None = None) -> list[FrontParameters]:
             if sides:
                 out.append(_joined(i, sides))
             continue
-        if crack.shape == "curve":  # a curve stays inside the body (the scene's check)
-            out.append(_one_front(sol, i, front_geometry(crack), points))
-            continue
-        arcs = [f for f in (_one_front(sol, i, g, points) for g in open_arcs(sol, FrontGeometry(crack)))
-                if f is not None]
+        arcs = [f for f in (_one_front(sol, i, g, points) for g in open_arcs(sol, front_geometry(crack)))
+                if f is not None]  # (a disc, an ellipse or a curve: its arcs in the body, or its closed front)
         out.append(arcs[0] if len(arcs) == 1 else _joined(i, arcs))
     return out
 

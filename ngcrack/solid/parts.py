@@ -12,7 +12,8 @@
     from the scene file's folder. Its faces are labelled by the names the file gives them
     and, where a face has none, ``face<i>`` (i its index in the file's face order, from 0;
     several faces may share a name: a condition on it holds on all). A missing or unreadable file, a file
-    without exactly one solid, or a label that names no face is refused by name
+    without exactly one solid, a face name that, read as a regular expression (as the mesh's regions are
+    found), names another face or not itself (``a|b``, ``f(1)``), or a label that names no face is refused by name
     (``domain.step``, ``boundary.<label>``) before any meshing.
 
 Each kind answers what the scene's checks ask of a body: its size, the clearance of points
@@ -334,6 +335,8 @@ def _read_step(path: str, fld: str):
     """The shape of a STEP file, or a SceneError naming `fld`."""
     from netgen import occ
 
+    if os.path.isdir(path):
+        raise SceneError(f"{fld} = {path!r}: is a directory; give the path of a STEP file")
     if not os.path.isfile(path):
         raise SceneError(f"{fld} = {path!r}: no such file (a relative path is taken from the scene file's folder)")
     try:
@@ -361,6 +364,15 @@ def step_part(path: Any, fld: str = "domain.step") -> StepPart:
         if re.fullmatch(r"(crack|front|point)\d+", lab):
             raise SceneError(f"{fld}: face {i} is named {lab!r}; the names crack<i>, front<i> and point<k> are the "
                              f"solver's own; rename the face in the file")
+    for i, lab in enumerate(labels):  # the mesh's regions are found by pattern: 'a|b' would also be faces a and b
+        try:
+            named = sorted({m for m in labels if re.fullmatch(lab, m)})
+        except re.error:
+            named = []
+        if named != [lab]:
+            raise SceneError(f"{fld}: face {i} is named {lab!r}, which the mesh reads as a pattern (a regular "
+                             f"expression) naming {', '.join(repr(m) for m in named) or 'no face'}; rename the face in "
+                             f"the file (letters, digits, _, - and spaces are safe)")
     return StepPart(path, labels, solid)
 
 

@@ -159,6 +159,9 @@ def _one(d: Any, fld: str, domain, maxh: float, taken: Sequence[str]) -> PointCo
     gap = MIN_GAP_RTOL * domain.size
     if width < gap:
         raise SceneError(f"{fld}.width = {width:.6g}: must be at least {gap:.3g} ({MIN_GAP_RTOL:g} of the body's size)")
+    if spot.room <= gap:  # on the face's edge (or a corner): no width fits
+        raise SceneError(f"{fld}.at = {short(at.tolist())}: on the edge of face {spot.label!r} ({spot.room:.3g} from "
+                         f"it); a point sits inside a face, at least {gap:.3g} plus half its width from the face's edges")
     if 0.5 * width + gap > spot.room:
         raise SceneError(f"{fld}.width = {width:.6g}: the patch centred at {short(at.tolist())} does not fit on face "
                          f"{spot.label!r} (the face's edge is {spot.room:.3g} away); give a width below "

@@ -58,6 +58,7 @@ from .parts import (  # noqa: F401  (re-exported: the domains' names)
     vector3,
 )
 from .points import PointCondition3, held_directions, points_from_list, rigid_rows  # noqa: F401
+from .sizing import ligament_caps
 from .surface import face_problem, inside_measures
 
 SHAPES = ("disc", "ellipse", "polygon", "curve")
@@ -446,11 +447,24 @@ class SolidScene(Scene, dimension=3):
         return self.domain.size
 
     def mesh_sizes(self, maxh=None, crack_h=None, front_h=None, grading=None) -> dict[str, float]:
-        """maxh, crack_h, front_h, grading: the arguments, else the scene's, else the defaults."""
+        """maxh, crack_h, front_h, grading: the arguments, else the scene's, else the defaults.
+
+        The defaults know the faces a front comes near without crossing them (`sizing.ligament_caps`): on a scene
+        whose [mesh] sets none of maxh, crack_h and front_h, front_h is at most the ligament over
+        `sizing.LIGAMENT_ELEMENTS` (not below `sizing.LIGAMENT_FLOOR_RTOL` of the crack's size) and crack_h
+        its default ratio to front_h times that, unless the call gives crack_h or front_h; and where the body is
+        thinner than the crack (a plate), maxh is at most `sizing.MAXH_THICKNESS` times its thickness there, unless
+        the call gives maxh. Cracks far from the faces keep the crack-sized defaults exactly."""
         crack = min((inside_measures(self.domain, c)[0] for c in self.cracks), default=self.size)  # the parts inside
-        maxh = maxh or self.maxh or min(DEFAULT_MAXH_RTOL * self.size, DEFAULT_MAXH_CRACK_RTOL * crack)
-        crack_h = crack_h or self.crack_h or min(DEFAULT_CRACK_H_RTOL * crack, maxh)
-        front_h = front_h or self.front_h or min(DEFAULT_FRONT_H_RTOL * crack, crack_h)
+        front_cap = maxh_cap = math.inf
+        if self.maxh is None and self.crack_h is None and self.front_h is None and self.cracks:
+            front_cap, maxh_cap = ligament_caps(self.domain, self.cracks, crack)
+            if crack_h or front_h:  # the call sets the crack's sizes: they keep their meaning
+                front_cap = math.inf
+        maxh = maxh or self.maxh or min(DEFAULT_MAXH_RTOL * self.size, DEFAULT_MAXH_CRACK_RTOL * crack, maxh_cap)
+        ratio = DEFAULT_CRACK_H_RTOL / DEFAULT_FRONT_H_RTOL
+        crack_h = crack_h or self.crack_h or min(DEFAULT_CRACK_H_RTOL * crack, maxh, ratio * front_cap)
+        front_h = front_h or self.front_h or min(DEFAULT_FRONT_H_RTOL * crack, crack_h, front_cap)
         return {"maxh": float(maxh), "crack_h": float(crack_h), "front_h": float(front_h),
                 "grading": float(grading or self.grading or DEFAULT_GRADING)}
 

@@ -30,7 +30,13 @@ the largest relative error on today's meshes). Measured against netgen on 18 mes
 ellipse; front_h 0.05a to 0.5a, crack_h = 2 to 8 front_h, grading 0.2 to 0.5; 509 to 25,463
 tetrahedra): estimate / netgen within ESTIMATE_SPREAD, 0.74 to 1.35 (BENCHMARKS.md, "3D memory,
 the ellipse in 3 GB and the accuracy option"); the front's tube and the near ball owe most of the
-tetrahedra of a penny.
+tetrahedra of a penny. A surface crack's near ball (centred on the face it crosses) and front tube (cut by a
+back face near a deep front) are integrated inside the body only (sampled), and its scene's parts are then
+SURFACE_TETS times that: on 8 meshes of plates with surface cracks within the same spread.
+
+The default sizes near faces (`ligament_caps`, used by `solid.scene.SolidScene.mesh_sizes`): front_h at most the
+ligament between a front and a face it does not cross over LIGAMENT_ELEMENTS, maxh at most a thin body's
+thickness there.
 
 Unknowns per tetrahedron and peak memory per unknown are constants of the element and order
 (UNKNOWNS_PER_TET, BYTES_PER_UNKNOWN above BASE_MEMORY: measured, the constants say where; for
@@ -47,7 +53,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, check_max_dof, memory_limits
 from ..core.memory import format_bytes as _bytes
-from .surface import inside_measures
+from .surface import clearance, crosses, face_distances, inside_measures, is_step, samples
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
 TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 24.67, 4.46
@@ -108,6 +114,101 @@ ACCURACY_COARSEST_RTOL = 0.15
 ACCURACY_CRACK_H_RATIO = 2.0
 
 
+#: The default sizes of a crack whose front comes near a face it does not cross (a deep surface crack's back face, an
+#: embedded crack near a face; `ligament_caps`). front_h is at most the ligament (the body between the front and that
+#: face) over this many elements, and crack_h at most its default ratio to front_h times that: at a/t = 0.8 the
+#: crack-sized default left the ligament 0.25a 0.75 to 1.5 elements thick and the deepest point's K moved by 5-6% when
+#: refined to a/9-a/12 (the guide's advice, front_h <= (t - a)/3; BENCHMARKS, "Deep and slender surface cracks")
+LIGAMENT_ELEMENTS = 3.0
+#: ... but front_h not below this fraction of the crack's size (a quarter of the default front_h: the a/c = 0.6,
+#: a/t = 0.8 plate's ligament / 3 exactly); thinner ligaments keep this size and the scene refuses a sliver thinner
+#: than one front_h (`solid.surface.LIGAMENT_FRONT_H`), the size guard one that would not fit in memory
+LIGAMENT_FLOOR_RTOL = 0.025
+#: where the body through the front's point nearest that face, along the way to it (a plate's thickness at a surface
+#: crack), is thinner than this many times the crack's size, the default maxh is at most ...
+THIN_BODY_RTOL = 1.0
+#: ... this many times that thickness: the far field at maxh = t instead of 4-7 t raised the deepest point's K of the
+#: a/t = 0.8 plates by 1.8% and brought the domain integral and the opening's K within 0.4% of each other
+MAXH_THICKNESS = 1.0
+#: steps along the way back through the body measuring its thickness (then bisected LIGAMENT_BISECTIONS times)
+THICKNESS_STEPS, LIGAMENT_BISECTIONS = 256, 40
+#: outline samples measuring a front's ligament (at most `solid.surface.STEP_SAMPLES` on a STEP part)
+LIGAMENT_SAMPLES = 512
+
+_LIGAMENTS: dict = {}
+
+
+def ligament_thickness(domain, crack) -> tuple[float, float]:
+    """(ligament, thickness) of the crack's front: the least distance from the front (the outline's points inside the
+    body) to a face the crack does not cross, and the body's thickness through that point along the way to that face
+    (the distance to the face plus the way back until the body ends: a plate's thickness at a surface crack's deepest
+    point). (inf, inf) where every face is crossed or the outline lies outside."""
+    key = (id(domain), id(crack))
+    hit = _LIGAMENTS.get(key)
+    if hit is not None and hit[0] is domain and hit[1] is crack:
+        return hit[2]
+    out = _ligament_thickness(domain, crack)
+    if len(_LIGAMENTS) > 256:
+        _LIGAMENTS.clear()
+    _LIGAMENTS[key] = (domain, crack, out)
+    return out
+
+
+def _ligament_thickness(domain, crack) -> tuple[float, float]:
+    outline = crack.outline(samples(domain, LIGAMENT_SAMPLES))
+    dist = face_distances(domain, outline)
+    inside = clearance(domain, outline) > 0
+    rest = {k: d[inside] for k, d in dist.items() if d.min() >= 0}  # the faces the crack does not cross
+    if not inside.any() or not rest:
+        return math.inf, math.inf
+    face = min(rest, key=lambda k: rest[k].min())
+    j = int(np.argmin(rest[face]))
+    p, ell = outline[inside][j], float(rest[face][j])
+    eps = 1e-6 * domain.size  # the way to the face: the gradient of the distance to it
+    grad = np.array([(face_distances(domain, p + eps * e)[face][0] - face_distances(domain, p - eps * e)[face][0])
+                     / (2 * eps) for e in np.eye(3)])
+    if not np.linalg.norm(grad) > 0:
+        return ell, math.inf
+    back = grad / np.linalg.norm(grad)  # the distance grows away from the face
+    s = np.linspace(0.0, domain.size, samples(domain, THICKNESS_STEPS) + 1)[1:]
+    out = np.flatnonzero(clearance(domain, p + np.outer(s, back)) <= 0)
+    if not len(out):
+        return ell, math.inf
+    hi = s[out[0]]
+    lo = s[out[0] - 1] if out[0] > 0 else 0.0
+    for _ in range(LIGAMENT_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if clearance(domain, p + mid * back)[0] > 0 else (lo, mid)
+    return ell, ell + 0.5 * (lo + hi)
+
+
+def ligament_caps(domain, cracks, crack_size: float) -> tuple[float, float]:
+    """(front_h cap, maxh cap) of the default sizes near faces the fronts do not cross (LIGAMENT_ELEMENTS,
+    LIGAMENT_FLOOR_RTOL, THIN_BODY_RTOL, MAXH_THICKNESS; `crack_size` the smallest crack's, as the defaults'): inf
+    where no front comes near a face or the body is not thin."""
+    front, maxh = math.inf, math.inf
+    for c in cracks:
+        ell, T = ligament_thickness(domain, c)
+        size = inside_measures(domain, c)[0]
+        front = min(front, ell / LIGAMENT_ELEMENTS)
+        if T < THIN_BODY_RTOL * size:
+            maxh = min(maxh, MAXH_THICKNESS * T)
+    return (max(front, LIGAMENT_FLOOR_RTOL * crack_size) if math.isfinite(front) else front), maxh
+
+
+#: A crack crossing a face of a box or a cylinder (a surface crack): its near ball (centred on the face, half of it
+#: outside) and its front's tube (cut by the faces near a deep front) are counted inside the body only, at
+#: INSIDE_RADII radii (the ball's and the tube's) of INSIDE_DIRECTIONS directions on spheres (INSIDE_ANGLES angles
+#: on circles around INSIDE_FRONT_POINTS points of the front) ...
+INSIDE_RADII, INSIDE_DIRECTIONS, INSIDE_ANGLES, INSIDE_FRONT_POINTS = 200, 128, 24, 48
+#: ... and such a scene's density integral is this many times its parts: fitted on 8 meshes of the plates of
+#: `benchmarks/newman_raju.py` at their default sizes before and after the ligament rule (a/c 0.4-1, a/t 0.2-0.8,
+#: 1,430 to 9,247 tetrahedra): estimate / netgen 0.75-1.34 with it (1.4-1.7 without it, 2.5-4 before the parts were
+#: counted inside), the other meshes' unchanged (a STEP part's cracks are counted as a box's: OCC's distances are
+#: too slow to sample)
+SURFACE_TETS = 0.78
+
+
 def _volume(domain) -> float:
     if hasattr(domain, "volume"):  # a STEP part (solid.parts.StepPart)
         return float(domain.volume)
@@ -135,39 +236,100 @@ def _near_ball(crack, hc: float, H: float, g: float, V: float) -> tuple[float, f
     return hn, part
 
 
+def _fibonacci_sphere(n: int) -> np.ndarray:
+    """n unit vectors spread evenly over the sphere."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    r, t = np.sqrt(1.0 - z * z), math.pi * (1.0 + math.sqrt(5.0)) * i
+    return np.stack([r * np.cos(t), r * np.sin(t), z], axis=1)
+
+
+def _inside_fraction(domain, points: np.ndarray) -> np.ndarray:
+    """The fraction inside the body of each row of `points` (radii x samples x 3)."""
+    m, n, _ = points.shape
+    return (clearance(domain, points.reshape(-1, 3)) > 0).reshape(m, n).mean(axis=1)
+
+
+def _near_ball_inside(domain, crack, hc: float, H: float, g: float) -> tuple[float, float]:
+    """`_near_ball` of a surface crack counted inside the body: the integral of 1/h^3 - 1/H^3 over the ball and its
+    shell times the fraction of each sphere around the crack's centre inside the body."""
+    R = NEAR_RADIUS * 0.5 * crack.size
+    hn = min(max(NEAR_H_FACTOR * hc, NEAR_H_FLOOR_RTOL * crack.size), H)
+    if R <= 0 or hn >= H:
+        return H, 0.0
+    r = np.linspace(0.0, R + (H - hn) / g, INSIDE_RADII)
+    h = np.where(r < R, hn, hn + g * (r - R))
+    inside = _inside_fraction(domain, crack.center + r[:, None, None] * _fibonacci_sphere(INSIDE_DIRECTIONS)[None])
+    f = 4.0 * math.pi * r ** 2 * inside * (1.0 / h ** 3 - 1.0 / H ** 3)
+    return hn, float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(r)))
+
+
+def _tube_inside(domain, crack, h0: float, Hb: float, g: float) -> float:
+    """The front tube's integral per unit length (module docstring) counted inside the body: on circles around
+    points of the front's part inside, normal to it, the fraction inside times 1/h^3 - 1/Hb^3, h = h0 + g r."""
+    out = crack.outline(4 * INSIDE_FRONT_POINTS)
+    tangent = np.roll(out, -1, axis=0) - np.roll(out, 1, axis=0)
+    keep = clearance(domain, out) > 0
+    P, T = out[keep][::4], tangent[keep][::4]
+    if not len(P):
+        return 0.0
+    T = T / np.linalg.norm(T, axis=1)[:, None]
+    e2 = np.cross(T, crack.normal)
+    th = np.linspace(0.0, 2.0 * math.pi, INSIDE_ANGLES, endpoint=False)
+    around = (np.cos(th)[None, :, None] * crack.normal[None, None] + np.sin(th)[None, :, None] * e2[:, None]).reshape(-1, 3)
+    r = np.linspace(0.0, (Hb - h0) / g, INSIDE_RADII)
+    inside = _inside_fraction(domain, np.repeat(P, INSIDE_ANGLES, axis=0)[None] + r[:, None, None] * around[None])
+    f = 2.0 * math.pi * r * inside * (1.0 / (h0 + g * r) ** 3 - 1.0 / Hb ** 3)
+    return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(r)))
+
+
 def density_parts(scene, maxh=None, crack_h=None, front_h=None, grading=None) -> dict[str, float]:
     """The bulk's, the crack faces', the fronts' and the near balls' parts of the integral of 1 / h^3 (module
-    docstring): each crack's faces and front grade into its near ball's size, which grades into maxh."""
+    docstring): each crack's faces and front grade into its near ball's size, which grades into maxh; a surface
+    crack's near ball and tube counted inside the body, and the scene's parts then times SURFACE_TETS."""
     s = scene.mesh_sizes(maxh, crack_h, front_h, grading)
     H, g = s["maxh"], s["grading"]
     hc = min(s["crack_h"], H)
     h0 = min(s["front_h"], hc)
     V = _volume(scene.domain)
     parts = {"maxh": V / H ** 3, "crack_h": 0.0, "front_h": 0.0, "near": 0.0}
+    surface = False
     for c in scene.cracks:
         _, A, L = inside_measures(scene.domain, c)  # a surface crack: its part inside the body
-        Hb, near = _near_ball(c, hc, H, g, V)
+        clip = not is_step(scene.domain) and crosses(scene.domain, c)
+        surface |= clip
+        Hb, near = _near_ball_inside(scene.domain, c, hc, H, g) if clip else _near_ball(c, hc, H, g, V)
         parts["near"] += near
         if A > 0 and hc < Hb:
             D = min((Hb - hc) / g, V / (2.0 * A))
             sc = hc + g * D
             parts["crack_h"] += max(2.0 * A * ((1.0 / (2.0 * g)) * (1.0 / hc ** 2 - 1.0 / sc ** 2) - D / Hb ** 3), 0.0)
-        if L > 0 and h0 < Hb:
+        if L > 0 and h0 < Hb and clip:
+            parts["front_h"] += L * _tube_inside(scene.domain, c, h0, Hb, g)
+        elif L > 0 and h0 < Hb:
             R = min((Hb - h0) / g, math.sqrt(V / (math.pi * L)))
             s0 = h0 + g * R
             tube = (2.0 * math.pi / g ** 2) * (0.5 / h0 - 1.0 / s0 + 0.5 * h0 / s0 ** 2)
             parts["front_h"] += max(L * (tube - math.pi * R ** 2 / Hb ** 3), 0.0)
-    return parts
+    return {k: SURFACE_TETS * v for k, v in parts.items()} if surface else parts
 
 
 def accuracy_sizes(scene, accuracy: float) -> dict[str, float]:
     """The front_h and crack_h that give K within `accuracy` (relative, at the worst front point) along the fronts
     of `scene` by the measured rate: front_h = ACCURACY_FRONT_H_RTOL d (accuracy / ACCURACY_AT_DEFAULT)^(1 /
     ACCURACY_RATE), d the smallest crack's size, at most ACCURACY_COARSEST_RTOL d; crack_h = ACCURACY_CRACK_H_RATIO
-    front_h. Smaller for a smaller accuracy (monotone); the scene's own front_h and crack_h are not used."""
+    front_h. Smaller for a smaller accuracy (monotone); the scene's own front_h and crack_h are not used.
+
+    The rate was measured on a penny far from the faces: near a face a front does not cross, front_h is moreover at
+    most the default's cap (`ligament_caps`: a third of the ligament, not below LIGAMENT_FLOOR_RTOL of the crack's
+    size), whatever the accuracy; maxh, which `accuracy` does not set, takes its default (with its cap at a thin
+    body's thickness when the scene sets no sizes)."""
     d = min((c.size for c in scene.cracks), default=scene.size)
     h = ACCURACY_FRONT_H_RTOL * d * (float(accuracy) / ACCURACY_AT_DEFAULT) ** (1.0 / ACCURACY_RATE)
     h = min(h, ACCURACY_COARSEST_RTOL * d)
+    if scene.cracks:
+        inside = min(inside_measures(scene.domain, c)[0] for c in scene.cracks)
+        h = min(h, ligament_caps(scene.domain, scene.cracks, inside)[0])
     return {"front_h": h, "crack_h": ACCURACY_CRACK_H_RATIO * h}
 
 

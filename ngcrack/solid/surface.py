@@ -1,8 +1,11 @@
 """Cracks that reach the body's surface: where a planar crack leaves the body, and its open fronts.
 
-A planar crack (disc, ellipse, polygon) may cross the faces of its box or cylinder: the crack
+A planar crack (disc, ellipse, polygon, curve) may cross the faces of its box or cylinder: the crack
 is its part inside the body, and its front the part of its outline inside the body: open
-arcs (or polygon sides) that end on the free surface, where the crack's mouth lies. This
+arcs (or polygon sides) that end on the free surface, where the crack's mouth lies. A curve's
+arcs are found as an ellipse's, along its spline's parameter (`inside_arcs` takes its point
+function, which ngcrack.solid.curve, a layer above, gives), so that a surface or corner crack
+may have a free front shape (a grown one: ngcrack.studies.growth.surface3d). This
 module holds the geometry of that clipping in plain numpy, for the scene's checks
 (``ngcrack.solid.scene``), the mesh (``ngcrack.solid.geometry`` names the clipped face's edges)
 and the fronts (``ngcrack.solid.front`` wraps a closed front into an :class:`ArcFront`).
@@ -29,6 +32,8 @@ STEP_SAMPLES = 128
 MEASURE_SAMPLES, MEASURE_CACHE = 512, 256
 #: grid points per side measuring the area of a crack's part inside a box or a cylinder (`inside_measures`)
 MEASURE_GRID = 400
+#: outline points of the polygon standing for a curve's face when its area inside a STEP part is measured
+CURVE_AREA_POINTS = 1024
 #: a point within this fraction of the body's size of a face is on it (an edge of the clipped crack on the surface)
 ON_SURFACE_RTOL = 1e-7
 #: the body beyond the front of a crack reaching a face is at least this many front_h thick (a thinner
@@ -97,9 +102,6 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
     outline = crack.outline(samples(domain, 1024))
     dist = face_distances(domain, outline)
     crossed = [k for k, d in dist.items() if d.min() < 0]
-    if crossed and crack.shape == "curve":
-        return (f"crosses face {crossed[0]}; a curve crack lies inside the body (a grown front that reaches a face "
-                f"stops the growth; curves crossing faces are a later step)")
     for k in crossed:
         if dist[k].min() > -gap:
             return (f"crosses face {k} by only {-dist[k].min():.3g}; a crack must stay at least {gap:.3g} "
@@ -172,11 +174,11 @@ def _inside_area(domain, crack) -> float:
 
 
 def _occ_face(crack):
-    """The crack's plane face in OCC (a disc, an ellipse or a polygon: the shapes that may cross a face)."""
+    """The crack's plane face in OCC (a disc, an ellipse, a polygon or a curve), for its area inside a STEP part."""
     from netgen import occ
 
-    if crack.shape == "polygon":
-        pts = [occ.Pnt(*p) for p in crack.points]
+    if crack.shape in ("polygon", "curve"):  # a curve: the polygon of CURVE_AREA_POINTS of its outline (its area to ~1e-6)
+        pts = [occ.Pnt(*map(float, p)) for p in (crack.points if crack.shape == "polygon" else crack.outline(CURVE_AREA_POINTS))]
         return occ.Face(occ.Wire([occ.Segment(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]))
     a, b = crack.semi_axes
     major, (a, b) = (crack.e_a, (a, b)) if a >= b else (crack.e_b, (b, a))
@@ -184,18 +186,26 @@ def _occ_face(crack):
     return (wp.Circle(a) if a == b else wp.Ellipse(a, b)).Face()
 
 
-def _ellipse_point(crack, phi):
+def outline_point(crack):
+    """A disc's or an ellipse's outline as a function of its parametric angle phi (a curve's is its spline's,
+    ngcrack.solid.curve.curve_point, which this module's layer does not import: give it to `inside_arcs`)."""
+    if crack.shape not in ("disc", "ellipse"):
+        raise ValueError(f"outline_point: a {crack.shape}'s outline is not an ellipse's; give inside_arcs its point "
+                         f"function (a curve's: ngcrack.solid.curve.curve_point)")
     a, b = crack.semi_axes
-    return crack.center + np.multiply.outer(a * np.cos(phi), crack.e_a) + np.multiply.outer(b * np.sin(phi), crack.e_b)
+    return lambda phi: (crack.center + np.multiply.outer(a * np.cos(phi), crack.e_a)
+                        + np.multiply.outer(b * np.sin(phi), crack.e_b))
 
 
-def inside_arcs(domain, crack) -> list[tuple[float, float]]:
-    """The parametric intervals (phi0, phi1), phi0 < phi1 < phi0 + 2 pi, of a disc's or an ellipse's outline
-    inside the body, each end refined by bisection to the face. Empty if the whole outline is outside; one
-    interval (0, 2 pi) if the outline does not leave the body."""
+def inside_arcs(domain, crack, point=None) -> list[tuple[float, float]]:
+    """The parametric intervals (phi0, phi1), phi0 < phi1 < phi0 + 2 pi, of a closed outline inside the body, each
+    end refined by bisection to the face: `point(phi)` the outline (default a disc's or an ellipse's, `outline_point`;
+    a curve's spline, its parameter scaled to 2 pi: ngcrack.solid.curve.curve_point, or its front's ``point``). Empty
+    if the whole outline is outside; one interval (0, 2 pi) if the outline does not leave the body."""
+    point = point or outline_point(crack)
     m = samples(domain, ARC_SAMPLES)
     phi = np.linspace(0.0, 2 * np.pi, m, endpoint=False)
-    inside = clearance(domain, _ellipse_point(crack, phi)) > 0
+    inside = clearance(domain, point(phi)) > 0
     if inside.all():
         return [(0.0, 2 * np.pi)]
     if not inside.any():
@@ -208,17 +218,17 @@ def inside_arcs(domain, crack) -> list[tuple[float, float]]:
         prev, cur = inside[order[k - 1]], inside[order[k % m]]
         t = (start + k) * step  # the angle of sample k (unwrapped)
         if cur and not prev:
-            first = _refine(domain, crack, t - step, t)
+            first = _refine(domain, point, t - step, t)
         elif prev and not cur:
-            arcs.append((first, _refine(domain, crack, t, t - step)))
+            arcs.append((first, _refine(domain, point, t, t - step)))
     return [(a % (2 * np.pi), a % (2 * np.pi) + (b - a)) for a, b in arcs]
 
 
-def _refine(domain, crack, outside: float, inside: float) -> float:
-    """The angle between an outside and an inside angle where the outline crosses the surface."""
+def _refine(domain, point, outside: float, inside: float) -> float:
+    """The angle between an outside and an inside angle where the outline `point(phi)` crosses the surface."""
     for _ in range(ARC_BISECTIONS):
         mid = 0.5 * (outside + inside)
-        if clearance(domain, _ellipse_point(crack, np.array([mid])))[0] > 0:
+        if clearance(domain, point(np.array([mid])))[0] > 0:
             inside = mid
         else:
             outside = mid
@@ -272,8 +282,8 @@ def _plane_outline(crack, n: int) -> np.ndarray:
 
 # ---------------------------------------------------------------------------- open fronts
 class ArcFront:
-    """The part phi0 < phi < phi1 of a closed front (a disc's or an ellipse's ``FrontGeometry``) inside the
-    body: an open front whose ends lie on the free surface.
+    """The part phi0 < phi < phi1 of a closed front (a disc's or an ellipse's ``FrontGeometry``, a curve's
+    ``CurveFront``) inside the body: an open front whose ends lie on the free surface.
 
     It keeps the closed front's points, frames, curvature and foot-point coordinates (delegated) and
     changes what an open front changes: the arc length runs from phi0 (``arc``; an angle is taken in the
@@ -355,9 +365,9 @@ def ligament(domain, crack, points: np.ndarray) -> float:
 
 
 def open_arcs(sol, base) -> list:
-    """A disc's or an ellipse's front in the body: [base] if it stays inside, else one ArcFront per arc."""
+    """A disc's, an ellipse's or a curve's front in the body: [base] if it stays inside, else one ArcFront per arc."""
     domain = sol.scene.domain
-    arcs = inside_arcs(domain, base.crack)
+    arcs = inside_arcs(domain, base.crack, base.point)  # (the front's angle: an ellipse's, a curve's spline's)
     if arcs == [(0.0, 2 * np.pi)]:
         return [base]
     out = []

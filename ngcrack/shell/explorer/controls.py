@@ -16,7 +16,12 @@ from dataclasses import dataclass
 from numbers import Real
 from typing import Any
 
+import numpy as np
+
 from ...core.errors import InputError
+
+#: significant digits of a refused value in the messages (-2.0001 is not shown as -2, its bound)
+VALUE_DIGITS = 12
 
 #: the names the widget shows (the keyword is what `nc.explore` and `update` take)
 LABELS = {
@@ -86,7 +91,11 @@ class Range:
     def check(self, name: str, value: Any) -> float:
         """`value` as a float, or ValueError naming the control and the allowed range."""
         label = _label(name)
-        if isinstance(value, bool) or not isinstance(value, Real):
+        if isinstance(value, (bool, np.bool_)):  # True is not the number 1 here
+            raise ControlRefused(f"{label} = {value!r}: a number from {self.low:.4g} to {self.high:.4g}", name,
+                                 f"The {_plain(name)} must be a number: type one from {self.low:.4g} to "
+                                 f"{self.high:.4g}.")
+        if not isinstance(value, Real):
             try:
                 value = float(value)
             except (TypeError, ValueError):
@@ -95,8 +104,8 @@ class Range:
                                      f"{self.high:.4g}.") from None
         value = float(value)
         if not math.isfinite(value) or not self.low <= value <= self.high:
-            raise ControlRefused(f"{label} = {value:.4g} refused: allowed from {self.low:.4g} to {self.high:.4g}",
-                                 name, f"The {_plain(name)} {value:.4g} is out of range: choose a value from "
+            raise ControlRefused(f"{label} = {value:.{VALUE_DIGITS}g} refused: allowed from {self.low:.4g} to {self.high:.4g}",
+                                 name, f"The {_plain(name)} {value:.{VALUE_DIGITS}g} is out of range: choose a value from "
                                        f"{self.low:.4g} to {self.high:.4g}.")
         return value
 

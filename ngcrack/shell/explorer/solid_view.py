@@ -61,6 +61,12 @@ def _rotation(axis: np.ndarray, degrees: float) -> np.ndarray:
     return np.eye(3) + math.sin(t) * K + (1 - math.cos(t)) * K @ K
 
 
+def _half_size(crack) -> float:
+    """A crack's smallest semi-axis; half the diameter of a polygon or a curve (whose semi_axes are zeros)."""
+    axes = [float(a) for a in (crack.semi_axes or ()) if a]
+    return min(axes) if axes else 0.5 * float(crack.size)
+
+
 def tilt_axis(normal) -> np.ndarray:
     """The axis a crack turns about: in its plane, normal to its normal and to z (x for a crack normal to z)."""
     n = np.asarray(normal, float) / np.linalg.norm(normal)
@@ -89,7 +95,7 @@ class SolidExplorer:
         if order not in (1, 2, 3):
             raise InputError(f"order = {order!r}: allowed values are 1, 2, 3")
         self.base, self.order, self.name = scene, order, scene.name
-        size = min(min(c.semi_axes) if c.semi_axes else 1.0 for c in scene.cracks)
+        size = min(_half_size(c) for c in scene.cracks)
         self.ranges = dict(SOLID_RANGES)
         self.ranges["front_h"] = Range(FRONT_RANGE[0] * size, FRONT_RANGE[1] * size, 0.05 * size)
         self.state = {"load": 1.0, "nu": float(scene.material.nu), "friction": float(scene.cracks[0].friction),
@@ -125,12 +131,14 @@ class SolidExplorer:
         if "load" in d and d["load"].get("body_force") is not None:
             d["load"]["body_force"] = [st["load"] * float(v) for v in d["load"]["body_force"]]
         d["material"]["nu"] = st["nu"]
-        for c in d.get("crack", []):
+        for c, crack in zip(d.get("crack", []), self.base.cracks):
             c["friction"] = st["friction"]
-            if st["tilt"]:
-                R = _rotation(tilt_axis(c["normal"]), st["tilt"])
+            if st["tilt"]:  # a polygon's or a curve's dictionary has no normal: the crack's own
+                normal = np.asarray(crack.normal, float)
+                R = _rotation(tilt_axis(normal), st["tilt"])
                 center = np.asarray(c.get("center", np.mean(c.get("points", [[0, 0, 0]]), axis=0)), float)
-                c["normal"] = (R @ np.asarray(c["normal"], float)).tolist()
+                if c.get("normal") is not None:
+                    c["normal"] = (R @ normal).tolist()
                 for key in ("major_axis",):
                     if c.get(key) is not None:
                         c[key] = (R @ np.asarray(c[key], float)).tolist()

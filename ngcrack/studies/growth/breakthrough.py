@@ -23,8 +23,8 @@ broken-through crack (the embedded crack and the ligament it broke): it need not
 grown front (a penny's sides at mid-depth lie just outside it; the ellipse of depth a' that contains
 them depends on the front's curvature at its deepest point, 0.69 or 0.98 for the same penny on two
 meshes, where the codes' c is the same). The front of any shape (disc, ellipse or the curve of a
-grown front) becomes an ellipse: the scene's cracks that cross a face are planar shapes (a curve
-crack crossing a face is refused by the scene).
+grown front) becomes an ellipse, the codes' idealisation (a curve crossing the faces grows too,
+surface_curve.py, but the re-characterised flaw is the codes' ellipse).
 
 What stops the run instead, by name: a crack nearly parallel to the face it nears (its plane within
 PARALLEL_SINE of the face's: a delamination, not a surface crack), a front whose deepest point is

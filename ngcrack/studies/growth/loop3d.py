@@ -57,7 +57,7 @@ import numpy as np
 from ...core.errors import InputError
 from ...core.fields import is_finite
 from .breakthrough import recharacterise
-from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION, check_corrector
+from .checks import MAX_DA_FRACTION, MAX_STEPS, MIN_DA_TIP_FRACTION, check_corrector, check_flag
 from .fatigue import check_paris, delta_K, step_cycles
 from .fronts3d import (
     CLEARANCE_RTOL,
@@ -122,6 +122,9 @@ def check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve
     if isinstance(together, bool) or not (isinstance(together, (int, float)) and 0 < together < 0.5):
         raise InputError(f"together = {together!r}: must be a number in (0, 0.5) (the points within it of the largest "
                          f"K_eq advance)")
+    if solve_options.get("fronts", True) is not True:  # every step advances the fronts by their K
+        raise InputError(f"fronts = {solve_options['fronts']!r}: growth computes the fronts' K at every step itself; "
+                         f"leave it out")
     bad = [k for k in _RESERVED if k in solve_options]
     if bad:
         raise InputError(f"{bad[0]}: grow sets it for every step itself; give the scene and the mesh options only")
@@ -188,6 +191,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
     from .result3d import SolidGrowthResult
 
     corrector = check_corrector(corrector, scene)
+    check_flag(frames, "frames", "keep every step's deformed body for the animation")
     fatigue = check_solid_grow(scene, da, steps, K_Ic, paris, R, together, progress, solve_options, planar or {})
     da, steps = float(da), int(steps)
     cycles = None if fatigue is None else _Cycles(*fatigue, R=float(R))

@@ -131,23 +131,27 @@ def _done(path: Path | None, parameter: str) -> dict:
     if path is None or not path.exists() or path.stat().st_size == 0:
         return {}
     columns = [parameter, *STUDY_COLUMNS]
-    with open(path, newline="") as fh:
-        reader = csv.DictReader(fh)
-        if reader.fieldnames != columns:
-            raise InputError(f"out = {str(path)!r}: its columns ({', '.join(reader.fieldnames or [])}) are not this "
-                             f"study's ({', '.join(columns)}); give another file or move this one away")
-        rows = {}
-        for i, row in enumerate(reader, start=2):
-            for col in STUDY_COLUMNS:
-                if col in _TEXT_COLUMNS:
-                    continue
-                try:
-                    row[col] = int(row[col]) if col in _INT_COLUMNS else (float(row[col]) if row[col] else math.nan)
-                except (TypeError, ValueError):
-                    raise InputError(f"out = {str(path)!r}: line {i}, column {col} = {row[col]!r} is not "
-                                     f"{'a whole number' if col in _INT_COLUMNS else 'a number'}; give another "
-                                     f"file or mend this one") from None
-            rows[row[parameter]] = row
+    try:  # a file that is not text, or not CSV, is refused like one of other columns
+        with open(path, newline="", encoding="utf-8") as fh:
+            reader = csv.DictReader(fh)
+            if reader.fieldnames != columns:
+                raise InputError(f"out = {str(path)!r}: its columns ({', '.join(reader.fieldnames or [])}) are not this "
+                                 f"study's ({', '.join(columns)}); give another file or move this one away")
+            rows = {}
+            for i, row in enumerate(reader, start=2):
+                for col in STUDY_COLUMNS:
+                    if col in _TEXT_COLUMNS:
+                        continue
+                    try:
+                        row[col] = int(row[col]) if col in _INT_COLUMNS else (float(row[col]) if row[col] else math.nan)
+                    except (TypeError, ValueError):
+                        raise InputError(f"out = {str(path)!r}: line {i}, column {col} = {row[col]!r} is not "
+                                         f"{'a whole number' if col in _INT_COLUMNS else 'a number'}; give another "
+                                         f"file or mend this one") from None
+                rows[row[parameter]] = row
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise InputError(f"out = {str(path)!r}: is not a CSV file of this study ({type(exc).__name__}: {exc}); give "
+                         f"another file or move this one away") from None
     return rows
 
 
@@ -156,7 +160,7 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     """Grow one path per value of `parameter`; a pandas DataFrame, one row per path (module docstring)."""
     import pandas as pd
 
-    from ngcrack.studies.sweeps.executors import _executor
+    from ngcrack.studies.sweeps.executors import _executor, check_dask
     from ngcrack.studies.sweeps.results import csv_line
 
     if not isinstance(parameter, str) or not parameter:
@@ -175,8 +179,14 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
     values = list(values)
     if not values:
         raise InputError("values: give at least one value of the parameter")
+    seen: set[str] = set()
+    for v in values:  # a path's key is its value's text (the CSV's cell): two values of one text would be one path
+        if str(v) in seen:
+            raise InputError(f"values: {v!r} is given twice; give each value of {parameter} once")
+        seen.add(str(v))
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise InputError(f"jobs = {jobs!r}: must be a whole number >= 1")
+    check_dask(dask)
     if out is not None and not isinstance(out, (str, os.PathLike)):
         raise InputError(f"out = {out!r}: must be None or the path of a CSV file")
     path = Path(out) if out is not None else None
@@ -184,6 +194,8 @@ def grow_study(scene, parameter: str, values, da: float, steps: int, K_Ic: float
         raise InputError(f"out = {str(out)!r}: the directory {str(path.parent)!r} does not exist")
     if path is not None and path.is_dir():
         raise InputError(f"out = {str(out)!r}: is a directory; give the path of a CSV file")
+    if path is not None and not os.access(path if path.exists() else path.parent, os.W_OK):
+        raise InputError(f"out = {str(out)!r}: cannot be written (no permission); give a path of a CSV file you can write")
     cases = []
     for v in values:  # every case checked before any run
         sc = _scene_for(scene, parameter, v)

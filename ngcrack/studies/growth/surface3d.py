@@ -1,6 +1,6 @@
-"""Planar growth of surface and corner cracks: fronts that end on the free surface, grown as ellipses.
+"""Planar growth of surface and corner cracks: fronts that end on the free surface, grown as ellipses (or curves).
 
-A surface crack (ngcrack.solid.surface) is a disc or an ellipse that crosses the body's faces; its
+A surface crack (ngcrack.solid.surface) is a disc, an ellipse or a curve that crosses the body's faces; its
 front is the arc inside the body, its two end points on the surface. It grows as the engineering
 codes grow it (NASGRO, BS 7910; FRANC3D fits a curve through the advanced points), keeping a shape
 the scene and its mesh support:
@@ -24,11 +24,17 @@ the scene and its mesh support:
    equally spaced along the front (the radial distance from the centre): a smooth front whose ends
    lie on the face to round-off, and a scene the mesh and the open fronts already handle.
 
+A surface crack given as a ``curve`` (a spline crossing the faces) grows by steps 1-3 and, in place of
+step 4, becomes the curve through the advanced points completed beyond the faces by its mirror images
+(surface_curve.py): a free front shape. The functions here dispatch on the shape (the arc length along
+the front, the rays, the grown crack, its depth and length); the ellipse fit stays the rule for ellipses.
+
 The reference, ngcrack.studies.growth.newman_raju_growth, integrates Newman and Raju's K at the
 deepest point and at the same SURFACE_K_FRACTION point with the same Paris law.
 
-Refused by name (before meshing): a crack crossing the faces whose centre is off the surface (it
-would not stay an ellipse centred where it grows from), and one crossing them in more than one arc.
+Refused by name (before meshing): an ellipse crossing the faces whose centre is off the surface (it
+would not stay an ellipse centred where it grows from), a crack crossing them in more than one arc, and
+a curve that its mirror images cannot complete (surface_curve.py).
 """
 
 from __future__ import annotations
@@ -38,6 +44,7 @@ import math
 import numpy as np
 
 from ...core.errors import InputError
+from .faces3d import NORMAL_STEP_RTOL, along_faces, carried, domain_size, thickness  # noqa: F401  (carried: fronts3d's)
 
 #: the surface point grows with K this fraction of the front's length in from the surface (module docstring)
 SURFACE_K_FRACTION = 0.05
@@ -48,21 +55,25 @@ SMOOTH_DEGREE = 4
 FIT_POINTS = 65
 #: a surface crack's centre lies on the body's surface within this fraction of its size
 CENTRE_ON_SURFACE_RTOL = 1e-6
-#: the step of the central differences that give a face's normal, a fraction of the body's size
-NORMAL_STEP_RTOL = 1e-6
 
 
 def is_surface_crack(domain, crack) -> bool:
-    """A disc or an ellipse crossing the body's faces (its front ends on the surface)."""
+    """A disc, an ellipse or a curve crossing the body's faces (its front ends on the surface)."""
     from ngcrack.solid.surface import crosses
 
-    return crack.shape in ("disc", "ellipse") and crosses(domain, crack)
+    return crack.shape in ("disc", "ellipse", "curve") and crosses(domain, crack)
 
 
 def check_surface_growable(domain, i: int, crack) -> None:
-    """Refuse, by name, a crack crossing the faces that grows off its ellipse (module docstring)."""
+    """Refuse, by name, a crack crossing the faces that grows off its ellipse, or a curve that cannot be completed
+    beyond the faces (module docstring)."""
     from ngcrack.solid.surface import clearance, inside_arcs
 
+    if crack.shape == "curve":
+        from .surface_curve import check_curve_growable
+
+        check_curve_growable(domain, i, crack)
+        return
     off = abs(float(clearance(domain, crack.center[None])[0]))
     if off > CENTRE_ON_SURFACE_RTOL * crack.size:
         raise InputError(f"crack[{i}]: crosses the body's faces with its centre {off:.3g} off them; a crack reaching "
@@ -75,7 +86,12 @@ def check_surface_growable(domain, i: int, crack) -> None:
 
 
 def ellipse_arc(crack, phi: np.ndarray) -> np.ndarray:
-    """The arc length along the crack's ellipse from phi[0] to each phi (phi increasing, unwrapped)."""
+    """The arc length along the crack's ellipse (a curve's spline: surface_curve.curve_arc) from phi[0] to each phi
+    (phi increasing, unwrapped)."""
+    if crack.shape == "curve":
+        from .surface_curve import curve_arc
+
+        return curve_arc(crack, phi)
     a, b = crack.semi_axes
     grid = np.linspace(phi[0], phi[-1], 4001)
     mid = 0.5 * (grid[1:] + grid[:-1])
@@ -108,31 +124,19 @@ def surface_drive(angles: np.ndarray, K_eq: np.ndarray, crack, fraction: float =
     return np.maximum(drive, 0.0)
 
 
-def _face_normal(domain, p: np.ndarray, size: float) -> np.ndarray:
-    """The outward unit normal of the face nearest to the point p."""
-    from ngcrack.solid.surface import face_distances
-
-    dist = face_distances(domain, p[None])
-    key = min(dist, key=lambda k: abs(dist[k][0]))
-    h = NORMAL_STEP_RTOL * size
-    grad = np.array([(face_distances(domain, (p + h * e)[None])[key][0] - face_distances(domain, (p - h * e)[None])[key][0])
-                     / (2 * h) for e in np.eye(3)])
-    return -grad / np.linalg.norm(grad)  # the distance grows inwards
-
-
 def _rays(domain, crack, phi: np.ndarray, ends: bool):
     """(the front's points at the angles phi, their directions of advance): the outward in-plane normal, at the
     first and last point (`ends`: the front's ends on the surface) projected into their faces."""
-    a, b = crack.semi_axes
-    p = crack.center + np.outer(a * np.cos(phi), crack.e_a) + np.outer(b * np.sin(phi), crack.e_b)
-    d = np.outer(b * np.cos(phi), crack.e_a) + np.outer(a * np.sin(phi), crack.e_b)  # the outward in-plane normal
-    d /= np.linalg.norm(d, axis=1, keepdims=True)
-    for k in ((0, len(phi) - 1) if ends else ()):  # the ends move along their faces, in the crack's plane
-        nf = _face_normal(domain, p[k], crack.size)
-        t = d[k] - np.dot(d[k], nf) * nf
-        t -= np.dot(t, crack.normal) * crack.normal
-        d[k] = t / np.linalg.norm(t)
-    return p, d
+    if crack.shape == "curve":
+        from .surface_curve import point_and_normal
+
+        p, d = point_and_normal(crack, phi)
+    else:
+        a, b = crack.semi_axes
+        p = crack.center + np.outer(a * np.cos(phi), crack.e_a) + np.outer(b * np.sin(phi), crack.e_b)
+        d = np.outer(b * np.cos(phi), crack.e_a) + np.outer(a * np.sin(phi), crack.e_b)  # the outward in-plane normal
+        d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return p, along_faces(domain, crack, p, d) if ends else d
 
 
 def advanced_points(domain, crack, angles: np.ndarray, advance: np.ndarray, n: int = FIT_POINTS) -> np.ndarray:
@@ -167,14 +171,13 @@ def fit_ellipse(crack, points: np.ndarray, start: tuple[float, float]) -> tuple[
     return float(A), float(B)
 
 
-def carried(crack) -> dict:
-    """What a crack's new shape keeps of it (a grown or re-characterised crack's scene dictionary): its friction and its
-    pressure (a number, a table or a callable: a field in space, solid.loads), where it has them."""
-    return {k: v for k, v in (("friction", crack.friction), ("pressure", crack.pressure)) if v}
-
-
 def grown_surface_crack(domain, crack, angles: np.ndarray, advance: np.ndarray, lead: int) -> tuple[dict, float]:
-    """(the grown crack's scene dictionary, the actual advance of the station `lead`): module docstring, step 4."""
+    """(the grown crack's scene dictionary, the actual advance of the station `lead`): module docstring, step 4 (a
+    curve: the curve through the advanced points completed beyond the faces, surface_curve.py)."""
+    if crack.shape == "curve":
+        from .surface_curve import grown_surface_curve
+
+        return grown_surface_curve(domain, crack, angles, advance, lead)
     moved = advanced_points(domain, crack, angles, advance)
     A0, B0 = crack.semi_axes
     mean = float(np.mean(advance))
@@ -197,18 +200,6 @@ def _ray_to_ellipse(crack, A: float, B: float, p: np.ndarray, d: np.ndarray) -> 
     return float((-qb + math.sqrt(disc)) / (2 * qa))
 
 
-def _thickness(domain, p: np.ndarray, inward: np.ndarray, size: float) -> float:
-    """The body's thickness from the surface point p along the inward direction (bisection to where it leaves)."""
-    lo, hi = 0.0, 4.0 * size
-    while hi - lo > 1e-6 * size:
-        mid = 0.5 * (lo + hi)
-        if float(domain.clearance((p + (mid + 1e-9 * size) * inward)[None])[0]) > 0 or mid < 1e-9 * size:
-            lo = mid
-        else:
-            hi = mid
-    return lo
-
-
 def depth_axis(domain, crack) -> int:
     """0 if the crack's first axis (e_a) crosses the face its centre lies on (it measures the depth), else 1; a
     corner crack's centre lies on two faces: the depth runs through the body's thinner direction of the two (a
@@ -226,20 +217,18 @@ def depth_axis(domain, crack) -> int:
         normals.append(g / np.linalg.norm(g))  # inward
     if len(normals) > 1:  # the thinner direction; probed from a point inside both faces' edge, along each normal
         probe = crack.center + 1e-3 * size * sum(normals)
-        normals.sort(key=lambda n: _thickness(domain, probe, n, domain_size(domain)))
+        normals.sort(key=lambda n: thickness(domain, probe, n, domain_size(domain)))
     nf = normals[0]
     return 0 if abs(np.dot(crack.e_a, nf)) > abs(np.dot(crack.e_b, nf)) else 1
 
 
-def domain_size(domain) -> float:
-    """The body's diameter (its bounding box's), the scale of a probe."""
-    if hasattr(domain, "lo"):
-        return float(np.linalg.norm(np.asarray(domain.hi) - np.asarray(domain.lo)))
-    return float(np.hypot(2 * domain.radius, domain.height))
-
-
 def depth_and_length(domain, crack) -> tuple[float, float]:
     """(a, c) of a surface crack: the semi-axis across the face its centre lies on (the depth) and the other one
-    (the half-length on the surface; a corner crack's length along its second face)."""
+    (the half-length on the surface; a corner crack's length along its second face); a curve's measured on its
+    front (surface_curve.curve_depth_and_length)."""
+    if crack.shape == "curve":
+        from .surface_curve import curve_depth_and_length
+
+        return curve_depth_and_length(domain, crack)
     A, B = crack.semi_axes
     return (A, B) if depth_axis(domain, crack) == 0 else (B, A)

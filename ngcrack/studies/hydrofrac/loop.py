@@ -77,14 +77,11 @@ MAX_STRAIN = 0.1
 
 
 
-def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress=None) -> None:
-    """Refuse bad input before any work, naming the field and what is allowed."""
-    from ...planar.sizing import mesh_sizes
-    from ...planar.tips import tip_labels
-
+def check_common_options(scene, rate, K_Ic, steps, crack, rate_unit: str) -> None:
+    """The checks a plane and a radial fracture share: the rate (in rate_unit), the toughness, the steps and the
+    fluid-driven crack's index, each refused by name before any work."""
     if not (is_number(rate) and math.isfinite(rate) and rate > 0):
-        raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, an area per unit "
-                         "time per unit thickness)")
+        raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, {rate_unit})")
     if not (is_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
         raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness)")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
@@ -94,6 +91,14 @@ def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solv
         raise InputError(f"scene {scene.name!r}: has no crack; hydrofrac drives a crack's faces apart")
     if isinstance(crack, bool) or not isinstance(crack, (int, np.integer)) or not 0 <= crack < n:
         raise InputError(f"crack = {crack!r}: must be a crack index 0..{n - 1} (the fluid-driven crack)")
+
+
+def check_hydrofrac_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress=None) -> None:
+    """Refuse bad input before any work, naming the field and what is allowed."""
+    from ...planar.sizing import mesh_sizes
+    from ...planar.tips import tip_labels
+
+    check_common_options(scene, rate, K_Ic, steps, crack, "an area per unit time per unit thickness")
     if not any(lab.startswith(f"{crack},") for lab in tip_labels(scene)):
         raise InputError(f"crack = {crack}: has no tip inside the body, so it cannot grow")
     mat = scene.material

@@ -110,19 +110,9 @@ def e_prime_3d(scene) -> float:
 def check_radial_options(scene, rate, K_Ic, da, steps, crack, injection, solve_options, progress=None) -> None:
     """Refuse bad input of a radial fracture before any meshing, naming the field and what is allowed."""
     from ...core.fields import is_number
-    from .loop import _RESERVED, CRACK_MODELS, MAX_STEPS
+    from .loop import _RESERVED, CRACK_MODELS, check_common_options
 
-    if not (is_number(rate) and math.isfinite(rate) and rate > 0):
-        raise InputError(f"rate = {rate!r}: must be a finite number > 0 (the injection rate Q0, a volume per unit time)")
-    if not (is_number(K_Ic) and math.isfinite(K_Ic) and K_Ic > 0):
-        raise InputError(f"K_Ic = {K_Ic!r}: must be a finite number > 0 (the fracture toughness)")
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 1 <= steps <= MAX_STEPS:
-        raise InputError(f"steps = {steps!r}: must be a whole number in [1, {MAX_STEPS}]")
-    n = len(scene.cracks)
-    if n == 0:
-        raise InputError(f"scene {scene.name!r}: has no crack; hydrofrac drives a crack's faces apart")
-    if isinstance(crack, bool) or not isinstance(crack, (int, np.integer)) or not 0 <= crack < n:
-        raise InputError(f"crack = {crack!r}: must be a crack index 0..{n - 1} (the fluid-driven crack)")
+    check_common_options(scene, rate, K_Ic, steps, crack, "a volume per unit time")
     if scene.cracks[crack].shape != "disc":
         raise InputError(f"crack = {crack}: a {scene.cracks[crack].shape}; a radial fracture (3D) grows a disc crack "
                          "(shape = \"disc\")")

@@ -140,10 +140,28 @@ class _Processes(_Serial):
 DASK_CONNECT_TIMEOUT = "15s"
 
 
+def check_dask(dask) -> None:
+    """Refuse, by name and before any run, a `dask` that is neither None, a scheduler's address (a non-empty string)
+    nor a distributed.Client: a number of workers is `jobs`, not `dask`."""
+    if dask is None or (isinstance(dask, str) and dask.strip()):
+        return
+    if not isinstance(dask, str):
+        try:
+            from distributed import Client
+        except ImportError:
+            Client = ()
+        if Client and isinstance(dask, Client):
+            return
+    raise InputError(f"dask = {dask!r}: must be None, the address of a dask.distributed scheduler (a string such as "
+                     f"'tcp://127.0.0.1:8786') or a distributed.Client; for worker processes on this machine give "
+                     f"jobs = N instead")
+
+
 class _Dask(_Serial):
     """A dask.distributed cluster: a scheduler address or an existing Client."""
 
     def __init__(self, address) -> None:
+        check_dask(address)
         try:
             import distributed
         except ImportError:

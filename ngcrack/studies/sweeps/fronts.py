@@ -47,14 +47,20 @@ def sweep_fronts(scene, elements: Iterable[str] | str = ("tdnns",), front_h: Ite
     nus = _values(nu, "nu", allow_zero=True) if nu is not None else [scene.material.nu]
     mus = _values(friction, "friction", allow_zero=True) if friction is not None else [None]
     options = dict(solve_options or {})
-    if "front_h" in options:
-        raise InputError("solve_options.front_h: the sweep's own axis; give the sizes as front_h=[...]")
+    for key in ("front_h", "element"):
+        if key in options:
+            raise InputError(f"solve_options.{key}: the sweep's own axis; give it as {key.replace('element', 'elements')}=[...]")
+    elements = list(dict.fromkeys(elements))
     if not elements:
         raise InputError("elements: give at least one element family")
     for element in elements:  # every run's options, checked by the body before anything is solved
         for v, m in itertools.product(nus, mus):
             s = scene.with_(nu=v) if m is None else scene.with_(nu=v, friction=m)
-            SolveOptions.of(element=element, front_h=sizes[0], **options).check_for(s)
+            try:
+                run_options = SolveOptions.of(element=element, front_h=sizes[0], **options)
+            except TypeError as exc:  # an unknown option: refused by name, as a 2D sweep's
+                raise InputError(f"solve_options: {exc}") from None
+            run_options.check_for(s)
     if out is not None:
         from ...shell.files import check_output
 
@@ -82,14 +88,19 @@ def sweep_fronts(scene, elements: Iterable[str] | str = ("tdnns",), front_h: Ite
 
 
 def _values(given, name: str, allow_zero: bool = False) -> list[float]:
-    vals = [given] if isinstance(given, (int, float)) and not isinstance(given, bool) else list(given)
+    if isinstance(given, (int, float)) and not isinstance(given, bool):
+        vals = [given]
+    elif isinstance(given, (str, bytes)) or not hasattr(given, "__iter__"):
+        raise InputError(f"{name} = {given!r}: must be a number or a list of numbers")
+    else:
+        vals = list(given)
     if not vals:
         raise InputError(f"{name}: give at least one value")
     for v in vals:
         ok = isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool) and math.isfinite(v)
         if not ok or v < 0 or (v == 0 and not allow_zero):
             raise InputError(f"{name} = {v!r}: must be finite numbers {'>= 0' if allow_zero else '> 0'}")
-    return [float(v) for v in vals]
+    return list(dict.fromkeys(float(v) for v in vals))  # a value given twice is run once (as a 2D sweep's)
 
 
 def _run(scene, element: str, h: float, options: dict) -> tuple[dict, object]:

@@ -15,7 +15,7 @@ from pathlib import Path
 from ...core.errors import InputError
 from ...core.options import DEFAULT_ELEMENT
 from .cases import Case, run_case
-from .executors import _Dask, _executor
+from .executors import _Dask, _executor, check_dask
 from .grid import _Grid, _key, _same, check_friction_applies, warn_friction_not_applied
 from .quantities import Reference, tip_columns
 from .rates import with_rates
@@ -109,6 +109,7 @@ def sweep(
 
     from ...scenes import resolve
 
+    check_dask(dask)  # a wrong kind of cluster refused before the scene is read
     scene = resolve(scene) if isinstance(scene, (str, Path)) else scene
     if scene.dimension == 3 or front_h is not None:
         return _sweep_3d(scene, elements, maxh, nu, front_h, friction=friction, out=out, progress=progress,
