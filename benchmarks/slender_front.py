@@ -291,7 +291,13 @@ def main() -> None:
     ap.add_argument("--front-h-per-a", type=float, default=6.0)
     ap.add_argument("--crack-ratio", type=float, default=2.0)
     ap.add_argument("--aspect", type=float, default=0.2)
+    ap.add_argument("--inset", type=float, help="the first station this many bump half-widths inside the surface "
+                    "(solid.surface.SURFACE_INSET, by hand; default 1)")
     args = ap.parse_args()
+    if args.inset is not None:
+        from ngcrack.solid import surface
+
+        surface.SURFACE_INSET = args.inset
     if args.case == "surface":
         surface_study(args.front_h_per_a, args.crack_ratio)
     elif args.case == "mirror":
