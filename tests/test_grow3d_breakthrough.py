@@ -272,3 +272,29 @@ def test_a_new_crack_shape_carries_the_cracks_friction_and_pressure():
     plain = crack_from_dict({"shape": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0}, 0)
     assert carried(plain) == {}
     assert set(grown_crack(plain, np.eye(3))) == {"shape", "points"}
+
+
+def test_the_command_line_takes_the_accuracy_in_3d_and_refuses_it_in_2d_or_out_of_range(monkeypatch, tmp_path, capsys):
+    """`ngcrack grow --accuracy E`: handed to the 3D loop as accuracy=E (each step's sizes); out of [0.005, 0.5],
+    with --front-h, or on a 2D scene: one line and exit 2, no file."""
+    import ngcrack.studies.growth.loop3d as loop3d
+    from ngcrack.shell.cli import main
+
+    seen = {}
+
+    def grow_solid(*args, **kwargs):
+        seen.update(kwargs)
+        raise nc.InputError("stopped by the test")
+
+    monkeypatch.setattr(loop3d, "grow_solid", grow_solid)
+    out = tmp_path / "g.json"
+    assert main(["grow", "surface-crack", "--da", "0.1", "--steps", "1", "--accuracy", "0.05", "--json", str(out)]) == 2
+    assert seen["accuracy"] == 0.05 and "front_h" not in seen and not out.exists()
+    capsys.readouterr()
+    for argv, words in ((["surface-crack", "--accuracy", "0.001"], "accuracy = 0.001: "),
+                        (["surface-crack", "--accuracy", "0.05", "--front-h", "0.1"], "accuracy"),
+                        (["griffith", "--accuracy", "0.05"], "--accuracy: an option of 3D scenes")):
+        seen.clear()
+        assert main(["grow", *argv, "--da", "0.1", "--steps", "1", "--json", str(out)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err.count("\n") == 0 and words in err and not seen and not out.exists(), err

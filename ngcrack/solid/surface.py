@@ -96,8 +96,9 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
 
     A crack stays `rtol` of its size (the scene's clearance) inside every face, or crosses it by as much (a surface crack:
     its part inside the body is the crack); the faces it crosses are free (no entry in `boundary`); its outline
-    lies partly inside; the body beyond a surface crack's front is at least LIGAMENT_FRONT_H front_h thick
-    (`front_h()`, called only then): a thinner sliver the mesh cannot resolve."""
+    lies partly inside; a surface crack reaches at least LIGAMENT_FRONT_H front_h into the body from each face it
+    crosses, and the body beyond its front is as thick (`front_h()`, called only then): a thinner crack or sliver
+    the mesh cannot resolve."""
     gap = rtol * crack.size
     outline = crack.outline(samples(domain, 1024))
     dist = face_distances(domain, outline)
@@ -110,10 +111,15 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
             return (f"crosses face {k}, which carries a {boundary[k].type} condition; a crack may reach free faces "
                     f"only (faces without a [boundary.<label>] table)")
     inside = clearance(domain, outline) > 0
-    if crossed and not inside.any():
-        return ("its outline lies wholly outside the body, so that it misses the body or cuts it in two; a crack's "
-                "front must lie partly inside the body")
+    if not inside.any():
+        return ("its outline lies wholly outside the body or on its surface, so that it misses the body, lies in a "
+                "face or cuts the body in two; a crack's front must lie partly inside the body")
     need = LIGAMENT_FRONT_H * front_h() if crossed else gap
+    for k in crossed:
+        depth = dist[k][inside].max()
+        if depth < need:
+            return (f"reaches only {depth:.3g} into the body from face {k}, less than the mesh resolves; at least "
+                    f"{need:.3g} is needed ({LIGAMENT_FRONT_H:g} front_h: give a smaller mesh.front_h or a deeper crack)")
     for k, d in dist.items():
         if k in crossed or d[inside].min() >= need:
             continue

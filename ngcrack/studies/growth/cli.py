@@ -1,7 +1,8 @@
 """`ngcrack grow SCENE --da D --steps N [--K-Ic K] [--paris C m [DK_TH]] [--R R] [--criterion pls|mts|gmts [--r-c R]]
 [solve options] --json OUT [--csv OUT] [--gif OUT] [--png OUT]`: grow the scene's cracks and write the result.
 
-A 3D scene grows its fronts in their planes (loop3d.py; `--front-h` sets the mesh size at the fronts, the
+A 3D scene grows its fronts in their planes (loop3d.py; `--front-h` sets the mesh size at the fronts, `--accuracy`
+the error of K asked for along them (each step meshed for it), the
 2D-only options and outputs are refused by name before any meshing); its JSON has the 2D keys and per step
 `fronts` and, with --paris, `cycles`."""
 
@@ -58,6 +59,9 @@ def add_parser(subparsers, positive, count):
                    help="3D surface cracks: Heun's predictor-corrector step (two solves a step, second order in --da)")
     add_mesh_options(p, positive)
     p.add_argument("--front-h", dest="front_h", type=positive, help="mesh size at the crack fronts (3D scenes)")
+    p.add_argument("--accuracy", type=positive, metavar="E",
+                   help="relative error of K asked for along the crack fronts, in [0.005, 0.5]: sets each step's "
+                        "front and crack mesh sizes (3D scenes; not with --front-h or --crack-h)")
     p.add_argument("--path-grading", dest="path_grading", type=_path_grading, metavar="RATE|none",
                    help="the crack's mesh size grows from crack_h by RATE per unit distance from the crack ends "
                         "(default 0.1); none: crack_h all along the path")
@@ -92,6 +96,9 @@ def run(args) -> int:
     if args.front_h is not None:
         raise InputError(f"--front-h: an option of 3D scenes (the mesh size at their crack fronts); scene {scene.name!r} "
                          f"is 2D: use --tip-h")
+    if args.accuracy is not None:
+        raise InputError(f"--accuracy: an option of 3D scenes (the error of K along their crack fronts); scene "
+                         f"{scene.name!r} is 2D: use --tip-h")
     steps = args.steps if isinstance(args.steps, int) and 0 <= args.steps <= MAX_STEPS else 0
     stem = check_output_stem(args.vtk, "--vtk", [".pvd"] + [f"_{k:04d}{part}" for k in range(steps + 1)
                                                            for part in (".vtu", "_cracks.vtu")])
@@ -194,7 +201,8 @@ def _run_solid(args, scene, paris, R, json_path, csv_path, png_path) -> int:
     changes = {k: v for k, v in (("nu", args.nu), ("E", args.E), ("friction", args.friction)) if v is not None}
     if changes:
         scene = scene.with_(**changes)
-    options = solve_options(args, "element", "order", "maxh", "crack_h", "front_h", "qp_solver", "crack_model", "max_dof")
+    options = solve_options(args, "element", "order", "maxh", "crack_h", "front_h", "qp_solver", "crack_model", "max_dof",
+                            "accuracy")
     check_solid_grow(scene, args.da, args.steps, args.K_Ic, paris, R, GROW_TOGETHER_RTOL, None, options, {})
     finished = Finished(json_path, csv_path, args.steps, [p for p in (png_path,) if p is not None])
     args.on_interrupt = finished.write

@@ -19,11 +19,12 @@ as a power of the size (a penny: K ~ sqrt(a)), second order otherwise; so the co
 da (a first-order da / (C Delta K_max^m) per step is 6.6% high on a penny after four steps of 0.1 a, m = 3). The
 run stops when K_max reaches K_Ic (fracture).
 
-Surface cracks (a disc or an ellipse crossing a face, its front from surface to surface): the same
-rules along the open front, the surface points growing with K taken SURFACE_K_FRACTION of the front's
-length in from the surface and moving along the face, and the grown crack the ellipse with the same
-centre and axes fitted to the advanced points (surface3d.py); the leading point's advance in the
-cycle count is what the fitted ellipse gives it.
+Surface cracks (a disc, an ellipse or a curve crossing a face, its front from surface to surface): the
+same rules along the open front, the surface points growing with K taken SURFACE_K_FRACTION of the
+front's length in from the surface and moving along the face. A disc or an ellipse grows as the ellipse
+with the same centre and axes fitted to the advanced points (surface3d.py), the leading point's advance
+in the cycle count being what the fitted ellipse gives it; a curve grows as the curve through the
+advanced points, a free front shape (surface_curve.py).
 
 Break-through (breakthrough.py): a grown embedded front whose ligament to a face falls below 0.4 of
 its half-height (ASME XI's proximity rule), or that comes within the scene's clearance of the face or
@@ -283,7 +284,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
 def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events: list | None = None):
     """(the scene with every front advanced, "", the advance of the leading point), or (None, why the run stops,
     None). The leading point (the largest K_drive of front `lead`) advanced by da, or, on a surface crack,
-    by what the fitted ellipse gives it (surface3d.py). An embedded crack that nears a face becomes a surface
+    by what the fitted ellipse gives it (surface3d.py; a curve: da). An embedded crack that nears a face becomes a surface
     crack (breakthrough.py): what happened is appended to `events` (dictionaries)."""
     from ngcrack.core.fields import SceneError
     from ngcrack.solid.scene import SolidScene, crack_from_dict
@@ -294,7 +295,7 @@ def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events
         if np.max(adv) <= STILL_RTOL * da:
             continue
         crack = scene.cracks[f.crack]
-        if is_surface_crack(scene.domain, crack):  # the ellipse through the advanced points
+        if is_surface_crack(scene.domain, crack):  # the ellipse (or the curve) through the advanced points
             top = int(np.argmax(values[k]["K_drive"])) if values is not None else int(np.argmax(adv))
             d["crack"][f.crack], moved = grown_surface_crack(scene.domain, crack, f.angle, adv, top)
             if k == lead:

@@ -105,13 +105,14 @@ class SolidGrowthResult:
 
     def depth_and_length(self, crack: int = 0) -> np.ndarray:
         """A surface crack's depth a and half-length c on the surface at every step ((steps, 2)): the semi-axes
-        of its ellipse across and along the face its centre lies on (studies.growth.surface3d); NaN at the steps
+        of its ellipse across and along the face its centre lies on, or a curve's extent measured on its front
+        (studies.growth.surface3d); NaN at the steps
         before an embedded crack broke through a face."""
         from .surface3d import depth_and_length, is_surface_crack
 
         surface = [is_surface_crack(s.domain, s.cracks[crack]) for s in self.scenes]
         if not any(surface):
-            raise InputError(f"crack {crack}: not a surface crack (a disc or an ellipse crossing a face), so it has no "
+            raise InputError(f"crack {crack}: not a surface crack (a disc, an ellipse or a curve crossing a face), so it has no "
                              f"depth and surface length")
         return np.array([depth_and_length(s.domain, s.cracks[crack]) if on else (math.nan, math.nan)
                          for s, on in zip(self.scenes, surface)])
