@@ -277,3 +277,30 @@ def opening_K_I(sol, point, inward, depth: float, crack: int = 0, window=OPENING
     delta = normal_u(p + eps * n) - normal_u(p - eps * n)
     k_r = e_prime * delta * np.sqrt(2.0 * np.pi / r) / 8.0
     return float(np.polyfit(r, k_r, 1)[-1])
+
+
+#: `front_opening_K_I`'s window ends at most this fraction of the station's reach behind it (the distance inwards to
+#: the crack's medial axis: on a surface crack the free face, near its ends)
+OPENING_REACH_FRACTION = 0.8
+
+
+def front_opening_K_I(sol, crack: int = 0, window=OPENING_WINDOW) -> np.ndarray:
+    """`opening_K_I` at every station of a disc's or an ellipse's front (``sol.fronts``), read along the station's
+    in-plane normal behind it over `window` fractions of the crack's smaller semi-axis, the window's far end at most
+    OPENING_REACH_FRACTION of the station's reach (NaN where the window closes)."""
+    c = sol.scene.cracks[crack]
+    a, b = c.semi_axes
+    front = next(f for f in sol.fronts if f.crack == crack)
+    phi = np.asarray(front.angle, dtype=float)  # the ellipse's angle (the fronts' `angle` of a disc or an ellipse)
+    tangent = np.multiply.outer(-a * np.sin(phi), c.e_a) + np.multiply.outer(b * np.cos(phi), c.e_b)
+    e1 = np.cross(tangent, c.normal)
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)  # outward, in the crack's plane
+    reach = b / a * np.hypot(a * np.sin(phi), b * np.cos(phi))  # to the medial axis (`solid.front.FrontGeometry.reach`)
+    ell = min(a, b)
+    far = np.minimum(window[1] * ell, OPENING_REACH_FRACTION * reach)
+    out = np.full(len(front.angle), np.nan)
+    for k, p in enumerate(front.points):
+        lo = window[0] * ell
+        if far[k] > 1.5 * lo:
+            out[k] = opening_K_I(sol, p, -e1[k], 1.0, crack, (lo, far[k]))
+    return out
