@@ -73,6 +73,7 @@ from .fronts3d import (
     quasi_static_advance,
 )
 from .surface3d import check_surface_growable, grown_surface_crack, is_surface_crack
+from .through import stop_reason, through_crack, through_values
 
 #: da may be at most this fraction of the smallest crack's size (its diameter): a longer step outruns the
 #: front's curvature
@@ -202,6 +203,7 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
     t0 = time.perf_counter()
     sol = solve(scene, **solve_options)
     elapsed, K_ref, leader_da, solves = time.perf_counter() - t0, K_Ic, None, 1
+    through_stop = ""  # set once a crack became a through crack (through.py): the run stops after its solve
 
     def rule(values):
         """The advance of every front's points at a solve's K (fatigue: Paris; else quasi-static)."""
@@ -211,7 +213,8 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
         return [quasi_static_advance(v["K_drive"], da, together, top=top) for v in values]
 
     for n in range(steps + 1):
-        values = [point_values(f, nu, scene) for f in sol.fronts]
+        values = [through_values(f, nu) if scene.cracks[f.crack].shape == "polygon" else point_values(f, nu, scene)
+                  for f in sol.fronts]
         K_top = max(float(np.max(v["K_drive"])) for v in values)
         lead = int(np.argmax([np.max(v["K_drive"]) for v in values]))
         crack_of_lead = sol.fronts[lead].crack
@@ -227,6 +230,8 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
         elif cycles is not None and K_Ic is not None and K_top >= K_Ic:
             reason = (f"fracture: K_max = {K_top:.4g} on crack[{crack_of_lead}] reached K_Ic = {K_Ic:.4g} (the crack runs "
                       f"on the next cycle)")
+        if not reason and through_stop:
+            reason = through_stop
         advances = rule(values)
         if cycles is not None and not reason and n < steps and not any(np.max(a) > 0 for a in advances):
             reason = f"threshold: Delta K is at or below Delta K_th = {cycles.dK_th:g} at every front point"
@@ -240,7 +245,10 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
             result.stopped = reason
             break
         broke: list[dict] = []
-        new_scene, reason, lead_advance = _grown_scene(scene, sol, values, advances, da, cycles is not None, lead, broke)
+        front_h = scene.mesh_sizes(solve_options.get("maxh"), solve_options.get("crack_h"), solve_options.get("front_h"),
+                                   solve_options.get("grading"))["front_h"]
+        new_scene, reason, lead_advance = _grown_scene(scene, sol, values, advances, da, cycles is not None, lead, broke,
+                                                       front_h)
         elapsed, solves = 0.0, 1
         surface = [k for k, f in enumerate(sol.fronts) if is_surface_crack(scene.domain, scene.cracks[f.crack])]
         if corrector and not reason and not broke and surface:  # Heun: the step again with the mean advance
@@ -257,17 +265,20 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
             mean = corrected(scene, new_scene, fronts, advances, sol, rule([point_values(f, nu, new_scene) for f in sol.fronts]),
                              surface)
             sol = None
-            new_scene, reason, lead_advance = _grown_scene(scene, fronts, values, mean, da, cycles is not None, lead)
+            new_scene, reason, lead_advance = _grown_scene(scene, fronts, values, mean, da, cycles is not None, lead, broke,
+                                                           front_h)
         if reason:
             result.stopped = reason
             result.events.append((n, reason))
             break
-        for info in broke:  # an embedded crack became a surface crack (breakthrough.py)
+        for info in broke:  # an embedded crack became a surface crack (breakthrough.py), a surface one a through crack
             result.events.append((n + 1, info["what"]))
             result.transitions.append({"step": n + 1, **info})
+            if info["event"] == "through":
+                through_stop = stop_reason(info)
             if cycles is not None and info["crack"] == crack_of_lead:
-                cycles.breakthrough(info["embedded_size"], da)
-                lead_advance = None  # the surface crack's cycles count from its first solve
+                cycles.breakthrough(info["embedded_size"], da if info["event"] == "surface" else lead_advance)
+                lead_advance = None  # the new crack's cycles count from its first solve
         sol = None  # the old solve's memory goes before the new one's mesh is made (a 3D solve is GBs;
         gc.collect()  # NGSolve's objects hold reference cycles, which only the collector frees)
         t0 = time.perf_counter()
@@ -281,7 +292,8 @@ def grow_solid(scene, da: float, steps: int, K_Ic: float | None = None, *, paris
     return result
 
 
-def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events: list | None = None):
+def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events: list | None = None,
+                 front_h: float | None = None):
     """(the scene with every front advanced, "", the advance of the leading point), or (None, why the run stops,
     None). The leading point (the largest K_drive of front `lead`) advanced by da, or, on a surface crack,
     by what the fitted ellipse gives it (surface3d.py; a curve: da). An embedded crack that nears a face becomes a surface
@@ -300,6 +312,18 @@ def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events
             d["crack"][f.crack], moved = grown_surface_crack(scene.domain, crack, f.angle, adv, top)
             if k == lead:
                 lead_advance = moved
+            if front_h is not None:  # near the back face: re-characterised as a through crack (through.py)
+                try:
+                    through_d, info, why = through_crack(scene.domain, crack, crack_from_dict(d["crack"][f.crack], f.crack),
+                                                         f.crack, front_h)
+                except SceneError:
+                    through_d, info, why = None, None, ""
+                if why:
+                    return None, why, None
+                if through_d is not None:
+                    d["crack"][f.crack] = through_d
+                    broke.append(info)
+                    continue
             grown[f.crack] = None
             surface.add(f.crack)
             continue
@@ -320,8 +344,11 @@ def _grown_scene(scene, sol, values, advances, da, smooth, lead: int = 0, events
     try:
         new = SolidScene.from_dict(d)
         for info in broke:
-            check_surface_growable(new.domain, info["crack"], new.cracks[info["crack"]])
+            if info["event"] == "surface":
+                check_surface_growable(new.domain, info["crack"], new.cracks[info["crack"]])
     except (SceneError, InputError) as exc:
+        if broke and broke[0]["event"] == "through":
+            return None, f"boundary: {broke[0]['what']}, but the through crack is no admissible crack: {exc}", None
         if broke:
             info = broke[0]
             return None, (f"boundary: crack[{info['crack']}] nears face {info['face']} (ligament {max(info['ligament'], 0):.3g}"
