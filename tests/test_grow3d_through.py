@@ -148,3 +148,15 @@ def test_a_straight_through_crack_against_the_closed_form():
     closed = math.sqrt(math.pi * c / math.cos(math.pi * c / 10.0))
     assert mid[0] == pytest.approx(mid[1], rel=0.01)
     assert 1.0 < mid[0] / closed < 1.05 and 1.0 < mid[1] / closed < 1.05  # 1.040, 1.046 measured (1.031, 1.036 finer)
+
+
+def test_a_curve_crossing_the_face_becomes_the_same_through_crack():
+    from ngcrack.studies.growth.surface_curve import curve_of_ellipse
+
+    s = _scene()  # the grown crack a curve (a free front shape) through points of the same ellipse
+    old = crack_from_dict(curve_of_ellipse(s.cracks[0]), 0)
+    grown = crack_from_dict(curve_of_ellipse(_ellipse(1.45, 1.2)), 0)
+    d, info, why = through_crack(s.domain, old, grown, 0, 0.01)
+    assert why == "" and d["shape"] == "polygon"
+    assert info["surface_half_length"] == pytest.approx(1.2, rel=1e-5)
+    assert info["back_half_length"] == pytest.approx(trapezoid_back_half_length(1.45, 1.2, T), rel=2e-3)

@@ -32,6 +32,13 @@ crosses it, is re-characterised as a surface crack of depth 2a + S centred on th
 as one; the event is in `result.events` and `result.transitions` (the JSON's `events`). The step
 that brought it there is counted as the embedded crack's, the break-through takes no cycles.
 
+Through the back face (through.py): a grown surface or corner crack whose depth reaches 0.95 of the
+plate's thickness (NASGRO's transition), whose ligament to the back face falls below 1.5 front_h, or
+whose front crosses it, becomes a through crack of its area (a polygon crossing both faces, straight
+fronts from face to face); the event is in `result.transitions` as a break-through's, the step that
+brought it there counted as the surface crack's, the transition none, and the run stops after the
+through crack's solve ("through: ...": its growth is not supported yet).
+
 Heun's step (`corrector=True`): a surface crack's step is solved twice, on the crack and on the
 crack its advance predicts, and grown by the mean of the two advances (the second matched at the
 same fraction of the front's length): second order in da where the one-solve step is first order
