@@ -160,3 +160,26 @@ def test_a_curve_crossing_the_face_becomes_the_same_through_crack():
     assert why == "" and d["shape"] == "polygon"
     assert info["surface_half_length"] == pytest.approx(1.2, rel=1e-5)
     assert info["back_half_length"] == pytest.approx(trapezoid_back_half_length(1.45, 1.2, T), rel=2e-3)
+
+
+def test_the_growth_step_makes_the_through_crack_where_the_sliver_stopped_the_run():
+    """The step of the loop (loop3d._grown_scene, no solve): grown by 0.25 all round, the crack 1.2 deep in the plate
+    1.5 thick would leave a sliver 0.05 thick (the run stopped there before); given the mesh's front_h it becomes
+    the through crack; a short step leaves it a surface crack."""
+    from types import SimpleNamespace
+
+    from ngcrack.studies.growth.loop3d import _grown_scene
+
+    d = copy.deepcopy(_scene().to_dict())
+    d["crack"][0]["semi_axes"] = [1.5, 1.2]
+    scene = SolidScene.from_dict(d)
+    sol = SimpleNamespace(fronts=[SimpleNamespace(crack=0, angle=np.linspace(0.0, math.pi, 15))])
+    broke: list = []
+    new, why, _ = _grown_scene(scene, sol, None, [np.full(15, 0.25)], 0.25, True, 0, broke, 0.1)
+    assert why == "" and new.cracks[0].shape == "polygon"
+    (e,) = broke
+    assert e["event"] == "through" and e["face"] == "zmin" and e["ligament"] == pytest.approx(0.05, abs=2e-3)
+    assert e["surface_half_length"] == pytest.approx(1.75, abs=2e-3)  # the fitted ellipse's c = 1.5 + 0.25
+    broke = []
+    new, why, _ = _grown_scene(scene, sol, None, [np.full(15, 0.02)], 0.02, True, 0, broke, 0.1)
+    assert why == "" and new.cracks[0].shape == "ellipse" and broke == []
