@@ -176,7 +176,7 @@ class SolidGrowthResult:
         from .surface3d import is_surface_crack
 
         surface = is_surface_crack(self.scene.domain, c0)
-        broke = [e for e in self.transitions if e["crack"] == crack]
+        broke = [e for e in self.transitions if e["crack"] == crack and e["event"] == "surface"]  # (not "through")
         L = self.depth_and_length(crack)[:, 0] if surface else self.sizes(crack)
         label = "depth $a$" if surface else r"equivalent radius $\sqrt{A/\pi}$"
         if broke:  # before and after a break-through: the depth below the face it broke through
