@@ -47,8 +47,8 @@ the step of a break-through keep the one-solve step.
 
 Stops: after `steps` steps; at fracture; where a grown embedded front nears a face and cannot be
 re-characterised (parallel to it, the surface crack not admissible: a sliver to the back face, a held
-face; "boundary: ..."), a grown surface crack nears another face (the scene's sliver check,
-"boundary: ...") or a front nears another crack ("crack: ..."); where the grown crack makes no
+face; "boundary: ..."), a grown surface crack becomes a through crack ("through: ...", after its solve)
+or nears another face (the scene's sliver check, "boundary: ...") or a front nears another crack ("crack: ..."); where the grown crack makes no
 valid scene or its solve fails. A scene whose crack comes near a face without crossing it, a surface crack whose centre is off
 the surface, or a polygon (its corners have no K), is refused before any meshing.
 """

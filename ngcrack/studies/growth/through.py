@@ -55,7 +55,7 @@ THROUGH_FRONT_H = 1.5
 THROUGH_MARGIN = 0.3
 #: a back-face half-length below this fraction of the front face's is refused (the transition came too early)
 MIN_BACK_FRACTION = 0.1
-#: outline points of the grown crack measured for the transition
+#: outline points of the grown crack measured for the transition (ngcrack.solid.surface.STEP_SAMPLES on a STEP part)
 OUTLINE_POINTS = 2048
 #: faces are parallel (the front and back faces), or at a right angle (a corner), to within this sine or cosine
 PARALLEL_TOL = 1e-6
@@ -88,15 +88,16 @@ def through_crack(domain, old, grown, i: int, front_h: float) -> tuple[dict | No
     """The grown surface crack `grown` (crack[i], grown from `old`) near the back face: (None, None, "") if it stays a
     surface crack (module docstring's rule); else (the through crack's scene dictionary, what happened (the event's
     numbers), "") or (None, None, why it cannot)."""
-    from ngcrack.solid.surface import face_distances, inside_measures
+    from ngcrack.solid.surface import face_distances, inside_measures, samples
 
     from .fronts3d import equivalent_radius
 
-    q_old = old.outline(OUTLINE_POINTS)
+    n_out = samples(domain, OUTLINE_POINTS)  # (a STEP part's distances are OCC's, a few ms a point: fewer there)
+    q_old = old.outline(n_out)
     crossed = [k for k, d in face_distances(domain, q_old).items() if d.min() < 0]
     if len(crossed) not in (1, 2):
         return None, None, ""
-    p = grown.outline(OUTLINE_POINTS)
+    p = grown.outline(n_out)
     inside = domain.clearance(p) > 0
     if not inside.any():
         return None, None, ""
