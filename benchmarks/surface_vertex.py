@@ -44,12 +44,9 @@ def ball_points(center, h: float, radius: float) -> np.ndarray:
     return np.asarray(center) + grid[np.linalg.norm(grid, axis=1) <= radius]
 
 
-def refine_vertices(radius_h: float, ratio: float) -> None:
-    """Make `solid.geometry.make_mesh` restrict the size to front_h / ratio within radius_h front_h of every point
-    where a front meets the surface (patching `solid.geometry.meshing_parameters` for this process)."""
-    from ngcrack.solid import geometry
-
-    original = geometry.meshing_parameters
+def vertex_parameters(original, radius_h: float, ratio: float):
+    """`original` (`solid.geometry.meshing_parameters`) with the size restricted to front_h / ratio within radius_h
+    front_h of every point where a front meets the surface."""
 
     def with_vertices(scene, sizes):
         mp = original(scene, sizes)
@@ -60,7 +57,7 @@ def refine_vertices(radius_h: float, ratio: float) -> None:
                     mp.RestrictH(float(p[0]), float(p[1]), float(p[2]), h)
         return mp
 
-    geometry.meshing_parameters = with_vertices
+    return with_vertices
 
 
 def vertex_edges(smesh) -> float:
@@ -86,8 +83,10 @@ def run(aspect: float, depth: float, radius_h: float, ratio: float, per_a: float
     from benchmarks.newman_raju import default_scene, surface_scene
     from ngcrack.studies.newman_raju import front_opening_K_I, surface_crack_K
 
-    if ratio > 1:
-        refine_vertices(radius_h, ratio)
+    if ratio > 1:  # for this process: `solid.geometry.make_mesh` calls the module's meshing_parameters
+        from ngcrack.solid import geometry
+
+        geometry.meshing_parameters = vertex_parameters(geometry.meshing_parameters, radius_h, ratio)
     c, t = a / aspect, a / depth
     scene = default_scene(aspect, depth, a) if defaults else surface_scene(aspect, depth, a, 1.0 / per_a)
     t0 = time.process_time()
