@@ -23,6 +23,7 @@ from ngcrack.studies.newman_raju import (
     TABLE_A_OVER_C,
     published_F,
     published_K,
+    shape_factor,
     surface_crack_F,
 )
 
@@ -69,6 +70,22 @@ def test_interpolation_between_neighbours():
 def test_bad_input_names_the_field(args, field):
     with pytest.raises(InputError, match=field):
         published_F(*args)
+
+
+@pytest.mark.parametrize("a_over_c", [float("nan"), True, "0.2"])
+def test_a_ratio_that_is_no_number_is_refused(a_over_c):
+    with pytest.raises(InputError, match="a/c"):
+        published_F("asme", "deepest", a_over_c, 0.5)
+
+
+def test_ratios_computed_from_lengths_are_on_the_grid():
+    """a = 0.6, c = 3 gives a/c = 0.19999999999999998: the table's end column, not a refusal; and the plate's K is
+    S sqrt(pi a / Q) F0 f_w with the table's own F0 there."""
+    assert 0.6 / 3.0 < 0.2
+    assert published_F("shiratori", "deepest", 0.6 / 3.0, 0.5) == pytest.approx(0.5 * (1.371 + 1.651), abs=1e-12)
+    f_w = 1.0 / math.sqrt(math.cos(0.5 * math.pi * 0.2 * math.sqrt(0.5)))
+    K = published_K("asme", "deepest", 1.0, 0.6, 3.0, 1.2, 15.0)
+    assert K == pytest.approx(math.sqrt(math.pi * 0.6 / shape_factor(0.2)) * 1.5128 * f_w, rel=1e-9)
 
 
 def test_tables_agree_with_each_other():

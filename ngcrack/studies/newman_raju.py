@@ -26,6 +26,7 @@ import math
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.fields import is_number
 
 #: Newman and Raju's stated accuracy of their equations against their finite-element results (a fraction)
 STATED_ACCURACY = 0.05
@@ -216,6 +217,8 @@ PUBLISHED_F0 = {
 }
 #: the grid (a/t rows, a/c columns) of each table
 PUBLISHED_GRID = {"shiratori": (SHIRATORI_A_OVER_T, SHIRATORI_A_OVER_C), "asme": (ASME_A_OVER_T, TABLE_A_OVER_C)}
+#: a ratio within this fraction of the grid's largest value outside the grid's ends is taken at the end
+GRID_RTOL = 1e-9
 #: the front points the tables give, as Newman and Raju's parametric angle
 PUBLISHED_PHI = {"deepest": 0.5 * math.pi, "surface": 0.0}
 
@@ -233,7 +236,8 @@ def published_F(source: str, point: str, a_over_c: float, a_over_t: float) -> fl
         raise InputError(f"point = {point!r}: the tables give {sorted(PUBLISHED_PHI)}")
     rows, cols = PUBLISHED_GRID[source]
     for name, value, grid in (("a/t", a_over_t, rows), ("a/c", a_over_c, cols)):
-        if not grid[0] <= value <= grid[-1]:
+        tol = GRID_RTOL * grid[-1]  # a ratio computed from lengths (0.6 / 3 = 0.19999999999999998) is on the grid
+        if not (is_number(value) and grid[0] - tol <= value <= grid[-1] + tol):
             raise InputError(f"{name} = {value!r}: the {source} table covers {grid[0]} <= {name} <= {grid[-1]}")
     table = np.asarray(PUBLISHED_F0[source][point], dtype=float)
     along_c = np.array([np.interp(a_over_c, cols, row) for row in table])
