@@ -20,6 +20,7 @@ import ngcrack as nc
 from ngcrack.studies.newman_raju import front_opening_K_I, surface_crack_K
 
 
+@pytest.mark.slow
 def test_the_opening_along_the_front_of_the_built_in_surface_crack():
     """Every station off the surface of `surface-crack` (a/c = 0.6, a/t = 0.4): the opening's K_I within 6% of the
     domain integral's and 3% on average along the front (measured: -5.2% to +1.0%, -2.2% on average; the order-1

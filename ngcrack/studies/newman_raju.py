@@ -22,11 +22,11 @@ measured from the free surface (phi = 90 deg at the deepest point): a point of t
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.fields import is_number
 
 #: Newman and Raju's stated accuracy of their equations against their finite-element results (a fraction)
 STATED_ACCURACY = 0.05
@@ -237,7 +237,7 @@ def published_F(source: str, point: str, a_over_c: float, a_over_t: float) -> fl
     rows, cols = PUBLISHED_GRID[source]
     for name, value, grid in (("a/t", a_over_t, rows), ("a/c", a_over_c, cols)):
         tol = GRID_RTOL * grid[-1]  # a ratio computed from lengths (0.6 / 3 = 0.19999999999999998) is on the grid
-        if not (is_number(value) and grid[0] - tol <= value <= grid[-1] + tol):
+        if isinstance(value, bool) or not (isinstance(value, numbers.Real) and grid[0] - tol <= value <= grid[-1] + tol):
             raise InputError(f"{name} = {value!r}: the {source} table covers {grid[0]} <= {name} <= {grid[-1]}")
     table = np.asarray(PUBLISHED_F0[source][point], dtype=float)
     along_c = np.array([np.interp(a_over_c, cols, row) for row in table])
