@@ -53,7 +53,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.memory import DEFAULT_MAX_DOF, MEMORY_FRACTION, available_memory, check_max_dof, memory_limits
 from ..core.memory import format_bytes as _bytes
-from .surface import clearance, crosses, face_distances, inside_measures, is_step, samples
+from .surface import clearance, crosses, depths_from_faces, face_distances, inside_measures, is_step, samples
 
 #: tetrahedra per unit of each part of the density integral (module docstring), fitted on 19 netgen meshes
 TETS_PER_BULK, TETS_PER_FACES, TETS_PER_FRONT = 10.05, 24.67, 4.46
@@ -185,8 +185,7 @@ def _measure_front(domain, crack) -> tuple[float, float, float]:
     inside = clearance(domain, outline) > 0
     if not inside.any():
         return math.inf, math.inf, math.inf
-    crossed = [float(d[inside].max()) for d in dist.values() if d.min() < 0]  # the faces the crack crosses
-    depth = min(crossed, default=math.inf)
+    depth = min(depths_from_faces(dist, inside).values(), default=math.inf)
     ell, T = _ligament_thickness(domain, outline, dist, inside)
     return ell, T, depth
 

@@ -115,8 +115,7 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
         return ("its outline lies wholly outside the body or on its surface, so that it misses the body, lies in a "
                 "face or cuts the body in two; a crack's front must lie partly inside the body")
     need = LIGAMENT_FRONT_H * front_h() if crossed else gap
-    for k in crossed:
-        depth = dist[k][inside].max()
+    for k, depth in depths_from_faces(dist, inside).items():
         if depth < need:
             return (f"reaches only {depth:.3g} into the body from face {k}, less than the mesh resolves; at least "
                     f"{need:.3g} is needed ({LIGAMENT_FRONT_H:g} front_h: give a smaller mesh.front_h or a deeper crack)")
@@ -130,6 +129,13 @@ def face_problem(domain, crack, rtol: float, boundary, front_h) -> str | None:
         return (f"comes within {d.min():.3g} of face {k} without crossing it; keep at least {gap:.3g} "
                 f"({rtol:g} of its size) inside a face, or let it cross the face by as much (a surface crack)")
     return None
+
+
+def depths_from_faces(dist: dict[str, np.ndarray], inside: np.ndarray) -> dict[str, float]:
+    """The crack's extent into the body from each face it crosses: per face whose distances `dist` (of the outline's
+    points, `face_distances`) go negative, the largest distance from it of the points `inside` the body (a
+    semi-ellipse's a from the face it crosses; a corner crack's extents from its two faces)."""
+    return {k: float(d[inside].max()) for k, d in dist.items() if d.min() < 0}
 
 
 _MEASURES: dict = {}
